@@ -1,0 +1,31 @@
+# Every target sets itself up: `make test` and `make run` work on a fresh machine.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+# The CPU wheel of torch 2.13.0 is what this project's machines carry; elsewhere override,
+# e.g. `make setup TORCH_SPEC="torch>=2.4"` to keep a CUDA build already on the index.
+TORCH_SPEC ?= torch==2.13.0
+STAMP := $(VENV)/.installed
+
+.PHONY: setup test run bench clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet "$(TORCH_SPEC)"
+	$(BIN)/python -m pip install --quiet -e ".[test]"
+	touch $(STAMP)
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+run: $(STAMP)
+	$(BIN)/snakemake --cores 2 --workflow-profile workflow/profiles/default
+
+bench: $(STAMP)
+	$(BIN)/capframe bench render
+
+clean:
+	rm -rf results/* .snakemake
