@@ -1,0 +1,68 @@
+"""The ``capframe`` command. Each verb is a thin wrapper over one library entry point.
+
+Input errors (:class:`capframe.errors.InputError`) print as one line on stderr and exit with 2.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .errors import InputError
+
+
+def _cmd_render(args: argparse.Namespace) -> None:
+    from .render.cli import render_command
+
+    render_command(args.scene, args.camera, args.output, backend=args.backend, long_side=args.long_side)
+
+
+def _cmd_import(args: argparse.Namespace) -> None:
+    from .scene.directory import import_scene
+
+    import_scene(args.src, args.dst, copy_images=args.copy_images)
+
+
+def _cmd_bench(args: argparse.Namespace) -> None:
+    from .bench import run_bench
+
+    run_bench(args.what, as_json=args.json)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="capframe", description=__doc__.splitlines()[0])
+    verbs = parser.add_subparsers(dest="verb", required=True)
+
+    p = verbs.add_parser("render", help="render one view of a scene")
+    p.add_argument("scene", help="scene directory (see docs/scene-directory.md) or a 3DGS PLY file")
+    p.add_argument("--camera", required=True, help="camera.json (capframe) to render from")
+    p.add_argument("-o", "--output", required=True, help="output PNG")
+    p.add_argument("--backend", default="auto", choices=["auto", "torch", "gsplat"])
+    p.add_argument("--long-side", type=int, default=None, help="resize so the longer side has this many pixels")
+    p.set_defaults(func=_cmd_render)
+
+    p = verbs.add_parser("import", help="import an Inria 3DGS output or a COLMAP dataset as a scene directory")
+    p.add_argument("src")
+    p.add_argument("dst")
+    p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
+    p.set_defaults(func=_cmd_import)
+
+    p = verbs.add_parser("bench", help="print benchmark figures")
+    p.add_argument("what", choices=["render"])
+    p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    p.set_defaults(func=_cmd_bench)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        args.func(args)
+    except InputError as err:
+        print(f"capframe: error: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
