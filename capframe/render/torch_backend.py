@@ -1,0 +1,415 @@
+"""Pure-PyTorch Gaussian rasteriser: runs on any device, differentiable w.r.t. the pose.
+
+It follows gsplat's "classic" rules so that both backends agree pixel for pixel:
+
+* EWA projection with the perspective Jacobian clamped slightly outside the frustum, plus a
+  ``0.3`` px^2 low-pass on the 2D covariance;
+* a Gaussian contributes to a pixel when it lies inside its 3-sigma ellipse and its alpha
+  ``min(0.999, opacity * exp(-sigma))`` is at least ``1/255``;
+* front-to-back compositing that stops before a Gaussian would drive the transmittance below
+  ``1e-4``.
+
+Unlike a tile-sorted CUDA kernel, the per-pixel cut-off here is the ellipse itself, so the image
+does not depend on the tile size. Work is organised in square pixel tiles: each (tile, Gaussian)
+pair evaluates its ``tile_size^2`` pixels in one vectorised step, and the transmittance is a
+segmented cumulative sum of ``log(1 - alpha)`` over the depth-sorted pairs of each tile. Tiles are
+processed in chunks, and the compositing backward is analytic and recomputes its per-pixel state
+from the per-slot inputs, so memory stays bounded at any resolution.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import torch
+from torch import Tensor
+
+from ..geometry.quaternion import quat_to_rotmat
+
+ALPHA_MAX = 0.999
+ALPHA_MIN = 1.0 / 255.0
+TRANSMITTANCE_MIN = 1e-4
+EPS2D = 0.3
+SIGMA_MAX = 4.5  # 0.5 * 3^2: the 3-sigma ellipse
+
+
+def covariance_3d(quats: Tensor, scales: Tensor) -> Tensor:
+    """World covariances ``R S S^T R^T``: (N, 4) wxyz, (N, 3) -> (N, 3, 3)."""
+    M = quat_to_rotmat(quats) * scales[:, None, :]
+    return M @ M.transpose(-1, -2)
+
+
+def ewa_project(
+    means_cam: Tensor, covs_cam: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D
+) -> tuple[Tensor, Tensor]:
+    """Perspective projection of 3D Gaussians in the camera frame (requires ``z > 0``).
+
+    The Jacobian is evaluated at the mean with ``x/z`` and ``y/z`` clamped to 30% beyond the
+    image borders, as gsplat does, so Gaussians far outside the view do not blow up.
+
+    Args:
+        means_cam: (N, 3) camera-frame means.
+        covs_cam: (N, 3, 3) camera-frame covariances.
+        K: (3, 3) intrinsics.
+    Returns:
+        means2d (N, 2) in pixels and the low-passed 2D covariances (N, 2, 2).
+    """
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    x, y, z = means_cam.unbind(-1)
+    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
+    tx = z * torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
+    ty = z * torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    zero = torch.zeros_like(z)
+    J = torch.stack(
+        [torch.stack([fx / z, zero, -fx * tx / (z * z)], -1), torch.stack([zero, fy / z, -fy * ty / (z * z)], -1)],
+        -2,
+    )
+    cov2d = J @ covs_cam @ J.transpose(-1, -2)
+    cov2d = cov2d + eps2d * torch.eye(2, dtype=cov2d.dtype, device=cov2d.device)
+    means2d = torch.stack([fx * x / z + cx, fy * y / z + cy], -1)
+    return means2d, cov2d
+
+
+def conic_of(cov2d: Tensor) -> Tensor:
+    """Inverse 2D covariance as ``(a, b, c)`` with ``sigma = a dx^2/2 + b dx dy + c dy^2/2``:
+    (N, 2, 2) -> (N, 3). The caller guarantees a positive determinant."""
+    a, b, c = cov2d[:, 0, 0], cov2d[:, 0, 1], cov2d[:, 1, 1]
+    det = a * c - b * b
+    return torch.stack([c / det, -b / det, a / det], -1)
+
+
+def pixel_extent(cov2d: Tensor, opacities: Tensor) -> Tensor:
+    """Half-widths (N, 2) in pixels of the axis-aligned box around the region a Gaussian can
+    touch: its 3-sigma ellipse, shrunk to where ``opacity * exp(-sigma) >= 1/255``."""
+    level = 2.0 * torch.log(opacities.clamp_min(ALPHA_MIN) / ALPHA_MIN)  # (k sigma)^2 of the alpha floor
+    k = torch.sqrt(level.clamp(0.0, 2.0 * SIGMA_MAX))
+    return k[:, None] * torch.sqrt(torch.stack([cov2d[:, 0, 0], cov2d[:, 1, 1]], -1))
+
+
+@dataclass
+class Projection:
+    """Depth-sorted visible Gaussians of one view.
+
+    Attributes:
+        index: (G,) indices into the input Gaussians, nearest first.
+        means2d: (G, 2) pixel coordinates.
+        conics: (G, 3) inverse 2D covariances ``(a, b, c)``.
+        depths: (G,) camera-frame z.
+        extents: (G, 2) pixel half-widths of the touched region (no gradient).
+    """
+
+    index: Tensor
+    means2d: Tensor
+    conics: Tensor
+    depths: Tensor
+    extents: Tensor
+
+
+def project_gaussians(
+    means: Tensor,
+    covs: Tensor,
+    opacities: Tensor,
+    T_cw: Tensor,
+    K: Tensor,
+    width: int,
+    height: int,
+    near: float,
+    far: float,
+) -> Projection:
+    """Cull and project Gaussians; differentiable w.r.t. ``T_cw`` and the means.
+
+    Visibility is decided without gradient first (behind the camera, outside the near/far range,
+    non-finite or degenerate 2D covariance, footprint off-screen), and the differentiable
+    projection then runs on the survivors only, so no Inf from a culled Gaussian can turn into a
+    NaN gradient (``0 * inf``) on the pose.
+    """
+    R, t = T_cw[:3, :3], T_cw[:3, 3]
+    with torch.no_grad():
+        z = means @ R[2] + t[2]
+        keep = (z > near) & (z < far) & torch.isfinite(covs).flatten(1).all(1)
+        idx = keep.nonzero()[:, 0]
+        means_cam = means[idx] @ R.T + t
+        means2d, cov2d = ewa_project(means_cam, R @ covs[idx] @ R.T, K, width, height)
+        det = cov2d[:, 0, 0] * cov2d[:, 1, 1] - cov2d[:, 0, 1] ** 2
+        extents = pixel_extent(cov2d, opacities[idx])
+        finite = torch.isfinite(cov2d).flatten(1).all(1) & torch.isfinite(means2d).all(1)
+        skipped = int((~torch.isfinite(covs).flatten(1).all(1)).sum()) + int((~finite).sum())
+        if skipped:
+            warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=3)
+        on_screen = (means2d + extents > 0).all(1) & (means2d[:, 0] - extents[:, 0] < width) & (means2d[:, 1] - extents[:, 1] < height)
+        ok = finite & (det > 0) & (extents > 0).all(1) & on_screen
+        order = torch.argsort(z[idx][ok], stable=True)
+        idx = idx[ok][order]
+        extents = extents[ok][order]
+    means_cam = means[idx] @ R.T + t
+    means2d, cov2d = ewa_project(means_cam, R @ covs[idx] @ R.T, K, width, height)
+    return Projection(idx, means2d, conic_of(cov2d), means_cam[:, 2], extents)
+
+
+@dataclass
+class TileBlocks:
+    """(tile, Gaussian) intersections laid out in fixed-size blocks.
+
+    Each tile's depth-sorted pairs fill ``ceil(n / B)`` consecutive blocks of ``B`` slots; unused
+    slots point at a dummy Gaussian (index ``G``) with zero opacity. This dense layout lets the
+    transmittance scan run along a tensor dimension and the final reduction be a batched matmul,
+    with at most ``B - 1`` wasted slots per tile.
+
+    Attributes:
+        gaussian: (num_blocks, B) index into the projection's Gaussians, ``G`` for padding.
+        block_tile: (num_blocks,) flat tile id ``ty * tiles_x + tx`` of each block.
+        block_first: (num_blocks,) index of the first block of the same tile.
+        tile_block_start: (tiles + 1,) offsets of each tile's blocks.
+        pairs: number of real (tile, Gaussian) pairs.
+    """
+
+    gaussian: Tensor
+    block_tile: Tensor
+    block_first: Tensor
+    tile_block_start: Tensor
+    pairs: int
+
+
+def intersect_tiles(
+    means2d: Tensor, extents: Tensor, tile_size: int, tiles_x: int, tiles_y: int, block: int
+) -> TileBlocks:
+    """Tile blocks of all (tile, Gaussian) pairs whose boxes overlap, for depth-sorted Gaussians."""
+    with torch.no_grad():
+        device = means2d.device
+        num_gaussians, num_tiles = len(means2d), tiles_x * tiles_y
+        lo = torch.floor((means2d - extents) / tile_size).long()
+        hi = torch.floor((means2d + extents) / tile_size).long() + 1
+        x0, x1 = lo[:, 0].clamp(0, tiles_x), hi[:, 0].clamp(0, tiles_x)
+        y0, y1 = lo[:, 1].clamp(0, tiles_y), hi[:, 1].clamp(0, tiles_y)
+        nx = (x1 - x0).clamp_min(0)
+        counts = nx * (y1 - y0).clamp_min(0)
+        gaussian = torch.repeat_interleave(torch.arange(num_gaussians, device=device), counts)
+        first = torch.cumsum(counts, 0) - counts
+        local = torch.arange(len(gaussian), device=device) - first[gaussian]
+        nx_g = nx[gaussian]
+        tile = (y0[gaussian] + local // nx_g) * tiles_x + x0[gaussian] + local % nx_g
+        # Gaussians are already in depth order, so a stable sort by tile keeps depth order per tile.
+        tile, order = torch.sort(tile, stable=True)
+        gaussian = gaussian[order]
+
+        per_tile = torch.bincount(tile, minlength=num_tiles)
+        pair_start = torch.cumsum(per_tile, 0) - per_tile
+        blocks_per_tile = -(-per_tile // block)
+        tile_block_start = torch.zeros(num_tiles + 1, dtype=torch.long, device=device)
+        tile_block_start[1:] = torch.cumsum(blocks_per_tile, 0)
+        num_blocks = int(tile_block_start[-1])
+        rank = torch.arange(len(tile), device=device) - pair_start[tile]
+        slots = torch.full((num_blocks * block,), num_gaussians, dtype=torch.long, device=device)
+        slots[tile_block_start[tile] * block + rank] = gaussian
+        block_tile = torch.repeat_interleave(torch.arange(num_tiles, device=device), blocks_per_tile)
+    return TileBlocks(slots.view(num_blocks, block), block_tile, tile_block_start[block_tile], tile_block_start, len(tile))
+
+
+# Forward passes whose per-pixel state holds at most this many slot-pixels keep it for the
+# backward; larger ones recompute it there, so memory stays bounded.
+KEEP_STATE_MAX = 1 << 23
+
+
+@dataclass
+class _BlockState:
+    """Per slot-pixel quantities of a compositing pass, shapes (nb, B, S*S) unless noted."""
+
+    dx: Tensor  # (nb, B, S) pixel-centre x minus mean x, per tile column
+    dy: Tensor  # (nb, B, S) pixel-centre y minus mean y, per tile row
+    alpha: Tensor
+    live: Tensor  # bool: alpha = opacity * exp(-sigma) here (inside the cut-offs, not clamped)
+    transmittance: Tensor  # T before the slot; zero once compositing has stopped (T < 1e-4)
+
+    @property
+    def weights(self) -> Tensor:
+        return self.alpha * self.transmittance
+
+
+def _segment_exclusive(block_sum: Tensor, block_first: Tensor) -> Tensor:
+    """Sum over the earlier blocks of the same tile: (nb, P) -> (nb, P). float64 inside: it is a
+    difference of running sums over all blocks of the chunk."""
+    wide = block_sum.double()
+    exclusive = torch.cumsum(wide, 0) - wide
+    return (exclusive - exclusive[block_first]).to(block_sum.dtype)
+
+
+def _block_state(means2d: Tensor, conics: Tensor, opacities: Tensor, block_x: Tensor, block_y: Tensor,
+                 block_first: Tensor, tile_size: int) -> _BlockState:
+    """Alphas and transmittances of all slots over their tile's pixels."""
+    offsets = torch.arange(tile_size, dtype=means2d.dtype, device=means2d.device) + 0.5
+    dx = (block_x * tile_size).to(means2d.dtype)[:, None, None] + offsets - means2d[..., :1]  # (nb, B, S)
+    dy = (block_y * tile_size).to(means2d.dtype)[:, None, None] + offsets - means2d[..., 1:]  # (nb, B, S)
+    a, b, c = conics[..., :1], conics[..., 1:2], conics[..., 2:]
+    # sigma = a dx^2/2 + b dx dy + c dy^2/2 over the tile's S x S pixels, row-major.
+    sigma = torch.addcmul((0.5 * c * dy * dy)[..., :, None] + (0.5 * a * dx * dx)[..., None, :], dy[..., :, None], (b * dx)[..., None, :])
+    sigma = sigma.flatten(2)
+    # A pixel counts when inside the 3-sigma ellipse and opacity * exp(-sigma) >= 1/255, i.e.
+    # sigma <= min(4.5, log(255 * opacity)): one comparison against a per-slot threshold.
+    log_opacity = torch.log(opacities.clamp_min(1e-30))[..., None]
+    inside = sigma <= (log_opacity - math.log(ALPHA_MIN)).clamp_max(SIGMA_MAX)
+    raw = torch.exp(log_opacity - sigma)
+    live = inside & (raw < ALPHA_MAX)
+    alpha = torch.where(inside, raw.clamp_max(ALPHA_MAX), 0.0)
+    log_t = torch.log1p(-alpha)
+    # Transmittance: cumulative log(1 - alpha) within each block plus the earlier blocks of the tile.
+    inclusive = torch.cumsum(log_t, 1)
+    log_after = _segment_exclusive(inclusive[:, -1], block_first)[:, None, :] + inclusive
+    # gsplat stops before a Gaussian would leave T below 1e-4; T is monotone, so all later ones stop too.
+    transmittance = torch.where(log_after > math.log(TRANSMITTANCE_MIN), torch.exp(log_after - log_t), 0.0)
+    return _BlockState(dx, dy, alpha, live, transmittance)
+
+
+class _CompositeBlocks(torch.autograd.Function):
+    """Front-to-back compositing with an analytic backward. Small passes keep their per-pixel
+    state for the backward; large ones keep only the per-slot inputs and recompute it."""
+
+    @staticmethod
+    def forward(ctx, means2d, conics, opacities, values, block_x, block_y, block_first, tile_size):
+        state = _block_state(means2d, conics, opacities, block_x, block_y, block_first, tile_size)
+        ctx.save_for_backward(means2d, conics, opacities, values, block_x, block_y, block_first)
+        ctx.tile_size = tile_size
+        ctx.state = state if state.alpha.numel() <= KEEP_STATE_MAX else None
+        values = torch.cat([values, torch.ones_like(values[..., :1])], -1)
+        return state.weights.transpose(1, 2) @ values
+
+    @staticmethod
+    def backward(ctx, grad_out):
+        means2d, conics, opacities, values, block_x, block_y, block_first = ctx.saved_tensors
+        st = ctx.state or _block_state(means2d, conics, opacities, block_x, block_y, block_first, ctx.tile_size)
+        ctx.state = None
+        weights = st.weights
+        values = torch.cat([values, torch.ones_like(values[..., :1])], -1)
+        grad_values = (weights @ grad_out)[..., :-1]
+        # d out / d alpha_i = T_i v_i - (sum_{k>i} w_k v_k) / (1 - alpha_i), contracted with grad_out.
+        contrib = values @ grad_out.transpose(1, 2)  # (nb, B, P): v_i . g per pixel
+        inclusive = torch.cumsum(weights * contrib, 1)
+        before = _segment_exclusive(inclusive[:, -1], block_first)[:, None, :] + inclusive
+        tile_total = torch.zeros_like(inclusive[:, -1]).index_add(0, block_first, inclusive[:, -1])[block_first]
+        after = tile_total[:, None, :] - before
+        grad_alpha = st.transmittance * contrib - after / (1.0 - st.alpha)
+        # alpha = opacity * exp(-sigma) where live: d alpha / d sigma = -alpha, d alpha / d opacity = alpha / opacity.
+        grad_log_alpha = torch.where(st.live, grad_alpha * st.alpha, 0.0)  # = -dL/dsigma
+        grad_opacities = grad_log_alpha.sum(-1) / opacities.clamp_min(1e-30)
+        S = ctx.tile_size
+        g = grad_log_alpha.view(*grad_log_alpha.shape[:2], S, S)  # -dL/dsigma, (nb, B, rows y, cols x)
+        g_x = g.sum(-2)  # (nb, B, S) per column
+        g_y = g.sum(-1)  # (nb, B, S) per row
+        dx, dy = st.dx, st.dy
+        g_dx = (g_x * dx).sum(-1)
+        g_dy = (g_y * dy).sum(-1)
+        g_dxdy = ((g @ dx[..., None])[..., 0] * dy).sum(-1)
+        a, b, c = conics.unbind(-1)
+        grad_conics = -torch.stack([0.5 * (g_x * dx * dx).sum(-1), g_dxdy, 0.5 * (g_y * dy * dy).sum(-1)], -1)
+        # sigma depends on the mean through dx = px - mx, dy = py - my.
+        grad_means2d = torch.stack([a * g_dx + b * g_dy, b * g_dx + c * g_dy], -1)
+        return grad_means2d, grad_conics, grad_opacities, grad_values, None, None, None, None
+
+
+def composite_blocks(
+    means2d: Tensor,
+    conics: Tensor,
+    opacities: Tensor,
+    values: Tensor,
+    block_x: Tensor,
+    block_y: Tensor,
+    block_first: Tensor,
+    tile_size: int,
+) -> Tensor:
+    """Front-to-back compositing of depth-sorted pair blocks.
+
+    Args:
+        means2d, conics, opacities, values: per-slot Gaussian attributes
+            (nb, B, 2), (nb, B, 3), (nb, B), (nb, B, D); padding slots have zero opacity.
+        block_x, block_y: (nb,) tile coordinates of each block.
+        block_first: (nb,) index (within these blocks) of the first block of the same tile.
+    Returns:
+        (nb, tile_size^2, D + 1): each block's weighted sum of ``values`` per pixel and, last,
+        its share of the alpha; summing the blocks of a tile gives the tile's image.
+    """
+    return _CompositeBlocks.apply(means2d, conics, opacities, values, block_x, block_y, block_first, tile_size)
+
+
+def composite_blocks_autograd(means2d, conics, opacities, values, block_x, block_y, block_first, tile_size) -> Tensor:
+    """Reference for :func:`composite_blocks` differentiated by autograd (used by the tests)."""
+    weights = _block_state(means2d, conics, opacities, block_x, block_y, block_first, tile_size).weights
+    return weights.transpose(1, 2) @ torch.cat([values, torch.ones_like(values[..., :1])], -1)
+
+
+def rasterize_torch(
+    means: Tensor,
+    quats: Tensor,
+    scales: Tensor,
+    opacities: Tensor,
+    features: Tensor,
+    T_cw: Tensor,
+    K: Tensor,
+    width: int,
+    height: int,
+    *,
+    near: float = 0.01,
+    far: float = 1e10,
+    tile_size: int = 4,
+    block: int = 32,
+    max_chunk_elements: int = 1 << 24,
+) -> tuple[Tensor, Tensor, Tensor, dict]:
+    """Render per-Gaussian features into an image.
+
+    Args:
+        means, quats, scales, opacities: (N, 3), (N, 4), (N, 3), (N,) Gaussians (activated).
+        features: (N, D) values to composite (colours and any extra channels).
+        T_cw: (4, 4) world-to-camera pose, OpenCV axes; K: (3, 3) intrinsics.
+        tile_size: pixel tile edge; block: pair slots per block.
+        max_chunk_elements: slot-pixels per chunk; bounds memory, larger is faster.
+    Returns:
+        features (H, W, D), alpha (H, W), accumulated camera-z ``sum_i w_i z_i`` (H, W), and
+        stats (visible Gaussians, tile pairs, chunks).
+    """
+    proj = project_gaussians(means, covariance_3d(quats, scales), opacities.detach(), T_cw, K, width, height, near, far)
+    tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
+    blocks = intersect_tiles(proj.means2d.detach(), proj.extents, tile_size, tiles_x, tiles_y, block)
+
+    def padded(x: Tensor) -> Tensor:  # append the zero-opacity dummy Gaussian used by empty slots
+        return torch.cat([x, x.new_zeros(1, *x.shape[1:])], 0)
+
+    means2d, conics = padded(proj.means2d), padded(proj.conics)
+    opac = padded(opacities[proj.index])
+    values = padded(torch.cat([features[proj.index], proj.depths[:, None]], -1))
+
+    pixels = tile_size * tile_size
+    start = blocks.tile_block_start
+    chunks = _chunk_tiles(start, max(1, max_chunk_elements // (pixels * block)))
+    image_tiles = values.new_zeros(tiles_x * tiles_y, pixels, values.shape[1] + 1)
+    for t0, t1 in chunks:
+        b0, b1 = int(start[t0]), int(start[t1])
+        if b1 == b0:
+            continue
+        g = blocks.gaussian[b0:b1]
+        tile = blocks.block_tile[b0:b1]
+        args = (means2d[g], conics[g], opac[g], values[g], tile % tiles_x, tile // tiles_x, blocks.block_first[b0:b1] - b0, tile_size)
+        image_tiles = image_tiles.index_add(0, tile, composite_blocks(*args))
+    image = (
+        image_tiles.reshape(tiles_y, tiles_x, tile_size, tile_size, -1)
+        .permute(0, 2, 1, 3, 4)
+        .reshape(tiles_y * tile_size, tiles_x * tile_size, -1)[:height, :width]
+    )
+    stats = {"visible": len(proj.index), "pairs": blocks.pairs, "slots": blocks.gaussian.numel(), "chunks": len(chunks)}
+    return image[..., :-2], image[..., -1], image[..., -2], stats
+
+
+def _chunk_tiles(tile_start: Tensor, max_items: int) -> list[tuple[int, int]]:
+    """Split tiles into consecutive ranges holding at most ``max_items`` items (blocks) according
+    to the offsets ``tile_start``; a single tile with more items forms its own range."""
+    num_tiles = len(tile_start) - 1
+    total = int(tile_start[-1])
+    if total == 0:
+        return [(0, num_tiles)]
+    chunks, t0 = [], 0
+    while t0 < num_tiles:
+        limit = int(tile_start[t0]) + max_items
+        t1 = int(torch.searchsorted(tile_start, torch.tensor(limit, device=tile_start.device), right=True)) - 1
+        t1 = min(max(t1, t0 + 1), num_tiles)
+        chunks.append((t0, t1))
+        t0 = t1
+    return chunks

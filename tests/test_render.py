@@ -1,0 +1,243 @@
+"""Renderer properties: analytic cases, gradients, invariances and degenerate inputs."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from capframe.geometry import se3_exp
+from capframe.render import render
+from capframe.render.sh import sh_basis
+from capframe.render.torch_backend import composite_blocks, composite_blocks_autograd
+from capframe.scene import Camera, GaussianScene
+
+from conftest import make_camera, make_scene
+
+f64 = torch.float64
+
+
+def axis_camera(width=40, height=30, focal=50.0, cx=20.5, cy=15.5) -> Camera:
+    """Camera at the origin looking along +z with the principal point on a pixel centre."""
+    return Camera(np.eye(4), np.array([[focal, 0, cx], [0, focal, cy], [0, 0, 1.0]]), width, height)
+
+
+def gaussians(means, scales, opacities, colors, dtype=f64) -> GaussianScene:
+    n = len(means)
+    quats = torch.tensor([[1.0, 0, 0, 0]] * n)
+    t = lambda v: torch.as_tensor(v, dtype=torch.float64)  # noqa: E731
+    return GaussianScene.from_activated(t(means), t(quats), t(scales), t(opacities), t(colors)).to(dtype=dtype)
+
+
+def test_single_isotropic_gaussian_matches_analytic_image():
+    z, s, o, color = 4.0, 0.05, 0.8, (0.9, 0.4, 0.1)
+    cam = axis_camera()
+    out = render(gaussians([[0, 0, z]], [[s, s, s]], [o], [color]), cam, backend="torch", dtype=f64)
+    var = (cam.K[0, 0] * s / z) ** 2 + 0.3  # projected variance plus the 0.3 px^2 low-pass
+    u, v = np.meshgrid(np.arange(cam.width) + 0.5, np.arange(cam.height) + 0.5)
+    sigma = ((u - 20.5) ** 2 + (v - 15.5) ** 2) / (2 * var)
+    alpha = np.minimum(0.999, o * np.exp(-sigma))
+    alpha[(sigma > 4.5) | (alpha < 1 / 255)] = 0.0
+    assert np.unravel_index(int(out.alpha.argmax()), out.alpha.shape) == (15, 20)
+    np.testing.assert_allclose(out.alpha.numpy(), alpha, atol=1e-12)
+    np.testing.assert_allclose(out.rgb.numpy(), alpha[..., None] * np.array(color), atol=1e-12)
+    np.testing.assert_allclose(out.depth.numpy()[alpha > 0], z, atol=1e-12)
+    assert (out.depth.numpy()[alpha == 0] == 0).all()
+
+
+def test_front_to_back_order_and_background():
+    # Far green Gaussian listed first: sorting by depth must still put red in front.
+    scene = gaussians([[0, 0, 4.0], [0, 0, 2.0]], [[0.2] * 3, [0.1] * 3], [0.7, 0.6], [[0, 1, 0], [1, 0, 0]])
+    out = render(scene, axis_camera(), backend="torch", dtype=f64, background=(0, 0, 1))
+    a_near = 0.6  # exactly at the pixel centre sigma = 0
+    a_far = 0.7
+    t_far = (1 - a_near) * a_far
+    rgb = out.rgb[15, 20]
+    assert torch.allclose(rgb, torch.tensor([a_near, t_far, 1 - a_near - t_far], dtype=f64), atol=1e-12)
+    assert math.isclose(float(out.alpha[15, 20]), a_near + t_far, rel_tol=1e-12)
+    assert math.isclose(float(out.depth[15, 20]), (a_near * 2.0 + t_far * 4.0) / (a_near + t_far), rel_tol=1e-12)
+
+
+def test_transmittance_cutoff_stops_before_one_in_ten_thousand():
+    # Alpha clamps at 0.999: after one Gaussian T = 1e-3, a second would leave 1e-6 < 1e-4, so it is skipped.
+    scene = gaussians([[0, 0, 2.0], [0, 0, 3.0], [0, 0, 4.0]], [[0.3] * 3] * 3, [1.0, 1.0, 1.0], [[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    out = render(scene, axis_camera(), backend="torch", dtype=f64)
+    assert torch.allclose(out.rgb[15, 20], torch.tensor([0.999, 0, 0], dtype=f64), atol=1e-12)
+
+
+def test_extra_channel_of_ones_equals_alpha(scene, camera):
+    out = render(scene, camera, backend="torch", extra=torch.ones(len(scene), 2))
+    assert torch.allclose(out.extra, out.alpha[..., None].expand(-1, -1, 2), atol=1e-6)
+
+
+def _pose_loss(scene, camera, T, weights):
+    out = render(scene, camera, T_cw=T, backend="torch", dtype=f64)
+    return (out.rgb * weights[0]).sum() + (out.alpha * weights[1]).sum() + (out.depth * weights[2]).sum()
+
+
+@pytest.mark.parametrize("tau_scale", [0.0, 0.05])
+def test_pose_gradient_matches_central_differences(tau_scale):
+    scene = make_scene(150, seed=3, sh_degree=2, dtype=f64)
+    camera = make_camera(width=40, height=30)
+    g = torch.Generator().manual_seed(1)
+    weights = (torch.rand(30, 40, 3, generator=g, dtype=f64), torch.rand(30, 40, generator=g, dtype=f64),
+               torch.rand(30, 40, generator=g, dtype=f64))
+    tau0 = torch.randn(6, generator=g, dtype=f64) * tau_scale
+    T0 = torch.as_tensor(camera.T_cw)
+
+    tau = tau0.clone().requires_grad_()
+    _pose_loss(scene, camera, se3_exp(tau) @ T0, weights).backward()
+    assert torch.isfinite(tau.grad).all()
+
+    h = 1e-6
+    numeric = torch.zeros(6, dtype=f64)
+    for i in range(6):
+        e = torch.zeros(6, dtype=f64)
+        e[i] = h
+        with torch.no_grad():
+            numeric[i] = (_pose_loss(scene, camera, se3_exp(tau0 + e) @ T0, weights)
+                          - _pose_loss(scene, camera, se3_exp(tau0 - e) @ T0, weights)) / (2 * h)
+    assert float((tau.grad - numeric).norm() / numeric.norm()) < 1e-3
+
+
+def test_analytic_compositing_backward_matches_autograd():
+    g = torch.Generator().manual_seed(0)
+    nb, B, S = 4, 6, 4
+    means2d = (torch.rand(nb, B, 2, generator=g, dtype=f64) * 8).requires_grad_()
+    L = torch.randn(nb, B, 2, 2, generator=g, dtype=f64) * 0.4
+    cov = L @ L.transpose(-1, -2) + 1.2 * torch.eye(2, dtype=f64)
+    det = cov[..., 0, 0] * cov[..., 1, 1] - cov[..., 0, 1] ** 2
+    conics = torch.stack([cov[..., 1, 1] / det, -cov[..., 0, 1] / det, cov[..., 0, 0] / det], -1).requires_grad_()
+    opacities = (torch.rand(nb, B, generator=g, dtype=f64) * 0.9 + 0.05).requires_grad_()
+    values = torch.randn(nb, B, 3, generator=g, dtype=f64).requires_grad_()
+    # Blocks 0-1 form one tile (a carry crosses the block boundary), 2 and 3 are tiles of their own.
+    block_x, block_y, block_first = torch.tensor([0, 0, 1, 1]), torch.tensor([0, 0, 0, 1]), torch.tensor([0, 0, 2, 3])
+    inputs = (means2d, conics, opacities, values)
+    assert torch.autograd.gradcheck(lambda *x: composite_blocks(*x, block_x, block_y, block_first, S), inputs)
+    assert torch.equal(composite_blocks(*inputs, block_x, block_y, block_first, S),
+                       composite_blocks_autograd(*inputs, block_x, block_y, block_first, S))
+
+
+def test_tile_size_and_chunking_do_not_change_the_image_or_gradient(scene, camera):
+    results = []
+    for options in ({"tile_size": 4}, {"tile_size": 8, "block": 8}, {"tile_size": 16}, {"tile_size": 4, "max_chunk_elements": 2048}):
+        T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+        out = render(scene, camera, T_cw=T, backend="torch", dtype=f64, **options)
+        (out.rgb.sum() + out.depth.sum()).backward()
+        results.append((out.rgb, out.depth, T.grad))
+        if "max_chunk_elements" in options:
+            assert out.stats["chunks"] > 1
+    for rgb, depth, grad in results[1:]:
+        assert torch.allclose(rgb, results[0][0], atol=1e-12)
+        assert torch.allclose(depth, results[0][1], atol=1e-10)
+        assert torch.allclose(grad, results[0][2], rtol=1e-9, atol=1e-9)
+
+
+def test_scale_and_offset_invariance():
+    scene = make_scene(300, seed=5, sh_degree=1)
+    camera = make_camera()
+    k, offset = 100.0, torch.tensor([1e4, -1e4, 1e4])
+    moved = GaussianScene(scene.means * k + offset, scene.quats, scene.log_scales + math.log(k), scene.opacity_logits, scene.sh)
+    R = camera.R
+    centre = camera.center * k + offset.double().numpy()
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, -R @ centre
+    a = render(scene, camera, backend="torch")
+    b = render(moved, camera.with_pose(T), backend="torch")
+    assert float(a.alpha.max()) > 0.5
+    assert float((a.rgb - b.rgb).abs().max()) < 2e-4
+    assert float((a.alpha - b.alpha).abs().max()) < 2e-4
+    valid = a.depth_valid & b.depth_valid
+    assert torch.allclose(b.depth[valid], a.depth[valid] * k, rtol=1e-4)
+
+
+def test_behind_camera_near_plane_and_inside_cloud_give_finite_values_and_gradients():
+    scene = make_scene(400, seed=7, spread=2.0, scale=(0.05, 0.4))  # the camera sits inside the cloud
+    camera = make_camera(eye=(0.0, 0.0, 0.0), target=(0.0, 0.0, 1.0))
+    tau = torch.zeros(6, dtype=f64, requires_grad=True)
+    out = render(scene, camera, T_cw=se3_exp(tau) @ torch.as_tensor(camera.T_cw), backend="torch")
+    assert out.stats["visible"] < len(scene)  # some are behind the camera
+    (out.rgb.sum() + out.alpha.sum() + out.depth.sum()).backward()
+    for image in (out.rgb, out.alpha, out.depth):
+        assert torch.isfinite(image).all()
+    assert torch.isfinite(tau.grad).all() and tau.grad.abs().sum() > 0
+
+
+def test_degenerate_gaussians_are_handled(camera):
+    scene = make_scene(50, seed=2)
+    n = len(scene)
+    log_scales = scene.log_scales.clone()
+    log_scales[0] = -float("inf")  # zero scale: a point, blurred by the 0.3 px low-pass
+    log_scales[1] = 80.0  # exp(80) overflows float32: its covariance is not finite
+    logits = scene.opacity_logits.clone()
+    logits[2], logits[3] = float("inf"), -float("inf")  # saturated opacities
+    weird = GaussianScene(scene.means, scene.quats, log_scales, logits, scene.sh)
+    T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+    with pytest.warns(UserWarning, match="non-finite covariance"):
+        out = render(weird, camera, T_cw=T, backend="torch")
+    (out.rgb.sum() + out.depth.sum()).backward()
+    assert torch.isfinite(out.rgb).all() and torch.isfinite(out.depth).all() and torch.isfinite(T.grad).all()
+    assert out.stats["visible"] <= n - 1
+
+
+def test_sh_basis_is_orthonormal():
+    # Fibonacci sphere: a near-uniform quadrature, independent of the basis constants.
+    n = 200_000
+    i = torch.arange(n, dtype=f64) + 0.5
+    z = 1 - 2 * i / n
+    phi = math.pi * (1 + 5**0.5) * i
+    r = torch.sqrt(1 - z * z)
+    dirs = torch.stack([r * torch.cos(phi), r * torch.sin(phi), z], -1)
+    Y = sh_basis(dirs, 3)
+    gram = Y.T @ Y * (4 * math.pi / n)
+    assert torch.allclose(gram, torch.eye(16, dtype=f64), atol=1e-4)
+
+
+def _gsplat_torch_impl():
+    spec = importlib.util.find_spec("gsplat")
+    if spec is None or not spec.submodule_search_locations:
+        pytest.skip("gsplat is not installed")
+    path = f"{spec.submodule_search_locations[0]}/cuda/_torch_impl.py"
+    # Load the pure-PyTorch reference file alone: importing the gsplat package is not needed.
+    module_spec = importlib.util.spec_from_file_location("gsplat_torch_reference", path)
+    module = importlib.util.module_from_spec(module_spec)
+    module_spec.loader.exec_module(module)
+    return module
+
+
+def test_projection_matches_gsplat_reference_implementation():
+    from capframe.render.torch_backend import covariance_3d, project_gaussians
+
+    ref = _gsplat_torch_impl()
+    scene = make_scene(500, seed=11, spread=1.5, dtype=f64)
+    camera = make_camera(eye=(0.5, -1.0, -3.0), width=80, height=60)
+    T, K = torch.as_tensor(camera.T_cw), torch.as_tensor(camera.K)
+    covs = covariance_3d(scene.quats, scene.scales)
+    proj = project_gaussians(scene.means, covs, scene.opacities, T, K, 80, 60, 0.01, 1e10)
+    radii, means2d, depths, conics, _ = ref._fully_fused_projection(scene.means, covs, T[None], K[None], 80, 60)
+    idx = proj.index
+    assert (radii[0, idx] > 0).all(1).all()
+    assert torch.allclose(proj.means2d, means2d[0, idx], atol=1e-10)
+    assert torch.allclose(proj.depths, depths[0, idx], atol=1e-12)
+    assert torch.allclose(proj.conics, conics[0, idx], rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.cuda
+@pytest.mark.skipif(not torch.cuda.is_available() or importlib.util.find_spec("gsplat") is None, reason="needs CUDA and gsplat")
+def test_gsplat_and_torch_backends_agree():
+    scene = make_scene(5000, seed=4, sh_degree=3).to("cuda")
+    camera = make_camera(width=160, height=120, focal=150.0)
+    outs, grads = {}, {}
+    for backend in ("torch", "gsplat"):
+        T = torch.as_tensor(camera.T_cw, device="cuda").clone().requires_grad_()
+        out = render(scene, camera, T_cw=T, backend=backend)
+        (out.rgb.sum() + out.alpha.sum() + 0.1 * out.depth.sum()).backward()
+        outs[backend], grads[backend] = out, T.grad.flatten()
+    for name in ("rgb", "alpha", "depth"):
+        diff = (getattr(outs["torch"], name) - getattr(outs["gsplat"], name)).abs().mean()
+        assert float(diff) < 1e-3, name
+    cosine = torch.nn.functional.cosine_similarity(grads["torch"], grads["gsplat"], dim=0)
+    assert float(cosine) > 0.99
