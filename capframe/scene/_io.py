@@ -1,0 +1,156 @@
+"""Helpers shared by the scene readers and writers (not part of the public API)."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .model import Camera
+
+# mkstemp/mkdtemp create private (0600/0700) entries; results get the modes open()/mkdir() would give.
+_UMASK = os.umask(0)
+os.umask(_UMASK)
+
+# Suffixes tried, in this order, when a camera names its image without an extension.
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".PNG", ".JPG", ".JPEG", ".webp", ".tif", ".tiff", ".exr")
+
+
+def atomic_write(path: str | Path, *parts: str | bytes | np.ndarray) -> None:
+    """Write ``parts`` one after the other (text as UTF-8, arrays as their C-order bytes, not
+    copied) to ``path`` through a temporary file in the same folder and a rename, so a crash
+    never leaves a half-written file that looks valid (DESIGN §7). Creates parent folders."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            for part in parts:
+                if isinstance(part, str):
+                    part = part.encode("utf-8")
+                elif isinstance(part, np.ndarray):
+                    part = memoryview(np.ascontiguousarray(part)).cast("B")
+                f.write(part)
+        os.chmod(tmp, 0o666 & ~_UMASK)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+@contextmanager
+def atomic_directory(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary folder beside ``path``; on success it is renamed to ``path``, on error
+    removed, so a folder is either complete or absent (DESIGN §7). ``path`` must not exist or be
+    an empty folder: existing results are never overwritten."""
+    path = Path(path)
+    if path.exists() and (not path.is_dir() or any(path.iterdir())):
+        raise InputError("already exists and is not an empty folder; remove it or choose another", source=str(path))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
+    try:
+        yield tmp
+        tmp.chmod(0o777 & ~_UMASK)
+        os.replace(tmp, path)  # also replaces an empty folder
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def write_json(path: str | Path, value: Any) -> None:
+    """Write ``value`` as indented JSON, atomically. Floats keep all their digits (``repr``)."""
+    atomic_write(path, json.dumps(value, indent=2) + "\n")
+
+
+def read_json(path: str | Path) -> Any:
+    """Parse a JSON file; a missing or malformed file raises :class:`InputError` naming it."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except FileNotFoundError:
+        raise InputError("file not found", source=str(path)) from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise InputError(f"not valid JSON ({err})", source=str(path)) from None
+
+
+def require_keys(entry: dict, keys: tuple[str, ...], what: str, source: str) -> None:
+    """Raise :class:`InputError` listing every key of ``keys`` missing from ``entry``."""
+    if not isinstance(entry, dict):
+        raise InputError(f"{what} is {type(entry).__name__}, expected a JSON object", source=source)
+    missing = [k for k in keys if k not in entry]
+    if missing:
+        raise InputError(f"{what} lacks {', '.join(repr(k) for k in missing)}", source=source)
+
+
+def as_float(value: Any, what: str, source: str) -> float:
+    """A JSON number as float (NaN/Inf pass through; pose validation reports them)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{what} is {value!r}, expected a number", source=source)
+    return float(value)
+
+
+def as_size(value: Any, what: str, source: str) -> int:
+    """A JSON image dimension: a positive whole number (``640`` or ``640.0``)."""
+    number = as_float(value, what, source)
+    if not math.isfinite(number) or number != int(number) or number <= 0:
+        raise InputError(f"{what} is {value!r}, expected a positive whole number of pixels", source=source)
+    return int(number)
+
+
+def resolve_image(images_dir: str | Path | None, name: str) -> str | None:
+    """Path of the image called ``name`` in ``images_dir``: the exact file if it exists, else
+    ``name`` plus the first of :data:`IMAGE_SUFFIXES` that exists; ``None`` if there is none."""
+    if images_dir is None:
+        return None
+    exact = Path(images_dir) / name
+    if exact.is_file():
+        return str(exact)
+    for suffix in IMAGE_SUFFIXES:
+        candidate = Path(images_dir) / f"{name}{suffix}"
+        if candidate.is_file():
+            return str(candidate)
+    return None
+
+
+def check_unique_names(names: list[str], source: str) -> None:
+    """Cameras are matched by name (DESIGN §3), so a name may occur only once."""
+    seen: set[str] = set()
+    duplicates = sorted({n for n in names if n in seen or seen.add(n)})
+    if duplicates:
+        raise InputError(f"duplicate camera names {duplicates[:5]}; expected unique names", source=source)
+
+
+def as_array(value: Any, shape: tuple[int, ...], what: str, source: str) -> np.ndarray:
+    """A nested JSON list as a finite float64 array of ``shape``, else :class:`InputError`."""
+    try:
+        array = np.array(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        array = None
+    if array is None or array.shape != shape:
+        raise InputError(f"{what} is {value!r}; expected {'x'.join(map(str, shape))} numbers", source=source)
+    if not np.isfinite(array).all():
+        raise InputError(f"{what} has non-finite values {array.tolist()}; expected finite numbers", source=source)
+    return array
+
+
+def make_camera(T_cw: np.ndarray, K: np.ndarray, width: int, height: int, name: str, image_path: str | None,
+                source: str) -> Camera:
+    """Build a :class:`Camera`, re-raising its validation error with the file's name in front."""
+    try:
+        return Camera(T_cw=T_cw, K=K, width=width, height=height, name=name, image_path=image_path)
+    except InputError as err:
+        raise InputError(str(err), source=source) from None
+
+
+def intrinsics(fx: float, fy: float, cx: float, cy: float) -> np.ndarray:
+    """Pinhole matrix K (3, 3) from focal lengths and principal point in pixels."""
+    return np.array([[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]])
