@@ -23,6 +23,24 @@ def _cmd_import(args: argparse.Namespace) -> None:
     import_scene(args.src, args.dst, copy_images=args.copy_images)
 
 
+def _cmd_synth(args: argparse.Namespace) -> None:
+    from .synth.generator import synth_command
+
+    synth_command(args)
+
+
+def _cmd_instructions(args: argparse.Namespace) -> None:
+    from .synth.instructions import write_instructions
+
+    write_instructions(args.scene, args.output, count=args.count, seed=args.seed)
+
+
+def _cmd_check(args: argparse.Namespace) -> None:
+    from .evaluate.check import check_command
+
+    check_command(args.scene, args.result, args.constraints, instruction_id=args.id, as_json=args.json)
+
+
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
@@ -46,6 +64,35 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dst")
     p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
     p.set_defaults(func=_cmd_import)
+
+    p = verbs.add_parser("synth", help="generate a synthetic 3DGS scene with ground truth")
+    p.add_argument("out_dir")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--objects", default=None, help='comma-separated catalog names, e.g. "teddy bear,armchair,ball"')
+    p.add_argument("--preset", default="tabletop", choices=["tabletop", "room", "outdoor"])
+    p.add_argument("--capture", default=None, choices=["orbit", "forward", "walkthrough"], help="camera path (default: per preset)")
+    p.add_argument("--views", type=int, default=24)
+    p.add_argument("--scale", type=float, default=1.0, help="multiply all lengths")
+    p.add_argument("--tilt", type=float, default=0.0, help="rotate the world so that up is not an axis (degrees)")
+    p.add_argument("--no-poses", action="store_true", help="write images only (the COLMAP stage must recover poses)")
+    p.add_argument("--resolution", default="320x240", help="training image size WxH")
+    p.add_argument("--density", type=float, default=1.0, help="multiply the number of Gaussians")
+    p.set_defaults(func=_cmd_synth)
+
+    p = verbs.add_parser("instructions", help="generate instructions with machine-checkable constraints for a synthetic scene")
+    p.add_argument("scene")
+    p.add_argument("-o", "--output", required=True, help="folder for instructions.tsv and constraints.json")
+    p.add_argument("--count", type=int, default=3)
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(func=_cmd_instructions)
+
+    p = verbs.add_parser("check", help="check a result camera against a synthetic scene's ground truth")
+    p.add_argument("scene")
+    p.add_argument("result", help="result.json or camera.json with T_cw, K, width, height")
+    p.add_argument("--constraints", required=True, help="constraints.json")
+    p.add_argument("--id", default=None, help="instruction id (default: the result's instruction_id)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_check)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render"])
