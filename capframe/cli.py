@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ._malloc import keep_freed_memory
 from .errors import InputError
 
 
@@ -103,6 +104,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    keep_freed_memory()
     try:
         args.func(args)
     except InputError as err:

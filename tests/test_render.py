@@ -12,7 +12,7 @@ import torch
 from capframe.geometry import se3_exp
 from capframe.render import render
 from capframe.render.sh import sh_basis
-from capframe.render.torch_backend import composite_blocks, composite_blocks_autograd
+from capframe.render.torch_backend import ALPHA_MAX, ALPHA_MIN, SIGMA_MAX, TRANSMITTANCE_MIN, composite_blocks
 from capframe.scene import Camera, GaussianScene
 
 from conftest import make_camera, make_scene
@@ -103,22 +103,54 @@ def test_pose_gradient_matches_central_differences(tau_scale):
     assert float((tau.grad - numeric).norm() / numeric.norm()) < 1e-3
 
 
+def reference_composite(attributes, slot_index, block_x, block_y, block_first, tile_size):
+    """Compositing written from first principles (explicit sigma, log-space transmittance that
+    carries over the earlier blocks of the same tile), differentiated by autograd."""
+    slots = attributes[slot_index]
+    mean, conic, opacity, values = slots[..., :2], slots[..., 2:5], slots[..., 5], slots[..., 6:]
+    ys, xs = torch.meshgrid(torch.arange(tile_size, dtype=f64), torch.arange(tile_size, dtype=f64), indexing="ij")
+    log_keep, out = {}, []
+    for k in range(len(slot_index)):
+        dx = (block_x[k] * tile_size + xs + 0.5).flatten()[None] - mean[k, :, :1]
+        dy = (block_y[k] * tile_size + ys + 0.5).flatten()[None] - mean[k, :, 1:]
+        a, b, c = conic[k, :, :1], conic[k, :, 1:2], conic[k, :, 2:]
+        sigma = 0.5 * a * dx**2 + b * dx * dy + 0.5 * c * dy**2
+        g = opacity[k, :, None] * torch.exp(-sigma)
+        alpha = torch.where((sigma <= SIGMA_MAX) & (g >= ALPHA_MIN), g.clamp_max(ALPHA_MAX), torch.zeros_like(g))
+        log_keep[k] = torch.log1p(-alpha)
+        carried = sum((log_keep[j].sum(0) for j in range(k) if block_first[j] == block_first[k]), torch.zeros(tile_size**2, dtype=f64))
+        log_after = carried + torch.cumsum(log_keep[k], 0)
+        weights = torch.where(log_after > math.log(TRANSMITTANCE_MIN), alpha * torch.exp(log_after - log_keep[k]), torch.zeros_like(alpha))
+        out.append(weights.T @ torch.cat([values[k], torch.ones_like(values[k, :, :1])], -1))
+    return torch.stack(out)
+
+
 def test_analytic_compositing_backward_matches_autograd():
     g = torch.Generator().manual_seed(0)
-    nb, B, S = 4, 6, 4
-    means2d = (torch.rand(nb, B, 2, generator=g, dtype=f64) * 8).requires_grad_()
-    L = torch.randn(nb, B, 2, 2, generator=g, dtype=f64) * 0.4
+    G, nb, B, S = 9, 4, 6, 4
+    means2d = torch.rand(G, 2, generator=g, dtype=f64) * 8
+    L = torch.randn(G, 2, 2, generator=g, dtype=f64) * 0.4
     cov = L @ L.transpose(-1, -2) + 1.2 * torch.eye(2, dtype=f64)
-    det = cov[..., 0, 0] * cov[..., 1, 1] - cov[..., 0, 1] ** 2
-    conics = torch.stack([cov[..., 1, 1] / det, -cov[..., 0, 1] / det, cov[..., 0, 0] / det], -1).requires_grad_()
-    opacities = (torch.rand(nb, B, generator=g, dtype=f64) * 0.9 + 0.05).requires_grad_()
-    values = torch.randn(nb, B, 3, generator=g, dtype=f64).requires_grad_()
+    det = cov[:, 0, 0] * cov[:, 1, 1] - cov[:, 0, 1] ** 2
+    conics = torch.stack([cov[:, 1, 1] / det, -cov[:, 0, 1] / det, cov[:, 0, 0] / det], -1)
+    opacities = torch.rand(G, 1, generator=g, dtype=f64) * 0.9 + 0.05
+    values = torch.randn(G, 3, generator=g, dtype=f64)
+    attributes = torch.cat([means2d, conics, opacities, values], -1)
+    attributes[-1] = 0.0  # the padding row
+    attributes.requires_grad_()
+    # Gaussians appear in several slots (several tiles); the last row pads partly filled blocks.
+    slot_index = torch.randint(0, G - 1, (nb, B), generator=g)
+    slot_index[1, 4:] = G - 1
     # Blocks 0-1 form one tile (a carry crosses the block boundary), 2 and 3 are tiles of their own.
     block_x, block_y, block_first = torch.tensor([0, 0, 1, 1]), torch.tensor([0, 0, 0, 1]), torch.tensor([0, 0, 2, 3])
-    inputs = (means2d, conics, opacities, values)
-    assert torch.autograd.gradcheck(lambda *x: composite_blocks(*x, block_x, block_y, block_first, S), inputs)
-    assert torch.equal(composite_blocks(*inputs, block_x, block_y, block_first, S),
-                       composite_blocks_autograd(*inputs, block_x, block_y, block_first, S))
+    args = (slot_index, block_x, block_y, block_first, S)
+    assert torch.autograd.gradcheck(lambda a: composite_blocks(a, *args), (attributes,))
+    analytic = composite_blocks(attributes, *args)
+    reference = reference_composite(attributes, *args)
+    assert torch.allclose(analytic, reference, atol=1e-14)
+    (grad_analytic,) = torch.autograd.grad((analytic * torch.arange(analytic.numel(), dtype=f64).view_as(analytic)).sum(), attributes)
+    (grad_reference,) = torch.autograd.grad((reference * torch.arange(reference.numel(), dtype=f64).view_as(reference)).sum(), attributes)
+    assert torch.allclose(grad_analytic, grad_reference, rtol=1e-9, atol=1e-9)
 
 
 def test_tile_size_and_chunking_do_not_change_the_image_or_gradient(scene, camera):

@@ -210,21 +210,17 @@ def intersect_tiles(
 # Forward passes whose per-pixel state holds at most this many slot-pixels keep it for the
 # backward; larger ones recompute it there, so memory stays bounded.
 KEEP_STATE_MAX = 1 << 23
+# Block transmittances below this are treated as zero (compositing stopped long before).
+_LOG_T_FLOOR = -80.0
 
 
 @dataclass
 class _BlockState:
-    """Per slot-pixel quantities of a compositing pass, shapes (nb, B, S*S) unless noted."""
+    """Per slot-pixel quantities of a compositing pass, shapes (nb, B, S*S)."""
 
-    dx: Tensor  # (nb, B, S) pixel-centre x minus mean x, per tile column
-    dy: Tensor  # (nb, B, S) pixel-centre y minus mean y, per tile row
-    alpha: Tensor
-    live: Tensor  # bool: alpha = opacity * exp(-sigma) here (inside the cut-offs, not clamped)
-    transmittance: Tensor  # T before the slot; zero once compositing has stopped (T < 1e-4)
-
-    @property
-    def weights(self) -> Tensor:
-        return self.alpha * self.transmittance
+    weights: Tensor  # alpha * T, zero once compositing has stopped (T < 1e-4)
+    odds: Tensor  # alpha / (1 - alpha)
+    live: Tensor  # 1 where alpha = opacity * exp(-sigma) (inside the cut-offs, not clamped), else 0
 
 
 def _segment_exclusive(block_sum: Tensor, block_first: Tensor) -> Tensor:
@@ -235,30 +231,43 @@ def _segment_exclusive(block_sum: Tensor, block_first: Tensor) -> Tensor:
     return (exclusive - exclusive[block_first]).to(block_sum.dtype)
 
 
-def _block_state(means2d: Tensor, conics: Tensor, opacities: Tensor, block_x: Tensor, block_y: Tensor,
-                 block_first: Tensor, tile_size: int) -> _BlockState:
-    """Alphas and transmittances of all slots over their tile's pixels."""
-    offsets = torch.arange(tile_size, dtype=means2d.dtype, device=means2d.device) + 0.5
-    dx = (block_x * tile_size).to(means2d.dtype)[:, None, None] + offsets - means2d[..., :1]  # (nb, B, S)
-    dy = (block_y * tile_size).to(means2d.dtype)[:, None, None] + offsets - means2d[..., 1:]  # (nb, B, S)
-    a, b, c = conics[..., :1], conics[..., 1:2], conics[..., 2:]
-    # sigma = a dx^2/2 + b dx dy + c dy^2/2 over the tile's S x S pixels, row-major.
-    sigma = torch.addcmul((0.5 * c * dy * dy)[..., :, None] + (0.5 * a * dx * dx)[..., None, :], dy[..., :, None], (b * dx)[..., None, :])
-    sigma = sigma.flatten(2)
-    # A pixel counts when inside the 3-sigma ellipse and opacity * exp(-sigma) >= 1/255, i.e.
-    # sigma <= min(4.5, log(255 * opacity)): one comparison against a per-slot threshold.
-    log_opacity = torch.log(opacities.clamp_min(1e-30))[..., None]
-    inside = sigma <= (log_opacity - math.log(ALPHA_MIN)).clamp_max(SIGMA_MAX)
-    raw = torch.exp(log_opacity - sigma)
-    live = inside & (raw < ALPHA_MAX)
-    alpha = torch.where(inside, raw.clamp_max(ALPHA_MAX), 0.0)
-    log_t = torch.log1p(-alpha)
-    # Transmittance: cumulative log(1 - alpha) within each block plus the earlier blocks of the tile.
-    inclusive = torch.cumsum(log_t, 1)
-    log_after = _segment_exclusive(inclusive[:, -1], block_first)[:, None, :] + inclusive
+def _offset_basis(tile_size: int, dtype: torch.dtype, device) -> Tensor:
+    """Monomials ``[1, ox, oy, ox^2, ox oy, oy^2]`` of each pixel's offset from the tile centre:
+    (6, S*S), pixels row-major."""
+    o = torch.arange(tile_size, dtype=dtype, device=device) + 0.5 - 0.5 * tile_size
+    oy, ox = torch.meshgrid(o, o, indexing="ij")
+    ox, oy = ox.flatten(), oy.flatten()
+    return torch.stack([torch.ones_like(ox), ox, oy, ox * ox, ox * oy, oy * oy])
+
+
+def _block_state(exponent_coefs: Tensor, threshold: Tensor, block_first: Tensor, tile_size: int) -> _BlockState:
+    """Weights of all slots over their tile's pixels. Runs outside autograd (inside
+    :class:`_CompositeBlocks`), so it works in place; masks are kept as 0/1 floats because CPU
+    kernels write and multiply those much faster than bool tensors.
+
+    Args:
+        exponent_coefs: (nb, B, 6) coefficients of ``q = log(opacity) - sigma`` in the offset basis.
+        threshold: (nb, B, 1) the pixel counts where ``q >= threshold``.
+    """
+    nb, B, _ = exponent_coefs.shape
+    basis = _offset_basis(tile_size, exponent_coefs.dtype, exponent_coefs.device)
+    q = (exponent_coefs.reshape(-1, 6) @ basis).view(nb, B, -1)
+    inside = q.clone().ge_(threshold)
+    alpha = q.exp_().clamp_max_(ALPHA_MAX).mul_(inside)
+    live = alpha.clone().lt_(ALPHA_MAX).mul_(inside)  # not clamped: d alpha / d q = alpha
+    keep = 1.0 - alpha  # >= 1 - ALPHA_MAX, so dividing by it is safe
+    # Transmittance after each slot: product within the block times the earlier blocks' product.
+    after = torch.cumprod(keep, 1)
+    log_block = torch.log(after[:, -1].clamp_min(math.exp(_LOG_T_FLOOR)))
+    after.mul_(torch.exp(_segment_exclusive(log_block, block_first))[:, None, :])
+    before = after / keep
     # gsplat stops before a Gaussian would leave T below 1e-4; T is monotone, so all later ones stop too.
-    transmittance = torch.where(log_after > math.log(TRANSMITTANCE_MIN), torch.exp(log_after - log_t), 0.0)
-    return _BlockState(dx, dy, alpha, live, transmittance)
+    weights = before.mul_(alpha).mul_(after.gt_(TRANSMITTANCE_MIN))
+    return _BlockState(weights, alpha.div_(keep), live)
+
+
+def _with_alpha_channel(values: Tensor) -> Tensor:
+    return torch.cat([values, torch.ones_like(values[..., :1])], -1)
 
 
 class _CompositeBlocks(torch.autograd.Function):
@@ -266,75 +275,92 @@ class _CompositeBlocks(torch.autograd.Function):
     state for the backward; large ones keep only the per-slot inputs and recompute it."""
 
     @staticmethod
-    def forward(ctx, means2d, conics, opacities, values, block_x, block_y, block_first, tile_size):
-        state = _block_state(means2d, conics, opacities, block_x, block_y, block_first, tile_size)
-        ctx.save_for_backward(means2d, conics, opacities, values, block_x, block_y, block_first)
+    def forward(ctx, exponent_coefs, threshold, values, block_first, tile_size):
+        state = _block_state(exponent_coefs, threshold, block_first, tile_size)
+        ctx.save_for_backward(exponent_coefs, threshold, values, block_first)
         ctx.tile_size = tile_size
-        ctx.state = state if state.alpha.numel() <= KEEP_STATE_MAX else None
-        values = torch.cat([values, torch.ones_like(values[..., :1])], -1)
-        return state.weights.transpose(1, 2) @ values
+        ctx.state = state if state.weights.numel() <= KEEP_STATE_MAX else None
+        return state.weights.transpose(1, 2) @ _with_alpha_channel(values)
 
     @staticmethod
     def backward(ctx, grad_out):
-        means2d, conics, opacities, values, block_x, block_y, block_first = ctx.saved_tensors
-        st = ctx.state or _block_state(means2d, conics, opacities, block_x, block_y, block_first, ctx.tile_size)
+        exponent_coefs, threshold, values, block_first = ctx.saved_tensors
+        st = ctx.state or _block_state(exponent_coefs, threshold, block_first, ctx.tile_size)
         ctx.state = None
-        weights = st.weights
-        values = torch.cat([values, torch.ones_like(values[..., :1])], -1)
-        grad_values = (weights @ grad_out)[..., :-1]
-        # d out / d alpha_i = T_i v_i - (sum_{k>i} w_k v_k) / (1 - alpha_i), contracted with grad_out.
-        contrib = values @ grad_out.transpose(1, 2)  # (nb, B, P): v_i . g per pixel
-        inclusive = torch.cumsum(weights * contrib, 1)
-        before = _segment_exclusive(inclusive[:, -1], block_first)[:, None, :] + inclusive
+        grad_values = (st.weights @ grad_out)[..., :-1]
+        # d out / d alpha_i = T_i v_i - (sum_{k>i} w_k v_k) / (1 - alpha_i), contracted with
+        # grad_out; times alpha_i (= d alpha_i / d q_i where live) that is
+        # w_i c_i - after_i * alpha_i / (1 - alpha_i).
+        contrib = _with_alpha_channel(values) @ grad_out.transpose(1, 2)  # (nb, B, P): c_i = v_i . g
+        weighted = contrib.mul_(st.weights)
+        inclusive = torch.cumsum(weighted, 1)
+        earlier = _segment_exclusive(inclusive[:, -1], block_first)
         tile_total = torch.zeros_like(inclusive[:, -1]).index_add(0, block_first, inclusive[:, -1])[block_first]
-        after = tile_total[:, None, :] - before
-        grad_alpha = st.transmittance * contrib - after / (1.0 - st.alpha)
-        # alpha = opacity * exp(-sigma) where live: d alpha / d sigma = -alpha, d alpha / d opacity = alpha / opacity.
-        grad_log_alpha = torch.where(st.live, grad_alpha * st.alpha, 0.0)  # = -dL/dsigma
-        grad_opacities = grad_log_alpha.sum(-1) / opacities.clamp_min(1e-30)
-        S = ctx.tile_size
-        g = grad_log_alpha.view(*grad_log_alpha.shape[:2], S, S)  # -dL/dsigma, (nb, B, rows y, cols x)
-        g_x = g.sum(-2)  # (nb, B, S) per column
-        g_y = g.sum(-1)  # (nb, B, S) per row
-        dx, dy = st.dx, st.dy
-        g_dx = (g_x * dx).sum(-1)
-        g_dy = (g_y * dy).sum(-1)
-        g_dxdy = ((g @ dx[..., None])[..., 0] * dy).sum(-1)
-        a, b, c = conics.unbind(-1)
-        grad_conics = -torch.stack([0.5 * (g_x * dx * dx).sum(-1), g_dxdy, 0.5 * (g_y * dy * dy).sum(-1)], -1)
-        # sigma depends on the mean through dx = px - mx, dy = py - my.
-        grad_means2d = torch.stack([a * g_dx + b * g_dy, b * g_dx + c * g_dy], -1)
-        return grad_means2d, grad_conics, grad_opacities, grad_values, None, None, None, None
+        after = inclusive.neg_().add_((tile_total - earlier)[:, None, :])  # sum over later slots
+        grad_q = weighted.sub_(after.mul_(st.odds)).mul_(st.live)
+        basis = _offset_basis(ctx.tile_size, grad_q.dtype, grad_q.device)
+        grad_coefs = (grad_q.reshape(-1, grad_q.shape[-1]) @ basis.T).view_as(exponent_coefs)
+        return grad_coefs, None, grad_values, None, None
 
 
-def composite_blocks(
-    means2d: Tensor,
-    conics: Tensor,
-    opacities: Tensor,
-    values: Tensor,
-    block_x: Tensor,
-    block_y: Tensor,
-    block_first: Tensor,
-    tile_size: int,
-) -> Tensor:
+class _GatherRows(torch.autograd.Function):
+    """``source[index]`` whose backward scatters with ``index_add_`` (faster on CPU than the
+    accumulating ``index_put_`` autograd uses for advanced indexing)."""
+
+    @staticmethod
+    def forward(ctx, source, index):
+        ctx.save_for_backward(index)
+        ctx.rows = source.shape[0]
+        return source[index]
+
+    @staticmethod
+    def backward(ctx, grad):
+        (index,) = ctx.saved_tensors
+        out = grad.new_zeros(ctx.rows, *grad.shape[index.dim():])
+        return out.index_add_(0, index.flatten(), grad.flatten(0, index.dim() - 1)), None
+
+
+def _slot_exponents(attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor,
+                    tile_size: int) -> tuple[Tensor, Tensor, Tensor]:
+    """Per-slot coefficients of ``q = log(opacity) - sigma`` in the pixel-offset basis.
+
+    With the offset ``(ox, oy)`` of a pixel from its tile centre and ``(ex, ey)`` the tile centre
+    minus the mean, ``sigma = a (ex+ox)^2/2 + b (ex+ox)(ey+oy) + c (ey+oy)^2/2`` is a quadratic in
+    ``(ox, oy)``, so the whole (slots, S*S) exponent is one matrix product with a fixed basis.
+
+    Returns:
+        coefficients (nb, B, 6), the cut-off threshold on q (nb, B, 1) and values (nb, B, D).
+    """
+    slots = _GatherRows.apply(attributes, slot_index)
+    mx, my, a, b, c, opacity = slots[..., :6].unbind(-1)
+    half = 0.5 * tile_size
+    ex = (block_x * tile_size + half).to(slots.dtype)[:, None] - mx
+    ey = (block_y * tile_size + half).to(slots.dtype)[:, None] - my
+    log_opacity = torch.log(opacity.clamp_min(1e-30))
+    sigma_centre = 0.5 * a * ex * ex + b * ex * ey + 0.5 * c * ey * ey
+    coefs = torch.stack([log_opacity - sigma_centre, -(a * ex + b * ey), -(b * ex + c * ey), -0.5 * a, -b, -0.5 * c], -1)
+    # A pixel counts inside the 3-sigma ellipse where opacity * exp(-sigma) >= 1/255:
+    # q >= log(opacity) - 4.5 and q >= log(1/255).
+    threshold = (log_opacity.detach() - SIGMA_MAX).clamp_min(math.log(ALPHA_MIN))[..., None]
+    return coefs, threshold, slots[..., 6:]
+
+
+def composite_blocks(attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor, block_first: Tensor,
+                     tile_size: int) -> Tensor:
     """Front-to-back compositing of depth-sorted pair blocks.
 
     Args:
-        means2d, conics, opacities, values: per-slot Gaussian attributes
-            (nb, B, 2), (nb, B, 3), (nb, B), (nb, B, D); padding slots have zero opacity.
+        attributes: (G, 6 + D) per-Gaussian rows ``[mean2d (2), conic (3), opacity, values (D)]``;
+            the row used by padding slots must have zero opacity.
+        slot_index: (nb, B) row of ``attributes`` in each slot.
         block_x, block_y: (nb,) tile coordinates of each block.
         block_first: (nb,) index (within these blocks) of the first block of the same tile.
     Returns:
         (nb, tile_size^2, D + 1): each block's weighted sum of ``values`` per pixel and, last,
         its share of the alpha; summing the blocks of a tile gives the tile's image.
     """
-    return _CompositeBlocks.apply(means2d, conics, opacities, values, block_x, block_y, block_first, tile_size)
-
-
-def composite_blocks_autograd(means2d, conics, opacities, values, block_x, block_y, block_first, tile_size) -> Tensor:
-    """Reference for :func:`composite_blocks` differentiated by autograd (used by the tests)."""
-    weights = _block_state(means2d, conics, opacities, block_x, block_y, block_first, tile_size).weights
-    return weights.transpose(1, 2) @ torch.cat([values, torch.ones_like(values[..., :1])], -1)
+    coefs, threshold, values = _slot_exponents(attributes, slot_index, block_x, block_y, tile_size)
+    return _CompositeBlocks.apply(coefs, threshold, values, block_first, tile_size)
 
 
 def rasterize_torch(
@@ -370,25 +396,21 @@ def rasterize_torch(
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     blocks = intersect_tiles(proj.means2d.detach(), proj.extents, tile_size, tiles_x, tiles_y, block)
 
-    def padded(x: Tensor) -> Tensor:  # append the zero-opacity dummy Gaussian used by empty slots
-        return torch.cat([x, x.new_zeros(1, *x.shape[1:])], 0)
-
-    means2d, conics = padded(proj.means2d), padded(proj.conics)
-    opac = padded(opacities[proj.index])
-    values = padded(torch.cat([features[proj.index], proj.depths[:, None]], -1))
+    # One row per visible Gaussian plus a zero-opacity row for empty slots.
+    attributes = torch.cat([proj.means2d, proj.conics, opacities[proj.index, None], features[proj.index], proj.depths[:, None]], -1)
+    attributes = torch.cat([attributes, attributes.new_zeros(1, attributes.shape[1])], 0)
 
     pixels = tile_size * tile_size
     start = blocks.tile_block_start
     chunks = _chunk_tiles(start, max(1, max_chunk_elements // (pixels * block)))
-    image_tiles = values.new_zeros(tiles_x * tiles_y, pixels, values.shape[1] + 1)
+    image_tiles = attributes.new_zeros(tiles_x * tiles_y, pixels, attributes.shape[1] - 6 + 1)
     for t0, t1 in chunks:
         b0, b1 = int(start[t0]), int(start[t1])
         if b1 == b0:
             continue
-        g = blocks.gaussian[b0:b1]
         tile = blocks.block_tile[b0:b1]
-        args = (means2d[g], conics[g], opac[g], values[g], tile % tiles_x, tile // tiles_x, blocks.block_first[b0:b1] - b0, tile_size)
-        image_tiles = image_tiles.index_add(0, tile, composite_blocks(*args))
+        out = composite_blocks(attributes, blocks.gaussian[b0:b1], tile % tiles_x, tile // tiles_x, blocks.block_first[b0:b1] - b0, tile_size)
+        image_tiles = image_tiles.index_add(0, tile, out)
     image = (
         image_tiles.reshape(tiles_y, tiles_x, tile_size, tile_size, -1)
         .permute(0, 2, 1, 3, 4)

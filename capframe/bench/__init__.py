@@ -1,0 +1,22 @@
+"""Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
+JSON object with ``--json``."""
+
+from __future__ import annotations
+
+import json
+
+
+def run_bench(what: str, *, as_json: bool = False) -> dict:
+    if what == "render":
+        from .render import bench_render
+
+        figures = bench_render()
+    else:
+        raise ValueError(f"unknown benchmark {what!r}")
+    if as_json:
+        print(json.dumps(figures))
+    else:
+        width = max(map(len, figures))
+        for key, value in figures.items():
+            print(f"{key:<{width}}  {value:.4g}" if isinstance(value, float) else f"{key:<{width}}  {value}")
+    return figures

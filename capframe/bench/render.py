@@ -1,0 +1,164 @@
+"""Renderer benchmark: forward + backward (w.r.t. the pose) time per iteration, peak memory, and
+the pose-gradient error against central finite differences.
+
+The scene imitates a trained 3DGS reconstruction seen from a training camera: Gaussians lie on
+surfaces (a floor, boxes, spheres), flattened along the surface normal, sized to their
+neighbour spacing, with mixed opacities, so several layers overlap on every pixel as in real
+scenes.
+"""
+
+from __future__ import annotations
+
+import math
+import multiprocessing as mp
+import resource
+import time
+
+import numpy as np
+import torch
+
+from ..geometry import look_at, rotmat_to_quat, se3_exp
+from ..render import render
+from ..scene import Camera, GaussianScene
+
+
+def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> GaussianScene:
+    """``n`` flat Gaussians on a floor (z = 0), three boxes and two spheres inside [-2, 2]^2."""
+    g = torch.Generator().manual_seed(seed)
+    parts = []
+    # (sampler, area): every sampler returns points (k, 3) and unit normals (k, 3).
+
+    def floor(k):
+        p = torch.rand(k, 2, generator=g, dtype=torch.float64) * 4 - 2
+        return torch.cat([p, torch.zeros(k, 1, dtype=torch.float64)], 1), torch.tensor([[0.0, 0, 1]], dtype=torch.float64).expand(k, 3)
+
+    def sphere(centre, radius):
+        def sample(k):
+            d = torch.randn(k, 3, generator=g, dtype=torch.float64)
+            d = d / d.norm(dim=1, keepdim=True)
+            return torch.tensor(centre, dtype=torch.float64) + radius * d, d
+        return sample, 4 * math.pi * radius**2
+
+    def box(centre, half):
+        c, h = torch.tensor(centre, dtype=torch.float64), torch.tensor(half, dtype=torch.float64)
+
+        def sample(k):
+            u = torch.rand(k, 3, generator=g, dtype=torch.float64) * 2 - 1
+            axis = torch.randint(0, 3, (k,), generator=g)
+            sign = torch.where(torch.rand(k, generator=g) < 0.5, -1.0, 1.0).to(torch.float64)
+            u[torch.arange(k), axis] = sign
+            normal = torch.zeros(k, 3, dtype=torch.float64)
+            normal[torch.arange(k), axis] = sign
+            return c + u * h, normal
+        return sample, 8 * float(h[0] * h[1] + h[1] * h[2] + h[0] * h[2])
+
+    surfaces = [(floor, 16.0), sphere((0.8, 0.6, 0.5), 0.5), sphere((-0.9, -0.7, 0.35), 0.35),
+                box((-0.6, 0.8, 0.4), (0.4, 0.3, 0.4)), box((0.7, -0.8, 0.3), (0.3, 0.3, 0.3)), box((0.0, 0.0, 0.15), (0.25, 0.5, 0.15))]
+    total_area = sum(a for _, a in surfaces)
+    counts = [int(n * a / total_area) for _, a in surfaces]
+    counts[0] += n - sum(counts)
+    for (sample, area), k in zip(surfaces, counts):
+        points, normals = sample(k)
+        spacing = math.sqrt(area / max(k, 1))
+        parts.append((points, normals, spacing))
+    means = torch.cat([p for p, _, _ in parts])
+    normals = torch.cat([nrm for _, nrm, _ in parts])
+    spacing = torch.cat([torch.full((len(p),), s, dtype=torch.float64) for p, _, s in parts])
+    # Rotation whose third column is the normal: the flat axis of the Gaussian.
+    helper = torch.where(normals[:, :1].abs() < 0.9, torch.tensor([[1.0, 0, 0]], dtype=torch.float64), torch.tensor([[0.0, 1, 0]], dtype=torch.float64))
+    t1 = torch.linalg.cross(normals, helper)
+    t1 = t1 / t1.norm(dim=1, keepdim=True)
+    R = torch.stack([t1, torch.linalg.cross(normals, t1), normals], -1)
+    jitter = torch.rand(len(means), 2, generator=g, dtype=torch.float64) * 0.8 + 0.6
+    scales = torch.cat([spacing[:, None] * jitter, spacing[:, None] * 0.1], 1)
+    opacities = torch.rand(len(means), generator=g, dtype=torch.float64) * 0.7 + 0.3
+    colors = torch.rand(len(means), 3, generator=g, dtype=torch.float64)
+    return GaussianScene.from_activated(means, rotmat_to_quat(R), scales, opacities, colors).to(dtype=dtype)
+
+
+def orbit_camera(width: int, height: int, azimuth_deg: float = 30.0) -> Camera:
+    """A training-like view: 4.5 units out, 35 degrees up, 60 degree horizontal field of view."""
+    az, el = math.radians(azimuth_deg), math.radians(35.0)
+    eye = torch.tensor([4.5 * math.cos(el) * math.cos(az), 4.5 * math.cos(el) * math.sin(az), 4.5 * math.sin(el)], dtype=torch.float64)
+    T = look_at(eye, torch.tensor([0.0, 0.0, 0.3], dtype=torch.float64), torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))
+    focal = 0.5 * width / math.tan(math.radians(30.0))
+    K = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
+    return Camera(T.numpy(), K, width, height, name="bench")
+
+
+def time_forward_backward(scene: GaussianScene, camera: Camera, iterations: int = 10, warmup: int = 2) -> tuple[float, dict]:
+    """Median seconds of one forward + backward w.r.t. the pose, and the renderer's stats."""
+    times, stats = [], {}
+    for i in range(warmup + iterations):
+        T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+        start = time.perf_counter()
+        out = render(scene, camera, T_cw=T, backend="torch")
+        (out.rgb.sum() + out.alpha.sum() + out.depth.mean()).backward()
+        if i >= warmup:
+            times.append(time.perf_counter() - start)
+        stats = out.stats
+    return float(np.median(times)), stats
+
+
+def _peak_memory_child(n: int, width: int, height: int, queue) -> None:
+    torch.set_num_threads(torch.get_num_threads())
+    scene = surface_scene(n)
+    camera = orbit_camera(width, height)
+    baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    seconds, stats = time_forward_backward(scene, camera, iterations=3, warmup=1)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    queue.put((seconds, stats, peak / 1024.0, (peak - baseline) / 1024.0))
+
+
+def peak_memory(n: int, width: int, height: int) -> tuple[float, dict, float, float]:
+    """Run one size in a fresh process: (seconds, stats, peak RSS MB, RSS growth over the loaded
+    scene MB). A fresh process keeps earlier allocations out of the peak."""
+    ctx = mp.get_context("spawn")
+    queue = ctx.Queue()
+    proc = ctx.Process(target=_peak_memory_child, args=(n, width, height, queue))
+    proc.start()
+    result = queue.get()
+    proc.join()
+    return result
+
+
+def pose_gradient_error(seed: int = 0) -> float:
+    """Relative error ||g - g_fd|| / ||g_fd|| of the pose gradient at a random small twist,
+    float64, central differences. The step is 1e-8: in a dense scene a larger step lets some of
+    the ~1e5 pair-pixels cross the 1/255 alpha floor or the depth-validity threshold, and each
+    crossing is a jump that swamps the difference quotient."""
+    scene = surface_scene(3000, seed=seed, dtype=torch.float64)
+    camera = orbit_camera(64, 48)
+    g = torch.Generator().manual_seed(seed)
+    weights = torch.rand(48, 64, 3, generator=g, dtype=torch.float64)
+    T0 = torch.as_tensor(camera.T_cw)
+
+    def loss(tau):
+        out = render(scene, camera, T_cw=se3_exp(tau) @ T0, backend="torch", dtype=torch.float64)
+        return (out.rgb * weights).sum() + out.alpha.sum() + out.depth.sum()
+
+    tau0 = torch.randn(6, generator=g, dtype=torch.float64) * 0.01
+    tau = tau0.clone().requires_grad_()
+    loss(tau).backward()
+    numeric = torch.zeros(6, dtype=torch.float64)
+    with torch.no_grad():
+        for i in range(6):
+            e = torch.zeros(6, dtype=torch.float64)
+            e[i] = 1e-8
+            numeric[i] = (loss(tau0 + e) - loss(tau0 - e)) / 2e-8
+    return float((tau.grad - numeric).norm() / numeric.norm())
+
+
+def bench_render() -> dict:
+    figures: dict = {"threads": torch.get_num_threads()}
+    for n, (w, h) in ((5_000, (160, 120)), (50_000, (160, 120))):
+        seconds, stats = time_forward_backward(surface_scene(n), orbit_camera(w, h))
+        figures[f"torch_{n // 1000}k_{w}x{h}_s"] = seconds
+        figures[f"pairs_{n // 1000}k_{w}x{h}"] = stats["pairs"]
+    seconds, stats, peak, growth = peak_memory(100_000, 640, 480)
+    figures["torch_100k_640x480_s"] = seconds
+    figures["pairs_100k_640x480"] = stats["pairs"]
+    figures["peak_mem_100k_640x480_mb"] = peak
+    figures["render_mem_growth_100k_640x480_mb"] = growth
+    figures["pose_grad_rel_err"] = pose_gradient_error()
+    return figures
