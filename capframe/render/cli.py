@@ -1,0 +1,29 @@
+"""``capframe render``: one view of a scene from a camera file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ..scene import load_scene_dir, read_camera_json, read_ply
+from . import render
+from .image import save_png
+
+
+def render_command(scene: str, camera_path: str, output: str, *, backend: str = "auto", long_side: int | None = None) -> None:
+    """Render ``scene`` (a scene directory or a 3DGS PLY file) from ``camera_path`` (camera.json)
+    to the PNG ``output``; the background is black."""
+    source = Path(scene)
+    if source.is_dir():
+        gaussians = load_scene_dir(source).gaussians
+        if gaussians is None:
+            raise InputError("scene directory has no scene.ply to render", source=str(source))
+    elif source.suffix.lower() == ".ply":
+        gaussians = read_ply(source)
+    else:
+        raise InputError("expected a scene directory or a .ply file", source=str(source))
+    camera = read_camera_json(camera_path)
+    if long_side is not None:
+        camera = camera.with_long_side(long_side)
+    out = render(gaussians, camera, backend=backend)
+    save_png(out.rgb, output)

@@ -1,0 +1,26 @@
+"""Writing rendered images."""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import torch
+from PIL import Image
+
+from ..scene._io import atomic_write
+
+
+def to_uint8(image: torch.Tensor) -> np.ndarray:
+    """(H, W, C) float image in [0, 1] -> (H, W, C) uint8, rounded to nearest."""
+    return (image.detach().clamp(0.0, 1.0) * 255.0 + 0.5).to(torch.uint8).cpu().numpy()
+
+
+def save_png(image: torch.Tensor, path: str | Path) -> None:
+    """Write an (H, W, 3) float image in [0, 1] (or (H, W) grey) as a PNG, atomically.
+
+    The PNG carries no timestamp, so the same image always gives the same bytes."""
+    buffer = io.BytesIO()
+    Image.fromarray(to_uint8(image if image.dim() == 3 else image[..., None].expand(-1, -1, 3))).save(buffer, format="PNG")
+    atomic_write(path, buffer.getvalue())
