@@ -42,6 +42,12 @@ def _cmd_check(args: argparse.Namespace) -> None:
     check_command(args.scene, args.result, args.constraints, instruction_id=args.id, as_json=args.json)
 
 
+def _cmd_refine(args: argparse.Namespace) -> None:
+    from .refine.run import refine_command
+
+    refine_command(args)
+
+
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
@@ -94,6 +100,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--id", default=None, help="instruction id (default: the result's instruction_id)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=_cmd_check)
+
+    p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
+    p.add_argument("scene", help="scene directory")
+    p.add_argument("--labels", required=True, help="pseudo labels (labels.json)")
+    p.add_argument("--init", required=True, help="initial camera: a camera.json or a training view name")
+    p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
+    p.add_argument("--iterations", type=int, default=1500)
+    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
+    p.set_defaults(func=_cmd_refine)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render"])

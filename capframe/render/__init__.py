@@ -29,14 +29,14 @@ class RenderOutput:
     """Images of one view. ``H x W`` is the camera's image size.
 
     Attributes:
-        rgb: (H, W, 3) colour over the background.
+        rgb: (H, W, 3) colour over the background, or None when rendered without colours.
         alpha: (H, W) accumulated opacity.
         depth: (H, W) alpha-normalised camera z; 0 where ``alpha <= DEPTH_ALPHA_MIN``.
         extra: (H, W, C) composited extra per-Gaussian channels (not normalised), or None.
         stats: counts reported by the backend.
     """
 
-    rgb: Tensor
+    rgb: Tensor | None
     alpha: Tensor
     depth: Tensor
     extra: Tensor | None = None
@@ -67,8 +67,51 @@ def scene_extent(means: Tensor) -> float:
     return extent if extent > 0 else 1.0
 
 
+@dataclass
+class PreparedGaussians:
+    """The pose-independent inputs of a render, computed once by :func:`prepare` for scenes that
+    are rendered many times (Refine renders the same subjects at every step).
+
+    Attributes:
+        means: (N, 3) float64 (the recentring on the camera is done in float64).
+        factors: (N, 3, 3) covariance factors ``L = R S`` (``Sigma = L L^T``), render dtype.
+        opacities: (N,) render dtype.
+        sh: (N, K, 3) render dtype.
+        extent: the scene extent the default near plane is relative to.
+    """
+
+    means: Tensor
+    factors: Tensor
+    opacities: Tensor
+    sh: Tensor
+    extent: float
+
+    def __len__(self) -> int:
+        return len(self.means)
+
+    def subset(self, index: Tensor) -> "PreparedGaussians":
+        return PreparedGaussians(self.means[index], self.factors[index], self.opacities[index], self.sh[index], self.extent)
+
+
+def prepare(scene: GaussianScene, dtype: torch.dtype = torch.float32, extent: float | None = None) -> PreparedGaussians:
+    """Pose-independent render inputs of ``scene``; ``extent`` defaults to its own extent.
+
+    Gradients to the scene's parameters flow through the result, but it is meant for a scene
+    that stays fixed while it is rendered (a prepared scene does not see later edits).
+    """
+    from .torch_backend import covariance_factor
+
+    return PreparedGaussians(
+        means=scene.means.to(torch.float64),
+        factors=covariance_factor(scene.quats.to(dtype), scene.scales.to(dtype)),
+        opacities=scene.opacities.to(dtype),
+        sh=scene.sh.to(dtype),
+        extent=scene_extent(scene.means.detach()) if extent is None else extent,
+    )
+
+
 def render(
-    scene: GaussianScene,
+    scene: GaussianScene | PreparedGaussians,
     camera: Camera,
     *,
     T_cw: Tensor | None = None,
@@ -77,6 +120,7 @@ def render(
     backend: str = "auto",
     background: Tensor | tuple[float, float, float] | None = None,
     sh_degree: int | None = None,
+    colors: bool = True,
     near: float | None = None,
     far: float = float("inf"),
     dtype: torch.dtype = torch.float32,
@@ -85,7 +129,7 @@ def render(
     """Render ``scene`` from ``camera``.
 
     Args:
-        scene: the Gaussians (on the device to render on).
+        scene: the Gaussians (on the device to render on), or a :func:`prepare`-d scene.
         camera: intrinsics, image size and, unless ``T_cw`` is given, the pose.
         T_cw: optional (4, 4) pose tensor overriding ``camera.T_cw``; gradients flow to it.
         subset: optional boolean mask (N,) or indices (M,) of the Gaussians to render.
@@ -93,6 +137,7 @@ def render(
             (e.g. a 0/1 membership gives a soft subject mask).
         background: RGB added where the view is not fully covered (default black).
         sh_degree: evaluate SH up to this degree (default: all stored).
+        colors: False skips the colour (``rgb`` is None): masks and depth only, faster.
         near: near plane in scene units; default ``1e-4`` of the scene extent.
         dtype: render precision (float64 for gradient checks).
         backend_options: passed to the backend (torch: ``tile_size``, ``max_chunk_elements``).
@@ -101,23 +146,26 @@ def render(
     """
     name = resolve_backend(backend)
     device = scene.means.device
+    gaussians = scene if isinstance(scene, PreparedGaussians) else prepare(scene, dtype)
     if near is None:
-        near = NEAR_FRACTION * scene_extent(scene.means.detach())
+        near = NEAR_FRACTION * gaussians.extent
     if subset is not None:
-        scene = scene.subset(subset)
+        gaussians = gaussians.subset(subset)
         extra = extra[subset] if extra is not None else None
     pose = torch.as_tensor(camera.T_cw, device=device) if T_cw is None else T_cw
     pose = pose.to(device=device, dtype=torch.float64)
     centre = camera_center(pose)
-    means_local = (scene.means.to(torch.float64) - centre).to(dtype)  # camera centre at the origin
+    means_local = (gaussians.means - centre).to(dtype)  # camera centre at the origin
     view = torch.zeros(4, 4, dtype=dtype, device=device)
     view[:3, :3] = pose[:3, :3].to(dtype)
     view[3, 3] = 1.0
     K = torch.as_tensor(camera.K, dtype=dtype, device=device)
 
-    colors = eval_sh_colors(scene.sh.to(dtype), means_local, sh_degree)
-    features = colors if extra is None else torch.cat([colors, extra.to(dtype)], -1)
-    args = (means_local, scene.quats.to(dtype), scene.scales.to(dtype), scene.opacities.to(dtype), features, view, K)
+    parts = [eval_sh_colors(gaussians.sh, means_local, sh_degree)] if colors else []
+    if extra is not None:
+        parts.append(extra.to(dtype))
+    features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
+    args = (means_local, gaussians.factors, gaussians.opacities, features, view, K)
     if name == "gsplat":
         from .gsplat_backend import rasterize_gsplat
 
@@ -127,14 +175,15 @@ def render(
 
         image, alpha, depth_sum, stats = rasterize_torch(*args, camera.width, camera.height, near=near, far=far, **backend_options)
 
-    rgb = image[..., :3]
-    if background is not None:
+    channels = 3 if colors else 0
+    rgb = image[..., :3] if colors else None
+    if background is not None and rgb is not None:
         bg = torch.as_tensor(background, dtype=dtype, device=device)
         rgb = rgb + (1.0 - alpha)[..., None] * bg
     valid = alpha > DEPTH_ALPHA_MIN
     depth = torch.where(valid, depth_sum / alpha.clamp_min(DEPTH_ALPHA_MIN), torch.zeros_like(alpha))
     stats["backend"] = name
-    return RenderOutput(rgb=rgb, alpha=alpha, depth=depth, extra=image[..., 3:] if extra is not None else None, stats=stats)
+    return RenderOutput(rgb=rgb, alpha=alpha, depth=depth, extra=image[..., channels:] if extra is not None else None, stats=stats)
 
 
-__all__ = ["RenderOutput", "render", "resolve_backend", "scene_extent"]
+__all__ = ["PreparedGaussians", "RenderOutput", "prepare", "render", "resolve_backend", "scene_extent"]

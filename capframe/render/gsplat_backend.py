@@ -8,8 +8,7 @@ from torch import Tensor
 
 def rasterize_gsplat(
     means: Tensor,
-    quats: Tensor,
-    scales: Tensor,
+    factors: Tensor,
     opacities: Tensor,
     features: Tensor,
     T_cw: Tensor,
@@ -27,8 +26,8 @@ def rasterize_gsplat(
 
     colors, alphas, meta = rasterization(
         means,
-        quats,
-        scales,
+        None,
+        None,
         opacities,
         features,
         T_cw[None],
@@ -41,6 +40,7 @@ def rasterize_gsplat(
         packed=False,
         rasterize_mode="classic",
         render_mode="RGB+D",
+        covars=factors @ factors.transpose(-1, -2),
     )
     image = colors[0]
     return image[..., :-1], alphas[0, ..., 0], image[..., -1], {"visible": int((meta["radii"] > 0).any(-1).sum())}

@@ -35,23 +35,30 @@ EPS2D = 0.3
 SIGMA_MAX = 4.5  # 0.5 * 3^2: the 3-sigma ellipse
 
 
+def covariance_factor(quats: Tensor, scales: Tensor) -> Tensor:
+    """Factor ``L = R S`` of the world covariances ``Sigma = L L^T``: (N, 4) wxyz, (N, 3) -> (N, 3, 3)."""
+    return quat_to_rotmat(quats) * scales[:, None, :]
+
+
 def covariance_3d(quats: Tensor, scales: Tensor) -> Tensor:
     """World covariances ``R S S^T R^T``: (N, 4) wxyz, (N, 3) -> (N, 3, 3)."""
-    M = quat_to_rotmat(quats) * scales[:, None, :]
-    return M @ M.transpose(-1, -2)
+    L = covariance_factor(quats, scales)
+    return L @ L.transpose(-1, -2)
 
 
 def ewa_project(
-    means_cam: Tensor, covs_cam: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D
+    means_cam: Tensor, R: Tensor, factors: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D
 ) -> tuple[Tensor, Tensor]:
-    """Perspective projection of 3D Gaussians in the camera frame (requires ``z > 0``).
+    """Perspective projection of 3D Gaussians (requires camera-frame ``z > 0``).
 
-    The Jacobian is evaluated at the mean with ``x/z`` and ``y/z`` clamped to 30% beyond the
-    image borders, as gsplat does, so Gaussians far outside the view do not blow up.
+    The 2D covariance is ``(J R L)(J R L)^T`` plus the low-pass, with ``J`` the projection's
+    Jacobian at the mean, evaluated with ``x/z`` and ``y/z`` clamped to 30% beyond the image
+    borders as gsplat does, so Gaussians far outside the view do not blow up.
 
     Args:
         means_cam: (N, 3) camera-frame means.
-        covs_cam: (N, 3, 3) camera-frame covariances.
+        R: (3, 3) world-to-camera rotation.
+        factors: (N, 3, 3) world covariance factors ``L``.
         K: (3, 3) intrinsics.
     Returns:
         means2d (N, 2) in pixels and the low-passed 2D covariances (N, 2, 2).
@@ -59,15 +66,12 @@ def ewa_project(
     fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
     x, y, z = means_cam.unbind(-1)
     margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
-    tx = z * torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
-    ty = z * torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
-    zero = torch.zeros_like(z)
-    J = torch.stack(
-        [torch.stack([fx / z, zero, -fx * tx / (z * z)], -1), torch.stack([zero, fy / z, -fy * ty / (z * z)], -1)],
-        -2,
-    )
-    cov2d = J @ covs_cam @ J.transpose(-1, -2)
-    cov2d = cov2d + eps2d * torch.eye(2, dtype=cov2d.dtype, device=cov2d.device)
+    tx = torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
+    ty = torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    # Rows of J R: J = [[fx/z, 0, -fx tx/z], [0, fy/z, -fy ty/z]] with tx, ty the clamped x/z, y/z.
+    JR = torch.stack([(fx / z)[:, None] * (R[0] - tx[:, None] * R[2]), (fy / z)[:, None] * (R[1] - ty[:, None] * R[2])], 1)
+    M = JR @ factors  # (N, 2, 3)
+    cov2d = M @ M.transpose(-1, -2) + eps2d * torch.eye(2, dtype=M.dtype, device=M.device)
     means2d = torch.stack([fx * x / z + cx, fy * y / z + cy], -1)
     return means2d, cov2d
 
@@ -109,7 +113,7 @@ class Projection:
 
 def project_gaussians(
     means: Tensor,
-    covs: Tensor,
+    factors: Tensor,
     opacities: Tensor,
     T_cw: Tensor,
     K: Tensor,
@@ -118,7 +122,7 @@ def project_gaussians(
     near: float,
     far: float,
 ) -> Projection:
-    """Cull and project Gaussians; differentiable w.r.t. ``T_cw`` and the means.
+    """Cull and project Gaussians; differentiable w.r.t. ``T_cw``, the means and the factors.
 
     Visibility is decided without gradient first (behind the camera, outside the near/far range,
     non-finite or degenerate 2D covariance, footprint off-screen), and the differentiable
@@ -128,14 +132,13 @@ def project_gaussians(
     R, t = T_cw[:3, :3], T_cw[:3, 3]
     with torch.no_grad():
         z = means @ R[2] + t[2]
-        keep = (z > near) & (z < far) & torch.isfinite(covs).flatten(1).all(1)
-        idx = keep.nonzero()[:, 0]
-        means_cam = means[idx] @ R.T + t
-        means2d, cov2d = ewa_project(means_cam, R @ covs[idx] @ R.T, K, width, height)
+        finite_3d = torch.isfinite(factors).flatten(1).all(1)
+        idx = ((z > near) & (z < far) & finite_3d).nonzero()[:, 0]
+        means2d, cov2d = ewa_project(means[idx] @ R.T + t, R, factors[idx], K, width, height)
         det = cov2d[:, 0, 0] * cov2d[:, 1, 1] - cov2d[:, 0, 1] ** 2
         extents = pixel_extent(cov2d, opacities[idx])
         finite = torch.isfinite(cov2d).flatten(1).all(1) & torch.isfinite(means2d).all(1)
-        skipped = int((~torch.isfinite(covs).flatten(1).all(1)).sum()) + int((~finite).sum())
+        skipped = len(finite_3d) - int(finite_3d.sum()) + len(finite) - int(finite.sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=3)
         on_screen = (means2d + extents > 0).all(1) & (means2d[:, 0] - extents[:, 0] < width) & (means2d[:, 1] - extents[:, 1] < height)
@@ -144,7 +147,7 @@ def project_gaussians(
         idx = idx[ok][order]
         extents = extents[ok][order]
     means_cam = means[idx] @ R.T + t
-    means2d, cov2d = ewa_project(means_cam, R @ covs[idx] @ R.T, K, width, height)
+    means2d, cov2d = ewa_project(means_cam, R, factors[idx], K, width, height)
     return Projection(idx, means2d, conic_of(cov2d), means_cam[:, 2], extents)
 
 
@@ -217,13 +220,20 @@ def intersect_tiles(
         nx_g = nx[gaussian]
         tile_x = x0[gaussian] + local % nx_g
         tile_y = y0[gaussian] + local // nx_g
-        # Pixel centres of a tile span [t S + 0.5, t S + S - 0.5]; the cut-off is
-        # sigma <= min(4.5, log(255 opacity)), with a margin against rounding.
-        lo_x, lo_y = (tile_x * tile_size).to(means2d.dtype) + 0.5, (tile_y * tile_size).to(means2d.dtype) + 0.5
-        reach = torch.log(opacities.clamp_min(ALPHA_MIN) / ALPHA_MIN).clamp_max(SIGMA_MAX)
-        touches = _min_sigma_over_rect(means2d[gaussian], conics[gaussian], lo_x, lo_x + tile_size - 1, lo_y, lo_y + tile_size - 1) <= reach[gaussian] + 1e-4
-        gaussian = gaussian[touches]
-        tile = (tile_y * tiles_x + tile_x)[touches]
+        tile = tile_y * tiles_x + tile_x
+        # Footprints of 3 or more tiles on a side have corner tiles the ellipse may miss; test
+        # those pairs exactly. Pixel centres of a tile span [t S + 0.5, t S + S - 0.5]; the cut-off
+        # is sigma <= min(4.5, log(255 opacity)), with a margin against rounding.
+        wide = ((nx >= 3) | (y1 - y0 >= 3))[gaussian].nonzero()[:, 0]
+        if len(wide):
+            g = gaussian[wide]
+            lo_x = (tile_x[wide] * tile_size).to(means2d.dtype) + 0.5
+            lo_y = (tile_y[wide] * tile_size).to(means2d.dtype) + 0.5
+            reach = torch.log(opacities[g].clamp_min(ALPHA_MIN) / ALPHA_MIN).clamp_max(SIGMA_MAX)
+            misses = _min_sigma_over_rect(means2d[g], conics[g], lo_x, lo_x + tile_size - 1, lo_y, lo_y + tile_size - 1) > reach + 1e-4
+            keep = torch.ones(len(gaussian), dtype=torch.bool, device=device)
+            keep[wide[misses]] = False
+            gaussian, tile = gaussian[keep], tile[keep]
         # Gaussians are already in depth order, so a stable sort by tile keeps depth order per tile.
         tile, order = torch.sort(tile, stable=True)
         gaussian = gaussian[order]
@@ -399,8 +409,7 @@ def composite_blocks(attributes: Tensor, slot_index: Tensor, block_x: Tensor, bl
 
 def rasterize_torch(
     means: Tensor,
-    quats: Tensor,
-    scales: Tensor,
+    factors: Tensor,
     opacities: Tensor,
     features: Tensor,
     T_cw: Tensor,
@@ -417,7 +426,8 @@ def rasterize_torch(
     """Render per-Gaussian features into an image.
 
     Args:
-        means, quats, scales, opacities: (N, 3), (N, 4), (N, 3), (N,) Gaussians (activated).
+        means, factors, opacities: (N, 3) means, (N, 3, 3) covariance factors ``L``
+            (``Sigma = L L^T``) and (N,) opacities.
         features: (N, D) values to composite (colours and any extra channels).
         T_cw: (4, 4) world-to-camera pose, OpenCV axes; K: (3, 3) intrinsics.
         tile_size: pixel tile edge; block: pair slots per block.
@@ -426,7 +436,7 @@ def rasterize_torch(
         features (H, W, D), alpha (H, W), accumulated camera-z ``sum_i w_i z_i`` (H, W), and
         stats (visible Gaussians, tile pairs, chunks).
     """
-    proj = project_gaussians(means, covariance_3d(quats, scales), opacities.detach(), T_cw, K, width, height, near, far)
+    proj = project_gaussians(means, factors, opacities.detach(), T_cw, K, width, height, near, far)
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     blocks = intersect_tiles(proj.means2d.detach(), proj.conics.detach(), opacities[proj.index].detach(), proj.extents, tile_size, tiles_x, tiles_y, block)
 

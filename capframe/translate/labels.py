@@ -1,0 +1,201 @@
+"""Geometric pseudo labels: what Refine optimises towards.
+
+Per subject: its Gaussians and centroid, a layout target (where its mask should sit and how big
+it should be) and, when the instruction names a view, the set of acceptable view angles. Angles
+are degrees here (the labels are written to files); view angles and roll follow DESIGN §3.
+
+Layout targets come in two boxes, both normalised ``[x0, y0, x1, y1]`` (origin top-left):
+
+* ``region``: where the subject's centre must lie (``capframe.constraints.REGIONS``);
+* ``box``: where its mask should stay: a square of the requested shot's extent centred on the
+  region, or the region itself when no shot size is asked.
+
+A requested shot size also gives ``extent``, the interval the subject's projected extent should
+fall in.
+
+With a requested roll both are rotated about their centres, as the paper rotates its layout box:
+the scene appears rotated counter-clockwise by the roll, and so does an upright subject.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
+from ..errors import InputError
+
+# Target extent (fraction of the frame) of a subject's box for each shot size: inside the
+# checker's accepted interval (capframe.constraints.SHOT_SIZES) with a margin on both sides.
+SHOT_EXTENT = {"close-up": 0.75, "medium": 0.42, "wide": 0.18}
+# Relative margin inside a shot size's accepted extent interval.
+SHOT_MARGIN = 0.15
+# The centroid is pulled into the region shrunk by this much, so it does not end on the border.
+REGION_MARGIN = 0.04
+# View targets aim this far inside the accepted tolerance for the same reason.
+VIEW_MARGIN_DEG = 12.0
+ELEVATION_MARGIN_DEG = 4.0
+
+assert all(SHOT_SIZES[k][0] < v < SHOT_SIZES[k][1] for k, v in SHOT_EXTENT.items())
+
+
+@dataclass
+class ViewTarget:
+    """Acceptable camera positions around a subject.
+
+    Attributes:
+        azimuths_deg: acceptable azimuths (any one), or empty when only the elevation matters.
+        azimuth_tolerance_deg: half-width accepted around each azimuth.
+        elevation_range_deg: accepted ``[lo, hi]`` elevation, or None.
+    """
+
+    azimuths_deg: tuple[float, ...] = ()
+    azimuth_tolerance_deg: float = VIEW_TOLERANCE_DEG - VIEW_MARGIN_DEG
+    elevation_range_deg: tuple[float, float] | None = None
+
+
+@dataclass
+class SubjectLabel:
+    """Pseudo labels of one subject.
+
+    Attributes:
+        name: the subject's scene name.
+        gaussians: (M,) indices of its Gaussians in the scene.
+        centroid: (3,) mean of those Gaussians.
+        front: (3,) its front direction, or None for a symmetric subject.
+        region: normalised box for its centre, or None.
+        box: normalised box for its mask, or None.
+        extent: ``(lo, hi)`` interval for its projected extent (a shot size), or None.
+        view: acceptable view angles, or None.
+    """
+
+    name: str
+    gaussians: np.ndarray
+    centroid: np.ndarray
+    front: np.ndarray | None = None
+    region: tuple[float, float, float, float] | None = None
+    box: tuple[float, float, float, float] | None = None
+    extent: tuple[float, float] | None = None
+    view: ViewTarget | None = None
+
+
+@dataclass
+class PseudoLabels:
+    """Everything Refine needs from Translate.
+
+    Attributes:
+        subjects: the subjects, primary first.
+        up: (3,) unit world up.
+        roll_deg: requested roll (0 = level, the default when none is asked).
+        box_angle_deg: rotation of the layout boxes about their centres (the requested roll).
+    """
+
+    subjects: list[SubjectLabel]
+    up: np.ndarray
+    roll_deg: float = 0.0
+    box_angle_deg: float = 0.0
+    notes: list[str] = field(default_factory=list)
+
+
+def _shrink(box: tuple[float, ...], margin: float) -> tuple[float, float, float, float]:
+    x0, y0, x1, y1 = box
+    mx, my = min(margin, (x1 - x0) / 4), min(margin, (y1 - y0) / 4)
+    return (x0 + mx, y0 + my, x1 - mx, y1 - my)
+
+
+def layout_boxes(region: str | None, shot: str | None) -> tuple[tuple | None, tuple | None, tuple | None]:
+    """Centre region, mask box and extent interval for a subject's region and shot size.
+
+    The mask box is a square (in frame fractions) of the shot's extent centred on the region,
+    shifted to stay inside the frame; without a shot size it is the region itself. The extent
+    interval is the checker's, narrowed by ``SHOT_MARGIN`` (and capped at the frame for a
+    close-up, whose accepted interval is open-ended).
+    """
+    region_box = _shrink(REGIONS[region], REGION_MARGIN) if region else None
+    if shot is None:
+        return region_box, (REGIONS[region] if region else None), None
+    size = SHOT_EXTENT[shot]
+    cx, cy = ((region_box[0] + region_box[2]) / 2, (region_box[1] + region_box[3]) / 2) if region_box else (0.5, 0.5)
+    cx = min(max(cx, size / 2), 1 - size / 2)
+    cy = min(max(cy, size / 2), 1 - size / 2)
+    lo, hi = SHOT_SIZES[shot]
+    extent = (lo * (1 + SHOT_MARGIN), min(hi * (1 - SHOT_MARGIN), 0.95))
+    return region_box, (cx - size / 2, cy - size / 2, cx + size / 2, cy + size / 2), extent
+
+
+def view_target(view: str | None, elevation_range: tuple[float, float] | None) -> ViewTarget | None:
+    """Acceptable view angles for a named view side and an elevation interval (either optional)."""
+    if view is None and elevation_range is None:
+        return None
+    elevation = None
+    if elevation_range is not None:
+        lo, hi = elevation_range
+        m = min(ELEVATION_MARGIN_DEG, (hi - lo) / 4)
+        elevation = (max(lo + m, -89.0), min(hi - m, 89.0))
+    return ViewTarget(azimuths_deg=VIEW_SIDES[view] if view else (), elevation_range_deg=elevation)
+
+
+def labels_from_constraints(constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]],
+                            up: np.ndarray) -> PseudoLabels:
+    """Pseudo labels for parsed constraints.
+
+    Args:
+        constraints: what the instruction asks.
+        subjects: per subject name, its Gaussian indices (M,), centroid (3,) and front (3,) or None.
+        up: (3,) world up.
+    """
+    roll = constraints.roll_deg or 0.0
+    elevation = constraints.elevation_range()
+    labels = []
+    for k, subject in enumerate(constraints.subjects):
+        if subject.name not in subjects:
+            raise InputError(f"subject {subject.name!r} has no Gaussians; known: {sorted(subjects)}")
+        index, centroid, front = subjects[subject.name]
+        region, box, extent = layout_boxes(subject.region, subject.shot)
+        # The elevation is measured around the primary subject (the first).
+        view = view_target(subject.view if front is not None else None, elevation if k == 0 else None)
+        labels.append(SubjectLabel(subject.name, np.asarray(index), np.asarray(centroid, dtype=np.float64),
+                                   None if front is None else np.asarray(front, dtype=np.float64), region, box, extent, view))
+    return PseudoLabels(labels, np.asarray(up, dtype=np.float64), roll_deg=roll, box_angle_deg=roll)
+
+
+def _to_json(labels: PseudoLabels) -> dict:
+    def subject(s: SubjectLabel) -> dict:
+        view = None if s.view is None else {"azimuths_deg": list(s.view.azimuths_deg), "azimuth_tolerance_deg": s.view.azimuth_tolerance_deg,
+                                            "elevation_range_deg": None if s.view.elevation_range_deg is None else list(s.view.elevation_range_deg)}
+        return {"name": s.name, "gaussians": s.gaussians.tolist(), "centroid": s.centroid.tolist(),
+                "front": None if s.front is None else s.front.tolist(), "region": None if s.region is None else list(s.region),
+                "box": None if s.box is None else list(s.box), "extent": None if s.extent is None else list(s.extent), "view": view}
+
+    return {"format": 1, "up": labels.up.tolist(), "roll_deg": labels.roll_deg, "box_angle_deg": labels.box_angle_deg,
+            "notes": labels.notes, "subjects": [subject(s) for s in labels.subjects]}
+
+
+def write_pseudo_labels(labels: PseudoLabels, path: str | Path) -> None:
+    from ..scene._io import atomic_write
+
+    atomic_write(path, json.dumps(_to_json(labels), indent=1))
+
+
+def read_pseudo_labels(path: str | Path) -> PseudoLabels:
+    """Read pseudo labels written by :func:`write_pseudo_labels`."""
+    source = str(path)
+    try:
+        data = json.loads(Path(path).read_text())
+        subjects = []
+        for s in data["subjects"]:
+            v = s.get("view")
+            view = None if v is None else ViewTarget(tuple(v["azimuths_deg"]), float(v["azimuth_tolerance_deg"]),
+                                                     None if v["elevation_range_deg"] is None else tuple(v["elevation_range_deg"]))
+            subjects.append(SubjectLabel(s["name"], np.asarray(s["gaussians"], dtype=np.int64), np.asarray(s["centroid"], dtype=np.float64),
+                                         None if s["front"] is None else np.asarray(s["front"], dtype=np.float64),
+                                         None if s["region"] is None else tuple(s["region"]), None if s["box"] is None else tuple(s["box"]),
+                                         None if s["extent"] is None else tuple(s["extent"]), view))
+        return PseudoLabels(subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"]), list(data.get("notes", [])))
+    except FileNotFoundError:
+        raise InputError("pseudo labels not found", source=source) from None
+    except (KeyError, TypeError, ValueError) as err:
+        raise InputError(f"malformed pseudo labels ({err!r}); expected the format of write_pseudo_labels", source=source) from None

@@ -1,0 +1,160 @@
+"""Refine losses on hand-checkable cases, and the pose gradient of the full objective."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import torch
+
+from capframe.geometry import look_at, se3_exp, view_direction
+from capframe.refine.losses import Box, aim_loss, box_indicator, layout_terms, mask_extent, soft_centroid, upright_loss, view_loss
+from capframe.refine.optimize import RefineConfig, _Objective
+from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes
+
+f64 = torch.float64
+
+
+def vec(*v):
+    return torch.tensor(v, dtype=f64)
+
+
+def rect_mask(height, width, x0, y0, x1, y1):
+    mask = torch.zeros(height, width, dtype=f64)
+    mask[y0:y1, x0:x1] = 1.0
+    return mask
+
+
+def test_box_exactly_containing_the_mask_gives_zero_layout_loss():
+    mask = rect_mask(40, 80, 20, 10, 40, 30)
+    box = Box(20 / 80, 10 / 40, 40 / 80, 30 / 40)
+    terms = layout_terms(mask, box, box)
+    assert float(terms["center"]) < 1e-6 and float(terms["inside"]) == 0.0 and float(terms["outside"]) == 0.0
+    centroid, mass = soft_centroid(mask)
+    assert torch.allclose(centroid, vec(30.0, 20.0)) and float(mass) == 400.0
+
+
+def test_centre_distance_and_leakage_by_hand():
+    mask = rect_mask(40, 80, 60, 10, 80, 30)  # centroid (70, 20): 30 px right of a box ending at x = 40
+    box = Box(0.0, 0.0, 0.5, 1.0)
+    terms = layout_terms(mask, box, box)
+    assert math.isclose(float(terms["center"]), 30 / 80, rel_tol=1e-9)
+    assert float(terms["outside"]) == 1.0 and float(terms["inside"]) == 1.0
+    half = rect_mask(40, 80, 30, 10, 50, 30)  # half of it inside x < 40
+    assert math.isclose(float(layout_terms(half, box, None)["outside"]), 0.5)
+
+
+def test_rotated_box_indicator_turns_counter_clockwise_on_screen():
+    # A thin horizontal box rotated by +90 degrees becomes vertical.
+    flat = box_indicator(Box(0.1, 0.45, 0.9, 0.55), 100, 100)
+    turned = box_indicator(Box(0.1, 0.45, 0.9, 0.55, 90.0), 100, 100)
+    assert torch.equal(turned, flat.T)
+    # At +30 degrees the right end rises (smaller y) as the scene under a positive roll does.
+    tilted = box_indicator(Box(0.1, 0.48, 0.9, 0.52, 30.0), 100, 100)
+    ys_right = tilted[:, 80].nonzero()[:, 0].float().mean()
+    ys_left = tilted[:, 20].nonzero()[:, 0].float().mean()
+    assert ys_right < 50 < ys_left
+
+
+def test_mask_extent_of_an_ellipse_matches_its_bounding_box():
+    ys, xs = torch.meshgrid(torch.arange(120, dtype=f64) + 0.5, torch.arange(160, dtype=f64) + 0.5, indexing="ij")
+    mask = (((xs - 80) / 40) ** 2 + ((ys - 60) / 20) ** 2 <= 1).to(f64)  # 80 x 40 px ellipse
+    centroid, mass = soft_centroid(mask)
+    assert math.isclose(float(mask_extent(mask, centroid, mass)), 80 / 160, rel_tol=0.05)
+    terms = layout_terms(mask, None, None, extent=(0.6, 0.9))
+    assert math.isclose(float(terms["size"]), math.log(0.6 / float(mask_extent(mask, centroid, mass))), rel_tol=1e-9)
+
+
+@pytest.mark.parametrize("pitch_deg", [0.0, 30.0, -60.0, 85.0])
+def test_upright_ignores_pitch_and_penalises_roll(pitch_deg):
+    up = vec(0, 0, 1)
+    pitch = math.radians(pitch_deg)
+    target = vec(math.cos(pitch), 0, -math.sin(pitch))  # looking down by pitch_deg
+    level = look_at(vec(0, 0, 0), target, up)
+    assert float(upright_loss(level, up)) < 1e-5
+    rolled = look_at(vec(0, 0, 0), target, up, roll=math.radians(20))
+    h = math.cos(pitch)
+    assert math.isclose(float(upright_loss(rolled, up)), h * 2 * math.sin(math.radians(10)), rel_tol=1e-4)
+    assert float(upright_loss(rolled, up, math.radians(20))) < 1e-5  # the asked roll is free
+    upside_down = look_at(vec(0, 0, 0), target, up, roll=math.pi)
+    assert float(upright_loss(upside_down, up)) > float(upright_loss(rolled, up))
+
+
+def test_upright_is_finite_looking_straight_down():
+    T = look_at(vec(0, 0, 5), vec(0, 0, 0), vec(0, 0, 1)).clone().requires_grad_()
+    loss = upright_loss(T, vec(0, 0, 1))
+    loss.backward()
+    assert float(loss) < 1e-5 and torch.isfinite(T.grad).all()
+
+
+def test_view_loss_is_zero_inside_the_accepted_set_and_positive_outside():
+    subject, front, up = vec(0, 0, 0), vec(1, 0, 0), vec(0, 0, 1)
+
+    def camera_at(az_deg, el_deg):
+        eye = 4 * view_direction(torch.tensor(math.radians(az_deg), dtype=f64), torch.tensor(math.radians(el_deg), dtype=f64), front, up)
+        return look_at(eye, subject, up)
+
+    left = ((-90.0,), 18.0, (8.0, 26.0))
+    assert float(view_loss(camera_at(-100, 15), subject, front, up, *left)) < 1e-5
+    outside = float(view_loss(camera_at(-40, 15), subject, front, up, *left))
+    # 32 degrees of azimuth to the arc end at 15 degrees elevation: chord 2 sin(16) scaled by cos(15).
+    assert math.isclose(outside, 2 * math.cos(math.radians(15)) * math.sin(math.radians(16)), rel_tol=1e-6)
+    # 30 degrees of elevation above the range: the gap in sine space.
+    above = float(view_loss(camera_at(-90, 56), subject, front, up, *left))
+    assert math.isclose(above, math.sin(math.radians(56)) - math.sin(math.radians(26)), abs_tol=1e-5)  # + the 1e-6 floor
+    assert float(view_loss(camera_at(0, 60), subject, None, up, (), 0.0, (8.0, 26.0))) > 0.5  # elevation only
+    # Straight above the subject: finite value and gradient.
+    T = camera_at(0, 90).clone().requires_grad_()
+    loss = view_loss(T, subject, front, up, (0.0,), 18.0, (-10.0, 10.0))
+    loss.backward()
+    assert torch.isfinite(T.grad).all() and float(loss) > 1.0
+
+
+def test_aim_loss_pulls_from_behind_the_camera():
+    T = look_at(vec(0, 0, 0), vec(0, 0, 1), vec(0, -1, 0)).clone().requires_grad_()
+    behind = vec(0, 0, -3)
+    loss = aim_loss(T, behind, vec(0, 0, 1))
+    loss.backward()
+    assert math.isclose(float(loss), 2.0, rel_tol=1e-6) and torch.isfinite(T.grad).all()
+    assert float(aim_loss(T.detach(), vec(0.0, 0.0, 5.0), vec(0, 0, 1))) < 1e-5
+
+
+def test_layout_boxes_stay_in_frame_and_regions_shrink():
+    region, box, extent = layout_boxes("right third", "medium")
+    assert box[2] <= 1.0 and box[0] >= 0.0 and math.isclose(box[2] - box[0], 0.42)
+    assert region[0] > 2 / 3 and region[2] < 1.0
+    assert 0.25 < extent[0] < extent[1] < 0.6
+
+
+def blob(n=400, seed=0):
+    from capframe.scene import GaussianScene
+
+    g = torch.Generator().manual_seed(seed)
+    means = torch.randn(n, 3, generator=g, dtype=f64) * vec(0.3, 0.2, 0.4) + vec(0, 0, 0.4)
+    return GaussianScene.from_activated(means, torch.randn(n, 4, generator=g, dtype=f64), torch.full((n, 3), 0.06, dtype=f64),
+                                        torch.full((n,), 0.7, dtype=f64), torch.rand(n, 3, generator=g, dtype=f64))
+
+
+def test_full_objective_pose_gradient_matches_finite_differences():
+    from capframe.scene import Camera
+
+    scene = blob()
+    T0 = look_at(vec(2.5, 1.2, 1.0), vec(0, 0, 0.4), vec(0, 0, 1))
+    camera = Camera(T0.numpy(), np.array([[60.0, 0, 32], [0, 60, 24], [0, 0, 1]]), 64, 48)
+    subject = SubjectLabel("blob", np.arange(len(scene)), scene.means.mean(0).numpy(), np.array([1.0, 0, 0]),
+                           region=(0.6, 0.1, 0.95, 0.9), box=(0.55, 0.2, 1.0, 0.8), extent=(0.5, 0.8),
+                           view=ViewTarget((-90.0,), 18.0, (8.0, 26.0)))
+    labels = PseudoLabels([subject], np.array([0.0, 0, 1]), roll_deg=10.0, box_angle_deg=10.0)
+    objective = _Objective(scene, camera, labels, RefineConfig(), f64)
+    tau0 = torch.tensor([0.02, -0.03, 0.01, 0.05, -0.02, 0.03], dtype=f64)
+    tau = tau0.clone().requires_grad_()
+    loss, _ = objective(se3_exp(tau) @ T0)
+    loss.backward()
+    numeric = torch.zeros(6, dtype=f64)
+    with torch.no_grad():
+        for i in range(6):
+            e = torch.zeros(6, dtype=f64)
+            e[i] = 1e-7
+            numeric[i] = (objective(se3_exp(tau0 + e) @ T0)[0] - objective(se3_exp(tau0 - e) @ T0)[0]) / 2e-7
+    assert float((tau.grad - numeric).norm() / numeric.norm()) < 1e-3
