@@ -31,6 +31,16 @@ def make_camera(eye=(0.0, -0.5, -4.0), target=(0.0, 0.0, 0.0), up=(0.0, -1.0, 0.
     return Camera(T.numpy(), K, width, height, name="test")
 
 
+@pytest.fixture(autouse=True, scope="session")
+def one_thread():
+    """Test renders are small: threads gain little there, and on a busy 2-core machine intra-op
+    threads oversubscribe the cores and slow every test by an order of magnitude."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(threads)
+
+
 @pytest.fixture
 def scene() -> GaussianScene:
     return make_scene()

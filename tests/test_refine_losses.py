@@ -161,3 +161,16 @@ def test_full_objective_pose_gradient_matches_finite_differences():
             e[i] = 1e-7
             numeric[i] = (objective(se3_exp(tau0 + e) @ T0)[0] - objective(se3_exp(tau0 - e) @ T0)[0]) / 2e-7
     assert float((tau.grad - numeric).norm() / numeric.norm()) < 1e-3
+
+
+def test_clearance_pushes_out_of_the_subject_and_vanishes_outside():
+    from capframe.refine.losses import clearance_loss
+
+    centre = vec(0, 0, 0)
+    eye = vec(0.3, 0, 0).requires_grad_()
+    loss = clearance_loss(look_at(eye, eye + vec(1, 0, 0), vec(0, 0, 1)), centre, 1.0)
+    loss.backward()
+    assert math.isclose(float(loss), 0.7, rel_tol=1e-9)
+    assert torch.allclose(eye.grad, vec(-1.0, 0, 0))  # descent moves the camera straight out
+    outside = look_at(vec(1.5, 0, 0), vec(0, 0, 0), vec(0, 0, 1))
+    assert float(clearance_loss(outside, centre, 1.0)) == 0.0

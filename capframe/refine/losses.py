@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import torch
 from torch import Tensor
@@ -16,6 +17,20 @@ from torch import Tensor
 from ..geometry.camera import camera_axes, camera_center, view_angles, view_direction
 
 _TINY = 1e-12
+
+
+class Frame(NamedTuple):
+    """Where the photo lies on the canvas a mask was rendered on, in pixels. Refine renders the
+    subject masks with a guard band around the frame, so mass beyond the frame counts."""
+
+    x: float
+    y: float
+    width: int
+    height: int
+
+    @classmethod
+    def whole(cls, mask: Tensor) -> "Frame":
+        return cls(0.0, 0.0, mask.shape[1], mask.shape[0])
 
 
 @dataclass(frozen=True)
@@ -29,10 +44,11 @@ class Box:
     y1: float
     angle_deg: float = 0.0
 
-    def frame(self, width: int, height: int) -> tuple[Tensor, Tensor, float]:
-        """Centre (2,) and half-sizes (2,) in pixels, and the angle in radians."""
-        centre = torch.tensor([(self.x0 + self.x1) / 2 * width, (self.y0 + self.y1) / 2 * height], dtype=torch.float64)
-        half = torch.tensor([(self.x1 - self.x0) / 2 * width, (self.y1 - self.y0) / 2 * height], dtype=torch.float64)
+    def on(self, frame: Frame) -> tuple[Tensor, Tensor, float]:
+        """Centre (2,) and half-sizes (2,) in canvas pixels, and the angle in radians."""
+        w, h = frame.width, frame.height
+        centre = torch.tensor([frame.x + (self.x0 + self.x1) / 2 * w, frame.y + (self.y0 + self.y1) / 2 * h], dtype=torch.float64)
+        half = torch.tensor([(self.x1 - self.x0) / 2 * w, (self.y1 - self.y0) / 2 * h], dtype=torch.float64)
         return centre, half, math.radians(self.angle_deg)
 
 
@@ -47,10 +63,11 @@ def to_box_frame(points: Tensor, centre: Tensor, angle: float) -> Tensor:
     return torch.stack([c * d[..., 0] - s * d[..., 1], s * d[..., 0] + c * d[..., 1]], -1)
 
 
-def box_indicator(box: Box, width: int, height: int, dtype=torch.float32) -> Tensor:
-    """(H, W) 1 for pixel centres inside the (rotated) box, else 0."""
-    centre, half, angle = box.frame(width, height)
-    ys, xs = torch.meshgrid(torch.arange(height, dtype=torch.float64) + 0.5, torch.arange(width, dtype=torch.float64) + 0.5, indexing="ij")
+def box_indicator(box: Box, canvas_width: int, canvas_height: int, frame: Frame | None = None, dtype=torch.float32) -> Tensor:
+    """(H, W) canvas: 1 for pixel centres inside the (rotated) box, else 0."""
+    centre, half, angle = box.on(frame or Frame(0.0, 0.0, canvas_width, canvas_height))
+    ys, xs = torch.meshgrid(torch.arange(canvas_height, dtype=torch.float64) + 0.5, torch.arange(canvas_width, dtype=torch.float64) + 0.5,
+                            indexing="ij")
     local = to_box_frame(torch.stack([xs, ys], -1), centre, angle)
     return (local.abs() <= half).all(-1).to(dtype)
 
@@ -65,24 +82,28 @@ def soft_centroid(mask: Tensor) -> tuple[Tensor, Tensor]:
     return torch.stack([(mask.sum(0) * xs).sum() / safe, (mask.sum(1) * ys).sum() / safe]), mass
 
 
-def mask_extent(mask: Tensor, centroid: Tensor, mass: Tensor) -> Tensor:
-    """Estimated shot size of a mask: ``max(bbox width / W, bbox height / H)`` from its second
-    moments (a filled ellipse spans 4 standard deviations), as a smooth maximum. (H, W) -> ()."""
+def mask_extent(mask: Tensor, centroid: Tensor, mass: Tensor, frame: Frame | None = None) -> Tensor:
+    """Estimated shot size of a mask: ``max(bbox width / W, bbox height / H)`` of the frame, from
+    its second moments (a filled ellipse spans 4 standard deviations), as a smooth maximum.
+    (H, W) -> ()."""
     height, width = mask.shape
+    frame = frame or Frame.whole(mask)
     xs = torch.arange(width, dtype=mask.dtype, device=mask.device) + 0.5
     ys = torch.arange(height, dtype=mask.dtype, device=mask.device) + 0.5
     safe = mass.clamp_min(_TINY)
     var_x = (mask.sum(0) * (xs - centroid[0]) ** 2).sum() / safe
     var_y = (mask.sum(1) * (ys - centroid[1]) ** 2).sum() / safe
-    spans = 4.0 * torch.sqrt(torch.stack([var_x / width**2, var_y / height**2]) + _TINY)
+    spans = 4.0 * torch.sqrt(torch.stack([var_x / frame.width**2, var_y / frame.height**2]) + _TINY)
     return 0.02 * torch.logsumexp(spans / 0.02, 0)  # within 0.014 of the larger span
 
 
 def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tuple[float, float] | None = None,
-                 inside: Tensor | None = None) -> dict[str, Tensor]:
-    """Layout losses of one subject's opacity mask (H, W).
+                 inside: Tensor | None = None, frame: Frame | None = None) -> dict[str, Tensor]:
+    """Layout losses of one subject's opacity mask (H, W) rendered on a canvas that holds the
+    photo at ``frame`` (default: the whole mask).
 
-    * ``center``: distance of the soft centroid to the (rotated) region, 0 inside, in long sides;
+    * ``center``: distance of the soft centroid to the (rotated) region, 0 inside, in units of
+      the frame's long side;
     * ``inside``: 1 - the share of the mask inside the box;
     * ``outside``: the share of the mask outside the box;
     * ``size``: log-distance of the mask's extent (:func:`mask_extent`) to the ``extent``
@@ -92,22 +113,22 @@ def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tupl
     both are kept so their weights match the paper's. ``inside`` may pass a precomputed
     :func:`box_indicator` of ``box``.
     """
-    height, width = mask.shape
+    frame = frame or Frame.whole(mask)
     zero = mask.sum() * 0.0
     terms = {"center": zero, "inside": zero, "outside": zero, "size": zero}
     centroid, mass = soft_centroid(mask)
     if region is not None:
-        centre, half, angle = region.frame(width, height)
+        centre, half, angle = region.on(frame)
         outside_by = (to_box_frame(centroid, centre, angle).abs() - half.to(mask.dtype)).clamp_min(0.0)
         # sqrt of a sum of squares with a floor: its gradient stays finite at the box border.
-        terms["center"] = torch.sqrt((outside_by * outside_by).sum() + _TINY) / max(width, height)
+        terms["center"] = torch.sqrt((outside_by * outside_by).sum() + _TINY) / max(frame.width, frame.height)
     if box is not None:
-        indicator = box_indicator(box, width, height, mask.dtype) if inside is None else inside
+        indicator = box_indicator(box, mask.shape[1], mask.shape[0], frame, mask.dtype) if inside is None else inside
         share_in = (mask * indicator).sum() / mass.clamp_min(_TINY)
         terms["inside"] = 1.0 - share_in
         terms["outside"] = 1.0 - share_in
     if extent is not None:
-        log_extent = torch.log(mask_extent(mask, centroid, mass))
+        log_extent = torch.log(mask_extent(mask, centroid, mass, frame))
         lo, hi = math.log(extent[0]), math.log(extent[1])
         terms["size"] = (lo - log_extent).clamp_min(0.0) + (log_extent - hi).clamp_min(0.0)
     return terms
@@ -127,6 +148,14 @@ def aim_loss(T_cw: Tensor, point: Tensor, ray: Tensor) -> Tensor:
     target. ()."""
     p = T_cw[:3, :3] @ point + T_cw[:3, 3]
     return _chord(p / p.norm().clamp_min(_TINY), ray)
+
+
+def clearance_loss(T_cw: Tensor, point: Tensor, radius: float) -> Tensor:
+    """``max(0, 1 - d / radius)`` for the camera at distance ``d`` from ``point``: pushes the
+    camera out of a subject with a gradient of constant size, zero outside the radius. ()"""
+    offset = camera_center(T_cw) - point
+    distance = torch.sqrt(offset @ offset + 1e-24)
+    return (1.0 - distance / radius).clamp_min(0.0)
 
 
 def _chord(a: Tensor, b: Tensor) -> Tensor:
@@ -198,5 +227,5 @@ def _nearest_in_arcs(angle: float, centres: list[float], half_width: float) -> f
     return best
 
 
-__all__ = ["Box", "aim_loss", "box_indicator", "layout_terms", "mask_extent", "soft_centroid", "target_ray", "to_box_frame",
+__all__ = ["Box", "Frame", "aim_loss", "box_indicator", "clearance_loss", "layout_terms", "mask_extent", "soft_centroid", "target_ray", "to_box_frame",
            "upright_loss", "view_loss"]

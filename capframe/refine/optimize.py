@@ -1,7 +1,8 @@
 """The pose optimiser: Adam on a left-multiplied se(3) increment.
 
 The increment is expressed about the primary subject: ``T = P exp(tau) P^-1 T0`` where ``P``
-translates the initial camera frame's origin to the subject's centroid. This is the left
+translates the initial camera frame's origin to the subject's centroid (when the subject starts
+behind the camera ``P`` is the identity, so a rotation turns the camera towards it). This is the left
 increment ``exp(Ad_P tau)`` in other coordinates; in these, a pure rotation orbits the camera
 around the subject and leaves the subject's image position and depth unchanged, so changing the
 view side no longer fights the layout terms (with ``exp(tau) T0`` an orbit is a narrow valley
@@ -15,6 +16,7 @@ frame is rendered once, at full resolution, by the caller.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -27,12 +29,17 @@ from ..geometry.lie import se3_exp
 from ..render import prepare, render, scene_extent
 from ..scene.model import Camera, GaussianScene
 from ..translate.labels import PseudoLabels
-from .losses import Box, aim_loss, box_indicator, layout_terms, target_ray, upright_loss, view_loss
+from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_terms, target_ray, upright_loss, view_loss
 
 
 @dataclass
 class LossWeights:
-    """Weights of the loss terms (the paper's defaults)."""
+    """Weights of the loss terms: the paper's for its terms; ``size`` and ``hidden`` are ours.
+
+    ``clearance`` pushes the camera out of a subject it starts inside, where the saturated mask
+    gives the layout terms no gradient. ``hidden`` is the penalty of a subject out of view. It must exceed the layout loss of a
+    subject that just entered the view (about ``center + inside + outside``), or the blend
+    between the two would be a barrier at the edge of the view."""
 
     center: float = 1.0
     inside: float = 6.0
@@ -41,7 +48,8 @@ class LossWeights:
     upright: float = 2.0
     view: float = 2.0
     look_at: float = 2.0
-    fallback: float = 8.0
+    hidden: float = 12.0
+    clearance: float = 10.0
     occlusion: float = 0.0
 
 
@@ -54,12 +62,15 @@ class RefineConfig:
         lr_rotation: learning rate of the rotation (radians).
         lr_translation: learning rate of the translation, in scene-scale units.
         long_side: optimisation resolution (long side in pixels).
-        patience: stop when the best loss improved by less than ``rel_tol`` of the initial loss
-            over this many iterations.
+        patience: stop when the best loss improved by less than ``rel_tol`` of itself over this
+            many iterations (relative to the loss level, so any scale of loss works).
         rel_tol: see ``patience``.
         mask_floor_px: mask mass (in pixels) below which a subject counts as out of view and
-            the aim fallback takes over (blended smoothly).
+            its layout terms give way to the "hidden" penalty (blended smoothly).
         settle: stop once every pseudo-label clause has held for this many consecutive steps.
+        guard: the subject masks are rendered with a band of this fraction of the frame on each
+            side, so a subject cut off by the frame edge leaks out of its box instead of looking
+            like a smaller subject inside it.
         roll_tolerance_deg: roll error under which the upright clause holds.
     """
 
@@ -68,9 +79,10 @@ class RefineConfig:
     lr_translation: float = 0.005
     long_side: int = 160
     patience: int = 60
-    rel_tol: float = 2e-3
+    rel_tol: float = 1e-2
     mask_floor_px: float = 4.0
     settle: int = 8
+    guard: float = 0.25
     roll_tolerance_deg: float = 1.0
     weights: LossWeights = field(default_factory=LossWeights)
 
@@ -106,7 +118,13 @@ class _Objective:
 
     def __init__(self, scene: GaussianScene, camera: Camera, labels: PseudoLabels, config: RefineConfig, dtype: torch.dtype):
         self.config, self.labels, self.dtype = config, labels, dtype
-        self.camera = camera
+        w, h = camera.width, camera.height
+        gx, gy = round(config.guard * w), round(config.guard * h)
+        K = camera.K.copy()
+        K[0, 2] += gx
+        K[1, 2] += gy
+        self.camera = dataclasses.replace(camera, K=K, width=w + 2 * gx, height=h + 2 * gy)  # the canvas
+        self.frame = Frame(float(gx), float(gy), w, h)
         index = np.concatenate([s.gaussians for s in labels.subjects])
         owner = np.concatenate([np.full(len(s.gaussians), k) for k, s in enumerate(labels.subjects)])
         # Pose-independent work once; the near plane stays relative to the whole scene.
@@ -115,18 +133,20 @@ class _Objective:
         self.up = torch.as_tensor(labels.up, dtype=torch.float64)
         self.K = torch.as_tensor(camera.K, dtype=torch.float64)
         self.roll = math.radians(labels.roll_deg)
-        w, h = camera.width, camera.height
         self.boxes, self.regions, self.indicators, self.rays = [], [], [], []
         for s in labels.subjects:
             box = Box(*s.box, labels.box_angle_deg) if s.box is not None else None
             region = Box(*s.region, labels.box_angle_deg) if s.region is not None else None
             self.boxes.append(box)
             self.regions.append(region)
-            self.indicators.append(box_indicator(box, w, h, dtype) if box is not None else None)
+            self.indicators.append(box_indicator(box, self.camera.width, self.camera.height, self.frame, dtype) if box is not None else None)
             aim = region or box
             point = ((aim.x0 + aim.x1) / 2, (aim.y0 + aim.y1) / 2) if aim is not None else (0.5, 0.5)
             self.rays.append(target_ray(point, self.K, w, h))
         self.centroids = [torch.as_tensor(s.centroid, dtype=torch.float64) for s in labels.subjects]
+        # Subject radius: 90th percentile of its Gaussians' distances to the centroid.
+        self.radii = [float((scene.means[torch.as_tensor(s.gaussians, dtype=torch.long)].double() - c).norm(dim=-1).quantile(0.9))
+                      for s, c in zip(labels.subjects, self.centroids)]
         self.fronts = [None if s.front is None else torch.as_tensor(s.front, dtype=torch.float64) for s in labels.subjects]
         self.full_scene = scene if config.weights.occlusion > 0 else None
 
@@ -136,7 +156,8 @@ class _Objective:
         roll within the tolerance. Reads the unweighted terms of the last evaluation."""
         h_chord = 2.0 * math.sin(math.radians(self.config.roll_tolerance_deg) / 2.0)
         return (
-            float(terms["fallback"]) == 0.0
+            float(terms["hidden"]) == 0.0
+            and float(terms["clearance"]) == 0.0
             and float(terms["center"]) < 1e-5
             and float(terms["size"]) < 1e-6
             and float(terms.get("view", 0.0)) < 1e-5 * len(self.labels.subjects)
@@ -156,21 +177,21 @@ class _Objective:
             total = total + weight * value.to(torch.float64)
 
         for k, label in enumerate(self.labels.subjects):
-            layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k])
-            # Out of view the layout terms carry no signal; blend smoothly into aiming the
-            # subject's centroid along the ray of its target point.
+            layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame)
+            # Out of view the layout terms carry no signal: they are blended out and a constant
+            # "hidden" penalty in, while look-at aims the centroid along the ray of its target
+            # point from anywhere (behind the camera included).
             gate = (masks[k].sum() / cfg.mask_floor_px).clamp(0.0, 1.0).to(torch.float64)
-            aim = aim_loss(T_cw, self.centroids[k], self.rays[k])
             add("center", wts.center, gate * layout["center"])
             add("inside", wts.inside, gate * layout["inside"])
             add("outside", wts.outside, gate * layout["outside"])
             add("size", wts.size, gate * layout["size"])
-            add("fallback", wts.fallback, (1.0 - gate) * aim)
+            add("hidden", wts.hidden, 1.0 - gate)
+            add("look_at", wts.look_at, aim_loss(T_cw, self.centroids[k], self.rays[k]))
+            add("clearance", wts.clearance, clearance_loss(T_cw, self.centroids[k], 1.2 * self.radii[k]))
             if label.view is not None:
                 add("view", wts.view, view_loss(T_cw, self.centroids[k], self.fronts[k], self.up, label.view.azimuths_deg,
                                                 label.view.azimuth_tolerance_deg, label.view.elevation_range_deg))
-                if label.front is not None:
-                    add("look_at", wts.look_at, aim)
         add("upright", wts.upright, upright_loss(T_cw, self.up, self.roll))
         if self.full_scene is not None:
             add("occlusion", wts.occlusion, self._occlusion(T_cw, masks))
@@ -202,11 +223,16 @@ def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scal
     T0 = torch.as_tensor(camera.T_cw, dtype=torch.float64)
     rotation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
     translation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
+    # beta2 = 0.99 (a ~100-step memory, not ~1000): the gradient scale drops by orders of
+    # magnitude once an out-of-view subject enters the frame, and a long memory of the large
+    # fallback gradients would leave the steps tiny afterwards.
     optimizer = torch.optim.Adam([{"params": [rotation], "lr": config.lr_rotation},
-                                  {"params": [translation], "lr": config.lr_translation}])
+                                  {"params": [translation], "lr": config.lr_translation}], betas=(0.9, 0.99))
 
     pivot = torch.eye(4, dtype=torch.float64)
-    pivot[:3, 3] = T0[:3, :3] @ torch.as_tensor(labels.subjects[0].centroid, dtype=torch.float64) + T0[:3, 3]
+    subject_in_camera = T0[:3, :3] @ torch.as_tensor(labels.subjects[0].centroid, dtype=torch.float64) + T0[:3, 3]
+    if subject_in_camera[2] > 0:  # behind the camera an orbit never brings it into view: turn instead
+        pivot[:3, 3] = subject_in_camera
     unpivot_T0 = torch.linalg.inv(pivot) @ T0
 
     def pose() -> Tensor:
@@ -236,7 +262,8 @@ def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scal
         if best[0] <= 1e-4 * scale_of_loss:
             stop_reason = "converged"
             break
-        if step >= config.patience and best_history[-1 - config.patience] - best[0] < config.rel_tol * scale_of_loss:
+        window_start = best_history[-1 - config.patience] if step >= config.patience else math.inf
+        if window_start - best[0] < config.rel_tol * window_start:
             stop_reason = "plateau"
             break
         if step == config.iterations:
