@@ -1,0 +1,443 @@
+"""Ground-truth check of a result camera against an instruction's constraints (synthetic scenes).
+
+Reads the scene's ``ground_truth.json`` (object centres, fronts, world up), ``scene.ply`` and
+``labels.npy`` and measures, for every constraint of a :class:`~capframe.constraints.Constraints`:
+
+==========  ===========================================================  ======================
+constraint  measured                                                     satisfied when
+==========  ===========================================================  ======================
+visibility  share of the subject's own-render alpha that survives in      centre in front, mask
+            the full render (membership composited as an extra channel)   non-empty, share >= MIN
+region      centroid of the subject's visible (alpha-weighted) mask in     inside REGIONS[region]
+            normalised image coordinates (projected GT centre if empty)
+shot        max(bbox w / W, bbox h / H) of the own-render mask alpha>0.5  inside SHOT_SIZES[shot]
+view        azimuth of the camera centre around the subject (DESIGN §3)   within VIEW_TOLERANCE_DEG
+                                                                          of one VIEW_SIDES entry
+elevation   asin(p . up) around the primary subject's centre              in elevation_range()
+roll        geometry.camera_roll                                          within ROLL_TOLERANCE_DEG
+==========  ===========================================================  ======================
+
+``error`` is the distance outside the accepted set for region (normalised units), shot and
+elevation (0 when satisfied), and the angular deviation from the nearest asked angle for view and
+roll (degrees). Roll is not applicable (``satisfied = None``) when the camera looks within 10° of
+straight up or down; a view side asked of a symmetric subject is not applicable either. Masks are
+rendered at a modest resolution (long side :data:`CHECK_LONG_SIDE`); angles do not depend on it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from ..constraints import (
+    MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints,
+)  # fmt: skip
+from ..errors import InputError
+from ..geometry import camera_roll, view_angles
+from ..render import NEAR_FRACTION, render, resolve_backend, scene_extent
+from ..scene import Camera, load_scene_dir, read_camera_json
+from ..scene._io import read_json
+from .ground_truth import GroundTruth, GTObject, read_ground_truth
+
+CHECK_LONG_SIDE = 256  # masks are rendered with this many pixels on the longer side
+MASK_THRESHOLD = 0.5  # own-render alpha above this is the subject's mask (shot size, "in frame")
+ROLL_UNDEFINED_DEG = 10.0  # roll is not measured within this angle of looking straight up/down
+_EMPTY_WEIGHT = 1e-3  # below this total visible alpha (in pixels) the mask centroid is undefined
+
+
+def wrap_deg(angle: float) -> float:
+    """An angle difference wrapped to (-180, 180]."""
+    wrapped = math.fmod(angle + 180.0, 360.0)
+    wrapped = wrapped + 360.0 if wrapped <= 0 else wrapped
+    return wrapped - 180.0
+
+
+@dataclass
+class CheckRow:
+    """The check of one constraint.
+
+    Attributes:
+        constraint: ``visibility``, ``region``, ``shot``, ``view``, ``elevation`` or ``roll``.
+        subject: the subject's name (None for camera-wide constraints: roll).
+        satisfied: True/False, or None when the constraint is not applicable to this camera/subject.
+        measured: the measured value (a number, ``[x, y]`` for region), None if undefined.
+        target: what was asked (JSON-able description).
+        error: see the module docstring; None when undefined.
+        unit: unit of ``measured`` and ``error``.
+        note: a short human remark (why not applicable, fallbacks).
+        details: further measurements (JSON-able).
+    """
+
+    constraint: str
+    subject: str | None
+    satisfied: bool | None
+    measured: float | list[float] | None
+    target: dict
+    error: float | None
+    unit: str = ""
+    note: str = ""
+    details: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {
+            "constraint": self.constraint, "subject": self.subject, "satisfied": self.satisfied,
+            "measured": self.measured, "target": self.target, "error": self.error, "unit": self.unit,
+            "note": self.note, "details": self.details,
+        }  # fmt: skip
+
+
+@dataclass
+class CheckReport:
+    """All rows of one check; ``all_satisfied`` ignores rows that are not applicable."""
+
+    rows: list[CheckRow]
+    instruction_id: str | None = None
+    text: str | None = None
+
+    @property
+    def all_satisfied(self) -> bool:
+        return all(r.satisfied for r in self.rows if r.satisfied is not None)
+
+    def row(self, constraint: str, subject: str | None = None) -> CheckRow:
+        """The row of ``constraint`` (for ``subject`` if given); KeyError if there is none."""
+        for r in self.rows:
+            if r.constraint == constraint and (subject is None or r.subject == subject):
+                return r
+        raise KeyError(f"no {constraint!r} row" + (f" for {subject!r}" if subject else ""))
+
+    def to_dict(self) -> dict:
+        applicable = [r for r in self.rows if r.satisfied is not None]
+        return {
+            "instruction_id": self.instruction_id,
+            "text": self.text,
+            "all_satisfied": self.all_satisfied,
+            "satisfied": sum(bool(r.satisfied) for r in applicable),
+            "applicable": len(applicable),
+            "rows": [r.to_dict() for r in self.rows],
+        }
+
+
+def _finite(value: float) -> float | None:
+    return float(value) if value is not None and math.isfinite(value) else None
+
+
+def _interval_error(value: float, lo: float, hi: float) -> float:
+    return max(lo - value, value - hi, 0.0)
+
+
+def _box_distance(x: float, y: float, box: tuple[float, float, float, float]) -> float:
+    x0, y0, x1, y1 = box
+    return math.hypot(max(x0 - x, 0.0, x - x1), max(y0 - y, 0.0, y - y1))
+
+
+class GroundTruthChecker:
+    """Loads a synthetic scene once (ground truth, Gaussians, labels) and checks cameras against it.
+
+    Args:
+        scene_dir: scene directory with ``ground_truth.json``, ``scene.ply``, ``semantics.json`` and
+            ``labels.npy``.
+        long_side: render size of the masks (longer side, pixels; default :data:`CHECK_LONG_SIDE`).
+        backend: render backend (``auto``: gsplat on CUDA, else the torch reference).
+    """
+
+    def __init__(self, scene_dir: str | Path, *, long_side: int | None = None, backend: str = "auto"):
+        self.scene_dir = Path(scene_dir)
+        self.ground_truth: GroundTruth = read_ground_truth(scene_dir)
+        scene = load_scene_dir(scene_dir)
+        if scene.gaussians is None:
+            raise InputError("has no scene.ply; the check renders subject masks from it", source=str(scene_dir))
+        if scene.gaussians.labels is None:
+            raise InputError("has no semantic sidecar (semantics.json + labels.npy); the check needs per-Gaussian labels",
+                             source=str(scene_dir))  # fmt: skip
+        self.backend = resolve_backend(backend)
+        device = "cuda" if self.backend == "gsplat" else "cpu"
+        self.gaussians = scene.gaussians.to(device=device)
+        self.long_side = long_side or CHECK_LONG_SIDE
+        self.near = NEAR_FRACTION * scene_extent(self.gaussians.means.detach())
+
+    def check(self, camera: Camera, constraints: Constraints) -> CheckReport:
+        """Check ``camera`` against ``constraints``; see the module docstring for the measures."""
+        gt = self.ground_truth
+        if not constraints.subjects:
+            raise InputError("the constraints name no subject; nothing to check")
+        subjects = [(s, gt.resolve(s.name)) for s in constraints.subjects]
+        primary = next((obj for s, obj in subjects if s.role == "primary"), subjects[0][1])
+        T = camera.T_cw
+        centre = camera.center
+        up = gt.up
+
+        masks = self._masks(camera, [obj for _, obj in subjects])
+        rows: list[CheckRow] = []
+        for (sc, obj), (visible, own) in zip(subjects, masks):
+            z = float(T[2, :3] @ obj.center + T[2, 3])
+            rows.append(self._visibility(sc.name, visible, own, z))
+            if sc.region is not None:
+                rows.append(self._region(sc.name, sc.region, visible, camera, obj, z))
+            if sc.shot is not None:
+                rows.append(self._shot(sc.name, sc.shot, own))
+            if sc.view is not None:
+                rows.append(self._view(sc.name, sc.view, centre, obj, up))
+        elevation_range = constraints.elevation_range()
+        if elevation_range is not None:
+            name = next((s.name for s, obj in subjects if obj is primary), subjects[0][0].name)
+            rows.append(self._elevation(name, constraints, elevation_range, centre, primary, up))
+        if constraints.roll_deg is not None:
+            rows.append(self._roll(constraints.roll_deg, T, up))
+        return CheckReport(rows)
+
+    # --- measurements -------------------------------------------------------------------------
+
+    def _masks(self, camera: Camera, objects: list[GTObject]) -> list[tuple[torch.Tensor, torch.Tensor]]:
+        """Per subject: (visible alpha in the full render, alpha of the subject rendered alone), (H, W)."""
+        cam = camera.with_long_side(self.long_side)
+        g = self.gaussians
+        member = torch.stack([g.labels == obj.label for obj in objects], 1)
+        opts = dict(backend=self.backend, near=self.near)
+        with torch.no_grad():
+            full = render(g, cam, extra=member.to(g.means.dtype), **opts)
+            out = []
+            for i in range(len(objects)):
+                if member[:, i].any():
+                    own = render(g, cam, subset=member[:, i], **opts).alpha
+                else:
+                    own = torch.zeros_like(full.alpha)
+                out.append((full.extra[..., i].clamp(0.0, 1.0).cpu(), own.cpu()))
+        return out
+
+    def _visibility(self, name: str, visible: torch.Tensor, own: torch.Tensor, z: float) -> CheckRow:
+        own_sum = float(own.sum())
+        fraction = min(1.0, float(visible.sum()) / own_sum) if own_sum > _EMPTY_WEIGHT else 0.0
+        pixels = int((own > MASK_THRESHOLD).sum())
+        in_front = z > 0
+        ok = in_front and pixels > 0 and fraction >= MIN_VISIBLE_FRACTION
+        notes = []
+        if not in_front:
+            notes.append("subject centre is behind the camera")
+        if pixels == 0:
+            notes.append("subject mask is empty (out of frame)")
+        elif fraction < MIN_VISIBLE_FRACTION:
+            notes.append("subject is mostly occluded")
+        return CheckRow("visibility", name, ok, fraction, {"min_visible_fraction": MIN_VISIBLE_FRACTION},
+                        max(MIN_VISIBLE_FRACTION - fraction, 0.0), "fraction", "; ".join(notes),
+                        {"in_front": in_front, "mask_pixels": pixels})  # fmt: skip
+
+    def _region(self, name: str, region: str, visible: torch.Tensor, camera: Camera, obj: GTObject, z: float) -> CheckRow:
+        box = REGIONS[region]
+        target = {"region": region, "box": list(box)}
+        weight = float(visible.sum())
+        note = ""
+        if weight > _EMPTY_WEIGHT:
+            H, W = visible.shape
+            ys = (torch.arange(H, dtype=torch.float64) + 0.5) / H
+            xs = (torch.arange(W, dtype=torch.float64) + 0.5) / W
+            v = visible.to(torch.float64)
+            x, y = float((v.sum(0) * xs).sum()) / weight, float((v.sum(1) * ys).sum()) / weight
+            source = "visible mask"
+        elif z > 0:
+            p = camera.K @ (camera.T_cw[:3, :3] @ obj.center + camera.T_cw[:3, 3])
+            x, y = p[0] / p[2] / camera.width, p[1] / p[2] / camera.height
+            source = "projected centre"
+            note = "mask empty: projected ground-truth centre used"
+        else:
+            return CheckRow("region", name, False, None, target, None, "normalised",
+                            "subject behind the camera: no image position", {"source": None})  # fmt: skip
+        error = _box_distance(x, y, box)
+        return CheckRow("region", name, error == 0.0, [x, y], target, error, "normalised", note, {"source": source})
+
+    def _shot(self, name: str, shot: str, own: torch.Tensor) -> CheckRow:
+        lo, hi = SHOT_SIZES[shot]
+        target = {"shot": shot, "range": [lo, hi]}
+        mask = own > MASK_THRESHOLD
+        if not mask.any():
+            return CheckRow("shot", name, False, 0.0, target, _interval_error(0.0, lo, hi), "frame fraction",
+                            "subject mask is empty")  # fmt: skip
+        H, W = mask.shape
+        rows, cols = mask.any(1).nonzero()[:, 0], mask.any(0).nonzero()[:, 0]
+        width = float(cols.max() - cols.min() + 1) / W
+        height = float(rows.max() - rows.min() + 1) / H
+        extent = max(width, height)
+        error = _interval_error(extent, lo, hi)
+        return CheckRow("shot", name, error == 0.0, extent, target, error, "frame fraction", "",
+                        {"bbox_width": width, "bbox_height": height})  # fmt: skip
+
+    def _view(self, name: str, view: str, centre: np.ndarray, obj: GTObject, up: np.ndarray) -> CheckRow:
+        target = {"view": view, "azimuths_deg": list(VIEW_SIDES[view]), "tolerance_deg": VIEW_TOLERANCE_DEG}
+        if obj.front is None:
+            return CheckRow("view", name, None, None, target, None, "deg", "subject is symmetric: no view side")
+        angles = self._angles(centre, obj, up)
+        if angles is None:
+            return CheckRow("view", name, False, None, target, None, "deg", "camera at the subject centre")
+        azimuth = angles[0]
+        deviation = min(abs(wrap_deg(azimuth - a)) for a in VIEW_SIDES[view])
+        return CheckRow("view", name, deviation <= VIEW_TOLERANCE_DEG, azimuth, target, deviation, "deg")
+
+    def _elevation(self, name: str, constraints: Constraints, rng: tuple[float, float], centre: np.ndarray,
+                   obj: GTObject, up: np.ndarray) -> CheckRow:  # fmt: skip
+        target = {"range_deg": list(rng)}
+        if constraints.elevation is not None:
+            target["elevation"] = constraints.elevation
+        else:
+            target["elevation_deg"] = constraints.elevation_deg
+        angles = self._angles(centre, obj, up)
+        if angles is None:
+            return CheckRow("elevation", name, False, None, target, None, "deg", "camera at the subject centre")
+        error = _interval_error(angles[1], *rng)
+        return CheckRow("elevation", name, error == 0.0, angles[1], target, error, "deg")
+
+    def _roll(self, roll_deg: float, T: np.ndarray, up: np.ndarray) -> CheckRow:
+        target = {"roll_deg": roll_deg, "tolerance_deg": ROLL_TOLERANCE_DEG}
+        forward_up = float(T[2, :3] @ up)
+        if abs(forward_up) > math.cos(math.radians(ROLL_UNDEFINED_DEG)):
+            return CheckRow("roll", None, None, None, target, None, "deg",
+                            f"camera looks within {ROLL_UNDEFINED_DEG:g} deg of straight up/down: roll undefined")  # fmt: skip
+        roll = math.degrees(float(camera_roll(torch.as_tensor(T), torch.as_tensor(up))))
+        deviation = abs(wrap_deg(roll - roll_deg))
+        return CheckRow("roll", None, deviation <= ROLL_TOLERANCE_DEG, roll, target, deviation, "deg")
+
+    def _angles(self, centre: np.ndarray, obj: GTObject, up: np.ndarray) -> tuple[float, float] | None:
+        """Azimuth and elevation (degrees) of the camera centre around ``obj``; None if coincident."""
+        if np.linalg.norm(centre - obj.center) <= 1e-9 * max(obj.radius, 1e-300):
+            return None
+        f64 = dict(dtype=torch.float64)
+        front = obj.front if obj.front is not None else _any_horizontal(up)
+        az, el = view_angles(torch.tensor(centre, **f64), torch.tensor(obj.center, **f64),
+                             torch.tensor(front, **f64), torch.tensor(up, **f64))  # fmt: skip
+        return math.degrees(float(az)), math.degrees(float(el))
+
+
+def _any_horizontal(up: np.ndarray) -> np.ndarray:
+    """A unit vector perpendicular to ``up`` (deterministic), a front for symmetric subjects."""
+    axis = np.zeros(3)
+    axis[np.abs(up).argmin()] = 1.0
+    v = axis - (axis @ up) * up
+    return v / np.linalg.norm(v)
+
+
+def check_camera(scene_dir: str | Path, camera: Camera, constraints: Constraints, **options) -> CheckReport:
+    """Check one camera against ``constraints`` in the synthetic scene ``scene_dir``.
+
+    ``options`` go to :class:`GroundTruthChecker` (``long_side``, ``backend``); to check many
+    cameras of one scene, build the checker once instead.
+    """
+    return GroundTruthChecker(scene_dir, **options).check(camera, constraints)
+
+
+# --- files and the CLI verb ---------------------------------------------------------------------
+
+_PARAPHRASE_ID = re.compile(r"^(?P<base>.+)\.p\d+$")
+
+
+def read_result_camera(path: str | Path) -> tuple[Camera, str | None]:
+    """A result file (``result.json`` or ``camera.json``: ``T_cw``, ``K``, ``width``, ``height``,
+    optionally ``instruction_id``) as a camera and the instruction id it names (or None)."""
+    data = read_json(path)
+    if not isinstance(data, dict):
+        raise InputError(f"top level is {type(data).__name__}; expected a JSON object", source=str(path))
+    instruction_id = data.get("instruction_id")
+    if instruction_id is not None and not isinstance(instruction_id, str):
+        raise InputError(f"'instruction_id' is {instruction_id!r}; expected a string", source=str(path))
+    return read_camera_json(path), instruction_id
+
+
+def load_constraints(path: str | Path, instruction_id: str | None) -> tuple[str | None, dict, Constraints]:
+    """The constraints of ``instruction_id`` in a ``constraints.json``.
+
+    The file is keyed by instruction id (``{"<id>": {"scene", "text", "paraphrases", "constraints"}}``);
+    a paraphrase id ``<id>.p<k>`` selects its original's constraints. A file holding one bare
+    constraints object (with ``subjects``) is accepted too. Without an id the file must hold one
+    instruction. Returns (id, entry, constraints); :class:`InputError` naming the closest ids.
+    """
+    source = str(path)
+    data = read_json(path)
+    if not isinstance(data, dict):
+        raise InputError(f"top level is {type(data).__name__}; expected a JSON object keyed by instruction id",
+                         source=source)  # fmt: skip
+    if "subjects" in data:
+        return instruction_id, {}, Constraints.from_dict(data)
+    if not data:
+        raise InputError("holds no instructions", source=source)
+    if instruction_id is None:
+        if len(data) != 1:
+            some = sorted(data)[:5]
+            raise InputError(f"holds {len(data)} instructions; pass --id (or put instruction_id in the result), "
+                             f"e.g. {some}", source=source)  # fmt: skip
+        instruction_id = next(iter(data))
+    key = instruction_id
+    if key not in data and (m := _PARAPHRASE_ID.match(key)) and m.group("base") in data:
+        key = m.group("base")
+    if key not in data:
+        close = difflib.get_close_matches(instruction_id, list(data), n=3, cutoff=0.3) or sorted(data)[:3]
+        raise InputError(f"instruction id {instruction_id!r} is not in this file; closest: {close}", source=source)
+    entry = data[key]
+    if not isinstance(entry, dict) or "constraints" not in entry:
+        raise InputError(f"entry {key!r} lacks 'constraints'", source=source)
+    return instruction_id, entry, Constraints.from_dict(entry["constraints"])
+
+
+def _format_target(row: CheckRow) -> str:
+    t = row.target
+    if row.constraint == "visibility":
+        return f">= {t['min_visible_fraction']:.2f} visible"
+    if row.constraint == "region":
+        return f"{t['region']} [{', '.join(f'{v:.2f}' for v in t['box'])}]"
+    if row.constraint == "shot":
+        return f"{t['shot']} [{t['range'][0]:.2f}, {t['range'][1]:.2f}]"
+    if row.constraint == "view":
+        return f"{t['view']} ({'/'.join(f'{a:+.0f}' for a in t['azimuths_deg'])} ±{t['tolerance_deg']:.0f}°)"
+    if row.constraint == "elevation":
+        name = t.get("elevation") or f"{t['elevation_deg']:+.0f}°"
+        return f"{name} [{t['range_deg'][0]:+.0f}°, {t['range_deg'][1]:+.0f}°]"
+    return f"{t['roll_deg']:+.0f}° ±{t['tolerance_deg']:.0f}°"
+
+
+def _format_measured(row: CheckRow) -> str:
+    m = row.measured
+    if m is None:
+        return "-"
+    if row.constraint == "region":
+        return f"({m[0]:.2f}, {m[1]:.2f})"
+    if row.unit == "deg":
+        return f"{m:+.1f}°"
+    return f"{m:.2f}"
+
+
+def format_report(report: CheckReport) -> str:
+    """A readable table of the report."""
+    header = ("constraint", "subject", "target", "measured", "error", "result")
+    lines = []
+    for r in report.rows:
+        result = "n/a" if r.satisfied is None else ("ok" if r.satisfied else "FAIL")
+        error = "-" if r.error is None else (f"{r.error:.1f}°" if r.unit == "deg" else f"{r.error:.3f}")
+        lines.append((r.constraint, r.subject or "-", _format_target(r), _format_measured(r), error,
+                      result + (f"  ({r.note})" if r.note else "")))  # fmt: skip
+    widths = [max(len(row[i]) for row in [header, *lines]) for i in range(len(header) - 1)]
+    fmt = lambda row: "  ".join(c.ljust(w) for c, w in zip(row[:-1], widths)) + "  " + row[-1]  # noqa: E731
+    out = []
+    if report.instruction_id or report.text:
+        out.append(f"instruction {report.instruction_id or '-'}: {report.text or ''}".rstrip())
+    out += [fmt(header), *(fmt(row) for row in lines)]
+    applicable = [r for r in report.rows if r.satisfied is not None]
+    ok = sum(bool(r.satisfied) for r in applicable)
+    out.append(f"all satisfied: {'yes' if report.all_satisfied else 'no'} ({ok}/{len(applicable)})")
+    return "\n".join(out)
+
+
+def check_command(scene: str | Path, result: str | Path, constraints: str | Path, *, instruction_id: str | None = None,
+                  as_json: bool = False) -> CheckReport:  # fmt: skip
+    """``capframe check``: check a result camera against one instruction's constraints and print a
+    table (or, with ``as_json``, one JSON object). The instruction id defaults to the result's
+    ``instruction_id``."""
+    camera, result_id = read_result_camera(result)
+    instruction_id, entry, cons = load_constraints(constraints, instruction_id or result_id)
+    report = check_camera(scene, camera, cons)
+    report.instruction_id = instruction_id
+    report.text = entry.get("text")
+    print(json.dumps(report.to_dict()) if as_json else format_report(report))
+    return report

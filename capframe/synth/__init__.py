@@ -1,0 +1,1 @@
+"""Synthetic benchmark material: scenes with ground truth and instructions with checkable constraints."""
