@@ -62,6 +62,10 @@ ELEVATIONS: dict[str, tuple[float, float]] = {
 EXPLICIT_ELEVATION_TOLERANCE_DEG = 10.0
 ROLL_TOLERANCE_DEG = 5.0
 MIN_VISIBLE_FRACTION = 0.5  # share of the subject's pixels not hidden by other objects
+# Share of the subject's projection inside the frame (the rest is cut off by the frame edge);
+# a close-up may cut off more.
+MIN_IN_FRAME_FRACTION = 0.6
+CLOSE_UP_MIN_IN_FRAME_FRACTION = 0.35
 
 
 def _check_name(value: str | None, table: dict, field_name: str) -> None:

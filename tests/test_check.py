@@ -137,6 +137,18 @@ def test_visibility_occluded_subject(world):
     assert not report.all_satisfied
 
 
+def test_visibility_subject_cut_off_by_the_frame_edge(world):
+    root, gt, checker = world
+    # Centre just past the right edge: the in-frame part of the mask sits in the right region,
+    # but most of the bear is outside the photo.
+    report = checker.check(bear_camera(gt, point=(1.03, 0.5)), one(region="right"))
+    vis = report.row("visibility")
+    assert vis.details["mask_pixels"] > 0 and vis.details["in_frame_fraction"] < 0.5
+    assert not vis.satisfied and "cut off" in vis.note
+    whole = checker.check(bear_camera(gt, point=(0.8, 0.5)), one(region="right")).row("visibility")
+    assert whole.satisfied and whole.details["in_frame_fraction"] > 0.95
+
+
 def test_visibility_subject_behind_the_camera(world):
     root, gt, checker = world
     bear = obj(gt, "teddy bear")

@@ -7,7 +7,8 @@ Reads the scene's ``ground_truth.json`` (object centres, fronts, world up), ``sc
 constraint  measured                                                     satisfied when
 ==========  ===========================================================  ======================
 visibility  share of the subject's own-render alpha that survives in      centre in front, mask
-            the full render (membership composited as an extra channel)   non-empty, share >= MIN
+            the full render (membership composited as an extra channel),  non-empty, shares >= MIN
+            and share of its projection inside the frame (not cut off)
 region      centroid of the subject's visible (alpha-weighted) mask in     inside REGIONS[region]
             normalised image coordinates (projected GT centre if empty)
 shot        max(bbox w / W, bbox h / H) of the own-render mask alpha>0.5  inside SHOT_SIZES[shot]
@@ -26,6 +27,7 @@ rendered at a modest resolution (long side :data:`CHECK_LONG_SIDE`); angles do n
 
 from __future__ import annotations
 
+import dataclasses
 import difflib
 import json
 import math
@@ -37,7 +39,7 @@ import numpy as np
 import torch
 
 from ..constraints import (
-    MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints,
+    CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints,
 )  # fmt: skip
 from ..errors import InputError
 from ..geometry import camera_roll, view_angles
@@ -175,9 +177,10 @@ class GroundTruthChecker:
 
         masks = self._masks(camera, [obj for _, obj in subjects])
         rows: list[CheckRow] = []
-        for (sc, obj), (visible, own) in zip(subjects, masks):
+        for (sc, obj), (visible, own, in_frame) in zip(subjects, masks):
             z = float(T[2, :3] @ obj.center + T[2, 3])
-            rows.append(self._visibility(sc.name, visible, own, z))
+            min_in_frame = CLOSE_UP_MIN_IN_FRAME_FRACTION if sc.shot == "close-up" else MIN_IN_FRAME_FRACTION
+            rows.append(self._visibility(sc.name, visible, own, z, in_frame, min_in_frame))
             if sc.region is not None:
                 rows.append(self._region(sc.name, sc.region, visible, camera, obj, z))
             if sc.shot is not None:
@@ -194,29 +197,41 @@ class GroundTruthChecker:
 
     # --- measurements -------------------------------------------------------------------------
 
-    def _masks(self, camera: Camera, objects: list[GTObject]) -> list[tuple[torch.Tensor, torch.Tensor]]:
-        """Per subject: (visible alpha in the full render, alpha of the subject rendered alone), (H, W)."""
+    def _masks(self, camera: Camera, objects: list[GTObject]) -> list[tuple[torch.Tensor, torch.Tensor, float]]:
+        """Per subject: visible alpha in the full render (H, W), alpha of the subject rendered
+        alone (H, W), and the share of the latter inside the frame. The subject alone is
+        rendered on a canvas with a guard band of half the frame on each side, whose centre crop
+        is exactly the frame."""
         cam = camera.with_long_side(self.long_side)
+        W, H = cam.width, cam.height
+        gx, gy = W // 2, H // 2
+        K = cam.K.copy()
+        K[0, 2] += gx
+        K[1, 2] += gy
+        canvas = dataclasses.replace(cam, K=K, width=W + 2 * gx, height=H + 2 * gy)
         g = self.gaussians
         member = torch.stack([g.labels == obj.label for obj in objects], 1)
         opts = dict(backend=self.backend, near=self.near)
         with torch.no_grad():
-            full = render(g, cam, extra=member.to(g.means.dtype), **opts)
+            full = render(g, cam, extra=member.to(g.means.dtype), colors=False, **opts)
             out = []
             for i in range(len(objects)):
                 if member[:, i].any():
-                    own = render(g, cam, subset=member[:, i], **opts).alpha
+                    own_canvas = render(g, canvas, subset=member[:, i], colors=False, **opts).alpha.cpu()
                 else:
-                    own = torch.zeros_like(full.alpha)
-                out.append((full.extra[..., i].clamp(0.0, 1.0).cpu(), own.cpu()))
+                    own_canvas = torch.zeros(canvas.height, canvas.width)
+                own = own_canvas[gy:gy + H, gx:gx + W]
+                in_frame = float(own.sum()) / float(own_canvas.sum()) if float(own_canvas.sum()) > _EMPTY_WEIGHT else 0.0
+                out.append((full.extra[..., i].clamp(0.0, 1.0).cpu(), own, in_frame))
         return out
 
-    def _visibility(self, name: str, visible: torch.Tensor, own: torch.Tensor, z: float) -> CheckRow:
+    def _visibility(self, name: str, visible: torch.Tensor, own: torch.Tensor, z: float, in_frame: float,
+                    min_in_frame: float) -> CheckRow:
         own_sum = float(own.sum())
         fraction = min(1.0, float(visible.sum()) / own_sum) if own_sum > _EMPTY_WEIGHT else 0.0
         pixels = int((own > MASK_THRESHOLD).sum())
         in_front = z > 0
-        ok = in_front and pixels > 0 and fraction >= MIN_VISIBLE_FRACTION
+        ok = in_front and pixels > 0 and fraction >= MIN_VISIBLE_FRACTION and in_frame >= min_in_frame
         notes = []
         if not in_front:
             notes.append("subject centre is behind the camera")
@@ -224,9 +239,11 @@ class GroundTruthChecker:
             notes.append("subject mask is empty (out of frame)")
         elif fraction < MIN_VISIBLE_FRACTION:
             notes.append("subject is mostly occluded")
-        return CheckRow("visibility", name, ok, fraction, {"min_visible_fraction": MIN_VISIBLE_FRACTION},
-                        max(MIN_VISIBLE_FRACTION - fraction, 0.0), "fraction", "; ".join(notes),
-                        {"in_front": in_front, "mask_pixels": pixels})  # fmt: skip
+        if pixels > 0 and in_frame < min_in_frame:
+            notes.append("subject is mostly cut off by the frame edge")
+        return CheckRow("visibility", name, ok, fraction, {"min_visible_fraction": MIN_VISIBLE_FRACTION, "min_in_frame_fraction": min_in_frame},
+                        max(MIN_VISIBLE_FRACTION - fraction, min_in_frame - in_frame, 0.0), "fraction", "; ".join(notes),
+                        {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame})  # fmt: skip
 
     def _region(self, name: str, region: str, visible: torch.Tensor, camera: Camera, obj: GTObject, z: float) -> CheckRow:
         box = REGIONS[region]
