@@ -22,10 +22,11 @@ test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
 run: $(STAMP)
-	$(BIN)/snakemake --cores 2 --workflow-profile workflow/profiles/default
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default
 
 bench: $(STAMP)
 	$(BIN)/capframe bench render
+	$(BIN)/capframe bench refine
 
 clean:
 	rm -rf results/* .snakemake

@@ -39,7 +39,19 @@ def _cmd_instructions(args: argparse.Namespace) -> None:
 def _cmd_check(args: argparse.Namespace) -> None:
     from .evaluate.check import check_command
 
-    check_command(args.scene, args.result, args.constraints, instruction_id=args.id, as_json=args.json)
+    check_command(args.scene, args.result, args.constraints, instruction_id=args.id, as_json=args.json, output=args.output)
+
+
+def _cmd_oracle(args: argparse.Namespace) -> None:
+    from .evaluate.oracle import oracle_command
+
+    oracle_command(args.scene, args.constraints, args.id, args.output)
+
+
+def _cmd_aggregate(args: argparse.Namespace) -> None:
+    from .evaluate.aggregate import aggregate_command
+
+    aggregate_command(args.method, args.checks, args.results, args.output)
 
 
 def _cmd_refine(args: argparse.Namespace) -> None:
@@ -99,7 +111,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--constraints", required=True, help="constraints.json")
     p.add_argument("--id", default=None, help="instruction id (default: the result's instruction_id)")
     p.add_argument("--json", action="store_true")
+    p.add_argument("-o", "--output", default=None, help="also write the report as JSON to this file")
     p.set_defaults(func=_cmd_check)
+
+    p = verbs.add_parser("oracle", help="oracle pseudo labels and a seeded initial view from a synthetic scene's ground truth")
+    p.add_argument("scene")
+    p.add_argument("--constraints", required=True, help="constraints.json")
+    p.add_argument("--id", required=True, help="instruction id")
+    p.add_argument("-o", "--output", required=True, help="folder for labels.json and init.json")
+    p.set_defaults(func=_cmd_oracle)
+
+    p = verbs.add_parser("aggregate", help="tables from per-instruction check reports and results")
+    p.add_argument("--method", required=True)
+    p.add_argument("--checks", nargs="+", required=True)
+    p.add_argument("--results", nargs="+", required=True)
+    p.add_argument("-o", "--output", required=True, help="per-instruction CSV; summaries are written beside it")
+    p.set_defaults(func=_cmd_aggregate)
 
     p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
     p.add_argument("scene", help="scene directory")
@@ -112,7 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_refine)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render"])
+    p.add_argument("what", choices=["render", "refine"])
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.set_defaults(func=_cmd_bench)
     return parser

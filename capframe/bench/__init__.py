@@ -11,6 +11,10 @@ def run_bench(what: str, *, as_json: bool = False) -> dict:
         from .render import bench_render
 
         figures = bench_render()
+    elif what == "refine":
+        from .refine import bench_refine
+
+        figures = bench_refine()
     else:
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:

@@ -447,14 +447,18 @@ def format_report(report: CheckReport) -> str:
 
 
 def check_command(scene: str | Path, result: str | Path, constraints: str | Path, *, instruction_id: str | None = None,
-                  as_json: bool = False) -> CheckReport:  # fmt: skip
+                  as_json: bool = False, output: str | Path | None = None) -> CheckReport:  # fmt: skip
     """``capframe check``: check a result camera against one instruction's constraints and print a
-    table (or, with ``as_json``, one JSON object). The instruction id defaults to the result's
-    ``instruction_id``."""
+    table (or, with ``as_json``, one JSON object); ``output`` also writes the JSON object to a
+    file, atomically. The instruction id defaults to the result's ``instruction_id``."""
     camera, result_id = read_result_camera(result)
     instruction_id, entry, cons = load_constraints(constraints, instruction_id or result_id)
     report = check_camera(scene, camera, cons)
     report.instruction_id = instruction_id
     report.text = entry.get("text")
     print(json.dumps(report.to_dict()) if as_json else format_report(report))
+    if output is not None:
+        from ..scene._io import atomic_write
+
+        atomic_write(output, json.dumps(report.to_dict(), indent=1))
     return report
