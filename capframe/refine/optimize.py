@@ -72,6 +72,9 @@ class RefineConfig:
             side, so a subject cut off by the frame edge leaks out of its box instead of looking
             like a smaller subject inside it.
         roll_tolerance_deg: roll error under which the upright clause holds.
+        threads: torch intra-op threads while optimising. The tensors are small, so threads gain
+            little, and on a busy machine (parallel workflow jobs) their synchronisation makes
+            every small op wait for a descheduled thread; one is the default.
     """
 
     iterations: int = 1500
@@ -84,6 +87,7 @@ class RefineConfig:
     settle: int = 8
     guard: float = 0.25
     roll_tolerance_deg: float = 1.0
+    threads: int = 1
     weights: LossWeights = field(default_factory=LossWeights)
 
 
@@ -218,6 +222,16 @@ def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scal
         scale: the scene scale (translation steps are relative to it).
     """
     config = config or RefineConfig()
+    threads = torch.get_num_threads()
+    torch.set_num_threads(config.threads)
+    try:
+        return _refine(scene, camera, labels, scale, config, dtype)
+    finally:
+        torch.set_num_threads(threads)
+
+
+def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: RefineConfig,
+            dtype: torch.dtype) -> RefineResult:
     small = camera.with_long_side(config.long_side)
     objective = _Objective(scene, small, labels, config, dtype)
     T0 = torch.as_tensor(camera.T_cw, dtype=torch.float64)
