@@ -98,8 +98,10 @@ def test_view_loss_is_zero_inside_the_accepted_set_and_positive_outside():
     left = ((-90.0,), 18.0, (8.0, 26.0))
     assert float(view_loss(camera_at(-100, 15), subject, front, up, *left)) < 1e-5
     outside = float(view_loss(camera_at(-40, 15), subject, front, up, *left))
-    # 32 degrees of azimuth to the arc end at 15 degrees elevation: chord 2 sin(16) scaled by cos(15).
-    assert math.isclose(outside, 2 * math.cos(math.radians(15)) * math.sin(math.radians(16)), rel_tol=1e-6)
+    # 32 degrees of azimuth to the arc end: chord 2 sin(16), weighted 0.99 at 15 degrees elevation.
+    q_sq = math.cos(math.radians(15)) ** 2
+    weight = q_sq / (q_sq + math.sin(math.radians(5)) ** 2)
+    assert math.isclose(outside, weight * 2 * math.sin(math.radians(16)), rel_tol=1e-6)
     # 30 degrees of elevation above the range: the gap in sine space.
     above = float(view_loss(camera_at(-90, 56), subject, front, up, *left))
     assert math.isclose(above, math.sin(math.radians(56)) - math.sin(math.radians(26)), abs_tol=1e-5)  # + the 1e-6 floor

@@ -17,6 +17,7 @@ from torch import Tensor
 from ..geometry.camera import camera_axes, camera_center, view_angles, view_direction
 
 _TINY = 1e-12
+_POLE_FADE = math.sin(math.radians(5.0))  # the azimuth term fades within about this of the poles
 
 
 class Frame(NamedTuple):
@@ -186,10 +187,10 @@ def view_loss(T_cw: Tensor, subject: Tensor, front: Tensor | None, up: Tensor, a
               azimuth_tolerance_deg: float, elevation_range_deg: tuple[float, float] | None) -> Tensor:
     """Distance of the camera's direction from the subject, ``p``, to the acceptable view angles.
 
-    * azimuth: ``|q - |q| d|`` with ``q`` the horizontal part of ``p`` and ``d`` the nearest
-      accepted direction (the point itself inside an arc ``target +- tolerance``, else the
-      nearest arc end): the chord to the arc scaled by ``cos(elevation)``, so it fades where
-      azimuth is undefined (straight above or below);
+    * azimuth: the chord between the horizontal direction of ``p`` and ``d``, the nearest
+      accepted direction (the direction itself inside an arc ``target +- tolerance``, else the
+      nearest arc end), fading within a few degrees of straight above or below, where azimuth
+      is undefined;
     * elevation: how far ``p . up`` lies outside ``[sin lo, sin hi]``.
 
     ``d`` is the exact minimiser of the chord over the arcs, so treating it as a constant gives
@@ -204,13 +205,17 @@ def view_loss(T_cw: Tensor, subject: Tensor, front: Tensor | None, up: Tensor, a
         loss = loss + (lo - height).clamp_min(0.0) + (height - hi).clamp_min(0.0)
     if front is not None and azimuths_deg:
         q = p - height * up
-        q_norm = torch.sqrt(q @ q + 1e-12)
+        q_sq = q @ q
         with torch.no_grad():
             azimuth, _ = view_angles(camera_center(T_cw.detach()), subject, front, up)
             nearest = _nearest_in_arcs(float(azimuth), [math.radians(a) for a in azimuths_deg], math.radians(azimuth_tolerance_deg))
             d = view_direction(torch.as_tensor(nearest, dtype=p.dtype), torch.zeros((), dtype=p.dtype), front, up)
-        gap = q - q_norm * d
-        loss = loss + torch.sqrt(gap @ gap + 1e-12)
+        gap = q / torch.sqrt(q_sq + 1e-12) - d
+        # Full weight away from the poles, fading within a few degrees of them (where azimuth is
+        # undefined); a cos(elevation) weight would make the pole a cheap escape from a large
+        # azimuth error.
+        weight = q_sq / (q_sq + _POLE_FADE**2)
+        loss = loss + weight * torch.sqrt(gap @ gap + 1e-12)
     return loss
 
 

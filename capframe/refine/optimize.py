@@ -36,6 +36,7 @@ from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_
 class LossWeights:
     """Weights of the loss terms: the paper's for its terms; ``size`` and ``hidden`` are ours.
 
+    ``occlusion`` applies only in the occlusion phase (see :class:`RefineConfig`).
     ``clearance`` pushes the camera out of a subject it starts inside, where the saturated mask
     gives the layout terms no gradient. ``hidden`` is the penalty of a subject out of view. It must exceed the layout loss of a
     subject that just entered the view (about ``center + inside + outside``), or the blend
@@ -50,7 +51,7 @@ class LossWeights:
     look_at: float = 2.0
     hidden: float = 12.0
     clearance: float = 10.0
-    occlusion: float = 0.0
+    occlusion: float = 6.0
 
 
 @dataclass
@@ -68,10 +69,16 @@ class RefineConfig:
         mask_floor_px: mask mass (in pixels) below which a subject counts as out of view and
             its layout terms give way to the "hidden" penalty (blended smoothly).
         settle: stop once every pseudo-label clause has held for this many consecutive steps.
+        yaw_scan: start from the best of this many rotations about the world up through the
+            subject (1 disables the scan).
         guard: the subject masks are rendered with a band of this fraction of the frame on each
             side, so a subject cut off by the frame edge leaks out of its box instead of looking
             like a smaller subject inside it.
         roll_tolerance_deg: roll error under which the upright clause holds.
+        occlusion_iterations: if another object hides a subject at the end (visible share below
+            ``min_visible``), continue for at most this many steps with the occlusion term,
+            rendering the whole scene each step (0 disables the phase).
+        min_visible: see ``occlusion_iterations``.
         threads: torch intra-op threads while optimising. The tensors are small, so threads gain
             little, and on a busy machine (parallel workflow jobs) their synchronisation makes
             every small op wait for a descheduled thread; one is the default.
@@ -85,8 +92,11 @@ class RefineConfig:
     rel_tol: float = 1e-2
     mask_floor_px: float = 4.0
     settle: int = 8
+    yaw_scan: int = 8
     guard: float = 0.25
     roll_tolerance_deg: float = 1.0
+    occlusion_iterations: int = 300
+    min_visible: float = 0.6
     threads: int = 1
     weights: LossWeights = field(default_factory=LossWeights)
 
@@ -152,7 +162,8 @@ class _Objective:
         self.radii = [float((scene.means[torch.as_tensor(s.gaussians, dtype=torch.long)].double() - c).norm(dim=-1).quantile(0.9))
                       for s, c in zip(labels.subjects, self.centroids)]
         self.fronts = [None if s.front is None else torch.as_tensor(s.front, dtype=torch.float64) for s in labels.subjects]
-        self.full_scene = scene if config.weights.occlusion > 0 else None
+        self.full_scene = None  # set by prepare_occlusion
+        self.penalise_occlusion = False
 
     def clauses_hold(self, terms: dict[str, Tensor]) -> bool:
         """Whether every pseudo-label clause holds: each subject in view with its centroid in its
@@ -162,6 +173,7 @@ class _Objective:
         return (
             float(terms["hidden"]) == 0.0
             and float(terms["clearance"]) == 0.0
+            and float(terms.get("occlusion", 0.0)) == 0.0
             and float(terms["center"]) < 1e-5
             and float(terms["size"]) < 1e-6
             and float(terms.get("view", 0.0)) < 1e-5 * len(self.labels.subjects)
@@ -197,18 +209,52 @@ class _Objective:
                 add("view", wts.view, view_loss(T_cw, self.centroids[k], self.fronts[k], self.up, label.view.azimuths_deg,
                                                 label.view.azimuth_tolerance_deg, label.view.elevation_range_deg))
         add("upright", wts.upright, upright_loss(T_cw, self.up, self.roll))
-        if self.full_scene is not None:
-            add("occlusion", wts.occlusion, self._occlusion(T_cw, masks))
+        if self.penalise_occlusion:
+            visible = self._visible(T_cw, masks)
+            add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
         return total, terms
 
-    def _occlusion(self, T_cw: Tensor, masks: Tensor) -> Tensor:
-        """1 - visible share of the subjects' masks once the rest of the scene is in front."""
-        extra = torch.zeros(len(self.full_scene), masks.shape[0], dtype=self.dtype)
+    def prepare_occlusion(self, scene: GaussianScene) -> None:
+        """Prepare the whole scene, for :meth:`visible_shares` and the occlusion term."""
+        self.full_scene = prepare(scene, self.dtype, extent=self.subjects.extent)
+        self.full_membership = torch.zeros(len(scene), len(self.labels.subjects), dtype=self.dtype)
         for k, label in enumerate(self.labels.subjects):
-            extra[torch.as_tensor(label.gaussians, dtype=torch.long), k] = 1.0
-        full = render(self.full_scene, self.camera, T_cw=T_cw, extra=extra, colors=False, dtype=self.dtype, backend="torch")
-        visible = full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)
-        return (1.0 - visible.clamp(0.0, 1.0)).sum()
+            self.full_membership[torch.as_tensor(label.gaussians, dtype=torch.long), k] = 1.0
+
+    def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
+        """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
+        full = render(self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype,
+                      backend="torch")
+        return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
+
+    def visible_shares(self, T_cw: Tensor) -> list[float]:
+        """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
+        with torch.no_grad():
+            out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch")
+            return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
+
+
+def _yaw_scan(objective: "_Objective", T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:
+    """The best of ``steps`` rotations of the start about the world up through the pivot.
+
+    Gradient descent cannot undo some starts: two subjects in swapped order sit at a stationary
+    point of the layout loss along the orbit, and a view side behind the subject is a long walk.
+    A coarse scan of the orbit (or of the heading, when the pivot is the camera) fixes both for
+    a few forward renders. Returns the start pose and its yaw in degrees.
+    """
+    if steps <= 1:
+        return T0, 0.0
+    axis = T0[:3, :3] @ up  # world up in the camera frame
+    best = (math.inf, T0, 0.0)
+    with torch.no_grad():
+        for k in range(steps):
+            angle = 2.0 * math.pi * k / steps
+            twist = torch.cat([axis * angle, torch.zeros(3, dtype=torch.float64)])
+            T = pivot @ se3_exp(twist) @ torch.linalg.inv(pivot) @ T0
+            loss = float(objective(T)[0])
+            if loss < best[0] - 1e-9:
+                best = (loss, T, math.degrees(angle))
+    return best[1], best[2]
 
 
 def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float,
@@ -232,59 +278,78 @@ def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scal
 
 def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: RefineConfig,
             dtype: torch.dtype) -> RefineResult:
-    small = camera.with_long_side(config.long_side)
-    objective = _Objective(scene, small, labels, config, dtype)
-    T0 = torch.as_tensor(camera.T_cw, dtype=torch.float64)
-    rotation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
-    translation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
-    # beta2 = 0.99 (a ~100-step memory, not ~1000): the gradient scale drops by orders of
-    # magnitude once an out-of-view subject enters the frame, and a long memory of the large
-    # fallback gradients would leave the steps tiny afterwards.
-    optimizer = torch.optim.Adam([{"params": [rotation], "lr": config.lr_rotation},
-                                  {"params": [translation], "lr": config.lr_translation}], betas=(0.9, 0.99))
-
-    pivot = torch.eye(4, dtype=torch.float64)
-    subject_in_camera = T0[:3, :3] @ torch.as_tensor(labels.subjects[0].centroid, dtype=torch.float64) + T0[:3, 3]
-    if subject_in_camera[2] > 0:  # behind the camera an orbit never brings it into view: turn instead
-        pivot[:3, 3] = subject_in_camera
-    unpivot_T0 = torch.linalg.inv(pivot) @ T0
-
-    def pose() -> Tensor:
-        return pivot @ se3_exp(torch.cat([rotation, translation * scale])) @ unpivot_T0
-
     start = time.perf_counter()
-    trajectory, losses, history = [], [], {}
-    best = (math.inf, T0.numpy().copy(), {})
-    best_history: list[float] = []
-    stop_reason, settled = "max_iterations", 0
-    for step in range(config.iterations + 1):
-        T = pose()
-        loss, terms = objective(T)
-        value = float(loss.detach())
-        trajectory.append(T.detach().numpy().copy())
-        losses.append(value)
-        for name, term in terms.items():
-            history.setdefault(name, []).append(float(term))
-        if value < best[0]:
-            best = (value, trajectory[-1], {k: float(v) for k, v in terms.items()})
-        best_history.append(best[0])
-        settled = settled + 1 if objective.clauses_hold(terms) else 0
-        scale_of_loss = max(losses[0], 1e-12)
-        if settled >= config.settle:
-            stop_reason = "satisfied"
-            break
-        if best[0] <= 1e-4 * scale_of_loss:
-            stop_reason = "converged"
-            break
-        window_start = best_history[-1 - config.patience] if step >= config.patience else math.inf
-        if window_start - best[0] < config.rel_tol * window_start:
-            stop_reason = "plateau"
-            break
-        if step == config.iterations:
-            break
-        optimizer.zero_grad(set_to_none=True)
-        loss.backward()
-        optimizer.step()
-    return RefineResult(T_cw=best[1], iterations=len(losses) - 1, stop_reason=stop_reason, terms=best[2],
-                        trajectory=np.stack(trajectory), losses=np.asarray(losses),
-                        history={k: np.asarray(v) for k, v in history.items()}, seconds=time.perf_counter() - start)
+    objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
+    run = _Descent(objective, scale, config)
+    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations)
+    # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
+    # renders, continuing from the best pose with the occlusion term on.
+    if config.occlusion_iterations > 0:
+        objective.prepare_occlusion(scene)
+        if min(objective.visible_shares(T)) < config.min_visible:
+            objective.penalise_occlusion = True
+            T = run.descend(T, config.occlusion_iterations)
+    return RefineResult(T_cw=T.numpy(), iterations=len(run.losses) - 1, stop_reason=run.stop_reason, terms=run.best_terms,
+                        trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
+                        history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)
+
+
+class _Descent:
+    """Adam steps on the pose, recording the trajectory, losses and loss terms across phases."""
+
+    def __init__(self, objective: _Objective, scale: float, config: RefineConfig):
+        self.objective, self.scale, self.config = objective, scale, config
+        self.trajectory: list[np.ndarray] = []
+        self.losses: list[float] = []
+        self.history: dict[str, list[float]] = {}
+        self.best_terms: dict[str, float] = {}
+        self.stop_reason = "max_iterations"
+
+    def descend(self, T0: Tensor, iterations: int) -> Tensor:
+        """Optimise from ``T0`` for at most ``iterations`` steps; returns the best pose."""
+        config, objective = self.config, self.objective
+        pivot = torch.eye(4, dtype=torch.float64)
+        subject_in_camera = T0[:3, :3] @ objective.centroids[0] + T0[:3, 3]
+        if subject_in_camera[2] > 0:  # behind the camera an orbit never brings it into view: turn instead
+            pivot[:3, 3] = subject_in_camera
+        T0, _ = _yaw_scan(objective, T0, pivot, objective.up, config.yaw_scan)
+        unpivot_T0 = torch.linalg.inv(pivot) @ T0
+        rotation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
+        translation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
+        # beta2 = 0.99 (a ~100-step memory, not ~1000): the gradient scale drops by orders of
+        # magnitude once an out-of-view subject enters the frame, and a long memory of the large
+        # gradients before would leave the steps tiny afterwards.
+        optimizer = torch.optim.Adam([{"params": [rotation], "lr": config.lr_rotation},
+                                      {"params": [translation], "lr": config.lr_translation}], betas=(0.9, 0.99))
+        best_loss, best_T, best_history, settled = math.inf, T0, [], 0
+        self.stop_reason = "max_iterations"
+        for step in range(iterations + 1):
+            T = pivot @ se3_exp(torch.cat([rotation, translation * self.scale])) @ unpivot_T0
+            loss, terms = objective(T)
+            value = float(loss.detach())
+            self.trajectory.append(T.detach().numpy().copy())
+            self.losses.append(value)
+            for name, term in terms.items():
+                self.history.setdefault(name, [math.nan] * (len(self.losses) - 1)).append(float(term))
+            if value < best_loss:
+                best_loss, best_T, self.best_terms = value, T.detach(), {k: float(v) for k, v in terms.items()}
+            best_history.append(best_loss)
+            settled = settled + 1 if objective.clauses_hold(terms) else 0
+            if settled >= config.settle:
+                self.stop_reason = "satisfied"
+                break
+            if best_loss <= 1e-4 * max(self.losses[-1 - step], 1e-12):
+                self.stop_reason = "converged"
+                break
+            window_start = best_history[-1 - config.patience] if step >= config.patience else math.inf
+            if window_start - best_loss < config.rel_tol * window_start:
+                self.stop_reason = "plateau"
+                break
+            if step == iterations:
+                break
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            optimizer.step()
+        for values in self.history.values():  # terms that appeared in a later phase
+            values.extend([math.nan] * (len(self.losses) - len(values)))
+        return best_T
