@@ -1,0 +1,35 @@
+"""Refine from oracle pseudo labels (ground truth): the optimiser alone, until Retrieve and
+Translate provide the method's own labels."""
+
+
+rule oracle_labels:
+    input:
+        scene="results/scenes/{scene}",
+        constraints="results/instructions/{scene}/constraints.json",
+    output:
+        labels="results/oracle/{scene}/{instruction}/labels.json",
+        init="results/oracle/{scene}/{instruction}/init.json",
+    log:
+        "results/logs/oracle/{scene}/{instruction}.log",
+    shell:
+        "capframe oracle {input.scene} --constraints {input.constraints} --id {wildcards.instruction} "
+        "-o results/oracle/{wildcards.scene}/{wildcards.instruction} > {log} 2>&1"
+
+
+rule refine_oracle:
+    input:
+        scene="results/scenes/{scene}",
+        labels="results/oracle/{scene}/{instruction}/labels.json",
+        init="results/oracle/{scene}/{instruction}/init.json",
+    output:
+        directory("results/refine/oracle/{scene}/{instruction}"),
+    params:
+        iterations=config["refine"]["iterations"],
+        long_side=config["refine"]["long_side"],
+    log:
+        "results/logs/refine/oracle/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/refine/oracle/{scene}/{instruction}.tsv"
+    shell:
+        "capframe refine {input.scene} --labels {input.labels} --init {input.init} -o {output} "
+        "--iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"

@@ -1,0 +1,33 @@
+"""Synthetic scenes and their instructions."""
+
+
+rule synth_scene:
+    output:
+        directory("results/scenes/{scene}"),
+    threads: 2  # renders the training images; other jobs are small and run one thread each
+    params:
+        args=synth_args,
+    log:
+        "results/logs/synth/{scene}.log",
+    benchmark:
+        "results/benchmarks/synth/{scene}.tsv"
+    shell:
+        "capframe synth {output} {params.args} > {log} 2>&1"
+
+
+checkpoint instructions:
+    input:
+        "results/scenes/{scene}",
+    output:
+        constraints="results/instructions/{scene}/constraints.json",
+        sheet="results/instructions/{scene}/instructions.tsv",
+    params:
+        number=lambda wc: SCENES[wc.scene].instructions,
+        seed=lambda wc: SCENES[wc.scene].seed,
+    log:
+        "results/logs/instructions/{scene}.log",
+    benchmark:
+        "results/benchmarks/instructions/{scene}.tsv"
+    shell:
+        "capframe instructions {input} -o results/instructions/{wildcards.scene} "
+        "--count {params.number} --seed {params.seed} > {log} 2>&1"
