@@ -113,3 +113,11 @@ def touch_images(folder: Path, cameras: list[Camera], suffix: str = ".png") -> N
     folder.mkdir(parents=True, exist_ok=True)
     for cam in cameras:
         (folder / f"{cam.name}{suffix}").write_bytes(f"image {cam.name}".encode())
+
+
+def assert_same_cameras(a, b, atol=1e-12):
+    assert [c.name for c in a] == [c.name for c in b]
+    for x, y in zip(a, b):
+        np.testing.assert_allclose(x.T_cw, y.T_cw, rtol=0, atol=atol)
+        np.testing.assert_allclose(x.K, y.K, rtol=0, atol=atol)
+        assert (x.width, x.height) == (y.width, y.height)

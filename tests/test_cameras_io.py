@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from _scene_helpers import centred, inria_cameras_entries, random_cameras, touch_images
+from _scene_helpers import assert_same_cameras, centred, inria_cameras_entries, random_cameras, touch_images
 
 from capframe.errors import InputError
 from capframe.scene import (
@@ -17,14 +17,6 @@ from capframe.scene import (
     write_camera_path_json,
     write_cameras_json,
 )
-
-
-def assert_same_cameras(a, b, atol=1e-12):
-    assert [c.name for c in a] == [c.name for c in b]
-    for x, y in zip(a, b):
-        np.testing.assert_allclose(x.T_cw, y.T_cw, rtol=0, atol=atol)
-        np.testing.assert_allclose(x.K, y.K, rtol=0, atol=atol)
-        assert (x.width, x.height) == (y.width, y.height)
 
 
 def test_cameras_json_round_trip(tmp_path):

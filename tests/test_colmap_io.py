@@ -7,18 +7,10 @@ import json
 
 import numpy as np
 import pytest
-from _scene_helpers import random_cameras, touch_images
+from _scene_helpers import assert_same_cameras, random_cameras, touch_images
 
 from capframe.errors import InputError
 from capframe.scene import colmap_image_line, read_colmap, read_transforms_json, write_colmap
-
-
-def assert_same_cameras(a, b, atol=1e-12):
-    assert [c.name for c in a] == [c.name for c in b]
-    for x, y in zip(a, b):
-        np.testing.assert_allclose(x.T_cw, y.T_cw, rtol=0, atol=atol)
-        np.testing.assert_allclose(x.K, y.K, rtol=0, atol=atol)
-        assert (x.width, x.height) == (y.width, y.height)
 
 
 def quat_to_R(w, x, y, z):

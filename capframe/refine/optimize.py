@@ -38,9 +38,9 @@ class LossWeights:
 
     ``occlusion`` applies only in the occlusion phase (see :class:`RefineConfig`).
     ``clearance`` pushes the camera out of a subject it starts inside, where the saturated mask
-    gives the layout terms no gradient. ``hidden`` is the penalty of a subject out of view. It must exceed the layout loss of a
-    subject that just entered the view (about ``center + inside + outside``), or the blend
-    between the two would be a barrier at the edge of the view."""
+    gives the layout terms no gradient. ``hidden`` is the penalty of a subject out of view; it
+    must exceed the layout loss of a subject that just entered the view (about ``center +
+    inside + outside``), or the blend between the two would be a barrier at the edge of the view."""
 
     center: float = 1.0
     inside: float = 6.0
