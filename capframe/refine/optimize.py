@@ -77,7 +77,8 @@ class RefineConfig:
         roll_tolerance_deg: roll error under which the upright clause holds.
         occlusion_iterations: if another object hides a subject at the end (visible share below
             ``min_visible``), continue for at most this many steps with the occlusion term,
-            rendering the whole scene each step (0 disables the phase).
+            rendering the whole scene each step (0 disables the phase). ``iterations`` bounds
+            both phases together.
         min_visible: see ``occlusion_iterations``.
         threads: torch intra-op threads while optimising. The tensors are small, so threads gain
             little, and on a busy machine (parallel workflow jobs) their synchronisation makes
@@ -284,11 +285,12 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
     T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
-    if config.occlusion_iterations > 0:
+    remaining = min(config.occlusion_iterations, config.iterations - (len(run.losses) - 1))
+    if remaining > 0:
         objective.prepare_occlusion(scene)
         if min(objective.visible_shares(T)) < config.min_visible:
             objective.penalise_occlusion = True
-            T = run.descend(T, config.occlusion_iterations)
+            T = run.descend(T, remaining)
     return RefineResult(T_cw=T.numpy(), iterations=len(run.losses) - 1, stop_reason=run.stop_reason, terms=run.best_terms,
                         trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
                         history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)

@@ -124,31 +124,36 @@ def project_gaussians(
 ) -> Projection:
     """Cull and project Gaussians; differentiable w.r.t. ``T_cw``, the means and the factors.
 
-    Visibility is decided without gradient first (behind the camera, outside the near/far range,
-    non-finite or degenerate 2D covariance, footprint off-screen), and the differentiable
-    projection then runs on the survivors only, so no Inf from a culled Gaussian can turn into a
-    NaN gradient (``0 * inf``) on the pose.
+    The differentiable projection runs on the Gaussians in front of the camera with finite
+    factors; the rest of the culling (degenerate 2D covariance, footprint off-screen) selects
+    from its output. That is safe only while every value is finite: an Inf from a culled
+    Gaussian would turn into a NaN pose gradient (``0 * inf``) through the shared ops. So when a
+    huge Gaussian overflows, the projection is redone without it.
     """
     R, t = T_cw[:3, :3], T_cw[:3, 3]
     with torch.no_grad():
         z = means @ R[2] + t[2]
         finite_3d = torch.isfinite(factors).flatten(1).all(1)
-        idx = ((z > near) & (z < far) & finite_3d).nonzero()[:, 0]
-        means2d, cov2d = ewa_project(means[idx] @ R.T + t, R, factors[idx], K, width, height)
-        det = cov2d[:, 0, 0] * cov2d[:, 1, 1] - cov2d[:, 0, 1] ** 2
-        extents = pixel_extent(cov2d, opacities[idx])
-        finite = torch.isfinite(cov2d).flatten(1).all(1) & torch.isfinite(means2d).all(1)
-        skipped = len(finite_3d) - int(finite_3d.sum()) + len(finite) - int(finite.sum())
-        if skipped:
-            warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=3)
-        on_screen = (means2d + extents > 0).all(1) & (means2d[:, 0] - extents[:, 0] < width) & (means2d[:, 1] - extents[:, 1] < height)
-        ok = finite & (det > 0) & (extents > 0).all(1) & on_screen
-        order = torch.argsort(z[idx][ok], stable=True)
-        idx = idx[ok][order]
-        extents = extents[ok][order]
-    means_cam = means[idx] @ R.T + t
-    means2d, cov2d = ewa_project(means_cam, R, factors[idx], K, width, height)
-    return Projection(idx, means2d, conic_of(cov2d), means_cam[:, 2], extents)
+        front = ((z > near) & (z < far) & finite_3d).nonzero()[:, 0]
+    skipped = len(finite_3d) - int(finite_3d.sum())
+    means_cam = means[front] @ R.T + t
+    means2d, cov2d = ewa_project(means_cam, R, factors[front], K, width, height)
+    finite = (torch.isfinite(cov2d).flatten(1).all(1) & torch.isfinite(means2d).all(1)).detach()
+    if not finite.all():
+        skipped += len(finite) - int(finite.sum())
+        front = front[finite]
+        means_cam = means[front] @ R.T + t
+        means2d, cov2d = ewa_project(means_cam, R, factors[front], K, width, height)
+    if skipped:
+        warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=3)
+    with torch.no_grad():
+        m, c = means2d.detach(), cov2d.detach()
+        det = c[:, 0, 0] * c[:, 1, 1] - c[:, 0, 1] ** 2
+        extents = pixel_extent(c, opacities[front])
+        on_screen = (m + extents > 0).all(1) & (m[:, 0] - extents[:, 0] < width) & (m[:, 1] - extents[:, 1] < height)
+        ok = ((det > 0) & (extents > 0).all(1) & on_screen).nonzero()[:, 0]
+        sel = ok[torch.argsort(z[front][ok], stable=True)]
+    return Projection(front[sel], means2d[sel], conic_of(cov2d[sel]), means_cam[sel, 2], extents[sel])
 
 
 @dataclass
