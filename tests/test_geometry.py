@@ -143,3 +143,17 @@ def test_look_at_straight_down_is_finite():
     R = T[:3, :3]
     assert torch.allclose(R @ R.T, torch.eye(3, **f64), atol=1e-12)
     assert torch.allclose(camera_axes(T)[2], vec(0, 0, -1))
+
+
+def test_padded_camera_centre_crop_is_the_original_image():
+    import numpy as np
+
+    from capframe.render import render
+
+    from conftest import make_camera, make_scene
+
+    scene, camera = make_scene(200, seed=9), make_camera(width=40, height=30)
+    canvas = camera.padded(10, 6)
+    assert (canvas.width, canvas.height) == (60, 42)
+    full, crop = render(scene, canvas, backend="torch").rgb, render(scene, camera, backend="torch").rgb
+    assert np.allclose(full[6:36, 10:50].numpy(), crop.numpy(), atol=1e-6)

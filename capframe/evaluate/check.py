@@ -27,7 +27,6 @@ rendered at a modest resolution (long side :data:`CHECK_LONG_SIDE`); angles do n
 
 from __future__ import annotations
 
-import dataclasses
 import difflib
 import json
 import math
@@ -205,10 +204,7 @@ class GroundTruthChecker:
         cam = camera.with_long_side(self.long_side)
         W, H = cam.width, cam.height
         gx, gy = W // 2, H // 2
-        K = cam.K.copy()
-        K[0, 2] += gx
-        K[1, 2] += gy
-        canvas = dataclasses.replace(cam, K=K, width=W + 2 * gx, height=H + 2 * gy)
+        canvas = cam.padded(gx, gy)
         g = self.gaussians
         member = torch.stack([g.labels == obj.label for obj in objects], 1)
         opts = dict(backend=self.backend, near=self.near)

@@ -16,7 +16,6 @@ frame is rendered once, at full resolution, by the caller.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -135,10 +134,7 @@ class _Objective:
         self.config, self.labels, self.dtype = config, labels, dtype
         w, h = camera.width, camera.height
         gx, gy = round(config.guard * w), round(config.guard * h)
-        K = camera.K.copy()
-        K[0, 2] += gx
-        K[1, 2] += gy
-        self.camera = dataclasses.replace(camera, K=K, width=w + 2 * gx, height=h + 2 * gy)  # the canvas
+        self.camera = camera.padded(gx, gy)  # the canvas
         self.frame = Frame(float(gx), float(gy), w, h)
         index = np.concatenate([s.gaussians for s in labels.subjects])
         owner = np.concatenate([np.full(len(s.gaussians), k) for k, s in enumerate(labels.subjects)])

@@ -228,5 +228,14 @@ class Camera:
         s = long_side / max(self.width, self.height)
         return self.resized(max(1, round(self.width * s)), max(1, round(self.height * s)))
 
+    def padded(self, pad_x: int, pad_y: int) -> "Camera":
+        """The same camera on a canvas with a border of ``pad_x`` and ``pad_y`` pixels on each
+        side: the principal point moves with the frame, so the canvas's centre crop is exactly
+        this camera's image."""
+        K = self.K.copy()
+        K[0, 2] += pad_x
+        K[1, 2] += pad_y
+        return dataclasses.replace(self, K=K, width=self.width + 2 * pad_x, height=self.height + 2 * pad_y)
+
     def with_pose(self, T_cw: np.ndarray) -> "Camera":
         return dataclasses.replace(self, T_cw=np.asarray(T_cw, dtype=np.float64))
