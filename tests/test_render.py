@@ -241,14 +241,15 @@ def _gsplat_torch_impl():
 
 
 def test_projection_matches_gsplat_reference_implementation():
-    from capframe.render.torch_backend import covariance_3d, covariance_factor, project_gaussians
+    from capframe.render.torch_backend import covariance_factor, project_gaussians
 
     ref = _gsplat_torch_impl()
     scene = make_scene(500, seed=11, spread=1.5, dtype=f64)
     camera = make_camera(eye=(0.5, -1.0, -3.0), width=80, height=60)
     T, K = torch.as_tensor(camera.T_cw), torch.as_tensor(camera.K)
-    covs = covariance_3d(scene.quats, scene.scales)
-    proj = project_gaussians(scene.means, covariance_factor(scene.quats, scene.scales), scene.opacities, T, K, 80, 60, 0.01, 1e10)
+    factors = covariance_factor(scene.quats, scene.scales)
+    covs = factors @ factors.transpose(-1, -2)
+    proj = project_gaussians(scene.means, factors, scene.opacities, T, K, 80, 60, 0.01, 1e10)
     radii, means2d, depths, conics, _ = ref._fully_fused_projection(scene.means, covs, T[None], K[None], 80, 60)
     idx = proj.index
     assert (radii[0, idx] > 0).all(1).all()

@@ -20,6 +20,7 @@ import torch
 from ..geometry import look_at, rotmat_to_quat, se3_exp
 from ..render import render
 from ..scene import Camera, GaussianScene
+from ..scene._io import intrinsics
 
 
 def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> GaussianScene:
@@ -82,8 +83,7 @@ def orbit_camera(width: int, height: int, azimuth_deg: float = 30.0) -> Camera:
     eye = torch.tensor([4.5 * math.cos(el) * math.cos(az), 4.5 * math.cos(el) * math.sin(az), 4.5 * math.sin(el)], dtype=torch.float64)
     T = look_at(eye, torch.tensor([0.0, 0.0, 0.3], dtype=torch.float64), torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))
     focal = 0.5 * width / math.tan(math.radians(30.0))
-    K = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
-    return Camera(T.numpy(), K, width, height, name="bench")
+    return Camera(T.numpy(), intrinsics(focal, focal, width / 2, height / 2), width, height, name="bench")
 
 
 def time_forward_backward(scene: GaussianScene, camera: Camera, iterations: int = 10, warmup: int = 2) -> tuple[float, dict]:
@@ -101,7 +101,6 @@ def time_forward_backward(scene: GaussianScene, camera: Camera, iterations: int 
 
 
 def _peak_memory_child(n: int, width: int, height: int, queue) -> None:
-    torch.set_num_threads(torch.get_num_threads())
     scene = surface_scene(n)
     camera = orbit_camera(width, height)
     baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from collections import defaultdict
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..scene._io import atomic_write
+from ..scene._io import atomic_write, read_json
 
 
 def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd.DataFrame:
@@ -20,8 +19,8 @@ def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd
     """
     rows = []
     for check_path, result_path in zip(checks, results):
-        report = json.loads(Path(check_path).read_text())
-        result = json.loads(Path(result_path).read_text())
+        report = read_json(check_path)
+        result = read_json(result_path)
         row = {"method": method, "instruction": report.get("instruction_id") or Path(check_path).stem,
                "all_satisfied": bool(report["all_satisfied"]), "seconds": result.get("timings", {}).get("refine_s", np.nan),
                "iterations": result.get("iterations", np.nan)}

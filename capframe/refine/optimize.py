@@ -107,12 +107,13 @@ class RefineResult:
 
     Attributes:
         T_cw: (4, 4) float64 best pose found.
-        iterations: steps taken.
+        iterations: Adam steps taken (over both phases).
         stop_reason: "satisfied" (every pseudo-label clause held for ``settle`` steps),
             "converged" (loss below 1e-4 of its initial value), "plateau" or "max_iterations".
         terms: loss terms at the best pose.
-        trajectory: (iterations + 1, 4, 4) pose per step, the initial pose first.
-        losses: (iterations + 1,) total loss per step.
+        trajectory: (E, 4, 4) pose of every evaluation, the start first (E is ``iterations`` + 1,
+            + 1 more when the occlusion phase ran).
+        losses: (E,) total loss per evaluation.
         history: per loss term, (iterations + 1,) unweighted values per step.
         seconds: wall time of the optimisation.
     """
@@ -242,12 +243,13 @@ def _yaw_scan(objective: "_Objective", T0: Tensor, pivot: Tensor, up: Tensor, st
     if steps <= 1:
         return T0, 0.0
     axis = T0[:3, :3] @ up  # world up in the camera frame
+    unpivot_T0 = torch.linalg.inv(pivot) @ T0
     best = (math.inf, T0, 0.0)
     with torch.no_grad():
         for k in range(steps):
             angle = 2.0 * math.pi * k / steps
             twist = torch.cat([axis * angle, torch.zeros(3, dtype=torch.float64)])
-            T = pivot @ se3_exp(twist) @ torch.linalg.inv(pivot) @ T0
+            T = pivot @ se3_exp(twist) @ unpivot_T0
             loss = float(objective(T)[0])
             if loss < best[0] - 1e-9:
                 best = (loss, T, math.degrees(angle))
@@ -278,16 +280,16 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
     run = _Descent(objective, scale, config)
-    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations)
+    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
-    remaining = min(config.occlusion_iterations, config.iterations - (len(run.losses) - 1))
+    remaining = min(config.occlusion_iterations, config.iterations - run.steps)
     if remaining > 0:
         objective.prepare_occlusion(scene)
         if min(objective.visible_shares(T)) < config.min_visible:
             objective.penalise_occlusion = True
-            T = run.descend(T, remaining)
-    return RefineResult(T_cw=T.numpy(), iterations=len(run.losses) - 1, stop_reason=run.stop_reason, terms=run.best_terms,
+            T = run.descend(T, remaining, scan=False)
+    return RefineResult(T_cw=T.numpy(), iterations=run.steps, stop_reason=run.stop_reason, terms=run.best_terms,
                         trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
                         history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)
 
@@ -302,15 +304,18 @@ class _Descent:
         self.history: dict[str, list[float]] = {}
         self.best_terms: dict[str, float] = {}
         self.stop_reason = "max_iterations"
+        self.steps = 0  # Adam steps over all phases
 
-    def descend(self, T0: Tensor, iterations: int) -> Tensor:
-        """Optimise from ``T0`` for at most ``iterations`` steps; returns the best pose."""
+    def descend(self, T0: Tensor, iterations: int, scan: bool) -> Tensor:
+        """Optimise from ``T0`` for at most ``iterations`` steps, after a yaw scan if ``scan``;
+        returns the best pose. Each call records one more evaluation than it takes steps."""
         config, objective = self.config, self.objective
         pivot = torch.eye(4, dtype=torch.float64)
         subject_in_camera = T0[:3, :3] @ objective.centroids[0] + T0[:3, 3]
         if subject_in_camera[2] > 0:  # behind the camera an orbit never brings it into view: turn instead
             pivot[:3, 3] = subject_in_camera
-        T0, _ = _yaw_scan(objective, T0, pivot, objective.up, config.yaw_scan)
+        if scan:
+            T0, _ = _yaw_scan(objective, T0, pivot, objective.up, config.yaw_scan)
         unpivot_T0 = torch.linalg.inv(pivot) @ T0
         rotation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
         translation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
@@ -348,6 +353,7 @@ class _Descent:
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             optimizer.step()
+            self.steps += 1
         for values in self.history.values():  # terms that appeared in a later phase
             values.extend([math.nan] * (len(self.losses) - len(values)))
         return best_T

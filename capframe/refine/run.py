@@ -15,8 +15,6 @@ Reads a scene directory, pseudo labels and an initial camera; writes into the ou
 from __future__ import annotations
 
 import dataclasses
-import io
-import json
 import platform
 import time
 from pathlib import Path
@@ -27,9 +25,9 @@ from PIL import Image, ImageDraw
 
 from ..errors import InputError
 from ..render import render, scene_extent
-from ..render.image import to_uint8
+from ..render.image import save_png
 from ..scene import Camera, load_scene_dir, read_camera_json, write_camera_json
-from ..scene._io import atomic_directory
+from ..scene._io import atomic_directory, write_json
 from ..translate.labels import PseudoLabels, read_pseudo_labels
 from .optimize import RefineConfig, RefineResult, refine_pose
 
@@ -37,9 +35,9 @@ from .optimize import RefineConfig, RefineResult, refine_pose
 def scene_scale(cameras: list[Camera], means: torch.Tensor) -> float:
     """Scene scale ``s`` (DESIGN §3): the median distance from the training cameras to the scene
     centre (the median of the Gaussian means); the Gaussians' own extent without cameras."""
-    centre = means.detach().median(0).values.double().numpy()
     if not cameras:
         return scene_extent(means.detach())
+    centre = means.detach().median(0).values.double().numpy()
     return float(np.median([np.linalg.norm(c.center - centre) for c in cameras]))
 
 
@@ -91,13 +89,13 @@ def _write_outputs(out: Path, camera: Camera, result: RefineResult, labels: Pseu
         "loss": float(result.losses.min()),
         "timings": timings,
         "device": platform.processor() or platform.machine(),
-        "threads": torch.get_num_threads(),
+        "threads": config.threads,
         "config": dataclasses.asdict(config),
         "subjects": [s.name for s in labels.subjects],
     }
-    (out / "result.json").write_text(json.dumps(summary, indent=1))
+    write_json(out / "result.json", summary)
     write_camera_json(camera, out / "camera.json")
-    Image.fromarray(to_uint8(image)).save(out / "render.png")
+    save_png(image, out / "render.png")
     np.savez_compressed(out / "trajectory.npz", poses=result.trajectory, loss=result.losses, **result.history)
     names = list(result.history)
     rows = ["iteration,loss," + ",".join(names)]

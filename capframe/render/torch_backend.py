@@ -40,12 +40,6 @@ def covariance_factor(quats: Tensor, scales: Tensor) -> Tensor:
     return quat_to_rotmat(quats) * scales[:, None, :]
 
 
-def covariance_3d(quats: Tensor, scales: Tensor) -> Tensor:
-    """World covariances ``R S S^T R^T``: (N, 4) wxyz, (N, 3) -> (N, 3, 3)."""
-    L = covariance_factor(quats, scales)
-    return L @ L.transpose(-1, -2)
-
-
 def ewa_project(
     means_cam: Tensor, R: Tensor, factors: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D
 ) -> tuple[Tensor, Tensor]:

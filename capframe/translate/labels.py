@@ -20,7 +20,7 @@ the scene appears rotated counter-clockwise by the roll, and so does an upright 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -97,7 +97,6 @@ class PseudoLabels:
     up: np.ndarray
     roll_deg: float = 0.0
     box_angle_deg: float = 0.0
-    notes: list[str] = field(default_factory=list)
 
 
 def _shrink(box: tuple[float, ...], margin: float) -> tuple[float, float, float, float]:
@@ -171,13 +170,13 @@ def _to_json(labels: PseudoLabels) -> dict:
                 "box": None if s.box is None else list(s.box), "extent": None if s.extent is None else list(s.extent), "view": view}
 
     return {"format": 1, "up": labels.up.tolist(), "roll_deg": labels.roll_deg, "box_angle_deg": labels.box_angle_deg,
-            "notes": labels.notes, "subjects": [subject(s) for s in labels.subjects]}
+            "subjects": [subject(s) for s in labels.subjects]}
 
 
 def write_pseudo_labels(labels: PseudoLabels, path: str | Path) -> None:
-    from ..scene._io import atomic_write
+    from ..scene._io import write_json
 
-    atomic_write(path, json.dumps(_to_json(labels), indent=1))
+    write_json(path, _to_json(labels))
 
 
 def read_pseudo_labels(path: str | Path) -> PseudoLabels:
@@ -194,7 +193,7 @@ def read_pseudo_labels(path: str | Path) -> PseudoLabels:
                                          None if s["front"] is None else np.asarray(s["front"], dtype=np.float64),
                                          None if s["region"] is None else tuple(s["region"]), None if s["box"] is None else tuple(s["box"]),
                                          None if s["extent"] is None else tuple(s["extent"]), view))
-        return PseudoLabels(subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"]), list(data.get("notes", [])))
+        return PseudoLabels(subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"]))
     except FileNotFoundError:
         raise InputError("pseudo labels not found", source=source) from None
     except (KeyError, TypeError, ValueError) as err:
