@@ -288,7 +288,9 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
         objective.prepare_occlusion(scene)
         if min(objective.visible_shares(T)) < config.min_visible:
             objective.penalise_occlusion = True
-            T = run.descend(T, remaining, scan=False)
+            # Scan again, now with the whole scene in the objective: it finds an orbit position
+            # where nothing stands in front of the subject (the current pose is one candidate).
+            T = run.descend(T, remaining, scan=True)
     return RefineResult(T_cw=T.numpy(), iterations=run.steps, stop_reason=run.stop_reason, terms=run.best_terms,
                         trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
                         history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)
