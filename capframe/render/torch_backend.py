@@ -174,25 +174,32 @@ class TileBlocks:
     pairs: int
 
 
-def _min_sigma_over_rect(means2d: Tensor, conics: Tensor, x0: Tensor, x1: Tensor, y0: Tensor, y1: Tensor) -> Tensor:
-    """Exact minimum of ``sigma`` over the rectangles ``[x0, x1] x [y0, y1]``: (P,) each.
+def _row_spans(means2d: Tensor, conics: Tensor, reach: Tensor, band_lo: Tensor, band_hi: Tensor) -> tuple[Tensor, Tensor]:
+    """x-range ``[lo, hi]`` of the ellipses ``sigma <= reach`` over horizontal bands of pixel
+    centres ``band_lo <= y <= band_hi``: all (R,) per (Gaussian, row) entry; ``lo > hi`` when
+    the ellipse misses the band.
 
-    Zero when the mean is inside; otherwise the minimum lies on an edge, where ``sigma`` is a 1D
-    convex quadratic minimised in closed form and clamped to the edge.
+    With ``D = ac - b^2``, the ellipse's right edge at height ``dy`` is
+    ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``: concave in ``dy``, so its maximum over the
+    band is at the ellipse's rightmost point clamped to the band (and symmetrically on the left).
     """
     mx, my = means2d.unbind(-1)
     a, b, c = conics.unbind(-1)
+    det = a * c - b * b
+    two_k = 2.0 * reach
+    y_reach = torch.sqrt(two_k * a / det)  # |dy| on the ellipse (Sigma_yy = a / D)
+    lo = torch.maximum(band_lo - my, -y_reach)
+    hi = torch.minimum(band_hi - my, y_reach)
+    dy_rightmost = -b * torch.sqrt(two_k / (c * det))  # Sigma_xy sqrt(2 reach / Sigma_xx); leftmost is its mirror
 
-    def sigma(x, y):
-        dx, dy = x - mx, y - my
-        return 0.5 * a * dx * dx + b * dx * dy + 0.5 * c * dy * dy
+    def half_width(dy):
+        return torch.sqrt((two_k * a - det * dy * dy).clamp_min(0.0)) / a
 
-    on_edges = torch.stack(
-        [sigma(x0, (my - b * (x0 - mx) / c).clamp(y0, y1)), sigma(x1, (my - b * (x1 - mx) / c).clamp(y0, y1)),
-         sigma((mx - b * (y0 - my) / a).clamp(x0, x1), y0), sigma((mx - b * (y1 - my) / a).clamp(x0, x1), y1)]
-    ).amin(0)
-    inside = (mx >= x0) & (mx <= x1) & (my >= y0) & (my <= y1)
-    return torch.where(inside, torch.zeros_like(on_edges), on_edges)
+    dy_right, dy_left = dy_rightmost.clamp(lo, hi), (-dy_rightmost).clamp(lo, hi)
+    right = mx - b * dy_right / a + half_width(dy_right)
+    left = mx - b * dy_left / a - half_width(dy_left)
+    empty = lo > hi
+    return torch.where(empty, torch.ones_like(left), left), torch.where(empty, torch.zeros_like(right), right)
 
 
 def intersect_tiles(
@@ -201,38 +208,31 @@ def intersect_tiles(
     """Tile blocks of the (tile, Gaussian) pairs where some pixel centre of the tile passes the
     Gaussian's cut-offs, for depth-sorted Gaussians.
 
-    Candidates come from the footprint box; the corner tiles the ellipse misses (about a quarter
-    of the candidates) are then dropped by an exact test, which changes no pixel.
+    Scanline generation: for each Gaussian and each tile row its footprint box spans, the exact
+    x-range of its cut-off ellipse over the row's pixel centres gives the tiles, so no pair is
+    generated that touches no pixel (about a quarter of the footprint box's tiles).
     """
     with torch.no_grad():
         device = means2d.device
         num_gaussians, num_tiles = len(means2d), tiles_x * tiles_y
-        lo = torch.floor((means2d - extents) / tile_size).long()
-        hi = torch.floor((means2d + extents) / tile_size).long() + 1
-        x0, x1 = lo[:, 0].clamp(0, tiles_x), hi[:, 0].clamp(0, tiles_x)
-        y0, y1 = lo[:, 1].clamp(0, tiles_y), hi[:, 1].clamp(0, tiles_y)
-        nx = (x1 - x0).clamp_min(0)
-        counts = nx * (y1 - y0).clamp_min(0)
-        gaussian = torch.repeat_interleave(torch.arange(num_gaussians, device=device), counts)
-        first = torch.cumsum(counts, 0) - counts
-        local = torch.arange(len(gaussian), device=device) - first[gaussian]
-        nx_g = nx[gaussian]
-        tile_x = x0[gaussian] + local % nx_g
-        tile_y = y0[gaussian] + local // nx_g
-        tile = tile_y * tiles_x + tile_x
-        # Footprints of 3 or more tiles on a side have corner tiles the ellipse may miss; test
-        # those pairs exactly. Pixel centres of a tile span [t S + 0.5, t S + S - 0.5]; the cut-off
-        # is sigma <= min(4.5, log(255 opacity)), with a margin against rounding.
-        wide = ((nx >= 3) | (y1 - y0 >= 3))[gaussian].nonzero()[:, 0]
-        if len(wide):
-            g = gaussian[wide]
-            lo_x = (tile_x[wide] * tile_size).to(means2d.dtype) + 0.5
-            lo_y = (tile_y[wide] * tile_size).to(means2d.dtype) + 0.5
-            reach = torch.log(opacities[g].clamp_min(ALPHA_MIN) / ALPHA_MIN).clamp_max(SIGMA_MAX)
-            misses = _min_sigma_over_rect(means2d[g], conics[g], lo_x, lo_x + tile_size - 1, lo_y, lo_y + tile_size - 1) > reach + 1e-4
-            keep = torch.ones(len(gaussian), dtype=torch.bool, device=device)
-            keep[wide[misses]] = False
-            gaussian, tile = gaussian[keep], tile[keep]
+        y0 = torch.floor((means2d[:, 1] - extents[:, 1]) / tile_size).long().clamp(0, tiles_y)
+        y1 = (torch.floor((means2d[:, 1] + extents[:, 1]) / tile_size).long() + 1).clamp(0, tiles_y)
+        rows = (y1 - y0).clamp_min(0)
+        row_gaussian = torch.repeat_interleave(torch.arange(num_gaussians, device=device), rows)
+        row_first = torch.cumsum(rows, 0) - rows
+        ty = y0[row_gaussian] + torch.arange(len(row_gaussian), device=device) - row_first[row_gaussian]
+        # The cut-off is sigma <= min(4.5, log(255 opacity)), with a margin against rounding.
+        reach = torch.log(opacities.clamp_min(ALPHA_MIN) / ALPHA_MIN).clamp_max(SIGMA_MAX) + 1e-4
+        band_lo = (ty * tile_size).to(means2d.dtype) + 0.5
+        left, right = _row_spans(means2d[row_gaussian], conics[row_gaussian], reach[row_gaussian], band_lo, band_lo + tile_size - 1)
+        # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
+        tx0 = torch.ceil((left + 0.5 - tile_size) / tile_size).long().clamp(0, tiles_x)
+        tx1 = torch.floor((right - 0.5) / tile_size).long().clamp(-1, tiles_x - 1)
+        counts = (tx1 - tx0 + 1).clamp_min(0)
+        pair_row = torch.repeat_interleave(torch.arange(len(counts), device=device), counts)
+        pair_first = torch.cumsum(counts, 0) - counts
+        gaussian = row_gaussian[pair_row]
+        tile = ty[pair_row] * tiles_x + tx0[pair_row] + torch.arange(len(pair_row), device=device) - pair_first[pair_row]
         # Gaussians are already in depth order, so a stable sort by tile keeps depth order per tile.
         tile, order = torch.sort(tile, stable=True)
         gaussian = gaussian[order]
