@@ -42,15 +42,14 @@ from ..constraints import (
 )  # fmt: skip
 from ..errors import InputError
 from ..geometry import camera_roll, view_angles
-from ..render import NEAR_FRACTION, render, resolve_backend, scene_extent
-from ..scene import Camera, load_scene_dir, read_camera_json
+from ..render import NEAR_FRACTION, resolve_backend, scene_extent
+from ..render.masks import SubjectMask, subject_masks
+from ..scene import Camera, GaussianScene, load_scene_dir, read_camera_json
 from ..scene._io import read_json
 from .ground_truth import GroundTruth, GTObject, read_ground_truth
 
 CHECK_LONG_SIDE = 256  # masks are rendered with this many pixels on the longer side
-MASK_THRESHOLD = 0.5  # own-render alpha above this is the subject's mask (shot size, "in frame")
 ROLL_UNDEFINED_DEG = 10.0  # roll is not measured within this angle of looking straight up/down
-_EMPTY_WEIGHT = 1e-3  # below this total visible alpha (in pixels) the mask centroid is undefined
 
 
 def wrap_deg(angle: float) -> float:
@@ -138,52 +137,58 @@ def _box_distance(x: float, y: float, box: tuple[float, float, float, float]) ->
     return math.hypot(max(x0 - x, 0.0, x - x1), max(y0 - y, 0.0, y - y1))
 
 
-class GroundTruthChecker:
-    """Loads a synthetic scene once (ground truth, Gaussians, labels) and checks cameras against it.
+class ConstraintChecker:
+    """Checks cameras against constraints, given each subject's Gaussians, centre and front.
+
+    The ground-truth check (:class:`GroundTruthChecker`) and the method's own per-clause report
+    (``capframe ground``, from its pseudo labels) are this one measurement with different sources.
 
     Args:
-        scene_dir: scene directory with ``ground_truth.json``, ``scene.ply``, ``semantics.json`` and
-            ``labels.npy``.
+        gaussians: the whole scene (on the device to render on).
+        objects: per subject name, its centre, radius and front (``GTObject``).
+        members: per object id (``GTObject.id``), (N,) boolean mask of its Gaussians.
+        up: (3,) unit world up.
         long_side: render size of the masks (longer side, pixels; default :data:`CHECK_LONG_SIDE`).
         backend: render backend (``auto``: gsplat on CUDA, else the torch reference).
     """
 
-    def __init__(self, scene_dir: str | Path, *, long_side: int | None = None, backend: str = "auto"):
-        self.scene_dir = Path(scene_dir)
-        self.ground_truth: GroundTruth = read_ground_truth(scene_dir)
-        scene = load_scene_dir(scene_dir)
-        if scene.gaussians is None:
-            raise InputError("has no scene.ply; the check renders subject masks from it", source=str(scene_dir))
-        if scene.gaussians.labels is None:
-            raise InputError("has no semantic sidecar (semantics.json + labels.npy); the check needs per-Gaussian labels",
-                             source=str(scene_dir))  # fmt: skip
+    def __init__(self, gaussians: GaussianScene, objects: dict[str, GTObject], members: dict[int, torch.Tensor], up: np.ndarray,
+                 *, long_side: int | None = None, backend: str = "auto"):  # fmt: skip
         self.backend = resolve_backend(backend)
         device = "cuda" if self.backend == "gsplat" else "cpu"
-        self.gaussians = scene.gaussians.to(device=device)
+        self.gaussians = gaussians.to(device=device)
+        self.objects = objects
+        self.members = {key: m.to(device) for key, m in members.items()}
+        self.up = np.asarray(up, dtype=np.float64)
         self.long_side = long_side or CHECK_LONG_SIDE
         self.near = NEAR_FRACTION * scene_extent(self.gaussians.means.detach())
 
+    def resolve(self, name: str) -> GTObject:
+        """The object a constraint's subject name refers to."""
+        if name not in self.objects:
+            raise InputError(f"subject {name!r} is unknown here; known: {sorted(self.objects)}")
+        return self.objects[name]
+
     def check(self, camera: Camera, constraints: Constraints) -> CheckReport:
         """Check ``camera`` against ``constraints``; see the module docstring for the measures."""
-        gt = self.ground_truth
         if not constraints.subjects:
             raise InputError("the constraints name no subject; nothing to check")
-        subjects = [(s, gt.resolve(s.name)) for s in constraints.subjects]
+        subjects = [(s, self.resolve(s.name)) for s in constraints.subjects]
         primary = next((obj for s, obj in subjects if s.role == "primary"), subjects[0][1])
         T = camera.T_cw
         centre = camera.center
-        up = gt.up
+        up = self.up
 
         masks = self._masks(camera, [obj for _, obj in subjects])
         rows: list[CheckRow] = []
-        for (sc, obj), (visible, own, in_frame) in zip(subjects, masks):
+        for (sc, obj), mask in zip(subjects, masks):
             z = float(T[2, :3] @ obj.center + T[2, 3])
             min_in_frame = CLOSE_UP_MIN_IN_FRAME_FRACTION if sc.shot == "close-up" else MIN_IN_FRAME_FRACTION
-            rows.append(self._visibility(sc.name, visible, own, z, in_frame, min_in_frame))
+            rows.append(self._visibility(sc.name, mask, z, min_in_frame))
             if sc.region is not None:
-                rows.append(self._region(sc.name, sc.region, visible, camera, obj, z))
+                rows.append(self._region(sc.name, sc.region, mask, camera, obj, z))
             if sc.shot is not None:
-                rows.append(self._shot(sc.name, sc.shot, own))
+                rows.append(self._shot(sc.name, sc.shot, mask))
             if sc.view is not None:
                 rows.append(self._view(sc.name, sc.view, centre, obj, up))
         elevation_range = constraints.elevation_range()
@@ -196,36 +201,14 @@ class GroundTruthChecker:
 
     # --- measurements -------------------------------------------------------------------------
 
-    def _masks(self, camera: Camera, objects: list[GTObject]) -> list[tuple[torch.Tensor, torch.Tensor, float]]:
-        """Per subject: visible alpha in the full render (H, W), alpha of the subject rendered
-        alone (H, W), and the share of the latter inside the frame. The subject alone is
-        rendered on a canvas with a guard band of half the frame on each side, whose centre crop
-        is exactly the frame."""
-        cam = camera.with_long_side(self.long_side)
-        W, H = cam.width, cam.height
-        gx, gy = W // 2, H // 2
-        canvas = cam.padded(gx, gy)
-        g = self.gaussians
-        member = torch.stack([g.labels == obj.label for obj in objects], 1)
-        opts = dict(backend=self.backend, near=self.near)
-        with torch.no_grad():
-            full = render(g, cam, extra=member.to(g.means.dtype), colors=False, **opts)
-            out = []
-            for i in range(len(objects)):
-                if member[:, i].any():
-                    own_canvas = render(g, canvas, subset=member[:, i], colors=False, **opts).alpha.cpu()
-                else:
-                    own_canvas = torch.zeros(canvas.height, canvas.width)
-                own = own_canvas[gy:gy + H, gx:gx + W]
-                in_frame = float(own.sum()) / float(own_canvas.sum()) if float(own_canvas.sum()) > _EMPTY_WEIGHT else 0.0
-                out.append((full.extra[..., i].clamp(0.0, 1.0).cpu(), own, in_frame))
-        return out
+    def _masks(self, camera: Camera, objects: list[GTObject]) -> list[SubjectMask]:
+        """Per subject: its visible and own masks at the check resolution (see :func:`subject_masks`)."""
+        member = torch.stack([self.members[obj.id] for obj in objects], 1)
+        masks, _ = subject_masks(self.gaussians, camera.with_long_side(self.long_side), member, backend=self.backend, near=self.near)
+        return masks
 
-    def _visibility(self, name: str, visible: torch.Tensor, own: torch.Tensor, z: float, in_frame: float,
-                    min_in_frame: float) -> CheckRow:
-        own_sum = float(own.sum())
-        fraction = min(1.0, float(visible.sum()) / own_sum) if own_sum > _EMPTY_WEIGHT else 0.0
-        pixels = int((own > MASK_THRESHOLD).sum())
+    def _visibility(self, name: str, mask: SubjectMask, z: float, min_in_frame: float) -> CheckRow:
+        fraction, in_frame, pixels = mask.visible_fraction, mask.in_frame, mask.pixels
         in_front = z > 0
         ok = in_front and pixels > 0 and fraction >= MIN_VISIBLE_FRACTION and in_frame >= min_in_frame
         notes = []
@@ -241,17 +224,12 @@ class GroundTruthChecker:
                         max(MIN_VISIBLE_FRACTION - fraction, min_in_frame - in_frame, 0.0), "fraction", "; ".join(notes),
                         {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame})  # fmt: skip
 
-    def _region(self, name: str, region: str, visible: torch.Tensor, camera: Camera, obj: GTObject, z: float) -> CheckRow:
+    def _region(self, name: str, region: str, mask: SubjectMask, camera: Camera, obj: GTObject, z: float) -> CheckRow:
         box = REGIONS[region]
         target = {"region": region, "box": list(box)}
-        weight = float(visible.sum())
         note = ""
-        if weight > _EMPTY_WEIGHT:
-            H, W = visible.shape
-            ys = (torch.arange(H, dtype=torch.float64) + 0.5) / H
-            xs = (torch.arange(W, dtype=torch.float64) + 0.5) / W
-            v = visible.to(torch.float64)
-            x, y = float((v.sum(0) * xs).sum()) / weight, float((v.sum(1) * ys).sum()) / weight
+        if (centroid := mask.centroid()) is not None:
+            x, y = centroid
             source = "visible mask"
         elif z > 0:
             p = camera.K @ (camera.T_cw[:3, :3] @ obj.center + camera.T_cw[:3, 3])
@@ -264,17 +242,13 @@ class GroundTruthChecker:
         error = _box_distance(x, y, box)
         return CheckRow("region", name, error == 0.0, [x, y], target, error, "normalised", note, {"source": source})
 
-    def _shot(self, name: str, shot: str, own: torch.Tensor) -> CheckRow:
+    def _shot(self, name: str, shot: str, mask: SubjectMask) -> CheckRow:
         lo, hi = SHOT_SIZES[shot]
         target = {"shot": shot, "range": [lo, hi]}
-        mask = own > MASK_THRESHOLD
-        if not mask.any():
+        if mask.pixels == 0:
             return CheckRow("shot", name, False, 0.0, target, _interval_error(0.0, lo, hi), "frame fraction",
                             "subject mask is empty")  # fmt: skip
-        H, W = mask.shape
-        rows, cols = mask.any(1).nonzero()[:, 0], mask.any(0).nonzero()[:, 0]
-        width = float(cols.max() - cols.min() + 1) / W
-        height = float(rows.max() - rows.min() + 1) / H
+        width, height = mask.bbox_size()
         extent = max(width, height)
         error = _interval_error(extent, lo, hi)
         return CheckRow("shot", name, error == 0.0, extent, target, error, "frame fraction", "",
@@ -323,6 +297,33 @@ class GroundTruthChecker:
         az, el = view_angles(torch.tensor(centre, **f64), torch.tensor(obj.center, **f64),
                              torch.tensor(front, **f64), torch.tensor(up, **f64))  # fmt: skip
         return math.degrees(float(az)), math.degrees(float(el))
+
+
+class GroundTruthChecker(ConstraintChecker):
+    """Loads a synthetic scene once (ground truth, Gaussians, labels) and checks cameras against it.
+
+    Args:
+        scene_dir: scene directory with ``ground_truth.json``, ``scene.ply``, ``semantics.json`` and
+            ``labels.npy``.
+        long_side, backend: as for :class:`ConstraintChecker`.
+    """
+
+    def __init__(self, scene_dir: str | Path, *, long_side: int | None = None, backend: str = "auto"):
+        self.scene_dir = Path(scene_dir)
+        self.ground_truth: GroundTruth = read_ground_truth(scene_dir)
+        scene = load_scene_dir(scene_dir)
+        if scene.gaussians is None:
+            raise InputError("has no scene.ply; the check renders subject masks from it", source=str(scene_dir))
+        if scene.gaussians.labels is None:
+            raise InputError("has no semantic sidecar (semantics.json + labels.npy); the check needs per-Gaussian labels",
+                             source=str(scene_dir))  # fmt: skip
+        labels = scene.gaussians.labels
+        objects = {o.name: o for o in self.ground_truth.objects}
+        members = {o.id: labels == o.label for o in self.ground_truth.objects}
+        super().__init__(scene.gaussians, objects, members, self.ground_truth.up, long_side=long_side, backend=backend)
+
+    def resolve(self, name: str) -> GTObject:
+        return self.ground_truth.resolve(name)
 
 
 def _any_horizontal(up: np.ndarray) -> np.ndarray:
