@@ -1,0 +1,140 @@
+"""The parsed instruction: what every instruction parser returns (the rule grammar here, an MLLM
+with JSON-schema output in the model tier).
+
+Subjects carry the categorical cues of :mod:`capframe.constraints` (region, shot size, view side)
+and the instruction carries the camera's elevation and roll. The numeric targets Refine needs
+(layout boxes, view offsets) follow from these and are written beside them by :meth:`to_dict`, so a
+reader of ``result.json`` sees both what was understood and what it became.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+
+from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints, SubjectConstraint
+from ..errors import InputError
+from .labels import layout_boxes
+
+
+@dataclass
+class ParsedSubject:
+    """One subject of an instruction.
+
+    Attributes:
+        mention: the words that named it ("the red chair").
+        name: the scene-vocabulary name it was matched to ("armchair").
+        role: "primary" (the first mentioned) or "secondary".
+        symmetric: whether it has no canonical front (view sides do not apply to it).
+        region: key of :data:`~capframe.constraints.REGIONS`, or None.
+        shot: key of :data:`~capframe.constraints.SHOT_SIZES`, or None.
+        view: key of :data:`~capframe.constraints.VIEW_SIDES`, or None.
+    """
+
+    mention: str
+    name: str
+    role: str = "primary"
+    symmetric: bool = False
+    region: str | None = None
+    shot: str | None = None
+    view: str | None = None
+
+    def __post_init__(self) -> None:
+        # Validation is shared with the constraint vocabulary, so an MLLM's invalid key is named.
+        SubjectConstraint(self.name, self.role, self.region, self.shot, self.view)
+
+
+@dataclass
+class ParsedInstruction:
+    """An instruction turned into structure.
+
+    Attributes:
+        text: the instruction as given.
+        subjects: the subjects, primary first.
+        elevation: key of :data:`~capframe.constraints.ELEVATIONS`, or None.
+        elevation_deg: an explicit elevation in degrees (> 0 above), or None.
+        roll_deg: requested roll in degrees (> 0 clockwise as the photographer sees it, 0 level), or None.
+        unparsed: fragments of the text the parser did not understand, in order.
+    """
+
+    text: str
+    subjects: list[ParsedSubject] = field(default_factory=list)
+    elevation: str | None = None
+    elevation_deg: float | None = None
+    roll_deg: float | None = None
+    unparsed: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.constraints()  # validates the named cues and the elevation pair
+
+    def constraints(self) -> Constraints:
+        """The machine-checkable constraints. A view side asked of a symmetric subject is dropped:
+        it has no front to be seen from."""
+        subjects = [SubjectConstraint(s.name, s.role, s.region, s.shot, None if s.symmetric else s.view) for s in self.subjects]
+        return Constraints(subjects, self.elevation, self.elevation_deg, self.roll_deg)
+
+    def to_dict(self) -> dict:
+        """JSON-ready form: the fields of :data:`JSON_SCHEMA` plus, per subject, the derived layout
+        targets (``layout``) and view offsets (``view_offsets_deg``)."""
+        data = asdict(self)
+        for subject, out in zip(self.subjects, data["subjects"]):
+            region, box, extent = layout_boxes(subject.region, subject.shot)
+            out["layout"] = {"region": _listed(region), "box": _listed(box), "extent": _listed(extent)}
+            out["view_offsets_deg"] = {"azimuth": list(VIEW_SIDES[subject.view]) if subject.view and not subject.symmetric else None}
+        data["elevation_range_deg"] = _listed(self.constraints().elevation_range())
+        return data
+
+    @classmethod
+    def from_dict(cls, data: dict, source: str | None = None) -> "ParsedInstruction":
+        """Inverse of :meth:`to_dict` (derived fields are ignored); :class:`InputError` for bad input."""
+        try:
+            subjects = [ParsedSubject(**{k: s[k] for k in _SUBJECT_KEYS if k in s}) for s in data["subjects"]]
+            return cls(str(data["text"]), subjects, data.get("elevation"), data.get("elevation_deg"), data.get("roll_deg"),
+                       list(data.get("unparsed", [])))
+        except (KeyError, TypeError) as err:
+            raise InputError(f"malformed parsed instruction ({err!r}); expected the fields of JSON_SCHEMA", source=source) from None
+
+
+_SUBJECT_KEYS = ("mention", "name", "role", "symmetric", "region", "shot", "view")
+
+
+def _listed(value) -> list | None:
+    return None if value is None else [float(v) for v in value]
+
+
+def _nullable_enum(keys) -> dict:
+    return {"enum": [*sorted(keys), None]}
+
+
+# What a parser backend must produce (the MLLM backend passes it as the response's JSON schema).
+JSON_SCHEMA: dict = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "title": "ParsedInstruction",
+    "type": "object",
+    "required": ["text", "subjects"],
+    "properties": {
+        "text": {"type": "string"},
+        "subjects": {
+            "type": "array",
+            "minItems": 1,
+            "items": {
+                "type": "object",
+                "required": ["mention", "name", "role"],
+                "properties": {
+                    "mention": {"type": "string", "description": "the words naming the subject"},
+                    "name": {"type": "string", "description": "a name from the scene vocabulary"},
+                    "role": {"enum": ["primary", "secondary"]},
+                    "symmetric": {"type": "boolean", "description": "no canonical front"},
+                    "region": _nullable_enum(REGIONS),
+                    "shot": _nullable_enum(SHOT_SIZES),
+                    "view": _nullable_enum(VIEW_SIDES),
+                },
+                "additionalProperties": True,
+            },
+        },
+        "elevation": _nullable_enum(ELEVATIONS),
+        "elevation_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
+        "roll_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
+        "unparsed": {"type": "array", "items": {"type": "string"}},
+    },
+    "additionalProperties": True,
+}
