@@ -1,0 +1,291 @@
+"""The scene's vocabulary: which words name which labelled object.
+
+Built from the semantic sidecar (:class:`~capframe.scene.directory.SemanticObject`: name, aliases,
+symmetric). A *mention* such as "the big red chair" is matched to exactly one object name:
+
+1. **forms**: every name and alias, normalised like the instruction (:func:`words`) and singular
+   (:func:`singular`), is a *form*. The objects having a form inside the mention are candidates;
+   the longest form wins ("coffee table" over "table"), then the most mention words that appear
+   elsewhere in the object's names ("red" picks "red armchair" for "the red chair");
+2. **partial**: with no whole form inside the mention, an object matches when the mention's
+   content words all belong to one of its forms ("teddy" -> "teddy bear") or end on the same head
+   noun ("the big bear" -> "teddy bear");
+3. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names.
+
+A colour word in the mention that contradicts the colour words of an object's names excludes that
+object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
+any. Two objects that match equally well make the mention ambiguous (an error naming both).
+
+Near-synonyms that are neither names nor aliases ("plush toy" for a teddy bear without that alias)
+are not guessed: a small sentence-embedding model ranks them no better than word overlap (it puts
+"plush toy" nearer "toy car" than "teddy bear", and "giraffe" nearer "teddy bear" than some true
+synonyms), so they are left to the scene's aliases and to the model-tier parser (DESIGN §4).
+
+The text normalisation here is shared with :mod:`capframe.translate.parse`, so a name is spotted in
+an instruction exactly when it matches: lowercase, hyphens split ("top-left" -> "top left"), the
+possessive "'s" a separate word, one spelling for British/US pairs, number words as digits
+("twenty-five" -> "25") and "degree"/"°" as "degrees".
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+from dataclasses import dataclass
+
+from ..errors import InputError
+
+# --- text normalisation (shared with the parser) ------------------------------------------------
+
+# One spelling per British/US pair (and a few compounds written as one word or two).
+SPELLINGS = {
+    "centre": "center", "centred": "centered", "centring": "centering", "centres": "centers", "colour": "color",
+    "coloured": "colored", "grey": "gray", "greyish": "grayish", "anticlockwise": "counterclockwise",
+    "metre": "meter", "metres": "meters", "closeup": "close up", "closeups": "close ups", "midshot": "mid shot",
+    "birdseye": "bird 's eye", "degree": "degrees", "deg": "degrees", "degs": "degrees", "favourite": "favorite",
+    "toward": "towards",
+}  # fmt: skip
+# Two-word spellings merged into one word.
+COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
+
+UNITS = {
+    "zero": 0, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9,
+    "ten": 10, "eleven": 11, "twelve": 12, "thirteen": 13, "fourteen": 14, "fifteen": 15, "sixteen": 16,
+    "seventeen": 17, "eighteen": 18, "nineteen": 19,
+}  # fmt: skip
+TENS = {"twenty": 20, "thirty": 30, "forty": 40, "fifty": 50, "sixty": 60, "seventy": 70, "eighty": 80, "ninety": 90}
+# A number word before these is not a quantity to convert ("three-quarter view").
+FRACTION_WORDS = {"quarter", "quarters", "third", "thirds"}
+# "one" is a number only before a unit ("one degree"); elsewhere it is a pronoun ("the one on the left").
+NUMBER_UNITS = {"degrees"}
+SIGN_WORDS = {"minus", "negative"}
+
+NUMBER = re.compile(r"\d+(?:\.\d+)?")
+_TOKEN = re.compile(r"-?\d+(?:\.\d+)?|'s|[a-z]+|[,;:.!?()]")
+PUNCTUATION = frozenset(",;:.!?()")
+
+
+def words(text: str) -> list[str]:
+    """The normalised tokens of ``text``: words, numbers, ``'s`` and punctuation (see module doc)."""
+    s = text.lower()
+    s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
+    s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
+    s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)
+    s = re.sub(r"[\u2013\u2014]", " , ", s)  # a dash between clauses
+    s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
+    s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
+    s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
+    s = re.sub(r"'(?!s\b)", " ", s)  # other apostrophes ("don't") only split words
+    tokens = []
+    for token in _TOKEN.findall(s):
+        tokens.extend(SPELLINGS.get(token, token).split())
+    return _numbers(_compounds(tokens))
+
+
+def _compounds(tokens: list[str]) -> list[str]:
+    out: list[str] = []
+    for token in tokens:
+        if out and (out[-1], token) in COMPOUNDS:
+            out[-1] = COMPOUNDS[(out[-1], token)]
+        else:
+            out.append(token)
+    return out
+
+
+def _numbers(tokens: list[str]) -> list[str]:
+    """Number words as digits: "thirty" -> "30", "twenty five" -> "25", "minus 20" -> "-20"."""
+    out: list[str] = []
+    i = 0
+    while i < len(tokens):
+        token, after = tokens[i], tokens[i + 1] if i + 1 < len(tokens) else ""
+        if token in TENS:
+            value, i = TENS[token], i + 1
+            if after in UNITS and 0 < UNITS[after] < 10:
+                value, i = value + UNITS[after], i + 1
+        elif token in UNITS and after not in FRACTION_WORDS and (token != "one" or after in NUMBER_UNITS):
+            value, i = UNITS[token], i + 1
+        else:
+            out.append(token)
+            i += 1
+            continue
+        out.append(str(value))
+    signed: list[str] = []
+    for token in out:
+        if signed and signed[-1] in SIGN_WORDS and NUMBER.fullmatch(token):
+            signed[-1] = "-" + token
+        else:
+            signed.append(token)
+    return signed
+
+
+IRREGULAR_PLURALS = {"people": "person", "children": "child", "mice": "mouse", "feet": "foot", "teeth": "tooth",
+                     "geese": "goose", "knives": "knife", "leaves": "leaf"}  # fmt: skip
+
+
+def singular(word: str) -> str:
+    """A crude singular, applied alike to names and mentions, so plural and singular agree
+    ("bears", "benches", "shelves", "tvs") even where the stem is not a real word."""
+    if word in IRREGULAR_PLURALS:
+        return IRREGULAR_PLURALS[word]
+    if len(word) < 3 or not word.endswith("s") or word.endswith(("ss", "us", "is", "'s")):
+        return word
+    if word.endswith("ies") and len(word) > 4:
+        return word[:-3] + "y"
+    if word.endswith("lves"):
+        return word[:-3] + "f"
+    if word.endswith(("ches", "shes", "xes", "zzes", "sses")):
+        return word[:-2]
+    return word[:-1]
+
+
+# --- matching ---------------------------------------------------------------------------------
+
+DETERMINERS = frozenset({"a", "an", "the", "this", "that", "these", "those", "my", "our", "your", "its", "their"})
+COLORS = frozenset({
+    "red", "blue", "green", "yellow", "orange", "purple", "violet", "pink", "brown", "black", "white", "gray", "silver",
+    "gold", "golden", "beige", "tan", "cream", "mustard", "teal", "navy", "terracotta", "turquoise", "cyan", "magenta",
+    "maroon", "olive", "ivory", "khaki", "lilac", "crimson", "scarlet",
+})  # fmt: skip
+# Words that describe rather than name ("the big red chair"): ignored when matching partially.
+ATTRIBUTES = COLORS | {"big", "small", "large", "little", "tiny", "huge", "tall", "short", "old", "new", "wooden", "metal",
+                       "plastic", "round", "fluffy", "soft", "cute", "nice", "dark", "light", "pale", "bright"}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class VocabularyEntry:
+    """One nameable object.
+
+    Attributes:
+        name: its scene name (what subjects are matched to).
+        symmetric: whether it has no canonical front.
+        aliases: its other names, as given.
+        forms: name and aliases, normalised and singular, longest first.
+    """
+
+    name: str
+    symmetric: bool
+    aliases: tuple[str, ...]
+    forms: tuple[tuple[str, ...], ...]
+
+    @property
+    def words(self) -> frozenset[str]:
+        return frozenset(w for form in self.forms for w in form)
+
+    @property
+    def colors(self) -> frozenset[str]:
+        return self.words & COLORS
+
+
+def key(text: str) -> tuple[str, ...]:
+    """Normalised singular words of a name or mention, without determiners and punctuation."""
+    return tuple(singular(w) for w in words(text) if w not in DETERMINERS and w not in PUNCTUATION and w != "'s")
+
+
+class Vocabulary:
+    """The names a scene answers to. See the module docstring for the matching rules."""
+
+    def __init__(self, entries: list[VocabularyEntry]):
+        names = [e.name.lower() for e in entries]
+        duplicates = sorted({n for n in names if names.count(n) > 1})
+        if duplicates:
+            raise InputError(f"object names {duplicates} are not unique; subjects are matched by name")
+        self.entries = tuple(entries)
+        self._by_name = {e.name: e for e in entries}
+
+    @classmethod
+    def from_semantics(cls, objects) -> "Vocabulary":
+        """From the scene's semantic objects (anything with ``name``, ``aliases``, ``symmetric``)."""
+        entries = []
+        for o in objects:
+            forms = {key(n) for n in (o.name, *o.aliases)} - {()}
+            if not forms:
+                raise InputError(f"object name {o.name!r} has no words to match")
+            entries.append(VocabularyEntry(o.name, bool(o.symmetric), tuple(o.aliases),
+                                           tuple(sorted(forms, key=lambda f: (-len(f), f)))))  # fmt: skip
+        return cls(entries)
+
+    @property
+    def names(self) -> list[str]:
+        """The object names, sorted."""
+        return sorted(self._by_name)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._by_name
+
+    def __len__(self) -> int:
+        return len(self.entries)
+
+    def symmetric(self, name: str) -> bool:
+        """Whether the object called ``name`` has no canonical front."""
+        return self._by_name[name].symmetric
+
+    def forms(self) -> frozenset[tuple[str, ...]]:
+        """Every name and alias as normalised singular words (the parser spots these in a sentence)."""
+        return frozenset(form for e in self.entries for form in e.forms)
+
+    def match(self, mention: str) -> str:
+        """The one object name ``mention`` refers to; :class:`InputError` if none or several."""
+        found = self.candidates(mention)
+        if len(found) == 1:
+            return found[0]
+        if len(found) > 1:
+            raise InputError(f"subject {mention!r} is ambiguous in this scene; say which: {found}")
+        close = self.closest(mention)
+        raise InputError(f"subject {mention!r} is not in this scene; " + (f"closest: {close}" if close else f"known: {self.names}"))
+
+    def candidates(self, mention: str) -> list[str]:
+        """The names ``mention`` matches best (none, one, or several equally well), sorted."""
+        tokens = key(mention)
+        if not tokens:
+            return []
+        return sorted(self._by_forms(tokens) or self._by_parts(tokens))
+
+    def closest(self, mention: str, n: int = 3) -> list[str]:
+        """Up to ``n`` object names whose names or aliases look most like ``mention``."""
+        text = " ".join(key(mention))
+        scored: dict[str, float] = {}
+        for e in self.entries:
+            for form in e.forms:
+                ratio = difflib.SequenceMatcher(None, text, " ".join(form)).ratio()
+                scored[e.name] = max(scored.get(e.name, 0.0), ratio)
+        return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= 0.5][:n]
+
+    def _compatible(self, entry: VocabularyEntry, tokens: tuple[str, ...]) -> bool:
+        """False when the mention asks for a colour the object's names contradict."""
+        asked = set(tokens) & COLORS
+        return not asked or not entry.colors or asked <= entry.colors
+
+    def _by_forms(self, tokens: tuple[str, ...]) -> list[str]:
+        scores = {}
+        for e in self.entries:
+            found = [f for f in e.forms if _contains(tokens, f)]
+            if not found:
+                continue
+            form = found[0]  # forms are longest first
+            rest = set(tokens) - set(form)
+            if self._compatible(e, tuple(rest)):
+                scores[e.name] = (len(form), len(rest & e.words))
+        return _best(scores)
+
+    def _by_parts(self, tokens: tuple[str, ...]) -> list[str]:
+        content = [t for t in tokens if t not in ATTRIBUTES] or list(tokens)
+        scores = {}
+        for e in self.entries:
+            if not self._compatible(e, tokens):
+                continue
+            for form in e.forms:
+                if set(content) <= set(form) or content[-1] == form[-1]:
+                    scores[e.name] = max(scores.get(e.name, (0,)), (len(set(tokens) & e.words),))
+        return _best(scores)
+
+
+def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
+    n = len(form)
+    return any(tokens[i:i + n] == form for i in range(len(tokens) - n + 1))
+
+
+def _best(scores: dict[str, tuple]) -> list[str]:
+    if not scores:
+        return []
+    top = max(scores.values())
+    return [name for name, score in scores.items() if score == top]
