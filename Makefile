@@ -27,6 +27,7 @@ run: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/capframe bench render
 	$(BIN)/capframe bench refine
+	$(BIN)/capframe bench ground
 
 clean:
 	rm -rf results/* .snakemake

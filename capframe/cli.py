@@ -24,6 +24,18 @@ def _cmd_import(args: argparse.Namespace) -> None:
     import_scene(args.src, args.dst, copy_images=args.copy_images)
 
 
+def _cmd_colmap(args: argparse.Namespace) -> None:
+    from .scene.sfm import colmap_command
+
+    colmap_command(args.scene, args.output, align_ground_truth=args.align_ground_truth, matcher=args.matcher)
+
+
+def _cmd_gravity(args: argparse.Namespace) -> None:
+    from .geometry.gravity import gravity_command
+
+    gravity_command(args.scene, args.output, use_lines=not args.no_lines, as_json=args.json)
+
+
 def _cmd_synth(args: argparse.Namespace) -> None:
     from .synth.generator import synth_command
 
@@ -60,6 +72,18 @@ def _cmd_refine(args: argparse.Namespace) -> None:
     refine_command(args)
 
 
+def _cmd_ground(args: argparse.Namespace) -> None:
+    from .ground import ground_command
+
+    ground_command(args)
+
+
+def _cmd_baseline(args: argparse.Namespace) -> None:
+    from .baselines.run import baseline_command
+
+    baseline_command(args)
+
+
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
@@ -83,6 +107,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("dst")
     p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
     p.set_defaults(func=_cmd_import)
+
+    p = verbs.add_parser("colmap", help="recover the poses of a scene without poses (structure from motion)")
+    p.add_argument("scene", help="scene directory with images/")
+    p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
+    p.add_argument("--align-ground-truth", action="store_true",
+                   help="synthetic scenes (evaluation only): map the poses into the ground-truth world and add the Gaussians")
+    p.add_argument("--matcher", default="auto", choices=["auto", "exhaustive", "sequential"],
+                   help="auto: exhaustive up to 60 images, else sequential in name order")
+    p.set_defaults(func=_cmd_colmap)
+
+    p = verbs.add_parser("gravity", help="estimate the world up of a scene from its cameras and straight edges")
+    p.add_argument("scene", help="scene directory with training cameras")
+    p.add_argument("-o", "--output", default=None, help="gravity file to write (default: SCENE/gravity.json)")
+    p.add_argument("--no-lines", action="store_true", help="use the cameras only, not vanishing points of image lines")
+    p.add_argument("--json", action="store_true", help="print the JSON written instead of a one-line summary")
+    p.set_defaults(func=_cmd_gravity)
 
     p = verbs.add_parser("synth", help="generate a synthetic 3DGS scene with ground truth")
     p.add_argument("out_dir")
@@ -138,8 +178,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
     p.set_defaults(func=_cmd_refine)
 
+    p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
+    p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for --perception labels)")
+    p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
+    p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
+    p.add_argument("--topk", type=int, default=2, help="retrieved views kept as initialisations")
+    p.add_argument("--seed", type=int, default=0, help="picks the initial view among the top K")
+    p.add_argument("--candidates", type=int, default=1, help="refine from this many retrieved views and rank the poses")
+    p.add_argument("--parser", default="rules", help="instruction parser backend (rules)")
+    p.add_argument("--perception", default="labels", help="perception backend (labels, label-masks)")
+    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
+    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+    p.add_argument("--iterations", type=int, default=1500)
+    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
+    p.set_defaults(func=_cmd_ground)
+
+    p = verbs.add_parser("baseline", help="find the camera with a baseline pose search: IVS, SVS or SplaTraj-style")
+    p.add_argument("method", help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects) "
+                                  "or splatraj (optimise mask centre, area and uprightness)")
+    p.add_argument("scene", help="scene directory with training cameras and a semantic sidecar")
+    p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
+    p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
+    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
+    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the SVS samples")
+    p.add_argument("--json", action="store_true", help="print one JSON object (camera, score, timings) instead of progress")
+    p.set_defaults(func=_cmd_baseline)
+
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine"])
+    p.add_argument("what", choices=["render", "refine", "ground"])
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.set_defaults(func=_cmd_bench)
     return parser

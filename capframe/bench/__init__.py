@@ -15,6 +15,10 @@ def run_bench(what: str, *, as_json: bool = False) -> dict:
         from .refine import bench_refine
 
         figures = bench_refine()
+    elif what == "ground":
+        from .ground import bench_ground
+
+        figures = bench_ground()
     else:
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:

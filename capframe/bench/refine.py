@@ -6,7 +6,7 @@ fixed seed (not the best view). The checker judges the final camera. Printed: th
 constraints satisfied and the median refinement time at the default resolution, then a sweep
 of optimisation resolutions and iteration budgets (error against wall time) with the deviation
 of each low-resolution pose from the full-resolution one. The sweep is written to
-``<root>/sweep.csv`` and ``<root>/error_vs_time.png``.
+``<out>/sweep.csv`` and ``<out>/error_vs_time.png``.
 """
 
 from __future__ import annotations
@@ -60,8 +60,11 @@ def _pose_deviation(T_a: np.ndarray, T_b: np.ndarray, scale: float) -> tuple[flo
     return dR, dt
 
 
-def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/refine", sweep: bool = True) -> dict:
-    root = Path(root)
+def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite", sweep: bool = True,
+                 out: str | Path = "results/bench/refine") -> dict:
+    """Run the benchmark on ``suite``; scenes and instructions are generated under ``root`` (shared
+    with the other benchmarks), the sweep is written under ``out``."""
+    root, out = Path(root), Path(out)
     cases = suite_cases(suite, root)
     default = RefineConfig()
     settings = [("default", default)]
@@ -126,13 +129,13 @@ def _summarise(rows: list[dict], root: Path, sweep: bool) -> dict:
         figures["default_vs_full_res_dR_deg"] = default.get("mean_dR_deg", math.nan)
         figures["default_vs_full_res_dt_rel"] = default.get("mean_dt_rel", math.nan)
         figures["res80_vs_full_res_dR_deg"] = next(s for s in summary if s["setting"] == "res80").get("mean_dR_deg", math.nan)
-        root.mkdir(parents=True, exist_ok=True)
-        with open(root / "sweep.csv", "w", newline="") as f:
+        out.mkdir(parents=True, exist_ok=True)
+        with open(out / "sweep.csv", "w", newline="") as f:
             writer = csv.DictWriter(f, fieldnames=[k for k in rows[0] if k != "T_cw"], extrasaction="ignore")
             writer.writeheader()
             writer.writerows(rows)
-        _plot(summary, root / "error_vs_time.png")
-        figures["sweep_csv"] = str(root / "sweep.csv")
+        _plot(summary, out / "error_vs_time.png")
+        figures["sweep_csv"] = str(out / "sweep.csv")
     return figures
 
 

@@ -72,12 +72,14 @@ def refine_to_dir(scene_dir: str | Path, labels_path: str | Path, init: str, out
     timings = {"load_s": t_load - t0, "refine_s": result.seconds, "final_render_s": time.perf_counter() - t_render}
     timings["total_s"] = time.perf_counter() - t0
     with atomic_directory(out_dir) as tmp:
-        _write_outputs(tmp, final, result, labels, config, timings, image)
+        write_refine_outputs(tmp, final, result, labels, config, timings, image)
     return result
 
 
-def _write_outputs(out: Path, camera: Camera, result: RefineResult, labels: PseudoLabels, config: RefineConfig,
-                   timings: dict, image: torch.Tensor) -> None:
+def write_refine_outputs(out: Path, camera: Camera, result: RefineResult, labels: PseudoLabels, config: RefineConfig,
+                         timings: dict, image: torch.Tensor, extra: dict | None = None) -> None:
+    """Write the files listed in the module docstring into ``out``; ``extra`` adds fields to
+    ``result.json``."""
     summary = {
         "T_cw": camera.T_cw.tolist(),
         "K": camera.K.tolist(),
@@ -92,6 +94,7 @@ def _write_outputs(out: Path, camera: Camera, result: RefineResult, labels: Pseu
         "threads": config.threads,
         "config": dataclasses.asdict(config),
         "subjects": [s.name for s in labels.subjects],
+        **(extra or {}),
     }
     write_json(out / "result.json", summary)
     write_camera_json(camera, out / "camera.json")

@@ -58,14 +58,15 @@ class ViewMeasurements:
         return self.object_names.index(name)
 
 
-def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE) -> ViewMeasurements:
-    """Render and measure every training view of ``scene`` (which needs Gaussians, cameras and a
-    semantic sidecar)."""
+def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: list[Camera] | None = None) -> ViewMeasurements:
+    """Render and measure every training view of ``scene`` (which needs Gaussians and a semantic
+    sidecar), or the given ``cameras`` (candidate poses of a view search), all of one image size."""
     gaussians = scene.gaussians
     objects = scene.semantics
     members = torch.stack([gaussians.labels == o.id for o in objects], 1)
     near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
-    cameras = [c.with_long_side(long_side) for c in scene.cameras]
+    named = scene.cameras if cameras is None else cameras
+    cameras = [c.with_long_side(long_side) for c in named]
     V, O = len(cameras), len(objects)
     H, W = cameras[0].height, cameras[0].width
     fields = {k: np.zeros((V, O)) for k in ("visible_fraction", "in_frame", "extent", "pixels")}
@@ -74,7 +75,7 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE) -> ViewMeas
     depth = np.zeros((V, H, W), dtype=np.float32)
     for v, camera in enumerate(cameras):
         if (camera.height, camera.width) != (H, W):
-            raise InputError(f"training view {camera.name!r} is {camera.width}x{camera.height}, the first is {W}x{H}; "
+            raise InputError(f"view {camera.name!r} is {camera.width}x{camera.height}, the first is {W}x{H}; "
                              "retrieval expects one image size", source=str(scene.root))  # fmt: skip
         masks, full = subject_masks(gaussians, camera, members, near=near)
         for o, mask in enumerate(masks):
@@ -88,7 +89,7 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE) -> ViewMeas
         best = share.max(-1)
         label_map[v] = np.where(best.values.numpy() > 0.5, best.indices.numpy(), -1)
         depth[v] = full.depth.cpu().numpy()
-    return ViewMeasurements([c.name for c in scene.cameras], [o.name for o in objects], cameras, centroid=centroid,
+    return ViewMeasurements([c.name for c in named], [o.name for o in objects], cameras, centroid=centroid,
                             label_map=label_map, depth=depth, **fields)  # fmt: skip
 
 

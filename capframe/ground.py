@@ -1,0 +1,247 @@
+"""``capframe ground``: an instruction in, a camera out (Retrieve -> Translate -> Refine).
+
+Writes into the output folder, atomically as one folder (nothing is written on an input error):
+
+* everything ``capframe refine`` writes (``result.json``, ``render.png``, ``camera.json``,
+  ``trajectory.npz``, ``losses.csv``, ``path.png``), with ``result.json`` extended by the parsed
+  instruction, the retrieval (questions and per-view answers), the chosen initial view, the
+  per-clause report and the candidates;
+* ``labels.json``: the pseudo labels Refine optimised towards;
+* camera exports: ``camera_path.json`` (nerfstudio) and ``colmap_image.txt`` (one ``images.txt`` line);
+* with several candidates, ``candidates/<rank>/`` with each one's ``camera.json`` and ``render.png``.
+
+The per-clause report is measured with the method's own pseudo labels (its subject Gaussians,
+centroids and fronts, the estimated world up) — what the method believes it achieved, not a
+ground-truth verdict (``capframe check`` gives that on synthetic scenes).
+
+Per-scene work (the label renders of the training views) is cached in ``cache_dir``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import random
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from .backends import check_perception, make_parser
+from .errors import InputError
+from .evaluate.check import CheckReport, ConstraintChecker, format_report
+from .evaluate.ground_truth import GTObject
+from .refine.optimize import RefineConfig, RefineResult, refine_pose
+from .refine.run import scene_scale, write_refine_outputs
+from .render import render
+from .render.image import save_png
+from .retrieve.qe import Retrieval, retrieve
+from .scene import Camera, SceneDir, colmap_image_line, load_scene_dir, write_camera_json, write_camera_path_json
+from .scene._io import atomic_directory
+from .translate.instruction import ParsedInstruction
+from .translate.labels import PseudoLabels, labels_from_constraints, write_pseudo_labels
+from .translate.vocabulary import Vocabulary
+
+# Two refined poses closer than this are the same candidate.
+DISTINCT_ROTATION_DEG = 5.0
+DISTINCT_TRANSLATION = 0.05  # of the scene scale
+
+
+@dataclass
+class GroundOptions:
+    """Options of :func:`ground`.
+
+    Attributes:
+        top_k: retrieved views kept as initialisations.
+        seed: picks the initial view among the top K (as the paper does) when ``candidates`` is 1.
+        candidates: refine from this many retrieved views (best QE first) and rank the results.
+        parser: instruction parser backend (``capframe.backends.PARSERS``).
+        perception: perception backend (``capframe.backends.PERCEPTIONS``).
+        cache_dir: per-scene cache (default ``$XDG_CACHE_HOME/capframe/<scene>``).
+        gravity: a gravity file for scenes whose ``scene.json`` has no up.
+        refine: the optimiser's settings.
+    """
+
+    top_k: int = 2
+    seed: int = 0
+    candidates: int = 1
+    parser: str = "rules"
+    perception: str = "labels"
+    cache_dir: str | Path | None = None
+    gravity: str | Path | None = None
+    refine: RefineConfig = dataclasses.field(default_factory=RefineConfig)
+
+
+class _Progress:
+    """One line per stage on stderr with its wall time."""
+
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self.start = self.last = time.perf_counter()
+        self.timings: dict[str, float] = {}
+
+    def done(self, stage: str, message: str = "") -> None:
+        now = time.perf_counter()
+        self.timings[f"{stage}_s"] = now - self.last
+        if self.enabled:
+            print(f"[{now - self.start:6.1f} s] {stage:<9} {message}", file=sys.stderr, flush=True)
+        self.last = now
+
+
+def default_cache_dir(scene_dir: Path) -> Path:
+    import hashlib
+    import os
+
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "capframe"
+    key = hashlib.sha256(str(scene_dir.resolve()).encode()).hexdigest()[:10]
+    return base / f"{scene_dir.name}-{key}"
+
+
+def load_scene(scene_dir: Path, options: GroundOptions) -> tuple[SceneDir, np.ndarray]:
+    """The scene and its world up, checked for what grounding needs; :class:`InputError` otherwise."""
+    from .geometry.gravity import world_up
+
+    scene = load_scene_dir(scene_dir)
+    if scene.gaussians is None:
+        raise InputError("has no scene.ply; ground renders the scene", source=str(scene_dir))
+    if not scene.cameras:
+        raise InputError("has no training cameras; recover them first with `capframe colmap`", source=str(scene_dir))
+    if options.perception.startswith("label") and scene.semantics is None:
+        raise InputError(f"has no semantic sidecar (semantics.json + labels.npy); --perception {options.perception} needs one",
+                         source=str(scene_dir))  # fmt: skip
+    return scene, world_up(scene_dir, options.gravity)
+
+
+def make_perception(scene: SceneDir, up: np.ndarray, options: GroundOptions):
+    """The perception backend of ``options`` for ``scene`` (its per-scene cache warmed)."""
+    from .backends.labels import LabelPerception
+    from .retrieve.views import cached_view_measurements
+
+    cache = Path(options.cache_dir) if options.cache_dir else default_cache_dir(scene.root)
+    views = cached_view_measurements(scene, cache)
+    return LabelPerception(scene, views, up, masks=options.perception == "label-masks")
+
+
+def translate(parsed: ParsedInstruction, perception, view_indices: list[int], up: np.ndarray) -> PseudoLabels:
+    """Pseudo labels of ``parsed``: each subject grounded in the retrieved views, its front from
+    the orientation backend (asked only for asymmetric subjects with a view cue)."""
+    subjects = {}
+    for s in parsed.subjects:
+        grounding = perception.ground(s, view_indices)
+        front = perception.front(s, view_indices) if s.view and not s.symmetric else None
+        subjects[s.name] = (grounding.gaussians, grounding.centroid, front)
+    return labels_from_constraints(parsed.constraints(), subjects, up)
+
+
+def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, camera: Camera) -> CheckReport:
+    """The per-clause report of ``camera``, measured with the method's own pseudo labels."""
+    objects, members = {}, {}
+    means = scene.gaussians.means.detach().double().numpy()
+    for k, s in enumerate(labels.subjects):
+        radius = float(np.sqrt(((means[s.gaussians] - s.centroid) ** 2).sum(1).mean()))
+        objects[s.name] = GTObject(k, s.name, s.centroid, radius, -1, s.front)
+        member = torch.zeros(len(means), dtype=torch.bool)
+        member[torch.as_tensor(s.gaussians)] = True
+        members[k] = member
+    checker = ConstraintChecker(scene.gaussians, objects, members, labels.up)
+    report = checker.check(camera, parsed.constraints())
+    report.text = parsed.text
+    return report
+
+
+def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
+    cos = (np.trace(a[:3, :3] @ b[:3, :3].T) - 1.0) / 2.0
+    angle = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    centres = [-(T[:3, :3].T @ T[:3, 3]) for T in (a, b)]
+    return angle < DISTINCT_ROTATION_DEG and np.linalg.norm(centres[0] - centres[1]) < DISTINCT_TRANSLATION * scale
+
+
+def _starts(retrieval: Retrieval, options: GroundOptions) -> list[int]:
+    if options.candidates <= 1:
+        return [random.Random(options.seed).choice(retrieval.top)]
+    return retrieval.ranked()[:options.candidates]
+
+
+def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None,
+           progress: bool = True) -> dict:  # fmt: skip
+    """Find the camera for ``text`` in the scene at ``scene_dir`` and write it to ``out_dir``.
+
+    Returns the content of ``result.json``.
+    """
+    options = options or GroundOptions()
+    check_perception(options.perception)
+    if options.top_k < 1 or options.candidates < 1:
+        raise InputError(f"--topk {options.top_k} and --candidates {options.candidates}: both must be at least 1")
+    scene_dir = Path(scene_dir)
+    clock = _Progress(progress)
+    parser = make_parser(options.parser)
+    scene, up = load_scene(scene_dir, options)
+    vocabulary = Vocabulary.from_semantics(scene.semantics or [])
+    parsed = parser.parse(text, vocabulary)
+    clock.done("parse", ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
+               + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else ""))  # fmt: skip
+    perception = make_perception(scene, up, options)
+    clock.done("views", f"{len(scene.cameras)} training views measured (cached per scene)")
+    retrieval = retrieve(parsed, perception, perception, options.top_k)
+    names = [c.name for c in scene.cameras]
+    clock.done("retrieve", "top: " + ", ".join(f"{names[v]}" for v in retrieval.top))
+    labels = translate(parsed, perception, retrieval.top, up)
+    clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))
+
+    scale = scene_scale(scene.cameras, scene.gaussians.means)
+    runs: list[tuple[int, RefineResult]] = []
+    for v in _starts(retrieval, options):
+        result = refine_pose(scene.gaussians, scene.cameras[v], labels, scale, options.refine)
+        runs.append((v, result))
+        clock.done("refine", f"from {names[v]}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})")
+    runs.sort(key=lambda run: float(run[1].losses.min()))
+    distinct: list[tuple[int, RefineResult]] = []
+    for run in runs:
+        if not any(_same_pose(run[1].T_cw, kept[1].T_cw, scale) for kept in distinct):
+            distinct.append(run)
+
+    cameras = [scene.cameras[v].with_pose(r.T_cw) for v, r in distinct]
+    reports = [own_report(scene, labels, parsed, c) for c in cameras]
+    images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
+    clock.done("report", "own labels: " + ("all clauses hold" if reports[0].all_satisfied else "some clauses fail"))
+    timings = dict(clock.timings, total_s=time.perf_counter() - clock.start)
+    extra = {
+        "instruction": parsed.to_dict(),
+        "retrieval": retrieval.to_dict(names),
+        "init_view": names[distinct[0][0]],
+        "report": reports[0].to_dict(),
+        "candidates": [{"rank": k, "init_view": names[v], "loss": float(r.losses.min()), "T_cw": r.T_cw.tolist(),
+                        "own_all_satisfied": rep.all_satisfied} for k, ((v, r), rep) in enumerate(zip(distinct, reports))],
+        "options": {"top_k": options.top_k, "seed": options.seed, "candidates": options.candidates, "parser": options.parser,
+                    "perception": options.perception},
+        "up": up.tolist(),
+    }  # fmt: skip
+    with atomic_directory(out_dir) as tmp:
+        best_view, best = distinct[0]
+        write_refine_outputs(tmp, cameras[0], best, labels, options.refine, timings, images[0], extra)
+        write_pseudo_labels(labels, tmp / "labels.json")
+        write_camera_path_json([cameras[0]], tmp / "camera_path.json")
+        (tmp / "colmap_image.txt").write_text(colmap_image_line(cameras[0], 1) + "\n")
+        if len(cameras) > 1:
+            for k, (camera, image) in enumerate(zip(cameras, images)):
+                write_camera_json(camera, tmp / "candidates" / str(k) / "camera.json")
+                save_png(image, tmp / "candidates" / str(k) / "render.png")
+    if progress:
+        print(format_report(reports[0]), file=sys.stderr)
+    return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def ground_command(args) -> None:
+    """The ``capframe ground`` verb."""
+    options = GroundOptions(top_k=args.topk, seed=args.seed, candidates=args.candidates, parser=args.parser,
+                            perception=args.perception, cache_dir=args.cache, gravity=args.gravity,
+                            refine=RefineConfig(iterations=args.iterations, long_side=args.long_side))  # fmt: skip
+    result = ground(args.scene, args.instruction, args.output, options, progress=not args.json)
+    if args.json:
+        keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")
+        print(json.dumps({k: result[k] for k in keys}))
+    else:
+        print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s")
