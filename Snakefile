@@ -1,4 +1,4 @@
-"""CapFrame workflow: synthetic benchmark scenes, instructions, refinement and evaluation.
+"""CapFrame workflow: synthetic benchmark scenes, instructions, the method and its oracle variant, evaluation.
 
 Run with `make run` (or `snakemake --cores 2 --workflow-profile workflow/profiles/default`).
 Every stage is a `capframe` verb; outputs live under results/.
@@ -10,6 +10,7 @@ configfile: "config/config.yaml"
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/synth.smk"
+include: "workflow/rules/method.smk"
 include: "workflow/rules/refine.smk"
 include: "workflow/rules/evaluate.smk"
 
@@ -19,4 +20,4 @@ rule all:
         # Listed so that every scene's instructions are scheduled at once (an input function can
         # only report one incomplete checkpoint at a time).
         expand("results/instructions/{scene}/constraints.json", scene=SCENES),
-        "results/tables/refine_oracle.csv",
+        "results/tables/methods.csv",

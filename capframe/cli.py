@@ -72,6 +72,18 @@ def _cmd_refine(args: argparse.Namespace) -> None:
     refine_command(args)
 
 
+def _cmd_views(args: argparse.Namespace) -> None:
+    from .retrieve.views import views_command
+
+    views_command(args.scene, args.output, long_side=args.long_side)
+
+
+def _cmd_compare(args: argparse.Namespace) -> None:
+    from .evaluate.aggregate import compare_command
+
+    compare_command(args.tables, args.output)
+
+
 def _cmd_ground(args: argparse.Namespace) -> None:
     from .ground import ground_command
 
@@ -178,6 +190,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
     p.set_defaults(func=_cmd_refine)
 
+    p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
+    p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
+    p.add_argument("-o", "--output", required=True, help="label_views.npz to write")
+    p.add_argument("--long-side", type=int, default=160, help="measurement resolution (long side, pixels)")
+    p.set_defaults(func=_cmd_views)
+
+    p = verbs.add_parser("compare", help="one table and an error-against-run-time plot from several methods' tables")
+    p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate")
+    p.add_argument("-o", "--output", required=True, help="summary CSV; .md and _pareto.png are written beside it")
+    p.set_defaults(func=_cmd_compare)
+
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for --perception labels)")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
@@ -185,6 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--topk", type=int, default=2, help="retrieved views kept as initialisations")
     p.add_argument("--seed", type=int, default=0, help="picks the initial view among the top K")
     p.add_argument("--candidates", type=int, default=1, help="refine from this many retrieved views and rank the poses")
+    p.add_argument("--attempts", type=int, default=3, help="with one candidate: retry from the next retrieved view while a clause fails")
     p.add_argument("--parser", default="rules", help="instruction parser backend (rules)")
     p.add_argument("--perception", default="labels", help="perception backend (labels, label-masks)")
     p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")

@@ -56,8 +56,11 @@ class GroundOptions:
 
     Attributes:
         top_k: retrieved views kept as initialisations.
-        seed: picks the initial view among the top K (as the paper does) when ``candidates`` is 1.
-        candidates: refine from this many retrieved views (best QE first) and rank the results.
+        seed: picks the first initial view among the top K (as the paper does).
+        candidates: refine from this many retrieved views and rank the resulting poses.
+        attempts: with one candidate, refine from up to this many retrieved views, stopping at the
+            first whose pseudo-label clauses all hold (a start in a bad basin costs a retry, not
+            the result; most instructions need one refinement).
         parser: instruction parser backend (``capframe.backends.PARSERS``).
         perception: perception backend (``capframe.backends.PERCEPTIONS``).
         cache_dir: per-scene cache (default ``$XDG_CACHE_HOME/capframe/<scene>``).
@@ -68,6 +71,7 @@ class GroundOptions:
     top_k: int = 2
     seed: int = 0
     candidates: int = 1
+    attempts: int = 3
     parser: str = "rules"
     perception: str = "labels"
     cache_dir: str | Path | None = None
@@ -160,9 +164,11 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
 
 
 def _starts(retrieval: Retrieval, options: GroundOptions) -> list[int]:
-    if options.candidates <= 1:
-        return [random.Random(options.seed).choice(retrieval.top)]
-    return retrieval.ranked()[:options.candidates]
+    """Initial views in the order they are tried: a seeded pick among the top K, then the other
+    kept views by QE score."""
+    first = random.Random(options.seed).choice(retrieval.top)
+    ranked = [first] + [v for v in retrieval.ranked() if v != first]
+    return ranked[:max(options.candidates, options.attempts)]
 
 
 def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None,
@@ -173,8 +179,9 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
     """
     options = options or GroundOptions()
     check_perception(options.perception)
-    if options.top_k < 1 or options.candidates < 1:
-        raise InputError(f"--topk {options.top_k} and --candidates {options.candidates}: both must be at least 1")
+    if min(options.top_k, options.candidates, options.attempts) < 1:
+        raise InputError(f"--topk {options.top_k}, --candidates {options.candidates}, --attempts {options.attempts}: "
+                         "each must be at least 1")
     scene_dir = Path(scene_dir)
     clock = _Progress(progress)
     parser = make_parser(options.parser)
@@ -197,7 +204,10 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
         result = refine_pose(scene.gaussians, scene.cameras[v], labels, scale, options.refine)
         runs.append((v, result))
         clock.done("refine", f"from {names[v]}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})")
-    runs.sort(key=lambda run: float(run[1].losses.min()))
+        if options.candidates == 1 and result.stop_reason == "satisfied":
+            break
+    # A run whose clauses all held beats a lower loss that left one failing.
+    runs.sort(key=lambda run: (run[1].stop_reason != "satisfied", float(run[1].losses.min())))
     distinct: list[tuple[int, RefineResult]] = []
     for run in runs:
         if not any(_same_pose(run[1].T_cw, kept[1].T_cw, scale) for kept in distinct):
@@ -215,7 +225,8 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
         "report": reports[0].to_dict(),
         "candidates": [{"rank": k, "init_view": names[v], "loss": float(r.losses.min()), "T_cw": r.T_cw.tolist(),
                         "own_all_satisfied": rep.all_satisfied} for k, ((v, r), rep) in enumerate(zip(distinct, reports))],
-        "options": {"top_k": options.top_k, "seed": options.seed, "candidates": options.candidates, "parser": options.parser,
+        "options": {"top_k": options.top_k, "seed": options.seed, "candidates": options.candidates, "attempts": options.attempts,
+                    "parser": options.parser,
                     "perception": options.perception},
         "up": up.tolist(),
     }  # fmt: skip
@@ -236,7 +247,7 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
 
 def ground_command(args) -> None:
     """The ``capframe ground`` verb."""
-    options = GroundOptions(top_k=args.topk, seed=args.seed, candidates=args.candidates, parser=args.parser,
+    options = GroundOptions(top_k=args.topk, seed=args.seed, candidates=args.candidates, attempts=args.attempts, parser=args.parser,
                             perception=args.perception, cache_dir=args.cache, gravity=args.gravity,
                             refine=RefineConfig(iterations=args.iterations, long_side=args.long_side))  # fmt: skip
     result = ground(args.scene, args.instruction, args.output, options, progress=not args.json)

@@ -11,6 +11,7 @@ per instruction with warm caches.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import sys
 import time
@@ -28,10 +29,15 @@ from .refine import DEFAULT_SUITE, suite_cases
 def prepare_scene(scene_dir: Path, root: Path) -> tuple[Path, Path | None]:
     """The scene directory to ground in and its gravity file (None when scene.json has an up):
     COLMAP poses when the scene has none, a gravity estimate when it is not aligned."""
+    scene = load_scene_dir(scene_dir, load_gaussians=False)
+    with contextlib.redirect_stdout(sys.stderr):  # their one-line summaries; stdout may carry --json
+        return _prepare(scene_dir, scene, root)
+
+
+def _prepare(scene_dir: Path, scene, root: Path) -> tuple[Path, Path | None]:
     from ..geometry.gravity import gravity_command
     from ..scene.sfm import colmap_command
 
-    scene = load_scene_dir(scene_dir, load_gaussians=False)
     if not scene.cameras:
         posed = root / "posed" / scene_dir.name
         if not posed.is_dir():

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from collections import defaultdict
 from pathlib import Path
 
@@ -22,7 +23,7 @@ def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd
         report = read_json(check_path)
         result = read_json(result_path)
         row = {"method": method, "instruction": report.get("instruction_id") or Path(check_path).stem,
-               "all_satisfied": bool(report["all_satisfied"]), "seconds": result.get("timings", {}).get("refine_s", np.nan),
+               "all_satisfied": bool(report["all_satisfied"]), "seconds": result.get("timings", {}).get("total_s", np.nan),
                "iterations": result.get("iterations", np.nan)}
         kinds = defaultdict(list)
         for r in report["rows"]:
@@ -56,3 +57,51 @@ def aggregate_command(method: str, checks: list[str], results: list[str], output
     markdown = summary.to_string(index=False, float_format=lambda v: f"{v:.3f}")
     atomic_write(out.with_name(out.stem + "_summary.md"), markdown + "\n")
     print(markdown)
+
+
+def pareto_front(seconds: np.ndarray, success: np.ndarray) -> np.ndarray:
+    """Indices of the points no other point beats on both time (lower) and success (higher),
+    fastest first."""
+    order = np.lexsort((-success, seconds))
+    front, best = [], -np.inf
+    for i in order:
+        if success[i] > best:
+            front.append(int(i))
+            best = success[i]
+    return np.asarray(front, dtype=int)
+
+
+def compare_command(tables: list[str], output: str) -> pd.DataFrame:
+    """Summaries of several methods side by side (``output`` CSV, ``.md`` beside it) and the
+    error-against-run-time plot (``<stem>_pareto.png``): full-success rate against median seconds
+    per query, one point per method, the Pareto front joined."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    frame = pd.concat([pd.read_csv(t) for t in tables], ignore_index=True)
+    summary = summary_table(frame).sort_values("full_success", ascending=False)
+    out = Path(output)
+    atomic_write(out, summary.to_csv(index=False))
+    markdown = summary.to_string(index=False, float_format=lambda v: f"{v:.3f}")
+    atomic_write(out.with_suffix(".md"), markdown + "\n")
+    seconds, success = summary["median_s"].to_numpy(float), summary["full_success"].to_numpy(float)
+    front = pareto_front(seconds, success)
+    fig, ax = plt.subplots(figsize=(5, 3.6), dpi=120)
+    ax.scatter(seconds, success, color="tab:blue")
+    ax.plot(seconds[front], success[front], color="tab:red", lw=1, label="Pareto front")
+    for name, x, y in zip(summary["method"], seconds, success):
+        ax.annotate(name, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
+    ax.set_xscale("log")
+    ax.set_xlabel("median seconds per instruction")
+    ax.set_ylabel("instructions fully satisfied")
+    ax.set_ylim(-0.05, 1.05)
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    plt.close(fig)
+    atomic_write(out.with_name(out.stem + "_pareto.png"), buffer.getvalue())
+    print(markdown)
+    return summary

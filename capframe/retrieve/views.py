@@ -145,3 +145,14 @@ def cached_view_measurements(scene: SceneDir, cache_dir: str | Path, long_side: 
         measurements = measure_views(scene, long_side)
         save_view_measurements(measurements, path, fingerprint)
     return measurements
+
+
+def views_command(scene_dir: str | Path, output: str | Path, long_side: int = VIEWS_LONG_SIDE) -> None:
+    """``capframe views``: measure the training views of a scene into ``output``."""
+    from ..scene import load_scene_dir
+
+    scene = load_scene_dir(scene_dir)
+    if scene.gaussians is None or not scene.cameras or scene.semantics is None:
+        raise InputError("needs scene.ply, training cameras and a semantic sidecar to measure its views", source=str(scene_dir))
+    save_view_measurements(measure_views(scene, long_side), output, scene_fingerprint(scene, long_side))
+    print(f"{output}: {len(scene.cameras)} views x {len(scene.semantics)} objects")

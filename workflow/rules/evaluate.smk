@@ -1,31 +1,49 @@
-"""Ground-truth checks and tables."""
+"""Ground-truth checks and tables, for every method alike."""
 
 
-rule check_oracle:
+wildcard_constraints:
+    method="|".join(METHOD_RESULTS),
+
+
+rule check:
     input:
         scene="results/scenes/{scene}",
-        result="results/refine/oracle/{scene}/{instruction}",
+        result=lambda wc: METHOD_RESULTS[wc.method].format(scene=wc.scene, instruction=wc.instruction),
         constraints="results/instructions/{scene}/constraints.json",
     output:
-        "results/check/oracle/{scene}/{instruction}.json",
+        "results/check/{method}/{scene}/{instruction}.json",
     log:
-        "results/logs/check/oracle/{scene}/{instruction}.log",
+        "results/logs/check/{method}/{scene}/{instruction}.log",
     benchmark:
-        "results/benchmarks/check/oracle/{scene}/{instruction}.tsv"
+        "results/benchmarks/check/{method}/{scene}/{instruction}.tsv"
     shell:
         "capframe check {input.scene} {input.result}/result.json --constraints {input.constraints} "
         "--id {wildcards.instruction} -o {output} > {log} 2>&1"
 
 
-rule aggregate_oracle:
+rule aggregate:
     input:
-        checks=per_instruction("results/check/oracle/{scene}/{instruction}.json"),
-        results=per_instruction("results/refine/oracle/{scene}/{instruction}"),
+        checks=lambda wc: per_instruction(f"results/check/{wc.method}/{{scene}}/{{instruction}}.json")(wc),
+        results=lambda wc: per_instruction(METHOD_RESULTS[wc.method])(wc),
     output:
-        "results/tables/refine_oracle.csv",
+        "results/tables/{method}.csv",
     log:
-        "results/logs/aggregate/refine_oracle.log",
+        "results/logs/aggregate/{method}.log",
     params:
         results=lambda wc, input: [f"{r}/result.json" for r in input.results],
     shell:
-        "capframe aggregate --method refine-oracle --checks {input.checks} --results {params.results} -o {output} > {log} 2>&1"
+        "capframe aggregate --method {wildcards.method} --checks {input.checks} --results {params.results} "
+        "-o {output} > {log} 2>&1"
+
+
+rule compare:
+    input:
+        expand("results/tables/{method}.csv", method=METHOD_RESULTS),
+    output:
+        "results/tables/methods.csv",
+        "results/tables/methods.md",
+        "results/tables/methods_pareto.png",
+    log:
+        "results/logs/aggregate/methods.log",
+    shell:
+        "capframe compare {input} -o {output[0]} > {log} 2>&1"

@@ -1,0 +1,27 @@
+"""Tables: per-method summaries, the comparison and its Pareto front."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from capframe.evaluate.aggregate import compare_command, pareto_front
+
+
+def test_pareto_front_keeps_points_nothing_beats():
+    seconds = np.array([1.0, 2.0, 3.0, 0.5, 10.0])
+    success = np.array([0.5, 0.4, 0.9, 0.1, 0.9])
+    # 2 s / 0.4 is beaten by 1 s / 0.5; 10 s / 0.9 by 3 s / 0.9.
+    assert pareto_front(seconds, success).tolist() == [3, 0, 2]
+
+
+def test_compare_ranks_methods_and_writes_the_plot(tmp_path):
+    rows = [{"method": m, "instruction": f"i{k}", "all_satisfied": ok, "seconds": s, "iterations": 1, "region": ok}
+            for m, oks, s in (("capframe", [True, True, False], 5.0), ("ivs", [True, False, False], 2.0))
+            for k, ok in enumerate(oks)]  # fmt: skip
+    for method in ("capframe", "ivs"):
+        pd.DataFrame([r for r in rows if r["method"] == method]).to_csv(tmp_path / f"{method}.csv", index=False)
+    summary = compare_command([str(tmp_path / "capframe.csv"), str(tmp_path / "ivs.csv")], str(tmp_path / "methods.csv"))
+    assert summary["method"].tolist() == ["capframe", "ivs"]
+    assert summary["full_success"].tolist() == [2 / 3, 1 / 3]
+    assert (tmp_path / "methods.md").is_file() and (tmp_path / "methods_pareto.png").stat().st_size > 1000
