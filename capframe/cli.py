@@ -84,6 +84,18 @@ def _cmd_compare(args: argparse.Namespace) -> None:
     compare_command(args.tables, args.output)
 
 
+def _cmd_retrieve(args: argparse.Namespace) -> None:
+    from .ground import retrieve_command
+
+    retrieve_command(args)
+
+
+def _cmd_translate(args: argparse.Namespace) -> None:
+    from .ground import translate_command
+
+    translate_command(args)
+
+
 def _cmd_ground(args: argparse.Namespace) -> None:
     from .ground import ground_command
 
@@ -100,6 +112,14 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
     run_bench(args.what, as_json=args.json)
+
+
+def _perception_options(p: argparse.ArgumentParser) -> None:
+    """Options shared by the method's stages."""
+    p.add_argument("--parser", default="rules", help="instruction parser backend (rules)")
+    p.add_argument("--perception", default="labels", help="perception backend (labels, label-masks)")
+    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
+    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -183,7 +203,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
     p.add_argument("scene", help="scene directory")
     p.add_argument("--labels", required=True, help="pseudo labels (labels.json)")
-    p.add_argument("--init", required=True, help="initial camera: a camera.json or a training view name")
+    p.add_argument("--init", required=True,
+                   help="initial camera: a camera.json, a training view name, or a retrieval.json (its views are tried in order)")
+    p.add_argument("--attempts", type=int, default=3, help="with a retrieval.json: retry from the next view while a clause fails")
+    p.add_argument("--candidates", type=int, default=1, help="with a retrieval.json: refine from this many views and rank the poses")
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
@@ -201,6 +224,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="summary CSV; .md and _pareto.png are written beside it")
     p.set_defaults(func=_cmd_compare)
 
+    p = verbs.add_parser("retrieve", help="parse an instruction and rank the training views (Retrieve): retrieval.json")
+    p.add_argument("scene")
+    p.add_argument("instruction")
+    p.add_argument("-o", "--output", required=True, help="retrieval.json to write")
+    p.add_argument("--topk", type=int, default=2)
+    p.add_argument("--seed", type=int, default=0)
+    _perception_options(p)
+    p.set_defaults(func=_cmd_retrieve)
+
+    p = verbs.add_parser("translate", help="pseudo labels from a retrieval.json (Translate): labels.json")
+    p.add_argument("scene")
+    p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe retrieve")
+    p.add_argument("-o", "--output", required=True, help="labels.json to write")
+    _perception_options(p)
+    p.add_argument("--drop", default=None, choices=["layout", "orientation"], help="ablation: leave these pseudo labels out")
+    p.add_argument("--box-noise", type=float, default=0.0, help="shift layout boxes by this frame fraction (sensitivity)")
+    p.add_argument("--front-noise", type=float, default=0.0, help="turn subject fronts by this many degrees (sensitivity)")
+    p.add_argument("--noise-seed", type=int, default=0)
+    p.set_defaults(func=_cmd_translate)
+
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for --perception labels)")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
@@ -209,10 +252,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0, help="picks the initial view among the top K")
     p.add_argument("--candidates", type=int, default=1, help="refine from this many retrieved views and rank the poses")
     p.add_argument("--attempts", type=int, default=3, help="with one candidate: retry from the next retrieved view while a clause fails")
-    p.add_argument("--parser", default="rules", help="instruction parser backend (rules)")
-    p.add_argument("--perception", default="labels", help="perception backend (labels, label-masks)")
-    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
-    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+    _perception_options(p)
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")

@@ -38,7 +38,7 @@ from .refine.optimize import RefineConfig, RefineResult, refine_pose
 from .refine.run import scene_scale, write_refine_outputs
 from .render import render
 from .render.image import save_png
-from .retrieve.qe import Retrieval, retrieve
+from .retrieve.qe import retrieve
 from .scene import Camera, SceneDir, colmap_image_line, load_scene_dir, write_camera_json, write_camera_path_json
 from .scene._io import atomic_directory
 from .translate.instruction import ParsedInstruction
@@ -65,6 +65,11 @@ class GroundOptions:
         perception: perception backend (``capframe.backends.PERCEPTIONS``).
         cache_dir: per-scene cache (default ``$XDG_CACHE_HOME/capframe/<scene>``).
         gravity: a gravity file for scenes whose ``scene.json`` has no up.
+        drop: ablation: remove the ``layout`` (regions, shot sizes) or ``orientation`` (view side,
+            elevation, roll) pseudo labels; the instruction itself is unchanged.
+        box_noise: perturb each layout box by this fraction of the frame, in a random direction.
+        front_noise_deg: rotate each subject's front about the up by this angle, random sign.
+        noise_seed: seed of both perturbations.
         refine: the optimiser's settings.
     """
 
@@ -76,6 +81,10 @@ class GroundOptions:
     perception: str = "labels"
     cache_dir: str | Path | None = None
     gravity: str | Path | None = None
+    drop: str | None = None
+    box_noise: float = 0.0
+    front_noise_deg: float = 0.0
+    noise_seed: int = 0
     refine: RefineConfig = dataclasses.field(default_factory=RefineConfig)
 
 
@@ -163,44 +172,130 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     return angle < DISTINCT_ROTATION_DEG and np.linalg.norm(centres[0] - centres[1]) < DISTINCT_TRANSLATION * scale
 
 
-def _starts(retrieval: Retrieval, options: GroundOptions) -> list[int]:
-    """Initial views in the order they are tried: a seeded pick among the top K, then the other
-    kept views by QE score."""
-    first = random.Random(options.seed).choice(retrieval.top)
-    ranked = [first] + [v for v in retrieval.ranked() if v != first]
-    return ranked[:max(options.candidates, options.attempts)]
+@dataclass
+class Retrieved:
+    """What Retrieve hands to Translate and Refine (``retrieval.json``).
 
-
-def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None,
-           progress: bool = True) -> dict:  # fmt: skip
-    """Find the camera for ``text`` in the scene at ``scene_dir`` and write it to ``out_dir``.
-
-    Returns the content of ``result.json``.
+    Attributes:
+        parsed: the parsed instruction.
+        retrieval: questions, per-view answers and scores (:meth:`Retrieval.to_dict`).
+        top: names of the retrieved views (the top K), best first.
+        starts: names of the views Refine tries, in order: a seeded pick among the top K, then
+            the other kept views by QE score.
+        up: (3,) the world up used.
     """
-    options = options or GroundOptions()
+
+    parsed: ParsedInstruction
+    retrieval: dict
+    top: list[str]
+    starts: list[str]
+    up: np.ndarray
+
+    def to_dict(self) -> dict:
+        return {"format": 1, "instruction": self.parsed.to_dict(), "retrieval": self.retrieval, "top": self.top,
+                "starts": self.starts, "up": self.up.tolist()}
+
+    @classmethod
+    def read(cls, path: str | Path) -> "Retrieved":
+        from .scene._io import read_json
+
+        data = read_json(path)
+        if not isinstance(data, dict) or data.get("format") != 1 or "starts" not in data:
+            raise InputError("is not a retrieval file (format 1, written by capframe retrieve)", source=str(path))
+        return cls(ParsedInstruction.from_dict(data["instruction"], source=str(path)), data["retrieval"], data["top"],
+                   data["starts"], np.asarray(data["up"], dtype=np.float64))
+
+
+def _check_options(options: GroundOptions) -> None:
     check_perception(options.perception)
+    if options.drop not in (None, "layout", "orientation"):
+        raise InputError(f"--drop {options.drop!r}; expected 'layout' or 'orientation'")
     if min(options.top_k, options.candidates, options.attempts) < 1:
         raise InputError(f"--topk {options.top_k}, --candidates {options.candidates}, --attempts {options.attempts}: "
                          "each must be at least 1")
-    scene_dir = Path(scene_dir)
-    clock = _Progress(progress)
-    parser = make_parser(options.parser)
-    scene, up = load_scene(scene_dir, options)
-    vocabulary = Vocabulary.from_semantics(scene.semantics or [])
-    parsed = parser.parse(text, vocabulary)
+
+
+def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: _Progress) -> ParsedInstruction:
+    """``text`` parsed against the scene's vocabulary (before any expensive work, so bad input
+    fails fast)."""
+    parsed = make_parser(options.parser).parse(text, Vocabulary.from_semantics(scene.semantics or []))
     clock.done("parse", ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
                + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else ""))  # fmt: skip
-    perception = make_perception(scene, up, options)
-    clock.done("views", f"{len(scene.cameras)} training views measured (cached per scene)")
+    return parsed
+
+
+def retrieve_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions,
+                   clock: _Progress) -> Retrieved:  # fmt: skip
+    """Rank the training views for ``parsed``."""
     retrieval = retrieve(parsed, perception, perception, options.top_k)
     names = [c.name for c in scene.cameras]
-    clock.done("retrieve", "top: " + ", ".join(f"{names[v]}" for v in retrieval.top))
-    labels = translate(parsed, perception, retrieval.top, up)
-    clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))
+    first = random.Random(options.seed).choice(retrieval.top)
+    starts = [first] + [v for v in retrieval.ranked() if v != first]
+    clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
+    return Retrieved(parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], up)
 
+
+def _view_indices(scene: SceneDir, names: list[str]) -> list[int]:
+    index = {c.name: i for i, c in enumerate(scene.cameras)}
+    missing = [n for n in names if n not in index]
+    if missing:
+        raise InputError(f"retrieved views {missing} are not training views of this scene", source=str(scene.root))
+    return [index[n] for n in names]
+
+
+def ablated(parsed: ParsedInstruction, drop: str | None) -> ParsedInstruction:
+    """``parsed`` without its layout or orientation cues (the sensitivity study's label removal)."""
+    if drop is None:
+        return parsed
+    if drop == "layout":
+        subjects = [dataclasses.replace(s, region=None, shot=None) for s in parsed.subjects]
+        return dataclasses.replace(parsed, subjects=subjects)
+    subjects = [dataclasses.replace(s, view=None) for s in parsed.subjects]
+    return dataclasses.replace(parsed, subjects=subjects, elevation=None, elevation_deg=None, roll_deg=None)
+
+
+def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, seed: int) -> PseudoLabels:
+    """Pseudo labels with moderate noise: each box and region shifted by ``box_noise`` (frame
+    fraction) in a random direction, each front turned about the up by ``front_noise_deg``."""
+    rng = np.random.default_rng(seed)
+    subjects = []
+    for s in labels.subjects:
+        angle = rng.uniform(0, 2 * np.pi)
+        dx, dy = box_noise * np.cos(angle), box_noise * np.sin(angle)
+        shift = lambda b: None if b is None else (b[0] + dx, b[1] + dy, b[2] + dx, b[3] + dy)  # noqa: E731
+        front = s.front
+        if front is not None and front_noise_deg:
+            from .geometry import so3_exp
+
+            turn = np.radians(front_noise_deg) * rng.choice([-1.0, 1.0])
+            R = so3_exp(torch.as_tensor(labels.up * turn, dtype=torch.float64)).numpy()
+            front = R @ front
+        subjects.append(dataclasses.replace(s, region=shift(s.region), box=shift(s.box), front=front))
+    return dataclasses.replace(labels, subjects=subjects)
+
+
+def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: _Progress,
+                    options: GroundOptions | None = None) -> PseudoLabels:  # fmt: skip
+    """Pseudo labels of the retrieved instruction, grounded in the retrieved views (ablated and
+    perturbed as ``options`` ask)."""
+    options = options or GroundOptions()
+    parsed = ablated(retrieved.parsed, options.drop)
+    labels = translate(parsed, perception, _view_indices(scene, retrieved.top), retrieved.up)
+    if options.box_noise or options.front_noise_deg:
+        labels = perturbed(labels, options.box_noise, options.front_noise_deg, options.noise_seed)
+    clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))
+    return labels
+
+
+def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, out_dir: str | Path, options: GroundOptions,
+                 clock: _Progress) -> dict:  # fmt: skip
+    """Refine from the retrieved starts (see :class:`GroundOptions` ``attempts``/``candidates``),
+    report on the best pose with the pseudo labels and write the outputs. Returns ``result.json``."""
     scale = scene_scale(scene.cameras, scene.gaussians.means)
+    starts = _view_indices(scene, retrieved.starts[:max(options.candidates, options.attempts)])
+    names = [c.name for c in scene.cameras]
     runs: list[tuple[int, RefineResult]] = []
-    for v in _starts(retrieval, options):
+    for v in starts:
         result = refine_pose(scene.gaussians, scene.cameras[v], labels, scale, options.refine)
         runs.append((v, result))
         clock.done("refine", f"from {names[v]}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})")
@@ -214,25 +309,23 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
             distinct.append(run)
 
     cameras = [scene.cameras[v].with_pose(r.T_cw) for v, r in distinct]
-    reports = [own_report(scene, labels, parsed, c) for c in cameras]
+    reports = [own_report(scene, labels, retrieved.parsed, c) for c in cameras]
     images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
     clock.done("report", "own labels: " + ("all clauses hold" if reports[0].all_satisfied else "some clauses fail"))
     timings = dict(clock.timings, total_s=time.perf_counter() - clock.start)
     extra = {
-        "instruction": parsed.to_dict(),
-        "retrieval": retrieval.to_dict(names),
+        "instruction": retrieved.parsed.to_dict(),
+        "retrieval": retrieved.retrieval,
         "init_view": names[distinct[0][0]],
         "report": reports[0].to_dict(),
         "candidates": [{"rank": k, "init_view": names[v], "loss": float(r.losses.min()), "T_cw": r.T_cw.tolist(),
                         "own_all_satisfied": rep.all_satisfied} for k, ((v, r), rep) in enumerate(zip(distinct, reports))],
         "options": {"top_k": options.top_k, "seed": options.seed, "candidates": options.candidates, "attempts": options.attempts,
-                    "parser": options.parser,
-                    "perception": options.perception},
-        "up": up.tolist(),
+                    "parser": options.parser, "perception": options.perception},
+        "up": retrieved.up.tolist(),
     }  # fmt: skip
     with atomic_directory(out_dir) as tmp:
-        best_view, best = distinct[0]
-        write_refine_outputs(tmp, cameras[0], best, labels, options.refine, timings, images[0], extra)
+        write_refine_outputs(tmp, cameras[0], distinct[0][1], labels, options.refine, timings, images[0], extra)
         write_pseudo_labels(labels, tmp / "labels.json")
         write_camera_path_json([cameras[0]], tmp / "camera_path.json")
         (tmp / "colmap_image.txt").write_text(colmap_image_line(cameras[0], 1) + "\n")
@@ -240,9 +333,63 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
             for k, (camera, image) in enumerate(zip(cameras, images)):
                 write_camera_json(camera, tmp / "candidates" / str(k) / "camera.json")
                 save_png(image, tmp / "candidates" / str(k) / "render.png")
-    if progress:
+    if clock.enabled:
         print(format_report(reports[0]), file=sys.stderr)
     return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None,
+           progress: bool = True) -> dict:  # fmt: skip
+    """Find the camera for ``text`` in the scene at ``scene_dir`` and write it to ``out_dir``
+    (the three stages in one process). Returns the content of ``result.json``."""
+    options = options or GroundOptions()
+    _check_options(options)
+    clock = _Progress(progress)
+    scene, up = load_scene(Path(scene_dir), options)
+    parsed = parse_stage(scene, text, options, clock)
+    perception = make_perception(scene, up, options)
+    clock.done("views", f"{len(scene.cameras)} training views measured (cached per scene)")
+    retrieved = retrieve_stage(scene, up, parsed, perception, options, clock)
+    labels = translate_stage(scene, retrieved, perception, clock, options)
+    return refine_stage(scene, labels, retrieved, out_dir, options, clock)
+
+
+def retrieve_command(args) -> None:
+    """``capframe retrieve``: parse and rank the training views, write ``retrieval.json``."""
+    from .scene._io import write_json
+
+    options = GroundOptions(top_k=args.topk, seed=args.seed, parser=args.parser, perception=args.perception, cache_dir=args.cache,
+                            gravity=args.gravity)  # fmt: skip
+    _check_options(options)
+    clock = _Progress(True)
+    scene, up = load_scene(Path(args.scene), options)
+    parsed = parse_stage(scene, args.instruction, options, clock)
+    retrieved = retrieve_stage(scene, up, parsed, make_perception(scene, up, options), options, clock)
+    write_json(args.output, retrieved.to_dict())
+
+
+def translate_command(args) -> None:
+    """``capframe translate``: pseudo labels from ``retrieval.json``, written as ``labels.json``."""
+    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity, drop=args.drop,
+                            box_noise=args.box_noise, front_noise_deg=args.front_noise, noise_seed=args.noise_seed)  # fmt: skip
+    _check_options(options)
+    retrieved = Retrieved.read(args.retrieval)
+    scene, up = load_scene(Path(args.scene), options)
+    labels = translate_stage(scene, retrieved, make_perception(scene, up, options), _Progress(True), options)
+    write_pseudo_labels(labels, args.output)
+
+
+def refine_retrieved(scene_dir: str | Path, labels_path: str | Path, retrieval_path: str | Path, out_dir: str | Path,
+                     options: GroundOptions) -> dict:  # fmt: skip
+    """``capframe refine --init retrieval.json``: Refine as ``capframe ground`` does, from files."""
+    _check_options(options)
+    from .translate.labels import read_pseudo_labels
+
+    clock = _Progress(True)
+    scene = load_scene_dir(scene_dir)
+    if scene.gaussians is None or not scene.cameras:
+        raise InputError("needs scene.ply and training cameras to refine from retrieved views", source=str(scene_dir))
+    return refine_stage(scene, read_pseudo_labels(labels_path), Retrieved.read(retrieval_path), out_dir, options, clock)
 
 
 def ground_command(args) -> None:

@@ -148,3 +148,18 @@ def test_json_output_is_one_object(scene_dir, tmp_path, capsys):
     assert code == 0
     data = json.loads(capsys.readouterr().out)
     assert {"T_cw", "report", "instruction", "timings"} <= set(data)
+
+
+def test_stage_verbs_reproduce_ground(scene_dir, tmp_path):
+    """retrieve -> translate -> refine --init retrieval.json, one process each, gives the camera
+    ground gives in one process (what the workflow's per-stage rules rely on)."""
+    text, cache = "the vase on the right, from a high angle", str(tmp_path / "cache")
+    assert main(["ground", str(scene_dir), text, "-o", str(tmp_path / "g"), "--cache", cache, "--iterations", "200", "--json"]) == 0
+    assert main(["retrieve", str(scene_dir), text, "-o", str(tmp_path / "r.json"), "--cache", cache]) == 0
+    assert main(["translate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "l.json"), "--cache", cache]) == 0
+    assert main(["refine", str(scene_dir), "--labels", str(tmp_path / "l.json"), "--init", str(tmp_path / "r.json"),
+                 "-o", str(tmp_path / "s"), "--iterations", "200"]) == 0  # fmt: skip
+    staged = json.loads((tmp_path / "s" / "result.json").read_text())
+    grounded = json.loads((tmp_path / "g" / "result.json").read_text())
+    np.testing.assert_allclose(staged["T_cw"], grounded["T_cw"], atol=1e-9)
+    assert staged["retrieval"] == grounded["retrieval"] and staged["report"]["rows"] == grounded["report"]["rows"]

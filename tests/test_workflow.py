@@ -57,7 +57,7 @@ def _fake_generated_suite(work: Path) -> None:
 def planned_outputs(work: Path, *extra: str) -> str:
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
     cmd = [sys.executable, "-m", "snakemake", "-n", "--nolock", "--cores", "2", "--directory", str(work),
-           "--snakefile", str(ROOT / "Snakefile"), "--rerun-triggers", "mtime", *extra]
+           "--snakefile", str(ROOT / "Snakefile"), *extra, "--rerun-triggers", "mtime"]
     done = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     return done.stdout
@@ -74,5 +74,40 @@ def test_scenes_get_only_the_stages_they_need(tmp_path):
         assert f"results/colmap/{scene}" not in out and f"results/gravity/{scene}.json" not in out
     assert "results/colmap/outdoor-orbit" not in out
     for scene in ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough"):
-        assert f"results/ground/{scene}/{scene}-000" in out
+        assert f"results/refine/capframe/{scene}/{scene}-000" in out
     assert "results/tables/methods.csv" in out
+
+
+def _jobs(plan: str) -> dict[str, int]:
+    """Job counts of a dry run's summary table."""
+    import re
+
+    table = plan[plan.index("Job stats:"):]
+    return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)$", table, re.M) if m.group(1) not in ("total",)}
+
+
+def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
+    """After the default method has run, a variant that changes one refine weight schedules only
+    its own refine, check and aggregate jobs; one that changes retrieval also retrieves and
+    translates again, but never re-renders the per-scene views."""
+    import time
+
+    import yaml
+
+    _fake_generated_suite(tmp_path)
+    scenes = ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough")
+    time.sleep(0.05)
+    for scene in scenes:  # what a completed default run leaves, newer than the sheets
+        for path in (f"results/colmap/{scene}/scene.json", f"results/gravity/{scene}.json", f"results/views/{scene}/label_views.npz",
+                     f"results/retrieve/capframe/{scene}/{scene}-000.json", f"results/translate/capframe/{scene}/{scene}-000.json"):
+            (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
+            (tmp_path / path).write_text("{}")
+            time.sleep(0.01)
+    config = yaml.safe_load((tmp_path / "config" / "config.yaml").read_text())
+    config["variants"] = {"weighted": {"refine": {"weights": "view=0.5"}}, "top3": {"retrieve": {"topk": 3}}}
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+
+    weighted = _jobs(planned_outputs(tmp_path, "results/tables/capframe-weighted.csv"))
+    assert weighted == {"refine_method": 4, "check": 4, "aggregate": 1}
+    top3 = _jobs(planned_outputs(tmp_path, "results/tables/capframe-top3.csv"))
+    assert top3 == {"retrieve": 4, "translate": 4, "refine_method": 4, "check": 4, "aggregate": 1}

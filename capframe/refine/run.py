@@ -141,6 +141,17 @@ def path_plot(trajectory: np.ndarray, labels: PseudoLabels, size: int = 480) -> 
     return img
 
 
+def _is_retrieval_file(init: str) -> bool:
+    import json
+
+    if not init.endswith(".json") or not Path(init).is_file():
+        return False
+    try:
+        return "starts" in json.loads(Path(init).read_text())
+    except ValueError:
+        return False
+
+
 def refine_command(args) -> None:
     config = RefineConfig(iterations=args.iterations, long_side=args.long_side)
     if args.weights:
@@ -151,4 +162,10 @@ def refine_command(args) -> None:
                 raise InputError(f"--weights: unknown term {key!r}; expected one of {sorted(weights)}")
             weights[key] = float(value)
         config = dataclasses.replace(config, weights=type(config.weights)(**weights))
-    refine_to_dir(args.scene, args.labels, args.init, args.output, config)
+    if _is_retrieval_file(args.init):
+        from ..ground import GroundOptions, refine_retrieved
+
+        options = GroundOptions(candidates=args.candidates, attempts=args.attempts, refine=config)
+        refine_retrieved(args.scene, args.labels, args.init, args.output, options)
+    else:
+        refine_to_dir(args.scene, args.labels, args.init, args.output, config)

@@ -50,14 +50,39 @@ def gravity_input(wildcards):
 
 
 def instruction_text(wildcards):
-    """The instruction's text (a param, so editing one text reruns only that instruction)."""
+    """The instruction's text, or its first paraphrase for a variant that asks for it (a param,
+    so editing one text reruns only that instruction)."""
     path = checkpoints.instructions.get(scene=wildcards.scene).output.constraints
     with open(path) as f:
-        return json.load(f)[wildcards.instruction]["text"]
+        entry = json.load(f)[wildcards.instruction]
+    if VARIANTS[wildcards.variant].get("retrieve", {}).get("paraphrase") and entry.get("paraphrases"):
+        return entry["paraphrases"][0]
+    return entry["text"]
+
+
+# The method and its variants (ablations, sensitivity): name -> per-stage overrides.
+VARIANTS = {"capframe": {}} | {f"capframe-{name}": v for name, v in config.get("variants", {}).items()}
+METHOD_STAGES = ("retrieve", "translate", "refine")
+
+
+def stage_key(variant, stage):
+    """Whose outputs ``variant`` uses for ``stage``: its own when it overrides this stage or an
+    earlier one, else the default method's. Output paths carry only what changes them, so a
+    variant of the refine weights reuses retrieval and translation."""
+    overridden = VARIANTS[variant]
+    upto = METHOD_STAGES[: METHOD_STAGES.index(stage) + 1]
+    return variant if any(s in overridden for s in upto) else "capframe"
+
+
+def stage_setting(variant, stage, key, default):
+    return VARIANTS[variant].get(stage, {}).get(key, default)
+
+
+def stage_file(stage, pattern):
+    """Input function: ``pattern`` (with {key}, {scene}, {instruction}) for the stage's key."""
+    return lambda wc: pattern.format(key=stage_key(wc.variant, stage), scene=wc.scene, instruction=wc.instruction)
 
 
 # Where each method's per-instruction result folder lives.
-METHOD_RESULTS = {
-    "capframe": "results/ground/{scene}/{instruction}",
-    "oracle": "results/refine/oracle/{scene}/{instruction}",
-}
+METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VARIANTS}
+METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"

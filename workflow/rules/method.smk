@@ -1,4 +1,5 @@
-"""The method per instruction (Retrieve -> Translate -> Refine) and the per-scene stages it reads.
+"""The method per instruction, one rule per stage (retrieve, translate, refine), its variants, and the
+per-scene stages it reads.
 
 Stages a scene does not need are left out of its DAG (DESIGN §7): COLMAP only for a scene without
 poses, gravity only for a scene that is not aligned; see posed_scene() and gravity_input().
@@ -46,22 +47,67 @@ rule label_views:
         "capframe views {input} -o {output} > {log} 2>&1"
 
 
-rule ground:
+wildcard_constraints:
+    variant="|".join(VARIANTS),
+
+
+rule retrieve:
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
     output:
-        directory("results/ground/{scene}/{instruction}"),
+        "results/retrieve/{variant}/{scene}/{instruction}.json",
     params:
         text=instruction_text,
+        topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
         gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
-        iterations=config["refine"]["iterations"],
-        long_side=config["refine"]["long_side"],
     log:
-        "results/logs/ground/{scene}/{instruction}.log",
+        "results/logs/retrieve/{variant}/{scene}/{instruction}.log",
     benchmark:
-        "results/benchmarks/ground/{scene}/{instruction}.tsv"
+        "results/benchmarks/retrieve/{variant}/{scene}/{instruction}.tsv"
     shell:
-        "capframe ground {input.scene} {params.text:q} -o {output} --cache results/views/{wildcards.scene} {params.gravity} "
-        "--iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"
+        "capframe retrieve {input.scene} {params.text:q} -o {output} --topk {params.topk} "
+        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+
+
+rule translate:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+        retrieval=stage_file("retrieve", "results/retrieve/{key}/{scene}/{instruction}.json"),
+    output:
+        "results/translate/{variant}/{scene}/{instruction}.json",
+    params:
+        options=lambda wc: " ".join(
+            f"--{flag.replace('_', '-')} {value}" for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
+        ),
+        gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
+    log:
+        "results/logs/translate/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/translate/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe translate {input.scene} --retrieval {input.retrieval} -o {output} {params.options} "
+        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+
+
+rule refine_method:
+    input:
+        scene=posed_scene,
+        labels=stage_file("translate", "results/translate/{key}/{scene}/{instruction}.json"),
+        retrieval=stage_file("retrieve", "results/retrieve/{key}/{scene}/{instruction}.json"),
+    output:
+        directory("results/refine/{variant}/{scene}/{instruction}"),
+    params:
+        iterations=lambda wc: stage_setting(wc.variant, "refine", "iterations", config["refine"]["iterations"]),
+        long_side=lambda wc: stage_setting(wc.variant, "refine", "long_side", config["refine"]["long_side"]),
+        weights=lambda wc: (f"--weights {w}" if (w := stage_setting(wc.variant, "refine", "weights", "")) else ""),
+    log:
+        "results/logs/refine/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/refine/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe refine {input.scene} --labels {input.labels} --init {input.retrieval} -o {output} "
+        "--iterations {params.iterations} --long-side {params.long_side} {params.weights} > {log} 2>&1"
