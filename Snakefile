@@ -8,11 +8,15 @@ Every stage is a `capframe` verb; outputs live under results/.
 configfile: "config/config.yaml"
 
 
+report: "workflow/report/workflow.rst"
+
+
 include: "workflow/rules/common.smk"
 include: "workflow/rules/synth.smk"
 include: "workflow/rules/method.smk"
 include: "workflow/rules/refine.smk"
 include: "workflow/rules/evaluate.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
@@ -21,3 +25,4 @@ rule all:
         # only report one incomplete checkpoint at a time).
         expand("results/instructions/{scene}/constraints.json", scene=SCENES),
         "results/tables/methods.csv",
+        per_instruction("results/report/grid/{scene}/{instruction}.png"),

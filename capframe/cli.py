@@ -84,6 +84,24 @@ def _cmd_compare(args: argparse.Namespace) -> None:
     compare_command(args.tables, args.output)
 
 
+def _cmd_sensitivity(args: argparse.Namespace) -> None:
+    from .evaluate.tables import sensitivity_command
+
+    sensitivity_command(args.reference, args.variant, args.checks_root, args.scenes_root, args.output)
+
+
+def _cmd_scene_table(args: argparse.Namespace) -> None:
+    from .evaluate.tables import scene_table_command
+
+    scene_table_command(args.scenes_root, args.colmap_root, args.gravity_root, args.output)
+
+
+def _cmd_runtime(args: argparse.Namespace) -> None:
+    from .evaluate.tables import runtime_command
+
+    runtime_command(args.benchmarks, args.output)
+
+
 def _cmd_retrieve(args: argparse.Namespace) -> None:
     from .ground import retrieve_command
 
@@ -94,6 +112,12 @@ def _cmd_translate(args: argparse.Namespace) -> None:
     from .ground import translate_command
 
     translate_command(args)
+
+
+def _cmd_grid(args: argparse.Namespace) -> None:
+    from .evaluate.grid import grid_command
+
+    grid_command(args.text, args.methods, args.results, args.checks, args.output)
 
 
 def _cmd_ground(args: argparse.Namespace) -> None:
@@ -224,6 +248,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="summary CSV; .md and _pareto.png are written beside it")
     p.set_defaults(func=_cmd_compare)
 
+    p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
+    p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
+    p.add_argument("--variant", nargs="+", required=True, metavar="NAME=DIR",
+                   help="variants' result folders, e.g. top3=results/refine/capframe-top3")
+    p.add_argument("--checks-root", default="results/check", help="check reports: CHECKS_ROOT/<method>/<scene>/<id>.json")
+    p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json scale)")
+    p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
+    p.set_defaults(func=_cmd_sensitivity)
+
+    p = verbs.add_parser("scene-table", help="per-scene table: views, Gaussians, COLMAP and gravity errors")
+    p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json)")
+    p.add_argument("--colmap-root", default="results/colmap", help="COLMAP outputs: COLMAP_ROOT/<scene>/colmap.json")
+    p.add_argument("--gravity-root", default="results/gravity", help="gravity files: GRAVITY_ROOT/<scene>.json")
+    p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
+    p.set_defaults(func=_cmd_scene_table)
+
+    p = verbs.add_parser("runtime", help="seconds per scene and stage, and per instruction and method, from benchmark TSVs")
+    p.add_argument("--benchmarks", default="results/benchmarks", help="Snakemake benchmark: folder")
+    p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
+    p.set_defaults(func=_cmd_runtime)
+
     p = verbs.add_parser("retrieve", help="parse an instruction and rank the training views (Retrieve): retrieval.json")
     p.add_argument("scene")
     p.add_argument("instruction")
@@ -243,6 +288,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--front-noise", type=float, default=0.0, help="turn subject fronts by this many degrees (sensitivity)")
     p.add_argument("--noise-seed", type=int, default=0)
     p.set_defaults(func=_cmd_translate)
+
+    p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
+    p.add_argument("--text", required=True, help="the instruction")
+    p.add_argument("--methods", nargs="+", required=True)
+    p.add_argument("--results", nargs="+", required=True, help="result folders (with render.png), one per method")
+    p.add_argument("--checks", nargs="+", required=True, help="check reports, one per method")
+    p.add_argument("-o", "--output", required=True, help="PNG to write")
+    p.set_defaults(func=_cmd_grid)
 
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for --perception labels)")

@@ -25,3 +25,27 @@ def test_compare_ranks_methods_and_writes_the_plot(tmp_path):
     assert summary["method"].tolist() == ["capframe", "ivs"]
     assert summary["full_success"].tolist() == [2 / 3, 1 / 3]
     assert (tmp_path / "methods.md").is_file() and (tmp_path / "methods_pareto.png").stat().st_size > 1000
+
+
+def test_grid_puts_each_method_side_by_side(tmp_path):
+    import json
+
+    import pytest
+    from PIL import Image
+
+    from capframe.errors import InputError
+    from capframe.evaluate.grid import TILE_WIDTH, grid_command
+
+    for method, ok in (("capframe", True), ("ivs", False)):
+        folder = tmp_path / method
+        folder.mkdir()
+        Image.new("RGB", (160, 120), "gray").save(folder / "render.png")
+        rows = [{"constraint": "region", "subject": "mug", "satisfied": ok}, {"constraint": "roll", "subject": None, "satisfied": None}]
+        (tmp_path / f"{method}.json").write_text(json.dumps({"all_satisfied": ok, "satisfied": int(ok), "applicable": 1, "rows": rows}))
+    out = tmp_path / "grid.png"
+    grid_command("the mug on the left", ["capframe", "ivs"], [str(tmp_path / "capframe"), str(tmp_path / "ivs")],
+                 [str(tmp_path / "capframe.json"), str(tmp_path / "ivs.json")], str(out))  # fmt: skip
+    image = Image.open(out)
+    assert image.width > 2 * TILE_WIDTH and image.height > 240
+    with pytest.raises(InputError, match="pair up"):
+        grid_command("t", ["capframe"], [], [], str(out))

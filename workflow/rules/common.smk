@@ -55,7 +55,8 @@ def instruction_text(wildcards):
     path = checkpoints.instructions.get(scene=wildcards.scene).output.constraints
     with open(path) as f:
         entry = json.load(f)[wildcards.instruction]
-    if VARIANTS[wildcards.variant].get("retrieve", {}).get("paraphrase") and entry.get("paraphrases"):
+    variant = wildcards.get("variant", "capframe")
+    if VARIANTS[variant].get("retrieve", {}).get("paraphrase") and entry.get("paraphrases"):
         return entry["paraphrases"][0]
     return entry["text"]
 
@@ -86,3 +87,6 @@ def stage_file(stage, pattern):
 # Where each method's per-instruction result folder lives.
 METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VARIANTS}
 METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"
+
+# Methods shown side by side in the report's image grid.
+REPORT_METHODS = ["capframe", "oracle"]

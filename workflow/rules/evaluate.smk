@@ -40,10 +40,10 @@ rule compare:
     input:
         expand("results/tables/{method}.csv", method=METHOD_RESULTS),
     output:
-        "results/tables/methods.csv",
-        "results/tables/methods.md",
-        "results/tables/methods_pareto.png",
+        table=report("results/tables/methods.csv", caption="../report/methods.rst", category="Tables"),
+        markdown="results/tables/methods.md",
+        plot=report("results/tables/methods_pareto.png", caption="../report/pareto.rst", category="Tables"),
     log:
         "results/logs/aggregate/methods.log",
     shell:
-        "capframe compare {input} -o {output[0]} > {log} 2>&1"
+        "capframe compare {input} -o {output.table} > {log} 2>&1"

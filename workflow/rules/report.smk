@@ -1,0 +1,23 @@
+"""The report: `snakemake --report results/report.html` (or `make report`) collects the tables,
+the error-against-run-time plot and one image grid per instruction."""
+
+
+rule grid:
+    input:
+        results=lambda wc: [METHOD_RESULTS[m].format(scene=wc.scene, instruction=wc.instruction) for m in REPORT_METHODS],
+        checks=lambda wc: [f"results/check/{m}/{wc.scene}/{wc.instruction}.json" for m in REPORT_METHODS],
+    output:
+        report(
+            "results/report/grid/{scene}/{instruction}.png",
+            caption="../report/grid.rst",
+            category="Renders",
+            subcategory="{scene}",
+        ),
+    params:
+        text=instruction_text,
+        methods=REPORT_METHODS,
+    log:
+        "results/logs/grid/{scene}/{instruction}.log",
+    shell:
+        "capframe grid --text {params.text:q} --methods {params.methods} --results {input.results} "
+        "--checks {input.checks} -o {output} > {log} 2>&1"
