@@ -238,26 +238,22 @@ def _yaw_scan(objective: "_Objective", T0: Tensor, pivot: Tensor, up: Tensor, st
     Gradient descent cannot undo some starts: two subjects in swapped order sit at a stationary
     point of the layout loss along the orbit, and a view side behind the subject is a long walk.
     A coarse scan of the orbit (or of the heading, when the pivot is the camera) fixes both for
-    a few forward renders. The loss renders the subjects alone, so it cannot see a wall between
-    a rotated camera and a subject on it (a forward-facing capture of a room): a rotation that
-    beats the start must also leave the subjects visible in the whole scene. Returns the start
-    pose and its yaw in degrees.
+    a few forward renders. Returns the start pose and its yaw in degrees.
     """
     if steps <= 1:
         return T0, 0.0
     axis = T0[:3, :3] @ up  # world up in the camera frame
     unpivot_T0 = torch.linalg.inv(pivot) @ T0
-    candidates = []
+    best = (math.inf, T0, 0.0)
     with torch.no_grad():
         for k in range(steps):
             angle = 2.0 * math.pi * k / steps
             twist = torch.cat([axis * angle, torch.zeros(3, dtype=torch.float64)])
             T = pivot @ se3_exp(twist) @ unpivot_T0
-            candidates.append((float(objective(T)[0]), k, T, math.degrees(angle)))
-    for loss, k, T, angle in sorted(candidates, key=lambda c: (c[0], c[1])):
-        if k == 0 or objective.penalise_occlusion or min(objective.visible_shares(T)) >= objective.config.min_visible:
-            return T, angle
-    return T0, 0.0
+            loss = float(objective(T)[0])
+            if loss < best[0] - 1e-9:
+                best = (loss, T, math.degrees(angle))
+    return best[1], best[2]
 
 
 def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float,
@@ -283,13 +279,13 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
             dtype: torch.dtype) -> RefineResult:
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
-    objective.prepare_occlusion(scene)
     run = _Descent(objective, scale, config)
     T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
     remaining = min(config.occlusion_iterations, config.iterations - run.steps)
     if remaining > 0:
+        objective.prepare_occlusion(scene)
         if min(objective.visible_shares(T)) < config.min_visible:
             objective.penalise_occlusion = True
             # Scan again, now with the whole scene in the objective: it finds an orbit position
