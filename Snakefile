@@ -24,5 +24,4 @@ rule all:
         # Listed so that every scene's instructions are scheduled at once (an input function can
         # only report one incomplete checkpoint at a time).
         expand("results/instructions/{scene}/constraints.json", scene=SCENES),
-        "results/tables/methods.csv",
-        per_instruction("results/report/grid/{scene}/{instruction}.png"),
+        "results/tables/runtime.csv",

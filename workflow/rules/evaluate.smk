@@ -47,3 +47,54 @@ rule compare:
         "results/logs/aggregate/methods.log",
     shell:
         "capframe compare {input} -o {output.table} > {log} 2>&1"
+
+
+VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
+
+
+rule sensitivity:
+    input:
+        checks=lambda wc: [c for v in VARIANTS for c in per_instruction(f"results/check/{v}/{{scene}}/{{instruction}}.json")(wc)],
+        results=lambda wc: [r for v in VARIANTS for r in per_instruction(METHOD_RESULTS[v])(wc)],
+    output:
+        table=report("results/tables/sensitivity.csv", caption="../report/sensitivity.rst", category="Tables"),
+        markdown="results/tables/sensitivity.md",
+    params:
+        variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
+    log:
+        "results/logs/aggregate/sensitivity.log",
+    shell:
+        "capframe sensitivity --reference results/refine/capframe --variant {params.variants} --checks-root results/check "
+        "--scenes-root results/scenes -o {output.table} > {log} 2>&1"
+
+
+rule scene_table:
+    input:
+        scenes=expand("results/scenes/{scene}", scene=SCENES),
+        colmap=[f"results/colmap/{s}" for s in SCENES if not SCENES[s].poses],
+        gravity=[f"results/gravity/{s}.json" for s in SCENES if not aligned(s)],
+    output:
+        table=report("results/tables/scenes.csv", caption="../report/scenes.rst", category="Tables"),
+        markdown="results/tables/scenes.md",
+    log:
+        "results/logs/aggregate/scenes.log",
+    shell:
+        "capframe scene-table --scenes-root results/scenes --colmap-root results/colmap --gravity-root results/gravity "
+        "-o {output.table} > {log} 2>&1"
+
+
+rule runtime:
+    input:
+        # Last: every job's benchmark file exists once these do.
+        "results/tables/methods.csv",
+        "results/tables/sensitivity.csv",
+        "results/tables/scenes.csv",
+        per_instruction("results/report/grid/{scene}/{instruction}.png"),
+    output:
+        table=report("results/tables/runtime.csv", caption="../report/runtime.rst", category="Tables"),
+        methods="results/tables/runtime_methods.csv",
+        markdown="results/tables/runtime.md",
+    log:
+        "results/logs/aggregate/runtime.log",
+    shell:
+        "capframe runtime --benchmarks results/benchmarks -o {output.table} > {log} 2>&1"
