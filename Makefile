@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 TORCH_SPEC ?= torch==2.13.0
 STAMP := $(VENV)/.installed
 
-.PHONY: setup test run report bench clean
+.PHONY: setup test run report sensitivity bench clean
 
 setup: $(STAMP)
 
@@ -24,6 +24,13 @@ test: $(STAMP)
 run: $(STAMP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default
 	$(MAKE) report
+
+# The method's sensitivity variants (config/sensitivity.yaml) on top of a run, then the report.
+sensitivity: $(STAMP)
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default \
+		--configfile config/config.yaml config/sensitivity.yaml
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default \
+		--configfile config/config.yaml config/sensitivity.yaml --report results/report.html
 
 # The HTML report of a completed run: tables, the error-against-run-time plot, image grids.
 report: $(STAMP)
