@@ -58,11 +58,14 @@ class ViewMeasurements:
         return self.object_names.index(name)
 
 
-def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: list[Camera] | None = None) -> ViewMeasurements:
+def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: list[Camera] | None = None,
+                  objects: list[str] | None = None) -> ViewMeasurements:  # fmt: skip
     """Render and measure every training view of ``scene`` (which needs Gaussians and a semantic
-    sidecar), or the given ``cameras`` (candidate poses of a view search), all of one image size."""
+    sidecar), or the given ``cameras`` (candidate poses of a view search), all of one image size;
+    every labelled object, or only those named in ``objects`` (each costs one render per view;
+    the others still occlude)."""
     gaussians = scene.gaussians
-    objects = scene.semantics
+    objects = [o for o in scene.semantics if objects is None or o.name in objects]
     members = torch.stack([gaussians.labels == o.id for o in objects], 1)
     near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
     named = scene.cameras if cameras is None else cameras

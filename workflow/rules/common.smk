@@ -87,6 +87,9 @@ def stage_file(stage, pattern):
 # Where each method's per-instruction result folder lives.
 METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VARIANTS}
 METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"
+# The paper's baselines (IVS, SVS, a SplaTraj-style optimiser), scored with the embedded tier.
+BASELINES = ("ivs", "svs", "splatraj")
+METHOD_RESULTS |= {b: f"results/baselines/{b}/{{scene}}/{{instruction}}" for b in BASELINES}
 
 # Methods shown side by side in the report's image grid.
-REPORT_METHODS = ["capframe", "oracle"]
+REPORT_METHODS = ["capframe", *BASELINES, "oracle"]

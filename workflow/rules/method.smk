@@ -49,6 +49,7 @@ rule label_views:
 
 wildcard_constraints:
     variant="|".join(VARIANTS),
+    baseline="|".join(BASELINES),
 
 
 rule retrieve:
@@ -111,3 +112,22 @@ rule refine_method:
     shell:
         "capframe refine {input.scene} --labels {input.labels} --init {input.retrieval} -o {output} "
         "--iterations {params.iterations} --long-side {params.long_side} {params.weights} > {log} 2>&1"
+
+
+rule baseline:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+    output:
+        directory("results/baselines/{baseline}/{scene}/{instruction}"),
+    params:
+        text=instruction_text,
+        gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
+    log:
+        "results/logs/baselines/{baseline}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/baselines/{baseline}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe baseline {wildcards.baseline} {input.scene} {params.text:q} -o {output} "
+        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"

@@ -1,0 +1,21 @@
+"""The paper's baselines (§6 and supplement): the same Parse / Retrieve / Translate as CapFrame,
+another pose search.
+
+* **IVS** (interpolation-based viewpoint search): the top ``L = min(13, N)`` retrieved training
+  views plus three interpolated poses per pair of them, best candidate by the scorer;
+* **SVS** (sampling-based viewpoint search): as many poses sampled on a sphere around the
+  subjects, looking at their centre, best candidate by the scorer;
+* **SplaTraj-style**: one pose optimised from the top retrieved view for mask centring, mask
+  area and uprightness only.
+
+The scorer of IVS and SVS is the paper's text-image similarity (FG-CLIP) in the model tier; the
+embedded tier scores by Question-Evaluation on label renders (:mod:`capframe.baselines.scoring`).
+"""
+
+from .candidates import interpolate_pose, ivs_candidates, svs_candidates
+from .run import METHODS, BaselineOptions, run_baseline
+from .scoring import QEScorer
+from .splatraj import SplaTrajConfig, splatraj_pose
+
+__all__ = ["METHODS", "BaselineOptions", "QEScorer", "SplaTrajConfig", "interpolate_pose", "ivs_candidates", "run_baseline",
+           "splatraj_pose", "svs_candidates"]
