@@ -88,7 +88,7 @@ class GroundOptions:
     refine: RefineConfig = dataclasses.field(default_factory=RefineConfig)
 
 
-class _Progress:
+class StageClock:
     """One line per stage on stderr with its wall time."""
 
     def __init__(self, enabled: bool):
@@ -215,7 +215,7 @@ def _check_options(options: GroundOptions) -> None:
                          "each must be at least 1")
 
 
-def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: _Progress) -> ParsedInstruction:
+def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: StageClock) -> ParsedInstruction:
     """``text`` parsed against the scene's vocabulary (before any expensive work, so bad input
     fails fast)."""
     parsed = make_parser(options.parser).parse(text, Vocabulary.from_semantics(scene.semantics or []))
@@ -225,7 +225,7 @@ def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: _Prog
 
 
 def retrieve_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions,
-                   clock: _Progress) -> Retrieved:  # fmt: skip
+                   clock: StageClock) -> Retrieved:  # fmt: skip
     """Rank the training views for ``parsed``."""
     retrieval = retrieve(parsed, perception, perception, options.top_k)
     names = [c.name for c in scene.cameras]
@@ -274,7 +274,7 @@ def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, se
     return dataclasses.replace(labels, subjects=subjects)
 
 
-def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: _Progress,
+def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: StageClock,
                     options: GroundOptions | None = None) -> PseudoLabels:  # fmt: skip
     """Pseudo labels of the retrieved instruction, grounded in the retrieved views (ablated and
     perturbed as ``options`` ask)."""
@@ -288,7 +288,7 @@ def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: _P
 
 
 def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, out_dir: str | Path, options: GroundOptions,
-                 clock: _Progress) -> dict:  # fmt: skip
+                 clock: StageClock) -> dict:  # fmt: skip
     """Refine from the retrieved starts (see :class:`GroundOptions` ``attempts``/``candidates``),
     report on the best pose with the pseudo labels and write the outputs. Returns ``result.json``."""
     scale = scene_scale(scene.cameras, scene.gaussians.means)
@@ -344,7 +344,7 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
     (the three stages in one process). Returns the content of ``result.json``."""
     options = options or GroundOptions()
     _check_options(options)
-    clock = _Progress(progress)
+    clock = StageClock(progress)
     scene, up = load_scene(Path(scene_dir), options)
     parsed = parse_stage(scene, text, options, clock)
     perception = make_perception(scene, up, options)
@@ -361,7 +361,7 @@ def retrieve_command(args) -> None:
     options = GroundOptions(top_k=args.topk, seed=args.seed, parser=args.parser, perception=args.perception, cache_dir=args.cache,
                             gravity=args.gravity)  # fmt: skip
     _check_options(options)
-    clock = _Progress(True)
+    clock = StageClock(True)
     scene, up = load_scene(Path(args.scene), options)
     parsed = parse_stage(scene, args.instruction, options, clock)
     retrieved = retrieve_stage(scene, up, parsed, make_perception(scene, up, options), options, clock)
@@ -375,7 +375,7 @@ def translate_command(args) -> None:
     _check_options(options)
     retrieved = Retrieved.read(args.retrieval)
     scene, up = load_scene(Path(args.scene), options)
-    labels = translate_stage(scene, retrieved, make_perception(scene, up, options), _Progress(True), options)
+    labels = translate_stage(scene, retrieved, make_perception(scene, up, options), StageClock(True), options)
     write_pseudo_labels(labels, args.output)
 
 
@@ -385,7 +385,7 @@ def refine_retrieved(scene_dir: str | Path, labels_path: str | Path, retrieval_p
     _check_options(options)
     from .translate.labels import read_pseudo_labels
 
-    clock = _Progress(True)
+    clock = StageClock(True)
     scene = load_scene_dir(scene_dir)
     if scene.gaussians is None or not scene.cameras:
         raise InputError("needs scene.ply and training cameras to refine from retrieved views", source=str(scene_dir))

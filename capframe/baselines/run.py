@@ -24,7 +24,7 @@ import numpy as np
 
 from ..backends import check_perception
 from ..errors import InputError
-from ..ground import GroundOptions, _Progress, load_scene, make_perception, parse_stage, translate
+from ..ground import GroundOptions, StageClock, load_scene, make_perception, parse_stage, translate
 from ..refine.run import scene_scale
 from ..render import render
 from ..render.image import save_png
@@ -68,7 +68,7 @@ def search_ranking(retrieval: Retrieval) -> list[int]:
     return ranked + [int(v) for v in np.argsort(-retrieval.coarse, kind="stable") if int(v) not in ranked]
 
 
-def _select(candidates: list[Camera], scorer: Scorer, clock: _Progress) -> tuple[Camera, float, list[dict]]:
+def _select(candidates: list[Camera], scorer: Scorer, clock: StageClock) -> tuple[Camera, float, list[dict]]:
     """The best candidate, its score and the :data:`TOP_CANDIDATES` best with their scores."""
     best, scores = best_candidate(candidates, scorer)
     clock.done("score", f"best {candidates[best].name}: {scores[best]:.1f}")
@@ -78,7 +78,7 @@ def _select(candidates: list[Camera], scorer: Scorer, clock: _Progress) -> tuple
 
 
 def _ivs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-         clock: _Progress) -> tuple[Camera, float, dict]:  # fmt: skip
+         clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
     views = search_ranking(retrieval)[: min(options.max_views, len(scene.cameras))]
     candidates = ivs_candidates([scene.cameras[v] for v in views])
     clock.done("candidates", f"{len(candidates)} poses between the top {len(views)} views")
@@ -87,7 +87,7 @@ def _ivs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Sc
 
 
 def _svs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-         clock: _Progress) -> tuple[Camera, float, dict]:  # fmt: skip
+         clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
     L = min(options.max_views, len(scene.cameras))
     means = scene.gaussians.means.detach().double().numpy()[np.concatenate([s.gaussians for s in labels.subjects])]
     centre = means.mean(0)
@@ -100,7 +100,7 @@ def _svs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Sc
 
 
 def _splatraj(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-              clock: _Progress) -> tuple[Camera, float, dict]:  # fmt: skip
+              clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
     start = scene.cameras[retrieval.top[0]]
     result = splatraj_pose(scene.gaussians, start, labels, scene_scale(scene.cameras, scene.gaussians.means), options.splatraj)
     camera = start.with_pose(result.T_cw)
@@ -127,7 +127,7 @@ def run_baseline(method: str, scene_dir: str | Path, text: str, out_dir: str | P
     check_perception(options.stages.perception)
     if options.max_views < 1:
         raise InputError(f"max_views {options.max_views}: must be at least 1")
-    clock = _Progress(progress)
+    clock = StageClock(progress)
     scene, up = load_scene(Path(scene_dir), options.stages)
     parsed = parse_stage(scene, text, options.stages, clock)
     perception = make_perception(scene, up, options.stages)

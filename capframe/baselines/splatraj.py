@@ -30,7 +30,7 @@ import torch
 from torch import Tensor
 
 from ..refine.losses import aim_loss, soft_centroid, target_ray, upright_loss
-from ..refine.optimize import RefineConfig, RefineResult, _Descent
+from ..refine.optimize import RefineConfig, RefineResult, PoseDescent
 from ..render import prepare, render, scene_extent
 from ..scene import Camera, GaussianScene
 from ..translate.labels import PseudoLabels
@@ -111,7 +111,7 @@ def splatraj_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, sc
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
-        run = _Descent(_Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype), scale, descent)
+        run = PoseDescent(_Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype), scale, descent)
         T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=False)
     finally:
         torch.set_num_threads(threads)

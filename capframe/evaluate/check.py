@@ -41,7 +41,7 @@ from ..constraints import (
     CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints,
 )  # fmt: skip
 from ..errors import InputError
-from ..geometry import camera_roll, view_angles
+from ..geometry import any_horizontal, camera_roll, view_angles
 from ..render import NEAR_FRACTION, resolve_backend, scene_extent
 from ..render.masks import SubjectMask, subject_masks
 from ..scene import Camera, GaussianScene, load_scene_dir, read_camera_json
@@ -293,7 +293,7 @@ class ConstraintChecker:
         if np.linalg.norm(centre - obj.center) <= 1e-9 * max(obj.radius, 1e-300):
             return None
         f64 = dict(dtype=torch.float64)
-        front = obj.front if obj.front is not None else _any_horizontal(up)
+        front = obj.front if obj.front is not None else any_horizontal(up)
         az, el = view_angles(torch.tensor(centre, **f64), torch.tensor(obj.center, **f64),
                              torch.tensor(front, **f64), torch.tensor(up, **f64))  # fmt: skip
         return math.degrees(float(az)), math.degrees(float(el))
@@ -326,12 +326,6 @@ class GroundTruthChecker(ConstraintChecker):
         return self.ground_truth.resolve(name)
 
 
-def _any_horizontal(up: np.ndarray) -> np.ndarray:
-    """A unit vector perpendicular to ``up`` (deterministic), a front for symmetric subjects."""
-    axis = np.zeros(3)
-    axis[np.abs(up).argmin()] = 1.0
-    v = axis - (axis @ up) * up
-    return v / np.linalg.norm(v)
 
 
 def check_camera(scene_dir: str | Path, camera: Camera, constraints: Constraints, **options) -> CheckReport:

@@ -7,8 +7,18 @@ so pixel ``(i, j)`` covers ``[i, i+1) x [j, j+1)`` in continuous image coordinat
 
 from __future__ import annotations
 
+import numpy as np
 import torch
 from torch import Tensor
+
+
+def any_horizontal(up: np.ndarray) -> np.ndarray:
+    """A deterministic unit vector perpendicular to ``up``: (3,) -> (3,). It stands in for the
+    front of a symmetric subject, whose elevation is defined but whose azimuth is not."""
+    axis = np.zeros(3)
+    axis[np.abs(up).argmin()] = 1.0
+    v = axis - (axis @ up) * up
+    return v / np.linalg.norm(v)
 
 
 def camera_center(T_cw: Tensor) -> Tensor:

@@ -279,7 +279,7 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
             dtype: torch.dtype) -> RefineResult:
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
-    run = _Descent(objective, scale, config)
+    run = PoseDescent(objective, scale, config)
     T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
@@ -296,7 +296,7 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
                         history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)
 
 
-class _Descent:
+class PoseDescent:
     """Adam steps on the pose, recording the trajectory, losses and loss terms across phases."""
 
     def __init__(self, objective: _Objective, scale: float, config: RefineConfig):

@@ -22,7 +22,7 @@ from ..constraints import (
     CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES,
     VIEW_TOLERANCE_DEG,
 )  # fmt: skip
-from ..geometry import camera_roll, view_angles
+from ..geometry import any_horizontal, camera_roll, view_angles
 from ..translate.instruction import ParsedInstruction
 from .views import ViewMeasurements
 
@@ -158,7 +158,7 @@ class GeometricQE:
 
     def _angles(self, v: int, name: str) -> tuple[float, float]:
         g = self.geometry[name]
-        front = g.front if g.front is not None else _horizontal(self.up)
+        front = g.front if g.front is not None else any_horizontal(self.up)
         f64 = dict(dtype=torch.float64)
         az, el = view_angles(torch.tensor(self.views.cameras[v].center, **f64), torch.tensor(g.centroid, **f64),
                              torch.tensor(front, **f64), torch.tensor(self.up, **f64))  # fmt: skip
@@ -180,13 +180,6 @@ class GeometricQE:
         return _falloff(excess, ROLL_SCALE_DEG)
 
 
-def _horizontal(up: np.ndarray) -> np.ndarray:
-    """A unit vector perpendicular to ``up``: the front of a symmetric subject (only the
-    elevation is read from its angles)."""
-    axis = np.zeros(3)
-    axis[np.abs(up).argmin()] = 1.0
-    v = axis - (axis @ up) * up
-    return v / np.linalg.norm(v)
 
 
 def coarse_scores(views: ViewMeasurements, subjects: list[str]) -> np.ndarray:

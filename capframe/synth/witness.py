@@ -43,6 +43,7 @@ import numpy as np
 
 from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints
 from ..evaluate.ground_truth import Box, Room
+from ..geometry import any_horizontal
 from ..scene import Camera
 
 MAX_OCCLUDED = 0.2  # largest share of a subject's disc a nearer object's disc may cover
@@ -81,11 +82,6 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-def any_horizontal(up: np.ndarray) -> np.ndarray:
-    """A deterministic unit vector perpendicular to ``up`` (the front of a symmetric subject)."""
-    axis = np.zeros(3)
-    axis[np.abs(up).argmin()] = 1.0
-    return _unit(axis - (axis @ up) * up)
 
 
 def look_at_np(eye: np.ndarray, target: np.ndarray, up: np.ndarray, roll: float = 0.0) -> np.ndarray:
