@@ -57,6 +57,8 @@ rule retrieve:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
+        # The text param reads the instructions checkpoint's output, so it must be an input.
+        constraints="results/instructions/{scene}/constraints.json",
     output:
         "results/retrieve/{variant}/{scene}/{instruction}.json",
     params:
@@ -119,6 +121,7 @@ rule baseline:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
+        constraints="results/instructions/{scene}/constraints.json",
     output:
         directory("results/baselines/{baseline}/{scene}/{instruction}"),
     params:

@@ -6,6 +6,7 @@ rule grid:
     input:
         results=lambda wc: [METHOD_RESULTS[m].format(scene=wc.scene, instruction=wc.instruction) for m in REPORT_METHODS],
         checks=lambda wc: [f"results/check/{m}/{wc.scene}/{wc.instruction}.json" for m in REPORT_METHODS],
+        constraints="results/instructions/{scene}/constraints.json",
     output:
         report(
             "results/report/grid/{scene}/{instruction}.png",
