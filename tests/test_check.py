@@ -7,7 +7,6 @@ import shutil
 
 import numpy as np
 import pytest
-import torch
 from _synth_helpers import aim_camera, build_scene, obj, point_camera
 
 from capframe.cli import main

@@ -41,8 +41,6 @@ def test_ground_writes_a_camera_that_satisfies_the_instruction(scene_dir, ground
         assert (out / name).is_file(), name
     camera, _ = read_result_camera(out / "result.json")
     np.testing.assert_allclose(read_camera_json(out / "camera.json").T_cw, camera.T_cw)
-    constraints = load_scene_dir(scene_dir)  # the scene loads; the parsed constraints are in the result
-    assert constraints.cameras
     parsed = result["instruction"]
     assert [(s["name"], s["region"], s["shot"], s["view"]) for s in parsed["subjects"]] == [("teddy bear", "right", "medium", "front")]
     assert parsed["elevation"] == "slightly above"

@@ -69,7 +69,7 @@ def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
             ground(ground_dir, text, out, options, progress=False)
             shutil.rmtree(out)
         start = time.perf_counter()
-        result = ground(ground_dir, text, out, options, progress=False)
+        ground(ground_dir, text, out, options, progress=False)
         seconds = time.perf_counter() - start
         camera, _ = read_result_camera(out / "result.json")
         report = checkers[ground_dir].check(camera, constraints)

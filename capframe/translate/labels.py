@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
+from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
 from ..errors import InputError
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
