@@ -34,6 +34,7 @@ from .backends import check_perception, make_parser
 from .errors import InputError
 from .evaluate.check import CheckReport, ConstraintChecker, format_report
 from .evaluate.ground_truth import GTObject
+from .geometry import pose_deviation
 from .refine.optimize import RefineConfig, RefineResult, refine_pose
 from .refine.run import scene_scale, write_refine_outputs
 from .render import render
@@ -166,10 +167,8 @@ def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction,
 
 
 def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
-    cos = (np.trace(a[:3, :3] @ b[:3, :3].T) - 1.0) / 2.0
-    angle = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-    centres = [-(T[:3, :3].T @ T[:3, 3]) for T in (a, b)]
-    return angle < DISTINCT_ROTATION_DEG and np.linalg.norm(centres[0] - centres[1]) < DISTINCT_TRANSLATION * scale
+    angle, distance = pose_deviation(a, b, scale)
+    return angle < DISTINCT_ROTATION_DEG and distance < DISTINCT_TRANSLATION
 
 
 @dataclass

@@ -157,3 +157,16 @@ def test_padded_camera_centre_crop_is_the_original_image():
     assert (canvas.width, canvas.height) == (60, 42)
     full, crop = render(scene, canvas, backend="torch").rgb, render(scene, camera, backend="torch").rgb
     assert np.allclose(full[6:36, 10:50].numpy(), crop.numpy(), atol=1e-6)
+
+
+def test_pose_deviation_on_a_hand_checked_pair():
+    import numpy as np
+
+    from capframe.geometry import pose_deviation
+
+    a = np.eye(4)
+    b = np.eye(4)
+    b[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]  # 90 deg about z; centre stays at the origin
+    b[:3, 3] = b[:3, :3] @ -np.array([2.0, 0.0, 0.0])  # centre at (2, 0, 0)
+    dR, dt = pose_deviation(a, b, scale=4.0)
+    assert abs(dR - 90.0) < 1e-9 and abs(dt - 0.5) < 1e-12

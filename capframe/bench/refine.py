@@ -17,13 +17,12 @@ import math
 from pathlib import Path
 
 import numpy as np
-import torch
 
 from ..constraints import Constraints
 from ..evaluate.check import GroundTruthChecker
 from ..evaluate.ground_truth import read_ground_truth
 from ..evaluate.oracle import initial_view, oracle_labels
-from ..geometry import camera_center, rotation_angle_deg
+from ..geometry import pose_deviation
 from ..refine import RefineConfig, refine_pose
 from ..refine.run import scene_scale
 from ..scene import load_scene_dir
@@ -51,13 +50,6 @@ def suite_cases(suite: str | Path, root: Path) -> list[tuple[Path, str, Constrai
         for key, item in read_json(sheet / "constraints.json").items():
             cases.append((scene_dir, key, Constraints.from_dict(item["constraints"])))
     return cases
-
-
-def _pose_deviation(T_a: np.ndarray, T_b: np.ndarray, scale: float) -> tuple[float, float]:
-    """Rotation (degrees) and camera-centre distance (in units of the scene scale) between poses."""
-    dR = float(rotation_angle_deg(torch.as_tensor(T_a[:3, :3]), torch.as_tensor(T_b[:3, :3])))
-    dt = float((camera_center(torch.as_tensor(T_a)) - camera_center(torch.as_tensor(T_b))).norm()) / scale
-    return dR, dt
 
 
 def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite", sweep: bool = True,
@@ -94,11 +86,11 @@ def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
                          "all_satisfied": report.all_satisfied, "T_cw": result.T_cw, "scale": scale})
         if full_res_pose is not None:
             for row in rows[-len(settings):]:
-                row["dR_deg"], row["dt_rel"] = _pose_deviation(row["T_cw"], full_res_pose, row["scale"])
-    return _summarise(rows, root, sweep)
+                row["dR_deg"], row["dt_rel"] = pose_deviation(row["T_cw"], full_res_pose, row["scale"])
+    return _summarise(rows, out, sweep)
 
 
-def _summarise(rows: list[dict], root: Path, sweep: bool) -> dict:
+def _summarise(rows: list[dict], out: Path, sweep: bool) -> dict:
     by_setting: dict[str, list[dict]] = {}
     for row in rows:
         by_setting.setdefault(row["setting"], []).append(row)

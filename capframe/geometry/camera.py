@@ -118,3 +118,13 @@ def view_direction(azimuth: Tensor, elevation: Tensor, front: Tensor, up: Tensor
     f, u, r = subject_frame(front, up)
     horizontal = torch.cos(azimuth) * f + torch.sin(azimuth) * r
     return torch.cos(elevation) * horizontal + torch.sin(elevation) * u
+
+
+def pose_deviation(T_a, T_b, scale: float = 1.0) -> tuple[float, float]:
+    """Rotation angle (degrees) and camera-centre distance (in units of ``scale``) between two
+    poses: (4, 4) arrays or tensors -> two floats."""
+    from .lie import rotation_angle_deg
+
+    T_a, T_b = (torch.as_tensor(np.asarray(T), dtype=torch.float64) for T in (T_a, T_b))
+    dR = float(rotation_angle_deg(T_a[:3, :3], T_b[:3, :3]))
+    return dR, float((camera_center(T_a) - camera_center(T_b)).norm()) / scale
