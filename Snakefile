@@ -24,4 +24,9 @@ rule all:
         # Listed so that every scene's instructions are scheduled at once (an input function can
         # only report one incomplete checkpoint at a time).
         expand("results/instructions/{scene}/constraints.json", scene=SCENES),
+        # Every method's per-instruction result and check are targets, so that deleting one of
+        # them reruns it and what is built from it (Snakemake does not regenerate a deleted
+        # intermediate file while the files built from it exist).
+        [per_instruction(pattern) for pattern in METHOD_RESULTS.values()],
+        [per_instruction(f"results/check/{method}/{{scene}}/{{instruction}}.json") for method in METHOD_RESULTS],
         "results/tables/runtime.csv",

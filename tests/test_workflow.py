@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import os
+import re
+import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -111,6 +114,52 @@ def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
     assert weighted == {"refine_method": 4, "check": 4, "aggregate": 1}
     top3 = _jobs(planned_outputs(tmp_path, "results/tables/capframe-top3.csv"))
     assert top3 == {"retrieve": 4, "translate": 4, "refine_method": 4, "check": 4, "aggregate": 1}
+
+
+def _planned_jobs(plan: str) -> list[tuple[list[str], list[str]]]:
+    """(inputs, outputs) of every job a dry run printed."""
+    jobs = []
+    for block in re.split(r"^(?:local)?(?:rule|checkpoint) \w+:$", plan, flags=re.M)[1:]:
+        fields = {m.group(1): [p.strip() for p in m.group(2).split(",")] for m in re.finditer(r"^\s+(input|output): (.*)$", block, re.M)}
+        jobs.append((fields.get("input", []), fields.get("output", [])))
+    return jobs
+
+
+def _fake_completed_run(work: Path) -> None:
+    """Create every output the workflow plans, each newer than its inputs, as a completed run
+    leaves them. Paths without a suffix are directory outputs, dated by Snakemake's
+    ``.snakemake_timestamp`` marker."""
+    _fake_generated_suite(work)
+    pending = _planned_jobs(planned_outputs(work))
+    stamp = time.time() - 10_000.0
+    for stage in ("scenes", "instructions"):  # the scenes, then their sheets
+        stamp += 10.0
+        for path in (work / "results" / stage).rglob("*"):
+            os.utime(path, (stamp, stamp))
+    while pending:
+        ready = [job for job in pending if not any(p in out for p in job[0] for _, out in pending)]
+        assert ready, "the planned jobs form a cycle"
+        stamp += 10.0
+        for _, outputs in ready:
+            for name in outputs:
+                path = work / name
+                marker = path if path.suffix else path / ".snakemake_timestamp"
+                marker.parent.mkdir(parents=True, exist_ok=True)
+                marker.write_text("{}")
+                os.utime(marker, (stamp, stamp))
+        pending = [job for job in pending if job not in ready]
+
+
+def test_deleting_one_result_reruns_only_what_is_built_from_it(tmp_path):
+    """After a completed run nothing is to be done; deleting one instruction's refine output
+    reruns that refine, its check and image grid, and the tables that gather them."""
+    _fake_completed_run(tmp_path)
+    assert "Nothing to be done" in planned_outputs(tmp_path)
+    shutil.rmtree(tmp_path / "results/refine/capframe/room-forward/room-forward-000")
+    plan = planned_outputs(tmp_path)
+    assert _jobs(plan) == {"refine_method": 1, "check": 1, "grid": 1, "aggregate": 1, "compare": 1, "runtime": 1, "all": 1}
+    assert "results/check/capframe/room-forward/room-forward-000.json" in plan
+    assert "results/report/grid/room-forward/room-forward-000.png" in plan
 
 
 def test_slurm_profile_plans_the_same_jobs(tmp_path):
