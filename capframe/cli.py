@@ -102,16 +102,12 @@ def _cmd_runtime(args: argparse.Namespace) -> None:
     runtime_command(args.benchmarks, args.output)
 
 
-def _cmd_retrieve(args: argparse.Namespace) -> None:
-    from .ground import retrieve_command
+def _cmd_ground_stage(args: argparse.Namespace) -> None:
+    """One of the method's per-instruction stages (retrieve = coarse + qe, translate = segment +
+    associate + orient + labels): ``capframe.ground.<verb>_command``."""
+    from . import ground
 
-    retrieve_command(args)
-
-
-def _cmd_translate(args: argparse.Namespace) -> None:
-    from .ground import translate_command
-
-    translate_command(args)
+    getattr(ground, f"{args.verb}_command")(args)
 
 
 def _cmd_grid(args: argparse.Namespace) -> None:
@@ -190,6 +186,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scale", type=float, default=1.0, help="multiply all lengths")
     p.add_argument("--tilt", type=float, default=0.0, help="rotate the world so that up is not an axis (degrees)")
     p.add_argument("--no-poses", action="store_true", help="write images only (the COLMAP stage must recover poses)")
+    p.add_argument("--no-images", action="store_true",
+                   help="skip the training images (cameras only; the embedded tier needs them only for COLMAP and gravity)")
     p.add_argument("--resolution", default="320x240", help="training image size WxH")
     p.add_argument("--density", type=float, default=1.0, help="multiply the number of Gaussians")
     p.set_defaults(func=_cmd_synth)
@@ -276,7 +274,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--topk", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
     _perception_options(p)
-    p.set_defaults(func=_cmd_retrieve)
+    p.set_defaults(func=_cmd_ground_stage)
+
+    p = verbs.add_parser("coarse", help="Retrieve, step 1: parse an instruction and score every training view: coarse.json")
+    p.add_argument("scene")
+    p.add_argument("instruction")
+    p.add_argument("-o", "--output", required=True, help="coarse.json to write")
+    _perception_options(p)
+    p.set_defaults(func=_cmd_ground_stage)
+
+    p = verbs.add_parser("qe", help="Retrieve, step 2: QE scoring of the views coarse kept: retrieval.json")
+    p.add_argument("scene")
+    p.add_argument("--coarse", required=True, help="coarse.json written by capframe coarse")
+    p.add_argument("-o", "--output", required=True, help="retrieval.json to write")
+    p.add_argument("--topk", type=int, default=2)
+    p.add_argument("--seed", type=int, default=0)
+    _perception_options(p)
+    p.set_defaults(func=_cmd_ground_stage)
+
+    for verb, help_text, output in (
+        ("segment", "Translate, step 1: the subjects' 2D masks in the retrieved views", "masks.npz"),
+        ("associate", "Translate, step 2: each subject's Gaussians", "subjects.json"),
+        ("orient", "Translate, step 3: the front of each asymmetric subject with a view cue", "fronts.json"),
+    ):
+        p = verbs.add_parser(verb, help=f"{help_text}: {output}")
+        p.add_argument("scene")
+        p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
+        p.add_argument("-o", "--output", required=True, help=f"{output} to write")
+        if verb == "associate":
+            p.add_argument("--masks", default=None, help="masks.npz of capframe segment (default: segment here if the perception masks)")
+        _perception_options(p)
+        p.set_defaults(func=_cmd_ground_stage)
 
     p = verbs.add_parser("translate", help="pseudo labels from a retrieval.json (Translate): labels.json")
     p.add_argument("scene")
@@ -287,7 +315,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--box-noise", type=float, default=0.0, help="shift layout boxes by this frame fraction (sensitivity)")
     p.add_argument("--front-noise", type=float, default=0.0, help="turn subject fronts by this many degrees (sensitivity)")
     p.add_argument("--noise-seed", type=int, default=0)
-    p.set_defaults(func=_cmd_translate)
+    p.add_argument("--subjects", default=None, help="subjects.json of capframe associate (default: associate here)")
+    p.add_argument("--fronts", default=None, help="fronts.json of capframe orient (default: orient here)")
+    p.set_defaults(func=_cmd_ground_stage)
 
     p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
     p.add_argument("--text", required=True, help="the instruction")

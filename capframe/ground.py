@@ -35,13 +35,16 @@ from .errors import InputError
 from .evaluate.check import CheckReport, ConstraintChecker, format_report
 from .evaluate.ground_truth import GTObject
 from .geometry import pose_deviation
+from .handoff import (Coarse, Retrieved, read_fronts, read_groundings, read_masks, write_fronts, write_groundings,
+                      write_masks)
 from .refine.optimize import RefineConfig, RefineResult, refine_pose
 from .refine.run import scene_scale, write_refine_outputs
 from .render import render
 from .render.image import save_png
-from .retrieve.qe import retrieve
+from .retrieve.qe import coarse_keep, rank_kept
 from .scene import Camera, SceneDir, colmap_image_line, load_scene_dir, write_camera_json, write_camera_path_json
-from .scene._io import atomic_directory
+from .scene._io import atomic_directory, write_json
+from .translate.grounding import Grounding, SubjectMasks
 from .translate.instruction import ParsedInstruction
 from .translate.labels import PseudoLabels, labels_from_constraints, write_pseudo_labels
 from .translate.vocabulary import Vocabulary
@@ -139,15 +142,40 @@ def make_perception(scene: SceneDir, up: np.ndarray, options: GroundOptions):
     return LabelPerception(scene, views, up, masks=options.perception == "label-masks")
 
 
-def translate(parsed: ParsedInstruction, perception, view_indices: list[int], up: np.ndarray) -> PseudoLabels:
-    """Pseudo labels of ``parsed``: each subject grounded in the retrieved views, its front from
-    the orientation backend (asked only for asymmetric subjects with a view cue)."""
-    subjects = {}
-    for s in parsed.subjects:
-        grounding = perception.ground(s, view_indices)
-        front = perception.front(s, view_indices) if s.view and not s.symmetric else None
-        subjects[s.name] = (grounding.gaussians, grounding.centroid, front)
+def segment(parsed: ParsedInstruction, perception, view_indices: list[int]) -> dict[str, SubjectMasks]:
+    """Segmentation: each subject's 2D masks in the retrieved views; empty for a perception that
+    associates without masks."""
+    masks = {s.name: perception.segment(s, view_indices) for s in parsed.subjects}
+    return {name: m for name, m in masks.items() if m is not None}
+
+
+def associate(parsed: ParsedInstruction, perception, masks: dict[str, SubjectMasks]) -> dict[str, Grounding]:
+    """Association: each subject's Gaussians and centroid (from its masks when it has some)."""
+    return {s.name: perception.associate(s, masks.get(s.name)) for s in parsed.subjects}
+
+
+def orient(parsed: ParsedInstruction, perception, view_indices: list[int]) -> dict[str, np.ndarray | None]:
+    """Orientation: the front of each subject that needs one (:attr:`ParsedSubject.needs_front`)."""
+    return {s.name: perception.front(s, view_indices) for s in parsed.subjects if s.needs_front}
+
+
+def pseudo_labels(parsed: ParsedInstruction, groundings: dict[str, Grounding], fronts: dict[str, np.ndarray | None],
+                  up: np.ndarray) -> PseudoLabels:  # fmt: skip
+    """The pseudo labels of ``parsed`` from its subjects' groundings and fronts (a front is used
+    only where :attr:`ParsedSubject.needs_front` asks for one)."""
+    missing = [s.name for s in parsed.subjects if s.name not in groundings or (s.needs_front and s.name not in fronts)]
+    if missing:
+        raise InputError(f"subjects {missing} lack a grounding or a front; run capframe associate / capframe orient for this instruction")
+    subjects = {s.name: (groundings[s.name].gaussians, groundings[s.name].centroid, fronts.get(s.name) if s.needs_front else None)
+                for s in parsed.subjects}  # fmt: skip
     return labels_from_constraints(parsed.constraints(), subjects, up)
+
+
+def translate(parsed: ParsedInstruction, perception, view_indices: list[int], up: np.ndarray) -> PseudoLabels:
+    """Pseudo labels of ``parsed``: each subject segmented in the retrieved views and associated
+    with its Gaussians, its front from the orientation backend (asked only where needed)."""
+    groundings = associate(parsed, perception, segment(parsed, perception, view_indices))
+    return pseudo_labels(parsed, groundings, orient(parsed, perception, view_indices), up)
 
 
 def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, camera: Camera) -> CheckReport:
@@ -171,40 +199,6 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     return angle < DISTINCT_ROTATION_DEG and distance < DISTINCT_TRANSLATION
 
 
-@dataclass
-class Retrieved:
-    """What Retrieve hands to Translate and Refine (``retrieval.json``).
-
-    Attributes:
-        parsed: the parsed instruction.
-        retrieval: questions, per-view answers and scores (:meth:`Retrieval.to_dict`).
-        top: names of the retrieved views (the top K), best first.
-        starts: names of the views Refine tries, in order: a seeded pick among the top K, then
-            the other kept views by QE score.
-        up: (3,) the world up used.
-    """
-
-    parsed: ParsedInstruction
-    retrieval: dict
-    top: list[str]
-    starts: list[str]
-    up: np.ndarray
-
-    def to_dict(self) -> dict:
-        return {"format": 1, "instruction": self.parsed.to_dict(), "retrieval": self.retrieval, "top": self.top,
-                "starts": self.starts, "up": self.up.tolist()}
-
-    @classmethod
-    def read(cls, path: str | Path) -> "Retrieved":
-        from .scene._io import read_json
-
-        data = read_json(path)
-        if not isinstance(data, dict) or data.get("format") != 1 or "starts" not in data:
-            raise InputError("is not a retrieval file (format 1, written by capframe retrieve)", source=str(path))
-        return cls(ParsedInstruction.from_dict(data["instruction"], source=str(path)), data["retrieval"], data["top"],
-                   data["starts"], np.asarray(data["up"], dtype=np.float64))
-
-
 def _check_options(options: GroundOptions) -> None:
     check_perception(options.perception)
     if options.drop not in (None, "layout", "orientation"):
@@ -223,15 +217,32 @@ def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: Stage
     return parsed
 
 
-def retrieve_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions,
-                   clock: StageClock) -> Retrieved:  # fmt: skip
-    """Rank the training views for ``parsed``."""
-    retrieval = retrieve(parsed, perception, perception, options.top_k)
+def coarse_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, clock: StageClock) -> Coarse:
+    """Coarse retrieval: every training view scored, the top M kept for QE."""
     names = [c.name for c in scene.cameras]
+    scores = np.asarray(perception.coarse(parsed), dtype=np.float64)
+    kept = coarse_keep(scores)
+    clock.done("coarse", f"{len(kept)} of {len(names)} views kept")
+    return Coarse(parsed, dict(zip(names, scores.tolist())), [names[v] for v in kept], up)
+
+
+def qe_stage(scene: SceneDir, coarse: Coarse, perception, options: GroundOptions, clock: StageClock) -> Retrieved:
+    """QE scoring of the kept views; the top K are retrieved, and Refine's starts drawn (seeded)."""
+    names = [c.name for c in scene.cameras]
+    if sorted(coarse.coarse) != sorted(names):
+        raise InputError("the coarse scores are not of this scene's training views; rerun capframe coarse", source=str(scene.root))
+    scores = np.array([coarse.coarse[n] for n in names])
+    retrieval = rank_kept(coarse.parsed, perception, scores, _view_indices(scene, coarse.kept), options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
     clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
-    return Retrieved(parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], up)
+    return Retrieved(coarse.parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], coarse.up)
+
+
+def retrieve_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions,
+                   clock: StageClock) -> Retrieved:  # fmt: skip
+    """Retrieve: rank the training views for ``parsed`` (coarse, then QE)."""
+    return qe_stage(scene, coarse_stage(scene, up, parsed, perception, clock), perception, options, clock)
 
 
 def _view_indices(scene: SceneDir, names: list[str]) -> list[int]:
@@ -273,17 +284,26 @@ def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, se
     return dataclasses.replace(labels, subjects=subjects)
 
 
-def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: StageClock,
-                    options: GroundOptions | None = None) -> PseudoLabels:  # fmt: skip
-    """Pseudo labels of the retrieved instruction, grounded in the retrieved views (ablated and
-    perturbed as ``options`` ask)."""
-    options = options or GroundOptions()
-    parsed = ablated(retrieved.parsed, options.drop)
-    labels = translate(parsed, perception, _view_indices(scene, retrieved.top), retrieved.up)
+def labels_stage(retrieved: Retrieved, groundings: dict[str, Grounding], fronts: dict[str, np.ndarray | None],
+                 options: GroundOptions, clock: StageClock) -> PseudoLabels:  # fmt: skip
+    """The pseudo labels from the subjects' groundings and fronts (ablated and perturbed as
+    ``options`` ask)."""
+    labels = pseudo_labels(ablated(retrieved.parsed, options.drop), groundings, fronts, retrieved.up)
     if options.box_noise or options.front_noise_deg:
         labels = perturbed(labels, options.box_noise, options.front_noise_deg, options.noise_seed)
     clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))
     return labels
+
+
+def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: StageClock,
+                    options: GroundOptions | None = None) -> PseudoLabels:  # fmt: skip
+    """Translate: segmentation, association and orientation in the retrieved views, then the
+    pseudo labels."""
+    options = options or GroundOptions()
+    parsed = ablated(retrieved.parsed, options.drop)
+    views = _view_indices(scene, retrieved.top)
+    groundings = associate(parsed, perception, segment(parsed, perception, views))
+    return labels_stage(retrieved, groundings, orient(parsed, perception, views), options, clock)
 
 
 def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, out_dir: str | Path, options: GroundOptions,
@@ -353,28 +373,91 @@ def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: Groun
     return refine_stage(scene, labels, retrieved, out_dir, options, clock)
 
 
-def retrieve_command(args) -> None:
-    """``capframe retrieve``: parse and rank the training views, write ``retrieval.json``."""
-    from .scene._io import write_json
+def _stage_inputs(args, options: GroundOptions) -> tuple[SceneDir, np.ndarray, object]:
+    _check_options(options)
+    scene, up = load_scene(Path(args.scene), options)
+    return scene, up, make_perception(scene, up, options)
 
+
+def retrieve_command(args) -> None:
+    """``capframe retrieve``: parse and rank the training views (coarse + QE), write ``retrieval.json``."""
     options = GroundOptions(top_k=args.topk, seed=args.seed, parser=args.parser, perception=args.perception, cache_dir=args.cache,
                             gravity=args.gravity)  # fmt: skip
-    _check_options(options)
     clock = StageClock(True)
-    scene, up = load_scene(Path(args.scene), options)
+    scene, up, perception = _stage_inputs(args, options)
     parsed = parse_stage(scene, args.instruction, options, clock)
-    retrieved = retrieve_stage(scene, up, parsed, make_perception(scene, up, options), options, clock)
-    write_json(args.output, retrieved.to_dict())
+    write_json(args.output, retrieve_stage(scene, up, parsed, perception, options, clock).to_dict())
+
+
+def coarse_command(args) -> None:
+    """``capframe coarse``: parse the instruction and score every training view, ``coarse.json``."""
+    options = GroundOptions(parser=args.parser, perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    clock = StageClock(True)
+    scene, up, perception = _stage_inputs(args, options)
+    coarse_stage(scene, up, parse_stage(scene, args.instruction, options, clock), perception, clock).write(args.output)
+
+
+def qe_command(args) -> None:
+    """``capframe qe``: QE scoring of the coarse stage's views, ``retrieval.json``."""
+    options = GroundOptions(top_k=args.topk, seed=args.seed, perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    coarse = Coarse.read(args.coarse)
+    scene, _, perception = _stage_inputs(args, options)
+    write_json(args.output, qe_stage(scene, coarse, perception, options, StageClock(True)).to_dict())
+
+
+def segment_command(args) -> None:
+    """``capframe segment``: the subjects' 2D masks in the retrieved views, ``masks.npz``."""
+    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    clock = StageClock(True)
+    retrieved = Retrieved.read(args.retrieval)
+    scene, _, perception = _stage_inputs(args, options)
+    masks = segment(retrieved.parsed, perception, _view_indices(scene, retrieved.top))
+    if not masks:
+        raise InputError(f"--perception {options.perception} associates without masks; segmentation has nothing to do")
+    write_masks(masks, [c.name for c in scene.cameras], args.output)
+    clock.done("segment", ", ".join(f"{name}: {len(m.views)} views" for name, m in masks.items()))
+
+
+def associate_command(args) -> None:
+    """``capframe associate``: each subject's Gaussians (from ``--masks`` when given), ``subjects.json``."""
+    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    clock = StageClock(True)
+    retrieved = Retrieved.read(args.retrieval)
+    scene, _, perception = _stage_inputs(args, options)
+    masks = read_masks(args.masks, [c.name for c in scene.cameras]) if args.masks else segment(
+        retrieved.parsed, perception, _view_indices(scene, retrieved.top))  # fmt: skip
+    groundings = associate(retrieved.parsed, perception, masks)
+    write_groundings(groundings, args.output)
+    clock.done("associate", ", ".join(f"{name}: {len(g.gaussians)} Gaussians" for name, g in groundings.items()))
+
+
+def orient_command(args) -> None:
+    """``capframe orient``: the fronts of the subjects that need one, ``fronts.json``."""
+    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    clock = StageClock(True)
+    retrieved = Retrieved.read(args.retrieval)
+    scene, _, perception = _stage_inputs(args, options)
+    fronts = orient(retrieved.parsed, perception, _view_indices(scene, retrieved.top))
+    write_fronts(fronts, args.output)
+    clock.done("orient", ", ".join(fronts) or "no subject needs a front")
 
 
 def translate_command(args) -> None:
-    """``capframe translate``: pseudo labels from ``retrieval.json``, written as ``labels.json``."""
+    """``capframe translate``: pseudo labels from ``retrieval.json``, written as ``labels.json``;
+    from the association and orientation stages' files when given, else computed here."""
     options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity, drop=args.drop,
                             box_noise=args.box_noise, front_noise_deg=args.front_noise, noise_seed=args.noise_seed)  # fmt: skip
-    _check_options(options)
     retrieved = Retrieved.read(args.retrieval)
-    scene, up = load_scene(Path(args.scene), options)
-    labels = translate_stage(scene, retrieved, make_perception(scene, up, options), StageClock(True), options)
+    clock = StageClock(True)
+    if args.subjects:
+        _check_options(options)
+        scene = load_scene_dir(args.scene)
+        groundings = read_groundings(args.subjects, len(scene.gaussians) if scene.gaussians is not None else 0)
+        fronts = read_fronts(args.fronts) if args.fronts else {}
+        labels = labels_stage(retrieved, groundings, fronts, options, clock)
+    else:
+        scene, _, perception = _stage_inputs(args, options)
+        labels = translate_stage(scene, retrieved, perception, clock, options)
     write_pseudo_labels(labels, args.output)
 
 

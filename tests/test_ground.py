@@ -161,3 +161,45 @@ def test_stage_verbs_reproduce_ground(scene_dir, tmp_path):
     grounded = json.loads((tmp_path / "g" / "result.json").read_text())
     np.testing.assert_allclose(staged["T_cw"], grounded["T_cw"], atol=1e-9)
     assert staged["retrieval"] == grounded["retrieval"] and staged["report"]["rows"] == grounded["report"]["rows"]
+
+
+@pytest.mark.parametrize("perception", ["labels", "label-masks"])
+def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, perception):
+    """coarse -> qe -> [segment] -> associate -> orient -> translate, one process each (the
+    workflow's rules), write the same retrieval.json and labels.json as retrieve and translate."""
+    text = "the teddy bear on the right, seen from its front"
+    common = ["--cache", str(tmp_path / "cache"), "--perception", perception]
+    scene, out = str(scene_dir), lambda name: str(tmp_path / name)
+    assert main(["retrieve", scene, text, "-o", out("r.json"), *common]) == 0
+    assert main(["translate", scene, "--retrieval", out("r.json"), "-o", out("l.json"), *common]) == 0
+    assert main(["coarse", scene, text, "-o", out("c.json"), *common]) == 0
+    assert main(["qe", scene, "--coarse", out("c.json"), "-o", out("q.json"), *common]) == 0
+    assert json.loads((tmp_path / "q.json").read_text()) == json.loads((tmp_path / "r.json").read_text())
+    masks = []
+    if perception == "label-masks":
+        assert main(["segment", scene, "--retrieval", out("q.json"), "-o", out("m.npz"), *common]) == 0
+        masks = ["--masks", out("m.npz")]
+    assert main(["associate", scene, "--retrieval", out("q.json"), "-o", out("a.json"), *masks, *common]) == 0
+    assert main(["orient", scene, "--retrieval", out("q.json"), "-o", out("f.json"), *common]) == 0
+    assert list(json.loads((tmp_path / "f.json").read_text())["fronts"]) == ["teddy bear"]
+    assert main(["translate", scene, "--retrieval", out("q.json"), "--subjects", out("a.json"), "--fronts", out("f.json"),
+                 "-o", out("staged.json")]) == 0  # fmt: skip
+    assert json.loads((tmp_path / "staged.json").read_text()) == json.loads((tmp_path / "l.json").read_text())
+
+
+def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsys):
+    text = "the teddy bear seen from its left"
+    cache = ["--cache", str(tmp_path / "cache")]
+    assert main(["retrieve", str(scene_dir), text, "-o", str(tmp_path / "r.json"), *cache]) == 0
+    assert main(["associate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "a.json"), *cache]) == 0
+    # the instruction needs the bear's front: translate without the orientation stage's file fails clearly
+    code = main(["translate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "--subjects", str(tmp_path / "a.json"),
+                 "-o", str(tmp_path / "l.json")])  # fmt: skip
+    assert code == 2 and "capframe orient" in capsys.readouterr().err and not (tmp_path / "l.json").exists()
+    # labels associate by id: there is nothing to segment
+    assert main(["segment", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "m.npz"), *cache]) == 2
+    assert "without masks" in capsys.readouterr().err
+    # a retrieval file where a coarse file is expected names the file
+    assert main(["qe", str(scene_dir), "--coarse", str(tmp_path / "r.json"), "-o", str(tmp_path / "q.json"), *cache]) == 2
+    err = capsys.readouterr().err
+    assert "r.json" in err and "coarse-retrieval file" in err

@@ -75,6 +75,21 @@ def test_unposed_scene_has_images_but_no_cameras(tmp_path):
     assert len(json.loads((root / "ground_truth.json").read_text())["cameras"]) == 3
 
 
+def test_scene_without_images_is_the_same_scene_minus_its_photos(tmp_path):
+    full = _files(generate_scene(tmp_path / "a", seed=3, **SMALL))
+    root = generate_scene(tmp_path / "b", seed=3, images=False, **SMALL)
+    bare = _files(root)
+    assert not (root / "images").exists() and not any(name.startswith("images/") for name in bare)
+    for name in ("scene.ply", "labels.npy", "semantics.json", "ground_truth.json", "scene.json"):
+        assert bare[name] == full[name], name
+    with_images, without = load_scene_dir(tmp_path / "a").cameras, load_scene_dir(root).cameras
+    assert all(c.image_path is None for c in without)
+    for a, b in zip(with_images, without):
+        assert a.name == b.name and np.array_equal(a.T_cw, b.T_cw) and np.array_equal(a.K, b.K)
+    with pytest.raises(InputError, match="without poses needs its images"):
+        generate_scene(tmp_path / "c", seed=3, images=False, poses=False, **SMALL)
+
+
 def _box_contains(box: dict, points: np.ndarray, shrink: float = 0.0) -> np.ndarray:
     local = (points - np.asarray(box["center"])) @ np.asarray(box["axes"]).T
     return (np.abs(local) <= np.asarray(box["half_extents"]) - shrink).all(1)

@@ -218,11 +218,12 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
     bench(b, "gravity/s2.tsv", 2.0)
     for scene, ids in (("s1", ("a", "b", "c")), ("s2", ("d", "e"))):
         for k, i in enumerate(ids):
-            bench(b, f"retrieve/capframe/{scene}/{i}.tsv", 1.0)
+            bench(b, f"coarse/capframe/{scene}/{i}.tsv", 0.25)
+            bench(b, f"qe/capframe/{scene}/{i}.tsv", 0.75)
             bench(b, f"translate/capframe/{scene}/{i}.tsv", 2.0)
             bench(b, f"refine/capframe/{scene}/{i}.tsv", 3.0 + k)
             bench(b, f"check/capframe/{scene}/{i}.tsv", 0.5)
-            # the noise variant overrides translate: it reuses the default retrieve
+            # the noise variant overrides translate: it reuses the default coarse and qe
             bench(b, f"translate/capframe-noise/{scene}/{i}.tsv", 2.5)
             bench(b, f"refine/capframe-noise/{scene}/{i}.tsv", 4.0)
             bench(b, f"refine/oracle/{scene}/{i}.tsv", 1.5)
@@ -239,19 +240,20 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
     s1_total = 10 + 1 + 3 + 3 * (1 + 2 + 0.5 + 2.5 + 4 + 1.5) + (3 + 4 + 5)
     assert scenes.loc["s1", "total"] == pytest.approx(s1_total)
     assert list(per_scene.columns[:7]) == ["scene", "n_instructions", "synth", "instructions", "colmap", "gravity", "views"]
-    assert list(per_scene.columns[7:11]) == ["retrieve/capframe", "translate/capframe", "refine/capframe", "translate/capframe-noise"]
+    assert list(per_scene.columns[7:12]) == ["coarse/capframe", "qe/capframe", "translate/capframe", "refine/capframe",
+                                             "translate/capframe-noise"]  # fmt: skip
     assert per_scene.columns[-1] == "total"
 
     methods = per_method.set_index("method")
     assert per_method["method"].tolist()[0] == "capframe"
-    # capframe on s1: 1 + 2 + refine (3, 4, 5) + views 3/3; on s2: 1 + 2 + refine (3, 4) + (8 + 2 + 4)/2
+    # capframe on s1: (0.25 + 0.75) + 2 + refine (3, 4, 5) + views 3/3; on s2: 1 + 2 + refine (3, 4) + (8 + 2 + 4)/2
     capframe = sorted([1 + 2 + r + 1.0 for r in (3, 4, 5)] + [1 + 2 + r + 7.0 for r in (3, 4)])
     assert methods.loc["capframe", "instructions"] == 5
     assert methods.loc["capframe", "median_s"] == pytest.approx(np.median(capframe))
     assert methods.loc["capframe", "mean_s"] == pytest.approx(np.mean(capframe))
-    noise = [1 + 2.5 + 4 + 1.0] * 3 + [1 + 2.5 + 4 + 7.0] * 2  # default retrieve reused
+    noise = [1 + 2.5 + 4 + 1.0] * 3 + [1 + 2.5 + 4 + 7.0] * 2  # default coarse and qe reused
     assert methods.loc["capframe-noise", "median_s"] == pytest.approx(np.median(noise))
-    assert methods.loc["capframe-noise", "retrieve_median_s"] == 1.0
+    assert methods.loc["capframe-noise", "coarse_median_s"] == 0.25 and methods.loc["capframe-noise", "qe_median_s"] == 0.75
     assert methods.loc["oracle", "median_s"] == 1.5  # no shared stages, check not counted
     assert math.isnan(methods.loc["oracle", "shared_median_s"])
     assert pd.read_csv(tmp_path / "tables" / "runtime_methods.csv")["method"].tolist() == per_method["method"].tolist()

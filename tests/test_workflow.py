@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shutil
@@ -11,6 +12,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+SCENES = ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough")  # the default suite
 
 
 def dry_run(tmp_path, *extra: str) -> str:
@@ -25,7 +27,7 @@ def dry_run(tmp_path, *extra: str) -> str:
 def test_dry_run_schedules_every_scene_of_the_suite(tmp_path):
     # A fresh results folder: every scene is to be generated and instructed.
     out = dry_run(tmp_path, "--config", "suite=config/suites/default.yaml", "--forceall")
-    for scene in ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough"):
+    for scene in SCENES:
         assert f"results/scenes/{scene}" in out and f"results/instructions/{scene}/constraints.json" in out
 
 
@@ -39,21 +41,21 @@ def test_bad_config_is_rejected_by_the_schema(tmp_path):
 
 
 def _fake_generated_suite(work: Path) -> None:
-    """A working directory where the default suite's scenes and instruction sheets exist (empty
-    scene folders, one instruction per scene), so a dry run sees past the instructions checkpoint."""
-    import json
-    import shutil
-    import time
-
+    """A working directory where the default suite's scenes and instruction sheets exist (scene
+    folders with only a semantic sidecar, one instruction per scene), so a dry run sees past the
+    instructions checkpoint."""
     shutil.copytree(ROOT / "config", work / "config")
-    scenes = ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough")
-    for scene in scenes:
+    semantics = {"objects": [{"id": 0, "name": "teddy bear", "aliases": ["plush toy"]}, {"id": 1, "name": "ball", "symmetric": True}]}
+    for scene in SCENES:
         (work / "results" / "scenes" / scene).mkdir(parents=True)
+        (work / "results" / "scenes" / scene / "semantics.json").write_text(json.dumps(semantics))
     time.sleep(0.05)  # the sheets are newer than the scenes
-    for scene in scenes:
+    for scene in SCENES:
+        # tabletop-orbit's instruction asks for a view side of an asymmetric subject: orientation runs
+        text = "the teddy bear, seen from its left" if scene == "tabletop-orbit" else "a photo of the ball"
         sheet = work / "results" / "instructions" / scene
         sheet.mkdir(parents=True)
-        (sheet / "constraints.json").write_text(json.dumps({f"{scene}-000": {"text": "a photo of the ball", "constraints": {}}}))
+        (sheet / "constraints.json").write_text(json.dumps({f"{scene}-000": {"text": text, "constraints": {}}}))
         (sheet / "instructions.tsv").write_text("id\n")
 
 
@@ -76,7 +78,7 @@ def test_scenes_get_only_the_stages_they_need(tmp_path):
     for scene in ("tabletop-orbit", "room-forward"):
         assert f"results/colmap/{scene}" not in out and f"results/gravity/{scene}.json" not in out
     assert "results/colmap/outdoor-orbit" not in out
-    for scene in ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough"):
+    for scene in SCENES:
         assert f"results/refine/capframe/{scene}/{scene}-000" in out
     assert "results/tables/methods.csv" in out
 
@@ -89,31 +91,64 @@ def _jobs(plan: str) -> dict[str, int]:
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)$", table, re.M) if m.group(1) not in ("total",)}
 
 
-def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
-    """After the default method has run, a variant that changes one refine weight schedules only
-    its own refine, check and aggregate jobs; one that changes retrieval also retrieves and
-    translates again, but never re-renders the per-scene views."""
-    import time
+def _fake_method_run(work: Path) -> None:
+    """What a completed default run of the method leaves before Refine, newer than the sheets
+    (orientation only for tabletop-orbit)."""
+    time.sleep(0.05)
+    for scene in SCENES:
+        stem = f"{scene}/{scene}-000.json"
+        files = {f"results/colmap/{scene}/scene.json": "{}", f"results/gravity/{scene}.json": "{}", f"results/views/{scene}/label_views.npz": "",
+                 f"results/coarse/capframe/{stem}": "{}", f"results/retrieve/capframe/{stem}": "{}",
+                 f"results/associate/capframe/{stem}": "{}", f"results/orient/capframe/{stem}": "{}",
+                 f"results/translate/capframe/{stem}": "{}"}  # fmt: skip
+        if scene != "tabletop-orbit":
+            del files[f"results/orient/capframe/{stem}"]
+        for path, text in files.items():
+            (work / path).parent.mkdir(parents=True, exist_ok=True)
+            (work / path).write_text(text)
+            time.sleep(0.01)
 
+
+def _with_variants(work: Path, variants: dict) -> None:
     import yaml
 
+    config = yaml.safe_load((work / "config" / "config.yaml").read_text())
+    config["variants"] = variants
+    (work / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+
+
+def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
+    """After the default method has run, a variant that changes one refine weight schedules only
+    its own refine, check and aggregate jobs; one that changes top-K questions the coarse
+    stage's views again (QE) and redoes what follows, but reuses the coarse scores and never
+    re-renders the per-scene views."""
     _fake_generated_suite(tmp_path)
-    scenes = ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough")
-    time.sleep(0.05)
-    for scene in scenes:  # what a completed default run leaves, newer than the sheets
-        for path in (f"results/colmap/{scene}/scene.json", f"results/gravity/{scene}.json", f"results/views/{scene}/label_views.npz",
-                     f"results/retrieve/capframe/{scene}/{scene}-000.json", f"results/translate/capframe/{scene}/{scene}-000.json"):
-            (tmp_path / path).parent.mkdir(parents=True, exist_ok=True)
-            (tmp_path / path).write_text("{}")
-            time.sleep(0.01)
-    config = yaml.safe_load((tmp_path / "config" / "config.yaml").read_text())
-    config["variants"] = {"weighted": {"refine": {"weights": "view=0.5"}}, "top3": {"retrieve": {"topk": 3}}}
-    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+    _fake_method_run(tmp_path)
+    _with_variants(tmp_path, {"weighted": {"refine": {"weights": "view=0.5"}}, "top3": {"retrieve": {"topk": 3}}})
 
     weighted = _jobs(planned_outputs(tmp_path, "results/tables/capframe-weighted.csv"))
     assert weighted == {"refine_method": 4, "check": 4, "aggregate": 1}
     top3 = _jobs(planned_outputs(tmp_path, "results/tables/capframe-top3.csv"))
-    assert top3 == {"retrieve": 4, "translate": 4, "refine_method": 4, "check": 4, "aggregate": 1}
+    assert top3 == {"qe": 4, "associate": 4, "orient": 1, "translate": 4, "refine_method": 4, "check": 4, "aggregate": 1}
+
+
+def test_instructions_get_only_the_translate_stages_they_need(tmp_path):
+    """Orientation runs only for the instruction with an asymmetric subject and a view cue, and
+    not at all for a variant that drops orientation; segmentation only for a perception that
+    segments (label ids need no masks)."""
+    _fake_generated_suite(tmp_path)
+    _fake_method_run(tmp_path)
+    for stage in ("orient", "translate"):
+        shutil.rmtree(tmp_path / "results" / stage)
+    _with_variants(tmp_path, {"masks": {"translate": {"perception": "label-masks"}}, "no-orientation": {"translate": {"drop": "orientation"}}})
+
+    default = planned_outputs(tmp_path, "results/tables/capframe.csv")
+    assert _jobs(default)["orient"] == 1 and "results/orient/capframe/tabletop-orbit/tabletop-orbit-000.json" in default
+    assert "segment" not in _jobs(default)
+    masks = _jobs(planned_outputs(tmp_path, "results/tables/capframe-masks.csv"))
+    assert masks["segment"] == masks["associate"] == 4 and masks["orient"] == 1 and "coarse" not in masks and "qe" not in masks
+    dropped = _jobs(planned_outputs(tmp_path, "results/tables/capframe-no-orientation.csv"))
+    assert "orient" not in dropped and dropped["translate"] == 4 and "associate" not in dropped
 
 
 def _planned_jobs(plan: str) -> list[tuple[list[str], list[str]]]:

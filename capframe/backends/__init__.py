@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..retrieve.qe import Question
-from ..translate.grounding import Grounding
+from ..translate.grounding import Grounding, SubjectMasks
 from ..translate.instruction import ParsedInstruction, ParsedSubject
 from ..translate.vocabulary import Vocabulary
 
@@ -47,9 +47,15 @@ class QuestionEvaluator(Protocol):
 
 
 class SubjectGrounder(Protocol):
-    """A subject -> its Gaussians and centroid, using the retrieved views."""
+    """A subject -> its Gaussians and centroid, in two steps: 2D masks in the retrieved views
+    (segmentation), lifted to the Gaussians (association)."""
 
-    def ground(self, subject: ParsedSubject, view_indices: list[int]) -> Grounding: ...
+    def segment(self, subject: ParsedSubject, view_indices: list[int]) -> SubjectMasks | None:
+        """The subject's masks in those views, or None for a grounder that associates without
+        masks (the embedded tier's label ids)."""
+        ...
+
+    def associate(self, subject: ParsedSubject, masks: SubjectMasks | None) -> Grounding: ...
 
 
 class OrientationEstimator(Protocol):

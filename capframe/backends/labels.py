@@ -18,7 +18,7 @@ import numpy as np
 from ..retrieve.qe import GeometricQE, Question, SubjectGeometry, coarse_scores
 from ..retrieve.views import ViewMeasurements
 from ..scene import SceneDir
-from ..translate.grounding import Grounding, ground_by_labels, ground_by_masks
+from ..translate.grounding import Grounding, SubjectMasks, ground_by_labels, ground_by_masks
 from ..translate.instruction import ParsedInstruction, ParsedSubject
 
 
@@ -53,11 +53,19 @@ class LabelPerception:
     def front(self, subject: ParsedSubject, view_indices: list[int]) -> np.ndarray | None:
         return self._by_label[subject.name].front
 
-    def ground(self, subject: ParsedSubject, view_indices: list[int]) -> Grounding:
+    def segment(self, subject: ParsedSubject, view_indices: list[int]) -> SubjectMasks | None:
+        """With ``masks``: the subject's label maps in the views that show it (all the views when
+        none does); else None."""
         if not self.masks:
-            return self._by_label[subject.name]
+            return None
         o = self.views.object_index(subject.name)
         views = [v for v in view_indices if self.views.pixels[v, o] > 0] or list(view_indices)
-        return ground_by_masks(subject.name, [self.views.label_map[v] == o for v in views], [self.views.depth[v] for v in views],
-                               [self.views.cameras[v] for v in views], self.scene.gaussians.means.detach(),
-                               self.front(subject, view_indices))  # fmt: skip
+        return SubjectMasks(views, np.stack([self.views.label_map[v] == o for v in views]))
+
+    def associate(self, subject: ParsedSubject, masks: SubjectMasks | None) -> Grounding:
+        """The subject's Gaussians by label id, or by back-projecting ``masks`` with the views'
+        rendered depth (the model tier's route)."""
+        if masks is None:
+            return self._by_label[subject.name]
+        return ground_by_masks(subject.name, list(masks.masks), [self.views.depth[v] for v in masks.views],
+                               [self.views.cameras[v] for v in masks.views], self.scene.gaussians.means.detach())  # fmt: skip

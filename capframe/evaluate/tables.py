@@ -368,7 +368,7 @@ SCENE_STAGES = ("synth", "instructions", "colmap", "gravity", "views")
 SHARED_STAGES = ("colmap", "gravity", "views")
 # Per-instruction stages of the method, in order; a variant reuses the default method's output of
 # each stage before the first one it overrides (workflow/rules/common.smk, stage_key).
-METHOD_STAGES = ("retrieve", "translate", "refine")
+METHOD_STAGES = ("coarse", "qe", "segment", "associate", "orient", "translate", "refine")
 # Per-instruction stages that evaluate a method rather than run it: not in its cost.
 EVALUATION_STAGES = ("check",)
 # Methods that do not read the shared per-scene stages (oracle: ground-truth labels, the
@@ -467,7 +467,7 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
     The rule: an instruction of method ``M`` costs
       * the seconds of M's own per-instruction jobs (``<stage>/M/<scene>/<id>.tsv``, every stage
         but ``check``, which evaluates rather than runs it); a variant ``capframe-<name>`` that
-        has no job of its own for a method stage (``retrieve``, ``translate``) reuses the
+        has no job of its own for a method stage (``coarse`` ... ``translate``) reuses the
         default method's output for it (common.smk ``stage_key``), so the default method's job
         for that instruction is counted instead;
       * plus, for every method but the oracle, the shared per-scene jobs (``colmap``,

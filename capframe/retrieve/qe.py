@@ -226,18 +226,22 @@ class Retrieval:
         }  # fmt: skip
 
 
-def retrieve(parsed: ParsedInstruction, scorer, evaluator, top_k: int = 2) -> Retrieval:
-    """Rank the training views for ``parsed``: coarse scores, keep the top M (|views| / 8, at least
-    :data:`MIN_COARSE_KEEP`), answer the QE questions on those, keep the top ``top_k`` (cut to one
-    when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`).
+def coarse_keep(coarse: np.ndarray) -> list[int]:
+    """Indices of the top M views by coarse score, best first: M = |views| / 8, at least
+    :data:`MIN_COARSE_KEEP` (all views when there are fewer)."""
+    m = min(len(coarse), max(MIN_COARSE_KEEP, math.ceil(len(coarse) / 8)))
+    return [int(v) for v in np.argsort(-coarse, kind="stable")[:m]]
+
+
+def rank_kept(parsed: ParsedInstruction, evaluator, coarse: np.ndarray, kept: list[int], top_k: int = 2) -> Retrieval:
+    """Answer the QE questions on the ``kept`` views and keep the top ``top_k`` by mean answer
+    (cut to one when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`).
 
     Args:
-        scorer: a :class:`~capframe.backends.CoarseScorer`.
         evaluator: a :class:`~capframe.backends.QuestionEvaluator`.
+        coarse: (V,) coarse score of every training view.
+        kept: the views to question (:func:`coarse_keep`).
     """
-    coarse = scorer.coarse(parsed)
-    m = min(len(coarse), max(MIN_COARSE_KEEP, math.ceil(len(coarse) / 8)))
-    kept = [int(v) for v in np.argsort(-coarse, kind="stable")[:m]]
     questions = evaluator.questions(parsed)
     answers = evaluator.answer(questions, kept)
     scores = answers.mean(1)
@@ -248,3 +252,10 @@ def retrieve(parsed: ParsedInstruction, scorer, evaluator, top_k: int = 2) -> Re
             break
         top.append(kept[i])
     return Retrieval(coarse, kept, questions, answers, scores, top)
+
+
+def retrieve(parsed: ParsedInstruction, scorer, evaluator, top_k: int = 2) -> Retrieval:
+    """Rank the training views for ``parsed``: coarse scores (``scorer``, a
+    :class:`~capframe.backends.CoarseScorer`), then QE on the views they keep (:func:`rank_kept`)."""
+    coarse = scorer.coarse(parsed)
+    return rank_kept(parsed, evaluator, coarse, coarse_keep(coarse), top_k)

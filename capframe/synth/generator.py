@@ -856,15 +856,19 @@ def _write_colmap_with_points(cameras: list[Camera], scene: GaussianScene, spars
     reconstruction.write_binary(str(sparse_dir))
 
 
-def write_scene(scene: SynthScene, out_dir: str | Path, images: list[np.ndarray]) -> Path:
-    """Write ``scene`` and its rendered ``images`` as a scene directory, atomically."""
+def write_scene(scene: SynthScene, out_dir: str | Path, images: list[np.ndarray] | None) -> Path:
+    """Write ``scene`` and its rendered ``images`` (None: no images/ folder, cameras without
+    image paths) as a scene directory, atomically."""
     out_dir = Path(out_dir)
+    if images is None and not scene.poses:
+        raise InputError("a scene without poses needs its images (COLMAP recovers the poses from them)")
     with atomic_directory(out_dir) as tmp:
         write_ply(scene.gaussians, tmp / "scene.ply")
-        for cam, image in zip(scene.cameras, images):
+        for cam, image in zip(scene.cameras, images or []):
             atomic_write(tmp / "images" / f"{cam.name}.png", png_bytes(image))
         if scene.poses:
-            cams = [dataclasses.replace(c, image_path=str(tmp / "images" / f"{c.name}.png")) for c in scene.cameras]
+            cams = [dataclasses.replace(c, image_path=None if images is None else str(tmp / "images" / f"{c.name}.png"))
+                    for c in scene.cameras]  # fmt: skip
             write_cameras_json(cams, tmp / "cameras.json")
             _write_colmap_with_points(cams, scene.gaussians, tmp / "sparse" / "0", scene.ground_truth["generator"]["seed"])
         write_scene_meta(scene.meta, tmp / "scene.json")
@@ -876,7 +880,7 @@ def write_scene(scene: SynthScene, out_dir: str | Path, images: list[np.ndarray]
 def generate_scene(out_dir: str | Path, *, seed: int, objects: list[str] | None = None, preset: str = "tabletop",
                    capture: str | None = None, views: int = 24, scale: float = 1.0, tilt_deg: float = 0.0,
                    poses: bool = True, resolution: tuple[int, int] = (320, 240), density: float = 1.0,
-                   backend: str = "auto") -> Path:
+                   images: bool = True, backend: str = "auto") -> Path:
     """Generate a synthetic scene directory at ``out_dir`` (which must not hold files) and return it.
 
     Args:
@@ -891,10 +895,15 @@ def generate_scene(out_dir: str | Path, *, seed: int, objects: list[str] | None 
         poses: write ``cameras.json`` and ``sparse/0``; without, only images (poses for COLMAP to find).
         resolution: training image size (width, height).
         density: multiplies the number of Gaussians.
+        images: render the training images. Without, the scene has cameras but no photos: enough
+            for every stage of the embedded tier except COLMAP and gravity's vanishing points,
+            and most of the generation time saved (needs ``poses``).
     """
+    if not images and not poses:
+        raise InputError("a scene without poses needs its images (COLMAP recovers the poses from them)")
     scene = build_scene(seed=seed, objects=objects, preset=preset, capture=capture, views=views, scale=scale,
                         tilt_deg=tilt_deg, poses=poses, resolution=resolution, density=density)  # fmt: skip
-    return write_scene(scene, out_dir, render_views(scene, backend=backend))
+    return write_scene(scene, out_dir, render_views(scene, backend=backend) if images else None)
 
 
 def parse_resolution(text: str) -> tuple[int, int]:
@@ -918,7 +927,7 @@ def synth_command(args: argparse.Namespace) -> None:
     path = generate_scene(
         args.out_dir, seed=args.seed, objects=names, preset=args.preset, capture=args.capture, views=args.views,
         scale=args.scale, tilt_deg=args.tilt, poses=not args.no_poses, resolution=parse_resolution(args.resolution),
-        density=args.density,
+        density=args.density, images=not args.no_images,
     )  # fmt: skip
     gt = json.loads((Path(path) / "ground_truth.json").read_text())
     objects = ", ".join(f"{o['color']} {o['name']}" for o in gt["objects"])

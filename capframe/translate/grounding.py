@@ -46,6 +46,19 @@ class Grounding:
     front: np.ndarray | None
 
 
+@dataclass
+class SubjectMasks:
+    """A subject's 2D masks (a segmenter's output) in some views.
+
+    Attributes:
+        views: indices of the views (training cameras).
+        masks: (len(views), H, W) boolean masks at the perception's measurement resolution.
+    """
+
+    views: list[int]
+    masks: np.ndarray
+
+
 def ground_by_labels(name: str, labels: torch.Tensor, means: torch.Tensor, objects: list[SemanticObject]) -> Grounding:
     """The subject's Gaussians from the per-Gaussian label ids; front from the sidecar."""
     obj = next((o for o in objects if o.name == name), None)

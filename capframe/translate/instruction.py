@@ -42,6 +42,11 @@ class ParsedSubject:
         # Validation is shared with the constraint vocabulary, so an MLLM's invalid key is named.
         SubjectConstraint(self.name, self.role, self.region, self.shot, self.view)
 
+    @property
+    def needs_front(self) -> bool:
+        """Whether orientation is estimated for it: asymmetric, with a view cue."""
+        return self.view is not None and not self.symmetric
+
 
 @dataclass
 class ParsedInstruction:

@@ -14,7 +14,15 @@ SCENES = {scene.id: scene for scene in SUITE_SCENES}
 
 
 def synth_args(wildcards):
-    return " ".join(shlex.quote(arg) for arg in SCENES[wildcards.scene].synth_args())
+    scene = wildcards.scene
+    images = [] if needs_images(scene) else ["--no-images"]
+    return " ".join(shlex.quote(arg) for arg in SCENES[scene].synth_args() + images)
+
+
+def needs_images(scene):
+    """Only COLMAP (no poses) and gravity (not aligned) read the training images in the embedded
+    tier; the other stages render label maps. Other scenes are generated without photos."""
+    return not aligned(scene)
 
 
 def instruction_ids(scene):
@@ -49,6 +57,11 @@ def gravity_input(wildcards):
     return [] if aligned(wildcards.scene) else f"results/gravity/{wildcards.scene}.json"
 
 
+def gravity_option(wildcards, input):
+    """The ``--gravity`` option of a rule with a ``gravity`` input (empty when the scene is aligned)."""
+    return f"--gravity {input.gravity}" if input.gravity else ""
+
+
 def instruction_text(wildcards):
     """The instruction's text, or its first paraphrase for a variant that asks for it (a param,
     so editing one text reruns only that instruction)."""
@@ -63,16 +76,27 @@ def instruction_text(wildcards):
 
 # The method and its variants (ablations, sensitivity): name -> per-stage overrides.
 VARIANTS = {"capframe": {}} | {f"capframe-{name}": v for name, v in config.get("variants", {}).items()}
-METHOD_STAGES = ("retrieve", "translate", "refine")
+# The method's per-instruction stages in pipeline order, each with the variant settings
+# (config section, key) it reads.
+METHOD_STAGES = {
+    "coarse": [("retrieve", "paraphrase")],
+    "qe": [("retrieve", "topk")],
+    "segment": [("translate", "perception")],
+    "associate": [("translate", "perception")],
+    "orient": [],
+    "translate": [("translate", key) for key in ("drop", "box_noise", "front_noise", "noise_seed")],
+    "refine": [("refine", key) for key in ("weights", "iterations", "long_side")],
+}
 
 
 def stage_key(variant, stage):
-    """Whose outputs ``variant`` uses for ``stage``: its own when it overrides this stage or an
-    earlier one, else the default method's. Output paths carry only what changes them, so a
-    variant of the refine weights reuses retrieval and translation."""
+    """Whose outputs ``variant`` uses for ``stage``: its own when it overrides a setting of this
+    stage or of an earlier one, else the default method's. A variant of the refine weights thus
+    reuses retrieval and translation, one of top-K reuses the coarse scores."""
     overridden = VARIANTS[variant]
-    upto = METHOD_STAGES[: METHOD_STAGES.index(stage) + 1]
-    return variant if any(s in overridden for s in upto) else "capframe"
+    upto = list(METHOD_STAGES)[: list(METHOD_STAGES).index(stage) + 1]
+    reads = {setting for s in upto for setting in METHOD_STAGES[s]}
+    return variant if any((section, key) in reads for section, keys in overridden.items() for key in keys) else "capframe"
 
 
 def stage_setting(variant, stage, key, default):
@@ -82,6 +106,51 @@ def stage_setting(variant, stage, key, default):
 def stage_file(stage, pattern):
     """Input function: ``pattern`` (with {key}, {scene}, {instruction}) for the stage's key."""
     return lambda wc: pattern.format(key=stage_key(wc.variant, stage), scene=wc.scene, instruction=wc.instruction)
+
+
+PERCEPTION_MASKS = ("label-masks",)  # perceptions that segment before associating
+
+
+def perception(variant):
+    return stage_setting(variant, "translate", "perception", "labels")
+
+
+def masks_input(wildcards):
+    """The segmentation stage's masks, for a perception that has one (labels associate by id)."""
+    if perception(wildcards.variant) not in PERCEPTION_MASKS:
+        return []
+    return stage_file("segment", "results/segment/{key}/{scene}/{instruction}.npz")(wildcards)
+
+
+def parsed_instruction(wildcards):
+    """The instruction as the rule parser reads it (exactly what the coarse stage parses), or
+    None when it does not parse: the coarse job then fails with the parser's message. Parsed here,
+    at DAG time, to leave out the orientation stage; a checkpoint per instruction would have to
+    be resolved inside the instructions checkpoint, which Snakemake does not do in one pass."""
+    from types import SimpleNamespace
+
+    from capframe.errors import InputError
+    from capframe.translate.parse import RuleParser
+    from capframe.translate.vocabulary import Vocabulary
+
+    try:
+        with open(f"results/scenes/{wildcards.scene}/semantics.json") as f:
+            objects = [SimpleNamespace(name=o["name"], aliases=o.get("aliases", []), symmetric=o.get("symmetric", False))
+                       for o in json.load(f)["objects"]]
+        return RuleParser().parse(instruction_text(wildcards), Vocabulary.from_semantics(objects))
+    except (OSError, KeyError, InputError):
+        return None
+
+
+def fronts_input(wildcards):
+    """The orientation stage's fronts, only for an instruction with an asymmetric subject and a
+    view cue and a variant that keeps orientation."""
+    if stage_setting(wildcards.variant, "translate", "drop", None) == "orientation":
+        return []
+    parsed = parsed_instruction(wildcards)
+    if parsed is None or not any(s.needs_front for s in parsed.subjects):
+        return []
+    return stage_file("orient", "results/orient/{key}/{scene}/{instruction}.json")(wildcards)
 
 
 # Where each method's per-instruction result folder lives.

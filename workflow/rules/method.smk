@@ -1,8 +1,10 @@
-"""The method per instruction, one rule per stage (retrieve, translate, refine), its variants, and the
-per-scene stages it reads.
+"""The method per instruction, one rule per stage (Retrieve: coarse, qe; Translate: segment,
+associate, orient, translate; Refine), its variants, and the per-scene stages it reads.
 
-Stages a scene does not need are left out of its DAG (DESIGN §7): COLMAP only for a scene without
-poses, gravity only for a scene that is not aligned; see posed_scene() and gravity_input().
+Stages a scene or an instruction does not need are left out of its DAG (DESIGN §7): COLMAP only
+for a scene without poses, gravity only for a scene that is not aligned (posed_scene(),
+gravity_input()); segmentation only for a perception that masks (masks_input()); orientation only
+for an instruction with an asymmetric subject and a view cue (fronts_input()).
 """
 
 
@@ -52,7 +54,7 @@ wildcard_constraints:
     baseline="|".join(BASELINES),
 
 
-rule retrieve:
+rule coarse:
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -60,47 +62,130 @@ rule retrieve:
         # The text param reads the instructions checkpoint's output, so it must be an input.
         constraints="results/instructions/{scene}/constraints.json",
     output:
-        "results/retrieve/{variant}/{scene}/{instruction}.json",
+        "results/coarse/{variant}/{scene}/{instruction}.json",
     params:
         text=instruction_text,
-        topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
-        gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
+        gravity=gravity_option,
     log:
-        "results/logs/retrieve/{variant}/{scene}/{instruction}.log",
+        "results/logs/coarse/{variant}/{scene}/{instruction}.log",
     benchmark:
-        "results/benchmarks/retrieve/{variant}/{scene}/{instruction}.tsv"
+        "results/benchmarks/coarse/{variant}/{scene}/{instruction}.tsv"
     shell:
-        "capframe retrieve {input.scene} {params.text:q} -o {output} --topk {params.topk} "
+        "capframe coarse {input.scene} {params.text:q} -o {output} --cache results/views/{wildcards.scene} "
+        "{params.gravity} > {log} 2>&1"
+
+
+rule qe:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+        coarse=stage_file("coarse", "results/coarse/{key}/{scene}/{instruction}.json"),
+    output:
+        "results/retrieve/{variant}/{scene}/{instruction}.json",
+    params:
+        gravity=gravity_option,
+        topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
+    log:
+        "results/logs/qe/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/qe/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe qe {input.scene} --coarse {input.coarse} -o {output} --topk {params.topk} "
+        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+
+
+rule segment:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+        retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+    output:
+        "results/segment/{variant}/{scene}/{instruction}.npz",
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
+    log:
+        "results/logs/segment/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/segment/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe segment {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
+        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+
+
+rule associate:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+        retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        masks=masks_input,
+    output:
+        "results/associate/{variant}/{scene}/{instruction}.json",
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
+        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
+    log:
+        "results/logs/associate/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/associate/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe associate {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} "
+        "--perception {params.perception} --cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+
+
+rule orient:
+    input:
+        scene=posed_scene,
+        views="results/views/{scene}/label_views.npz",
+        gravity=gravity_input,
+        retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+    output:
+        "results/orient/{variant}/{scene}/{instruction}.json",
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
+    log:
+        "results/logs/orient/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/orient/{variant}/{scene}/{instruction}.tsv"
+    shell:
+        "capframe orient {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule translate:
     input:
         scene=posed_scene,
-        views="results/views/{scene}/label_views.npz",
-        gravity=gravity_input,
-        retrieval=stage_file("retrieve", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        subjects=stage_file("associate", "results/associate/{key}/{scene}/{instruction}.json"),
+        fronts=fronts_input,
     output:
         "results/translate/{variant}/{scene}/{instruction}.json",
     params:
         options=lambda wc: " ".join(
-            f"--{flag.replace('_', '-')} {value}" for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
+            f"--{flag.replace('_', '-')} {value}"
+            for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
+            if flag != "perception"
         ),
-        gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
+        fronts=lambda wc, input: f"--fronts {input.fronts}" if input.fronts else "",
     log:
         "results/logs/translate/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/translate/{variant}/{scene}/{instruction}.tsv"
     shell:
-        "capframe translate {input.scene} --retrieval {input.retrieval} -o {output} {params.options} "
-        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "capframe translate {input.scene} --retrieval {input.retrieval} --subjects {input.subjects} {params.fronts} "
+        "-o {output} {params.options} > {log} 2>&1"
 
 
 rule refine_method:
     input:
         scene=posed_scene,
         labels=stage_file("translate", "results/translate/{key}/{scene}/{instruction}.json"),
-        retrieval=stage_file("retrieve", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
     output:
         directory("results/refine/{variant}/{scene}/{instruction}"),
     params:
@@ -126,7 +211,7 @@ rule baseline:
         directory("results/baselines/{baseline}/{scene}/{instruction}"),
     params:
         text=instruction_text,
-        gravity=lambda wc, input: f"--gravity {input.gravity}" if input.gravity else "",
+        gravity=gravity_option,
     log:
         "results/logs/baselines/{baseline}/{scene}/{instruction}.log",
     benchmark:
