@@ -153,6 +153,10 @@ def fronts_input(wildcards):
     return stage_file("orient", "results/orient/{key}/{scene}/{instruction}.json")(wildcards)
 
 
+# The method's chain of per-instruction jobs is scheduled before the baselines' single long jobs,
+# so its longest refinements start early instead of finishing last on one core.
+METHOD_PRIORITY = 10
+
 # Where each method's per-instruction result folder lives.
 METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VARIANTS}
 METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"

@@ -55,6 +55,7 @@ wildcard_constraints:
 
 
 rule coarse:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -76,6 +77,7 @@ rule coarse:
 
 
 rule qe:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -96,6 +98,7 @@ rule qe:
 
 
 rule segment:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -116,6 +119,7 @@ rule segment:
 
 
 rule associate:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -138,6 +142,7 @@ rule associate:
 
 
 rule orient:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -158,6 +163,7 @@ rule orient:
 
 
 rule translate:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
@@ -182,6 +188,7 @@ rule translate:
 
 
 rule refine_method:
+    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         labels=stage_file("translate", "results/translate/{key}/{scene}/{instruction}.json"),
