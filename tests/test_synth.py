@@ -202,10 +202,14 @@ def test_scale_multiplies_lengths_exactly():
 
 
 def _synth_args(tmp_path, **overrides) -> argparse.Namespace:
-    values = dict(out_dir=str(tmp_path / "s"), seed=0, objects=None, preset="tabletop", capture=None, views=3,
-                  scale=1.0, tilt=0.0, no_poses=False, resolution="64x48", density=0.2)  # fmt: skip
-    values.update(overrides)
-    return argparse.Namespace(**values)
+    """`capframe synth` arguments as the command line parses them, with ``overrides``."""
+    from capframe.cli import build_parser
+
+    args = build_parser().parse_args(["synth", str(tmp_path / "s"), "--seed", "0", "--preset", "tabletop", "--views", "3",
+                                      "--resolution", "64x48", "--density", "0.2"])  # fmt: skip
+    for key, value in overrides.items():
+        setattr(args, key, value)
+    return args
 
 
 def test_unknown_object_names_list_the_catalog(tmp_path):
