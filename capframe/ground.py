@@ -405,27 +405,30 @@ def qe_command(args) -> None:
     write_json(args.output, qe_stage(scene, coarse, perception, options, StageClock(True)).to_dict())
 
 
-def segment_command(args) -> None:
-    """``capframe segment``: the subjects' 2D masks in the retrieved views, ``masks.npz``."""
+def _translate_step(args) -> tuple[StageClock, Retrieved, SceneDir, object, list[int]]:
+    """What each Translate step reads: its clock, the retrieval, the scene, the perception and
+    the retrieved views' indices."""
     options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
     clock = StageClock(True)
     retrieved = Retrieved.read(args.retrieval)
     scene, _, perception = _stage_inputs(args, options)
-    masks = segment(retrieved.parsed, perception, _view_indices(scene, retrieved.top))
+    return clock, retrieved, scene, perception, _view_indices(scene, retrieved.top)
+
+
+def segment_command(args) -> None:
+    """``capframe segment``: the subjects' 2D masks in the retrieved views, ``masks.npz``."""
+    clock, retrieved, scene, perception, views = _translate_step(args)
+    masks = segment(retrieved.parsed, perception, views)
     if not masks:
-        raise InputError(f"--perception {options.perception} associates without masks; segmentation has nothing to do")
+        raise InputError(f"--perception {args.perception} associates without masks; segmentation has nothing to do")
     write_masks(masks, [c.name for c in scene.cameras], args.output)
     clock.done("segment", ", ".join(f"{name}: {len(m.views)} views" for name, m in masks.items()))
 
 
 def associate_command(args) -> None:
     """``capframe associate``: each subject's Gaussians (from ``--masks`` when given), ``subjects.json``."""
-    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
-    clock = StageClock(True)
-    retrieved = Retrieved.read(args.retrieval)
-    scene, _, perception = _stage_inputs(args, options)
-    masks = read_masks(args.masks, [c.name for c in scene.cameras]) if args.masks else segment(
-        retrieved.parsed, perception, _view_indices(scene, retrieved.top))  # fmt: skip
+    clock, retrieved, scene, perception, views = _translate_step(args)
+    masks = read_masks(args.masks, [c.name for c in scene.cameras]) if args.masks else segment(retrieved.parsed, perception, views)
     groundings = associate(retrieved.parsed, perception, masks)
     write_groundings(groundings, args.output)
     clock.done("associate", ", ".join(f"{name}: {len(g.gaussians)} Gaussians" for name, g in groundings.items()))
@@ -433,11 +436,8 @@ def associate_command(args) -> None:
 
 def orient_command(args) -> None:
     """``capframe orient``: the fronts of the subjects that need one, ``fronts.json``."""
-    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
-    clock = StageClock(True)
-    retrieved = Retrieved.read(args.retrieval)
-    scene, _, perception = _stage_inputs(args, options)
-    fronts = orient(retrieved.parsed, perception, _view_indices(scene, retrieved.top))
+    clock, retrieved, _, perception, views = _translate_step(args)
+    fronts = orient(retrieved.parsed, perception, views)
     write_fronts(fronts, args.output)
     clock.done("orient", ", ".join(fronts) or "no subject needs a front")
 
@@ -452,7 +452,9 @@ def translate_command(args) -> None:
     if args.subjects:
         _check_options(options)
         scene = load_scene_dir(args.scene)
-        groundings = read_groundings(args.subjects, len(scene.gaussians) if scene.gaussians is not None else 0)
+        if scene.gaussians is None:
+            raise InputError("has no scene.ply; the subjects' Gaussian indices refer to it", source=str(args.scene))
+        groundings = read_groundings(args.subjects, len(scene.gaussians))
         fronts = read_fronts(args.fronts) if args.fronts else {}
         labels = labels_stage(retrieved, groundings, fronts, options, clock)
     else:

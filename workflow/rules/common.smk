@@ -133,7 +133,7 @@ def parsed_instruction(wildcards):
     from capframe.translate.parse import RuleParser
     from capframe.translate.vocabulary import Vocabulary
 
-    try:
+    try:  # the sidecar's names read directly: capframe.scene's reader would import torch into every DAG build
         with open(f"results/scenes/{wildcards.scene}/semantics.json") as f:
             objects = [SimpleNamespace(name=o["name"], aliases=o.get("aliases", []), symmetric=o.get("symmetric", False))
                        for o in json.load(f)["objects"]]
