@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..constraints import Constraints
+from ..errors import InputError
 from ..scene import Camera, GaussianScene
 from ..translate.labels import PseudoLabels, labels_from_constraints
 from .ground_truth import GroundTruth
@@ -58,10 +59,25 @@ def initial_view(scene_dir: str | Path, ground_truth: GroundTruth, constraints: 
     import zlib
 
     primary = ground_truth.resolve(constraints.subjects[0].name)
-    views = visible_views(ground_truth_cameras(scene_dir), primary.center)
+    cameras = ground_truth_cameras(scene_dir)
+    if not cameras:
+        raise InputError("ground_truth.json lists no training cameras", source=str(Path(scene_dir) / "ground_truth.json"))
+    return start_view(cameras, primary.center, zlib.crc32(instruction_id.encode()))
+
+
+def start_view(cameras: list[Camera], point: np.ndarray, seed: int) -> Camera:
+    """One of the cameras that image ``point`` in frame, drawn with ``seed``; when none does (a
+    subject outside every training frame), the camera whose optical axis is closest to it."""
+    views = visible_views(cameras, point)
     if not views:
-        raise ValueError(f"{scene_dir}: no training view shows {primary.name!r}")
-    return views[int(np.random.default_rng(zlib.crc32(instruction_id.encode())).integers(len(views)))]
+        return min(cameras, key=lambda c: _angle_off_axis(c, point))
+    return views[int(np.random.default_rng(seed).integers(len(views)))]
+
+
+def _angle_off_axis(camera: Camera, point: np.ndarray) -> float:
+    """Angle (radians) between the camera's optical axis and the ray to ``point``."""
+    q = camera.R @ point + camera.t
+    return float(np.arccos(np.clip(q[2] / max(np.linalg.norm(q), 1e-300), -1.0, 1.0)))
 
 
 def oracle_command(scene_dir: str | Path, constraints_path: str | Path, instruction_id: str, out_dir: str | Path) -> None:
