@@ -142,6 +142,17 @@ def _perception_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
 
 
+def _stage_verb(verbs, name: str, help_text: str, output: str) -> argparse.ArgumentParser:
+    """A per-instruction stage of the method: ``capframe NAME SCENE ... -o OUTPUT`` with the
+    perception options, run by :func:`_cmd_ground_stage`; the caller adds the stage's own inputs."""
+    p = verbs.add_parser(name, help=f"{help_text}: {output}")
+    p.add_argument("scene")
+    p.add_argument("-o", "--output", required=True, help=f"{output} to write")
+    _perception_options(p)
+    p.set_defaults(func=_cmd_ground_stage)
+    return p
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="capframe", description=__doc__.splitlines()[0])
     verbs = parser.add_subparsers(dest="verb", required=True)
@@ -267,57 +278,37 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
     p.set_defaults(func=_cmd_runtime)
 
-    p = verbs.add_parser("retrieve", help="parse an instruction and rank the training views (Retrieve): retrieval.json")
-    p.add_argument("scene")
+    p = _stage_verb(verbs, "retrieve", "parse an instruction and rank the training views (Retrieve)", "retrieval.json")
     p.add_argument("instruction")
-    p.add_argument("-o", "--output", required=True, help="retrieval.json to write")
     p.add_argument("--topk", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
-    _perception_options(p)
-    p.set_defaults(func=_cmd_ground_stage)
 
-    p = verbs.add_parser("coarse", help="Retrieve, step 1: parse an instruction and score every training view: coarse.json")
-    p.add_argument("scene")
+    p = _stage_verb(verbs, "coarse", "Retrieve, step 1: parse an instruction and score every training view", "coarse.json")
     p.add_argument("instruction")
-    p.add_argument("-o", "--output", required=True, help="coarse.json to write")
-    _perception_options(p)
-    p.set_defaults(func=_cmd_ground_stage)
 
-    p = verbs.add_parser("qe", help="Retrieve, step 2: QE scoring of the views coarse kept: retrieval.json")
-    p.add_argument("scene")
+    p = _stage_verb(verbs, "qe", "Retrieve, step 2: QE scoring of the views coarse kept", "retrieval.json")
     p.add_argument("--coarse", required=True, help="coarse.json written by capframe coarse")
-    p.add_argument("-o", "--output", required=True, help="retrieval.json to write")
     p.add_argument("--topk", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
-    _perception_options(p)
-    p.set_defaults(func=_cmd_ground_stage)
 
     for verb, help_text, output in (
         ("segment", "Translate, step 1: the subjects' 2D masks in the retrieved views", "masks.npz"),
         ("associate", "Translate, step 2: each subject's Gaussians", "subjects.json"),
         ("orient", "Translate, step 3: the front of each asymmetric subject with a view cue", "fronts.json"),
     ):
-        p = verbs.add_parser(verb, help=f"{help_text}: {output}")
-        p.add_argument("scene")
+        p = _stage_verb(verbs, verb, help_text, output)
         p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
-        p.add_argument("-o", "--output", required=True, help=f"{output} to write")
         if verb == "associate":
             p.add_argument("--masks", default=None, help="masks.npz of capframe segment (default: segment here if the perception masks)")
-        _perception_options(p)
-        p.set_defaults(func=_cmd_ground_stage)
 
-    p = verbs.add_parser("translate", help="pseudo labels from a retrieval.json (Translate): labels.json")
-    p.add_argument("scene")
+    p = _stage_verb(verbs, "translate", "pseudo labels from a retrieval.json (Translate)", "labels.json")
     p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe retrieve")
-    p.add_argument("-o", "--output", required=True, help="labels.json to write")
-    _perception_options(p)
     p.add_argument("--drop", default=None, choices=["layout", "orientation"], help="ablation: leave these pseudo labels out")
     p.add_argument("--box-noise", type=float, default=0.0, help="shift layout boxes by this frame fraction (sensitivity)")
     p.add_argument("--front-noise", type=float, default=0.0, help="turn subject fronts by this many degrees (sensitivity)")
     p.add_argument("--noise-seed", type=int, default=0)
     p.add_argument("--subjects", default=None, help="subjects.json of capframe associate (default: associate here)")
     p.add_argument("--fronts", default=None, help="fronts.json of capframe orient (default: orient here)")
-    p.set_defaults(func=_cmd_ground_stage)
 
     p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
     p.add_argument("--text", required=True, help="the instruction")
