@@ -125,6 +125,26 @@ def test_aim_loss_pulls_from_behind_the_camera():
     assert float(aim_loss(T.detach(), vec(0.0, 0.0, 5.0), vec(0, 0, 1))) < 1e-5
 
 
+def test_wide_shot_size_term_has_no_lower_bound():
+    """A wide shot's extent interval starts at 0 (log 0 must not be taken): a tiny mask costs
+    nothing, one larger than the interval's top costs log(extent / hi) with a finite gradient."""
+    _, _, extent = layout_boxes(None, "wide")
+    assert extent[0] == 0.0
+    ys, xs = torch.meshgrid(torch.arange(120, dtype=f64) + 0.5, torch.arange(160, dtype=f64) + 0.5, indexing="ij")
+    for radius, expected_zero in ((4.0, True), (60.0, False)):
+        scale = torch.tensor(radius, dtype=f64, requires_grad=True)
+        mask = torch.sigmoid(scale - ((xs - 80) ** 2 + (ys - 60) ** 2).sqrt())
+        size = layout_terms(mask, None, None, extent=extent)["size"]
+        size.backward()
+        assert torch.isfinite(size) and torch.isfinite(scale.grad)
+        if expected_zero:
+            assert float(size) == 0.0
+        else:
+            centroid, mass = soft_centroid(mask.detach())
+            excess = math.log(float(mask_extent(mask.detach(), centroid, mass)) / extent[1])
+            assert excess > 0 and math.isclose(float(size), excess, rel_tol=1e-9) and float(scale.grad) > 0
+
+
 def test_layout_boxes_stay_in_frame_and_regions_shrink():
     region, box, extent = layout_boxes("right third", "medium")
     assert box[2] <= 1.0 and box[0] >= 0.0 and math.isclose(box[2] - box[0], 0.42)

@@ -130,8 +130,9 @@ def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tupl
         terms["outside"] = 1.0 - share_in
     if extent is not None:
         log_extent = torch.log(mask_extent(mask, centroid, mass, frame))
-        lo, hi = math.log(extent[0]), math.log(extent[1])
-        terms["size"] = (lo - log_extent).clamp_min(0.0) + (log_extent - hi).clamp_min(0.0)
+        terms["size"] = (log_extent - math.log(extent[1])).clamp_min(0.0)
+        if extent[0] > 0.0:  # a wide shot's interval starts at 0: no lower bound
+            terms["size"] = terms["size"] + (math.log(extent[0]) - log_extent).clamp_min(0.0)
     return terms
 
 
