@@ -258,6 +258,30 @@ def test_projection_matches_gsplat_reference_implementation():
     assert torch.allclose(proj.conics, conics[0, idx], rtol=1e-9, atol=1e-12)
 
 
+def test_frustum_precull_never_drops_a_gaussian_the_projection_keeps():
+    """may_touch_frame is a bound on the exact footprint test (EWA covariance, opacity cut-off,
+    on-screen box); Gaussians around and beside the frustum, thin, huge and near the camera."""
+    from capframe.render.torch_backend import covariance_factor, ewa_project, may_touch_frame, pixel_extent
+
+    g = torch.Generator().manual_seed(3)
+    n = 20000
+    means = torch.randn(n, 3, generator=g, dtype=f64) * torch.tensor([4.0, 3.0, 2.0], dtype=f64) + torch.tensor([0, 0, 2.5], dtype=f64)
+    means[:, 2] = means[:, 2].abs() + 0.05  # in front of the camera, some very near
+    scales = torch.exp(torch.randn(n, 3, generator=g, dtype=f64) * 1.5 - 2.0)  # anisotropic, up to metres
+    quats = torch.randn(n, 4, generator=g, dtype=f64)
+    factors = covariance_factor(quats / quats.norm(dim=1, keepdim=True), scales)
+    opacities = torch.rand(n, generator=g, dtype=f64)
+    R = torch.eye(3, dtype=f64)  # axis_camera's pose
+    K = torch.as_tensor(axis_camera(64, 48, 60.0, 32.0, 24.0).K, dtype=f64)
+    means_cam = means
+    means2d, cov2d = ewa_project(means_cam, R, factors, K, 64, 48)
+    ext = pixel_extent(cov2d, opacities)
+    exact = (means2d + ext > 0).all(1) & (means2d[:, 0] - ext[:, 0] < 64) & (means2d[:, 1] - ext[:, 1] < 48)
+    bound = may_touch_frame(means_cam, factors, K, 64, 48)
+    assert bool(bound[exact].all())
+    assert 0.1 < exact.float().mean() < 0.9 and float(bound.float().mean()) < 0.95  # the test exercises both sides
+
+
 @pytest.mark.cuda
 @pytest.mark.skipif(not torch.cuda.is_available() or importlib.util.find_spec("gsplat") is None, reason="needs CUDA and gsplat")
 def test_gsplat_and_torch_backends_agree():

@@ -14,7 +14,7 @@ import torch
 from torch import Tensor
 
 from ..scene import Camera, GaussianScene
-from . import RenderOutput, render
+from . import PreparedGaussians, RenderOutput, prepare, render
 
 MASK_THRESHOLD = 0.5  # own-render alpha above this is the subject's mask (extent, pixel count)
 EMPTY_WEIGHT = 1e-3  # below this total alpha (in pixels) a mask counts as empty
@@ -71,12 +71,13 @@ class SubjectMask:
         return max(self.bbox_size())
 
 
-def subject_masks(gaussians: GaussianScene, camera: Camera, members: Tensor, *, backend: str = "auto",
+def subject_masks(gaussians: GaussianScene | PreparedGaussians, camera: Camera, members: Tensor, *, backend: str = "auto",
                   near: float | None = None) -> tuple[list[SubjectMask], RenderOutput]:
     """Masks of several subjects in one view, without gradients.
 
     Args:
-        gaussians: the whole scene (on the device to render on).
+        gaussians: the whole scene (on the device to render on); :func:`~capframe.render.prepare`
+            it once to measure many views.
         camera: the view, at the resolution to measure at.
         members: (N, S) boolean, column s marks subject s's Gaussians.
         near: near plane (default: the renderer's).
@@ -92,6 +93,8 @@ def subject_masks(gaussians: GaussianScene, camera: Camera, members: Tensor, *, 
     canvas = camera.padded(gx, gy)
     options = dict(backend=backend, near=near)
     with torch.no_grad():
+        if not isinstance(gaussians, PreparedGaussians):  # once for the 1 + S renders below
+            gaussians = prepare(gaussians)
         full = render(gaussians, camera, extra=members.to(gaussians.means.dtype), colors=False, **options)
         masks = []
         for s in range(members.shape[1]):

@@ -86,6 +86,28 @@ def pixel_extent(cov2d: Tensor, opacities: Tensor) -> Tensor:
     return k[:, None] * torch.sqrt(torch.stack([cov2d[:, 0, 0], cov2d[:, 1, 1]], -1))
 
 
+def may_touch_frame(means_cam: Tensor, factors: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D) -> Tensor:
+    """(N,) False only for Gaussians (camera-frame ``z > 0``) whose footprint box
+    (:func:`pixel_extent` of :func:`ewa_project`) certainly misses the frame; cheap, no matrix products.
+
+    Bound: a row of ``J R`` is ``(f / z) (R_i - t R_2)``, of norm ``(f / z) sqrt(1 + t^2)`` with
+    the same clamped ``t`` as the projection, and ``|row L| <= |row| |L|_F``, so the 2D variance
+    is at most ``(f / z)^2 (1 + t^2) |L|_F^2 + eps2d``; the extent uses the largest cut-off,
+    3 sigma. The 1% and 1 px slack absorb rounding.
+    """
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    x, y, z = means_cam.unbind(-1)
+    spread2 = (factors * factors).sum((1, 2))  # |L|_F^2: the sum of the squared scales
+    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
+    tx = torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
+    ty = torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    k = math.sqrt(2.0 * SIGMA_MAX) * 1.01
+    reach_x = k * torch.sqrt((fx / z) ** 2 * (1 + tx * tx) * spread2 + eps2d) + 1.0
+    reach_y = k * torch.sqrt((fy / z) ** 2 * (1 + ty * ty) * spread2 + eps2d) + 1.0
+    u, v = fx * x / z + cx, fy * y / z + cy
+    return (u + reach_x > 0) & (u - reach_x < width) & (v + reach_y > 0) & (v - reach_y < height)
+
+
 @dataclass
 class Projection:
     """Depth-sorted visible Gaussians of one view.
@@ -129,6 +151,8 @@ def project_gaussians(
         z = means @ R[2] + t[2]
         finite_3d = torch.isfinite(factors).flatten(1).all(1)
         front = ((z > near) & (z < far) & finite_3d).nonzero()[:, 0]
+        # The projection is most of the per-Gaussian cost: skip those that provably miss the frame.
+        front = front[may_touch_frame(means[front] @ R.T + t, factors[front], K, width, height)]
     skipped = len(finite_3d) - int(finite_3d.sum())
     means_cam = means[front] @ R.T + t
     means2d, cov2d = ewa_project(means_cam, R, factors[front], K, width, height)

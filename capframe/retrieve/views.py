@@ -17,7 +17,7 @@ import numpy as np
 import torch
 
 from ..errors import InputError
-from ..render import NEAR_FRACTION, scene_extent
+from ..render import NEAR_FRACTION, prepare
 from ..render.masks import subject_masks
 from ..scene import Camera, SceneDir
 from ..scene._io import atomic_write
@@ -67,7 +67,8 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: li
     gaussians = scene.gaussians
     objects = [o for o in scene.semantics if objects is None or o.name in objects]
     members = torch.stack([gaussians.labels == o.id for o in objects], 1)
-    near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
+    prepared = prepare(gaussians)
+    near = NEAR_FRACTION * prepared.extent
     named = scene.cameras if cameras is None else cameras
     cameras = [c.with_long_side(long_side) for c in named]
     V, O = len(cameras), len(objects)
@@ -80,7 +81,7 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: li
         if (camera.height, camera.width) != (H, W):
             raise InputError(f"view {camera.name!r} is {camera.width}x{camera.height}, the first is {W}x{H}; "
                              "retrieval expects one image size", source=str(scene.root))  # fmt: skip
-        masks, full = subject_masks(gaussians, camera, members, near=near)
+        masks, full = subject_masks(prepared, camera, members, near=near)
         for o, mask in enumerate(masks):
             fields["visible_fraction"][v, o] = mask.visible_fraction
             fields["in_frame"][v, o] = mask.in_frame
