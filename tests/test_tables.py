@@ -227,10 +227,12 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
             bench(b, f"translate/capframe-noise/{scene}/{i}.tsv", 2.5)
             bench(b, f"refine/capframe-noise/{scene}/{i}.tsv", 4.0)
             bench(b, f"refine/oracle/{scene}/{i}.tsv", 1.5)
+    bench(b, "tables/capframe.tsv", 99.0)  # a table job: neither a scene's nor a method's cost
     out = tmp_path / "tables" / "runtime.csv"
     per_scene, per_method = runtime_command(str(b), str(out))
 
     scenes = per_scene.set_index("scene")
+    assert sorted(scenes.index) == ["s1", "s2"]
     assert scenes.loc["s1", "n_instructions"] == 3 and scenes.loc["s2", "n_instructions"] == 2
     assert scenes.loc["s1", "instructions"] == 1.0  # the instructions stage's seconds
     assert scenes.loc["s1", "refine/capframe"] == pytest.approx(3.0 + 4.0 + 5.0)

@@ -215,3 +215,16 @@ def test_lint_finds_nothing_but_the_software_environment_notice():
     lints = re.findall(r"^\s+\* (.+?):?$", done.stdout + done.stderr, re.M)
     assert lints, "snakemake --lint printed nothing: the parsing of its output is stale"
     assert {lint.rstrip(".:") for lint in lints} == {"Specify a conda environment or container for each rule"}
+
+
+def test_every_rule_declares_a_log_and_a_benchmark():
+    """Each job's output and timing are kept (`log:`, `benchmark:`); only the target rule `all`
+    runs nothing."""
+    files = [ROOT / "Snakefile", *sorted((ROOT / "workflow" / "rules").glob("*.smk"))]
+    rules = {}
+    for path in files:
+        for name, body in re.findall(r"^(?:rule|checkpoint) (\w+):\n((?:[ \t]+.*\n|\n)*)", path.read_text(), re.M):
+            rules[name] = body
+    assert len(rules) > 15, "no rules parsed: the pattern is stale"
+    missing = sorted(n for n, body in rules.items() if n != "all" and not ("    log:" in body and "    benchmark:" in body))
+    assert missing == []

@@ -371,6 +371,8 @@ SHARED_STAGES = ("colmap", "gravity", "views")
 METHOD_STAGES = ("coarse", "qe", "segment", "associate", "orient", "translate", "refine")
 # Per-instruction stages that evaluate a method rather than run it: not in its cost.
 EVALUATION_STAGES = ("check",)
+# Benchmarks of the table-building jobs themselves (workflow/rules/evaluate.smk).
+TABLES_STAGE = "tables"
 # Methods that do not read the shared per-scene stages (oracle: ground-truth labels, the
 # synthetic scene directly).
 NO_SHARED_STAGES = ("oracle",)
@@ -398,7 +400,8 @@ def benchmark_records(root: str | Path) -> pd.DataFrame:
     Layouts (workflow/rules/*.smk): ``<stage>/<scene>.tsv`` (per scene: synth, instructions,
     colmap, gravity, views), ``<stage>/<method>/<scene>/<id>.tsv`` (per instruction: retrieve,
     translate, refine, check, ...) and ``<stage>/<scene>/<id>.tsv`` (per instruction, no method).
-    Files in another layout are skipped with a note on stderr.
+    ``tables/<name>.tsv`` (the jobs that build these tables, per run rather than per scene) is
+    left out; files in another layout are skipped with a note on stderr.
     """
     root = Path(root)
     if not root.is_dir():
@@ -406,7 +409,7 @@ def benchmark_records(root: str | Path) -> pd.DataFrame:
     rows, skipped = [], []
     for path in sorted(root.rglob("*.tsv")):
         parts = path.relative_to(root).with_suffix("").parts
-        if any(p.startswith(".") for p in parts):
+        if any(p.startswith(".") for p in parts) or parts[0] == TABLES_STAGE:
             continue
         if len(parts) == 2:
             stage, method, scene, instruction = parts[0], None, parts[1], None

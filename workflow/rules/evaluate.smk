@@ -16,6 +16,7 @@ rule check:
         "results/logs/check/{method}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/check/{method}/{scene}/{instruction}.tsv"
+    priority: EVALUATE_PRIORITY
     shell:
         "capframe check {input.scene} {input.result}/result.json --constraints {input.constraints} "
         "--id {wildcards.instruction} -o {output} > {log} 2>&1"
@@ -29,6 +30,8 @@ rule aggregate:
         "results/tables/{method}.csv",
     log:
         "results/logs/aggregate/{method}.log",
+    benchmark:
+        "results/benchmarks/tables/{method}.tsv"
     params:
         results=lambda wc, input: [f"{r}/result.json" for r in input.results],
     shell:
@@ -45,6 +48,8 @@ rule compare:
         plot=report("results/tables/methods_pareto.png", caption="../report/pareto.rst", category="Tables"),
     log:
         "results/logs/aggregate/methods.log",
+    benchmark:
+        "results/benchmarks/tables/methods.tsv"
     shell:
         "capframe compare {input} -o {output.table} > {log} 2>&1"
 
@@ -63,6 +68,8 @@ rule sensitivity:
         variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
     log:
         "results/logs/aggregate/sensitivity.log",
+    benchmark:
+        "results/benchmarks/tables/sensitivity.tsv"
     shell:
         "capframe sensitivity --reference results/refine/capframe --variant {params.variants} --checks-root results/check "
         "--scenes-root results/scenes -o {output.table} > {log} 2>&1"
@@ -78,6 +85,8 @@ rule scene_table:
         markdown="results/tables/scenes.md",
     log:
         "results/logs/aggregate/scenes.log",
+    benchmark:
+        "results/benchmarks/tables/scenes.tsv"
     shell:
         "capframe scene-table --scenes-root results/scenes --colmap-root results/colmap --gravity-root results/gravity "
         "-o {output.table} > {log} 2>&1"
@@ -96,5 +105,7 @@ rule runtime:
         markdown="results/tables/runtime.md",
     log:
         "results/logs/aggregate/runtime.log",
+    benchmark:
+        "results/benchmarks/tables/runtime.tsv"
     shell:
         "capframe runtime --benchmarks results/benchmarks -o {output.table} > {log} 2>&1"

@@ -11,6 +11,8 @@ rule oracle_labels:
         init="results/oracle/{scene}/{instruction}/init.json",
     log:
         "results/logs/oracle/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/labels/oracle/{scene}/{instruction}.tsv"
     shell:
         "capframe oracle {input.scene} --constraints {input.constraints} --id {wildcards.instruction} "
         "-o results/oracle/{wildcards.scene}/{wildcards.instruction} > {log} 2>&1"

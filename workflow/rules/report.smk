@@ -19,6 +19,9 @@ rule grid:
         methods=REPORT_METHODS,
     log:
         "results/logs/grid/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/grid/{scene}/{instruction}.tsv"
+    priority: EVALUATE_PRIORITY
     shell:
         "capframe grid --text {params.text:q} --methods {params.methods} --results {input.results} "
         "--checks {input.checks} -o {output} > {log} 2>&1"
