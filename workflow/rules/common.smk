@@ -156,9 +156,9 @@ def fronts_input(wildcards):
 # The method's chain of per-instruction jobs is scheduled before the baselines' single long jobs,
 # so its longest refinements start early instead of finishing last on one core.
 METHOD_PRIORITY = 10
-# Checks and image grids run as soon as their inputs exist: they are cheap, and at every job
-# selection Snakemake stats the inputs of every ready job, so on the full suite ~140 waiting
-# checks kept the scheduler itself busy on ~45% of a core.
+# Checks and image grids run as soon as their inputs exist: they are cheap, an interrupted run
+# keeps every finished result checked, and each job selection (which stats the inputs of every
+# ready job) has fewer jobs to look at.
 EVALUATE_PRIORITY = 20
 
 # Where each method's per-instruction result folder lives.
