@@ -40,6 +40,17 @@ def covariance_factor(quats: Tensor, scales: Tensor) -> Tensor:
     return quat_to_rotmat(quats) * scales[:, None, :]
 
 
+def clamped_slopes(means_cam: Tensor, K: Tensor, width: int, height: int) -> tuple[Tensor, Tensor]:
+    """``x/z`` and ``y/z`` (N,) of camera-frame points, clamped to 30% beyond the image borders,
+    as gsplat evaluates the projection's Jacobian."""
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    x, y, z = means_cam.unbind(-1)
+    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
+    tx = torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
+    ty = torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    return tx, ty
+
+
 def ewa_project(
     means_cam: Tensor, R: Tensor, factors: Tensor, K: Tensor, width: int, height: int, eps2d: float = EPS2D
 ) -> tuple[Tensor, Tensor]:
@@ -59,9 +70,7 @@ def ewa_project(
     """
     fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
     x, y, z = means_cam.unbind(-1)
-    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
-    tx = torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
-    ty = torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    tx, ty = clamped_slopes(means_cam, K, width, height)
     # Rows of J R: J = [[fx/z, 0, -fx tx/z], [0, fy/z, -fy ty/z]] with tx, ty the clamped x/z, y/z.
     JR = torch.stack([(fx / z)[:, None] * (R[0] - tx[:, None] * R[2]), (fy / z)[:, None] * (R[1] - ty[:, None] * R[2])], 1)
     M = JR @ factors  # (N, 2, 3)
@@ -98,9 +107,7 @@ def may_touch_frame(means_cam: Tensor, factors: Tensor, K: Tensor, width: int, h
     fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
     x, y, z = means_cam.unbind(-1)
     spread2 = (factors * factors).sum((1, 2))  # |L|_F^2: the sum of the squared scales
-    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
-    tx = torch.clamp(x / z, -(cx / fx + margin_x), (width - cx) / fx + margin_x)
-    ty = torch.clamp(y / z, -(cy / fy + margin_y), (height - cy) / fy + margin_y)
+    tx, ty = clamped_slopes(means_cam, K, width, height)
     k = math.sqrt(2.0 * SIGMA_MAX) * 1.01
     reach_x = k * torch.sqrt((fx / z) ** 2 * (1 + tx * tx) * spread2 + eps2d) + 1.0
     reach_y = k * torch.sqrt((fy / z) ** 2 * (1 + ty * ty) * spread2 + eps2d) + 1.0
