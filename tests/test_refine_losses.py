@@ -9,9 +9,10 @@ import pytest
 import torch
 
 from capframe.geometry import look_at, se3_exp, view_direction
-from capframe.refine.losses import Box, aim_loss, box_indicator, layout_terms, mask_extent, soft_centroid, upright_loss, view_loss
-from capframe.refine.optimize import RefineConfig, _Objective
-from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes
+from capframe.refine.losses import (Box, Frame, aim_loss, bbox_extent, box_indicator, layout_terms, mask_extent, soft_centroid,
+                                   upright_loss, view_loss)
+from capframe.refine.optimize import LossWeights, RefineConfig, _Objective
+from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes, min_in_frame_share
 
 f64 = torch.float64
 
@@ -63,7 +64,54 @@ def test_mask_extent_of_an_ellipse_matches_its_bounding_box():
     centroid, mass = soft_centroid(mask)
     assert math.isclose(float(mask_extent(mask, centroid, mass)), 80 / 160, rel_tol=0.05)
     terms = layout_terms(mask, None, None, extent=(0.6, 0.9))
-    assert math.isclose(float(terms["size"]), math.log(0.6 / float(mask_extent(mask, centroid, mass))), rel_tol=1e-9)
+    assert math.isclose(float(terms["size"]), math.log(0.6 / bbox_extent(mask)), rel_tol=1e-9)
+
+
+def lamp_mask(scale: torch.Tensor) -> torch.Tensor:
+    """(120, 160) floor-lamp mask zoomed by ``scale`` about the frame centre: a heavy shade and foot
+    joined by a thin pole, rows 32..88 at scale 1."""
+    ys, xs = torch.meshgrid(torch.arange(120, dtype=f64) + 0.5, torch.arange(160, dtype=f64) + 0.5, indexing="ij")
+    u, v = (xs - 80) / scale, (ys - 60) / scale
+    shade = torch.sigmoid(4 * (8 - torch.maximum((u / 2).abs(), (v + 20).abs())))
+    foot = torch.sigmoid(4 * (4 - torch.maximum((u / 3).abs(), (v - 24).abs())))
+    pole = torch.sigmoid(4 * (0.8 - u.abs())) * torch.sigmoid(4 * (24 - v.abs()))
+    return torch.maximum(torch.maximum(shade, foot), pole)
+
+
+def test_size_term_reads_the_bounding_box_of_an_uneven_shape_with_the_smooth_gradient():
+    """The lamp's 4-sigma span is far taller than its bounding box, so a moment-based size term
+    would call a too-small lamp a close-up; the term must read the box the checker measures, and
+    pull with the gradient of the smooth extent, itself checked against finite differences."""
+    scale = torch.tensor(1.0, dtype=f64, requires_grad=True)
+    mask = lamp_mask(scale)
+    box = bbox_extent(mask)
+    assert math.isclose(box, 56 / 120, abs_tol=2 / 120)
+    assert float(mask_extent(mask.detach(), *soft_centroid(mask.detach()))) > 1.25 * box
+    close_up = layout_boxes(None, "close-up")[2]
+    size = layout_terms(mask, None, None, extent=close_up)["size"]
+    assert math.isclose(float(size.detach()), math.log(close_up[0] / box), rel_tol=1e-9)
+
+    def neg_log_smooth_extent(m):
+        return -torch.log(mask_extent(m, *soft_centroid(m)))
+
+    (grad,) = torch.autograd.grad(size, scale, retain_graph=True)
+    (smooth_grad,) = torch.autograd.grad(neg_log_smooth_extent(mask), scale)
+    assert float(grad) < 0 and math.isclose(float(grad), float(smooth_grad), rel_tol=1e-9)  # zooming in shrinks it
+    with torch.no_grad():
+        numeric = (neg_log_smooth_extent(lamp_mask(vec(1.0 + 1e-6))) - neg_log_smooth_extent(lamp_mask(vec(1.0 - 1e-6)))) / 2e-6
+    assert math.isclose(float(smooth_grad), float(numeric), rel_tol=1e-4)
+
+
+def test_framing_term_is_the_in_frame_shortfall_of_a_mask_cut_by_the_frame_edge():
+    """A 20 x 20 px square on a canvas with a 10 px band around a 40 x 40 frame, shifted right by
+    ``shift``: the share left in the frame is (20 - overhang) / 20, the overhang max(shift - 10, 0)."""
+    frame = Frame(10.0, 10.0, 40, 40)
+    for shift, share in ((0, 1.0), (15, 0.75), (20, 0.5)):
+        mask = rect_mask(60, 60, 20 + shift, 20, 40 + shift, 40)
+        framing = layout_terms(mask, None, None, frame=frame, min_in_frame=0.65)["framing"]
+        assert math.isclose(float(framing), max(0.65 - share, 0.0), abs_tol=1e-12)
+    assert min_in_frame_share(layout_boxes(None, "close-up")[2]) < min_in_frame_share(layout_boxes(None, "medium")[2])
+    assert min_in_frame_share(None) == min_in_frame_share(layout_boxes(None, "wide")[2])
 
 
 @pytest.mark.parametrize("pitch_deg", [0.0, 30.0, -60.0, 85.0])
@@ -140,8 +188,7 @@ def test_wide_shot_size_term_has_no_lower_bound():
         if expected_zero:
             assert float(size) == 0.0
         else:
-            centroid, mass = soft_centroid(mask.detach())
-            excess = math.log(float(mask_extent(mask.detach(), centroid, mass)) / extent[1])
+            excess = math.log(bbox_extent(mask) / extent[1])
             assert excess > 0 and math.isclose(float(size), excess, rel_tol=1e-9) and float(scale.grad) > 0
 
 
@@ -162,6 +209,8 @@ def blob(n=400, seed=0):
 
 
 def test_full_objective_pose_gradient_matches_finite_differences():
+    """Every term but ``size``, whose value is the pixel bounding box (locally constant) and whose
+    gradient is the smooth extent's by design; the test above checks that gradient."""
     from capframe.scene import Camera
 
     scene = blob()
@@ -171,7 +220,7 @@ def test_full_objective_pose_gradient_matches_finite_differences():
                            region=(0.6, 0.1, 0.95, 0.9), box=(0.55, 0.2, 1.0, 0.8), extent=(0.5, 0.8),
                            view=ViewTarget((-90.0,), 18.0, (8.0, 26.0)))
     labels = PseudoLabels([subject], np.array([0.0, 0, 1]), roll_deg=10.0, box_angle_deg=10.0)
-    objective = _Objective(scene, camera, labels, RefineConfig(), f64)
+    objective = _Objective(scene, camera, labels, RefineConfig(weights=LossWeights(size=0.0)), f64)
     tau0 = torch.tensor([0.02, -0.03, 0.01, 0.05, -0.02, 0.03], dtype=f64)
     tau = tau0.clone().requires_grad_()
     loss, _ = objective(se3_exp(tau) @ T0)

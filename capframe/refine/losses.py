@@ -15,6 +15,7 @@ import torch
 from torch import Tensor
 
 from ..geometry.camera import camera_axes, camera_center, view_angles, view_direction
+from ..render.masks import MASK_THRESHOLD
 
 _TINY = 1e-12
 _POLE_FADE = math.sin(math.radians(5.0))  # the azimuth term fades within about this of the poles
@@ -98,8 +99,26 @@ def mask_extent(mask: Tensor, centroid: Tensor, mass: Tensor, frame: Frame | Non
     return 0.02 * torch.logsumexp(spans / 0.02, 0)  # within 0.014 of the larger span
 
 
+def bbox_extent(mask: Tensor, frame: Frame | None = None) -> float:
+    """The checker's shot size of a mask: ``max(bbox width / W, bbox height / H)`` of its pixels
+    above the mask threshold inside the frame (0 when none). No gradient. (H, W) -> float."""
+    frame = frame or Frame.whole(mask)
+    x, y = round(frame.x), round(frame.y)
+    inside = mask.detach()[y:y + frame.height, x:x + frame.width] > MASK_THRESHOLD
+    if not inside.any():
+        return 0.0
+    rows, cols = inside.any(1).nonzero()[:, 0], inside.any(0).nonzero()[:, 0]
+    return max(float(cols.max() - cols.min() + 1) / frame.width, float(rows.max() - rows.min() + 1) / frame.height)
+
+
+def in_frame_share(mask: Tensor, mass: Tensor, frame: Frame) -> Tensor:
+    """Share of a mask's mass inside the frame. (H, W), () -> ()."""
+    x, y = round(frame.x), round(frame.y)
+    return mask[y:y + frame.height, x:x + frame.width].sum() / mass.clamp_min(_TINY)
+
+
 def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tuple[float, float] | None = None,
-                 inside: Tensor | None = None, frame: Frame | None = None) -> dict[str, Tensor]:
+                 inside: Tensor | None = None, frame: Frame | None = None, min_in_frame: float | None = None) -> dict[str, Tensor]:
     """Layout losses of one subject's opacity mask (H, W) rendered on a canvas that holds the
     photo at ``frame`` (default: the whole mask).
 
@@ -107,8 +126,13 @@ def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tupl
       the frame's long side;
     * ``inside``: 1 - the share of the mask inside the box;
     * ``outside``: the share of the mask outside the box;
-    * ``size``: log-distance of the mask's extent (:func:`mask_extent`) to the ``extent``
-      interval ``(lo, hi)`` of a requested shot size, 0 inside.
+    * ``size``: log-distance of the mask's extent to the ``extent`` interval ``(lo, hi)`` of a
+      requested shot size, 0 inside. Its value is the checker's extent (:func:`bbox_extent`),
+      its gradient that of the smooth :func:`mask_extent`: the bounding box has no useful
+      gradient, and the second moments misjudge the extent of uneven shapes (a floor lamp's
+      shade and foot make its 4 sigma span up to twice its height);
+    * ``framing``: how far the share of the mask inside the frame falls short of
+      ``min_in_frame``, 0 when it does not (or when ``min_in_frame`` is None).
 
     ``inside``/``outside`` as the paper defines them are the same share seen from both sides;
     both are kept so their weights match the paper's. ``inside`` may pass a precomputed
@@ -116,7 +140,7 @@ def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tupl
     """
     frame = frame or Frame.whole(mask)
     zero = mask.sum() * 0.0
-    terms = {"center": zero, "inside": zero, "outside": zero, "size": zero}
+    terms = {"center": zero, "inside": zero, "outside": zero, "size": zero, "framing": zero}
     centroid, mass = soft_centroid(mask)
     if region is not None:
         centre, half, angle = region.on(frame)
@@ -129,10 +153,14 @@ def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tupl
         terms["inside"] = 1.0 - share_in
         terms["outside"] = 1.0 - share_in
     if extent is not None:
-        log_extent = torch.log(mask_extent(mask, centroid, mass, frame))
+        log_smooth = torch.log(mask_extent(mask, centroid, mass, frame))
+        hard = bbox_extent(mask, frame)
+        log_extent = log_smooth + (math.log(hard) - log_smooth).detach() if hard > 0.0 else log_smooth
         terms["size"] = (log_extent - math.log(extent[1])).clamp_min(0.0)
         if extent[0] > 0.0:  # a wide shot's interval starts at 0: no lower bound
             terms["size"] = terms["size"] + (math.log(extent[0]) - log_extent).clamp_min(0.0)
+    if min_in_frame is not None:
+        terms["framing"] = (min_in_frame - in_frame_share(mask, mass, frame)).clamp_min(0.0)
     return terms
 
 

@@ -27,13 +27,14 @@ from torch import Tensor
 from ..geometry.lie import se3_exp
 from ..render import prepare, render, scene_extent
 from ..scene.model import Camera, GaussianScene
-from ..translate.labels import PseudoLabels
+from ..translate.labels import PseudoLabels, min_in_frame_share
 from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_terms, target_ray, upright_loss, view_loss
 
 
 @dataclass
 class LossWeights:
-    """Weights of the loss terms: the paper's for its terms; ``size`` and ``hidden`` are ours.
+    """Weights of the loss terms: the paper's for its terms; ``size``, ``framing`` and ``hidden``
+    are ours.
 
     ``occlusion`` applies only in the occlusion phase (see :class:`RefineConfig`).
     ``clearance`` pushes the camera out of a subject it starts inside, where the saturated mask
@@ -45,6 +46,7 @@ class LossWeights:
     inside: float = 6.0
     outside: float = 2.0
     size: float = 4.0
+    framing: float = 6.0
     upright: float = 2.0
     view: float = 2.0
     look_at: float = 2.0
@@ -164,9 +166,9 @@ class _Objective:
         self.penalise_occlusion = False
 
     def clauses_hold(self, terms: dict[str, Tensor]) -> bool:
-        """Whether every pseudo-label clause holds: each subject in view with its centroid in its
-        region, its extent in its interval and the camera at an acceptable view angle, and the
-        roll within the tolerance. Reads the unweighted terms of the last evaluation."""
+        """Whether every pseudo-label clause holds: each subject in view and enough of it inside
+        the frame, its centroid in its region, its extent in its interval and the camera at an
+        acceptable view angle, and the roll within the tolerance. Reads the unweighted terms of the last evaluation."""
         h_chord = 2.0 * math.sin(math.radians(self.config.roll_tolerance_deg) / 2.0)
         return (
             float(terms["hidden"]) == 0.0
@@ -174,6 +176,7 @@ class _Objective:
             and float(terms.get("occlusion", 0.0)) == 0.0
             and float(terms["center"]) < 1e-5
             and float(terms["size"]) < 1e-6
+            and float(terms["framing"]) < 1e-6
             and float(terms.get("view", 0.0)) < 1e-5 * len(self.labels.subjects)
             and float(terms["upright"]) < h_chord
         )
@@ -191,7 +194,8 @@ class _Objective:
             total = total + weight * value.to(torch.float64)
 
         for k, label in enumerate(self.labels.subjects):
-            layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame)
+            layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame,
+                                  min_in_frame_share(label.extent))
             # Out of view the layout terms carry no signal: they are blended out and a constant
             # "hidden" penalty in, while look-at aims the centroid along the ray of its target
             # point from anywhere (behind the camera included).
@@ -200,6 +204,7 @@ class _Objective:
             add("inside", wts.inside, gate * layout["inside"])
             add("outside", wts.outside, gate * layout["outside"])
             add("size", wts.size, gate * layout["size"])
+            add("framing", wts.framing, gate * layout["framing"])
             add("hidden", wts.hidden, 1.0 - gate)
             add("look_at", wts.look_at, aim_loss(T_cw, self.centroids[k], self.rays[k]))
             add("clearance", wts.clearance, clearance_loss(T_cw, self.centroids[k], 1.2 * self.radii[k]))

@@ -11,7 +11,8 @@ Layout targets come in two boxes, both normalised ``[x0, y0, x1, y1]`` (origin t
   region, or the region itself when no shot size is asked.
 
 A requested shot size also gives ``extent``, the interval the subject's projected extent should
-fall in.
+fall in. Every subject must also stay in the frame: :func:`min_in_frame_share` is the share of
+its projection that must land inside it.
 
 With a requested roll both are rotated about their centres, as the paper rotates its layout box:
 the scene appears rotated counter-clockwise by the roll, and so does an upright subject.
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
+from ..constraints import CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
 from ..errors import InputError
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
@@ -38,6 +39,9 @@ REGION_MARGIN = 0.04
 # View targets aim this far inside the accepted tolerance for the same reason.
 VIEW_MARGIN_DEG = 12.0
 ELEVATION_MARGIN_DEG = 4.0
+# Refine keeps this much more of a subject in the frame than the checker asks: its canvas sees
+# only a band of a quarter frame around the photo, so it overestimates the in-frame share.
+IN_FRAME_MARGIN = 0.05
 
 assert all(SHOT_SIZES[k][0] < v < SHOT_SIZES[k][1] for k, v in SHOT_EXTENT.items())
 
@@ -135,6 +139,15 @@ def view_target(view: str | None, elevation_range: tuple[float, float] | None) -
         m = min(ELEVATION_MARGIN_DEG, (hi - lo) / 4)
         elevation = (max(lo + m, -89.0), min(hi - m, 89.0))
     return ViewTarget(azimuths_deg=VIEW_SIDES[view] if view else (), elevation_range_deg=elevation)
+
+
+def min_in_frame_share(extent: tuple[float, float] | None) -> float:
+    """Share of a subject's projection Refine keeps inside the frame: the checker's visibility
+    minimum for its shot size plus :data:`IN_FRAME_MARGIN`. A close-up, which may be cut off
+    more, is recognised by its extent interval, the only one that starts at or above the
+    checker's close-up minimum."""
+    close_up = extent is not None and extent[0] >= SHOT_SIZES["close-up"][0]
+    return (CLOSE_UP_MIN_IN_FRAME_FRACTION if close_up else MIN_IN_FRAME_FRACTION) + IN_FRAME_MARGIN
 
 
 def labels_from_constraints(constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]],
