@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from capframe.evaluate.aggregate import compare_command, pareto_front
+from capframe.evaluate.aggregate import compare_command, instruction_rows, pareto_front, summary_table
 
 
 def test_pareto_front_keeps_points_nothing_beats():
@@ -25,6 +25,30 @@ def test_compare_ranks_methods_and_writes_the_plot(tmp_path):
     assert summary["method"].tolist() == ["capframe", "ivs"]
     assert summary["full_success"].tolist() == [2 / 3, 1 / 3]
     assert (tmp_path / "methods.md").is_file() and (tmp_path / "methods_pareto.png").stat().st_size > 1000
+
+
+def test_summary_reports_each_kinds_mean_error_over_the_instructions_that_have_it(tmp_path):
+    """An instruction's error per kind is its worst row's (two subjects: 0 and 30 deg -> 30); the
+    summary averages over the instructions with that kind (30 and 10 -> 20), not over all three."""
+    import json
+
+    def row(kind, ok, error):
+        return {"constraint": kind, "subject": "s", "satisfied": ok, "error": error}
+
+    reports = [[row("view", True, 0.0), row("view", False, 30.0), row("region", True, 0.0)],
+               [row("view", True, 10.0), row("roll", None, None)],
+               [row("region", False, 0.25)]]  # fmt: skip
+    checks, results = [], []
+    for k, rows in enumerate(reports):
+        checks.append(tmp_path / f"i{k}.json")
+        checks[-1].write_text(json.dumps({"instruction_id": f"i{k}", "all_satisfied": all(r["satisfied"] is not False for r in rows), "rows": rows}))
+        results.append(tmp_path / f"r{k}.json")
+        results[-1].write_text(json.dumps({"timings": {"total_s": 1.0 + k}, "iterations": 5}))
+    frame = instruction_rows("capframe", checks, results)
+    assert frame["view_error"].tolist()[:2] == [30.0, 10.0] and np.isnan(frame["view_error"][2])
+    summary = summary_table(frame).iloc[0]
+    assert summary["view_error_deg"] == 20.0 and summary["region_error_frame"] == 0.125
+    assert summary["view_success"] == 0.5 and summary["full_success"] == 1 / 3 and "roll_error_deg" not in summary
 
 
 def test_grid_puts_each_method_side_by_side(tmp_path):

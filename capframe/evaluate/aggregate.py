@@ -12,8 +12,14 @@ import pandas as pd
 from ..scene._io import atomic_write, read_json
 
 
+# Constraint kinds in table order, and the unit of each kind's checker error (its distance to
+# the accepted set, 0 when satisfied).
+KIND_UNITS = {"visibility": "fraction", "region": "frame", "shot": "frame", "view": "deg", "elevation": "deg", "roll": "deg"}
+
+
 def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd.DataFrame:
-    """One row per instruction: overall verdict, verdict per constraint kind, run time.
+    """One row per instruction: overall verdict, verdict and worst checker error per constraint
+    kind (``<kind>_error``, in :data:`KIND_UNITS`), run time.
 
     ``checks`` and ``results`` pair up: a check report (``capframe check -o``) and the method's
     ``result.json`` (for its wall time and iterations).
@@ -25,22 +31,30 @@ def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd
         row = {"method": method, "instruction": report.get("instruction_id") or Path(check_path).stem,
                "all_satisfied": bool(report["all_satisfied"]), "seconds": result.get("timings", {}).get("total_s", np.nan),
                "iterations": result.get("iterations", np.nan)}
-        kinds = defaultdict(list)
+        kinds, errors = defaultdict(list), defaultdict(list)
         for r in report["rows"]:
             if r["satisfied"] is not None:
                 kinds[r["constraint"]].append(bool(r["satisfied"]))
+            if r.get("error") is not None:
+                errors[r["constraint"]].append(float(r["error"]))
         row.update({kind: all(v) for kind, v in kinds.items()})
+        row.update({f"{kind}_error": max(v) for kind, v in errors.items()})
         rows.append(row)
     return pd.DataFrame(rows)
 
 
 def summary_table(frame: pd.DataFrame) -> pd.DataFrame:
-    """Per method: full success rate, success rate per constraint kind, median and mean seconds."""
-    kinds = [c for c in ("visibility", "region", "shot", "view", "elevation", "roll") if c in frame]
+    """Per method: full success rate, median and mean seconds, then per constraint kind its
+    success rate and mean checker error (``<kind>_error_<unit>``) over the instructions that have it."""
     out = frame.groupby("method").agg(instructions=("instruction", "count"), full_success=("all_satisfied", "mean"),
                                       median_s=("seconds", "median"), mean_s=("seconds", "mean"))
-    for kind in kinds:
-        out[f"{kind}_success"] = frame.groupby("method")[kind].apply(lambda s: s.dropna().astype(float).mean())
+    by_method = frame.groupby("method")
+    for kind, unit in KIND_UNITS.items():
+        if kind in frame:
+            out[f"{kind}_success"] = by_method[kind].apply(lambda s: s.dropna().astype(float).mean())
+    for kind, unit in KIND_UNITS.items():
+        if f"{kind}_error" in frame:
+            out[f"{kind}_error_{unit}"] = by_method[f"{kind}_error"].mean()
     return out.reset_index()
 
 
