@@ -12,8 +12,8 @@ import pandas as pd
 from ..scene._io import atomic_write, read_json
 
 
-# Constraint kinds in table order, and the unit of each kind's checker error (its distance to
-# the accepted set, 0 when satisfied).
+# Constraint kinds in table order, and the unit of each kind's checker error: the deviation from
+# the target for view and roll, the distance to the accepted interval (0 inside) for the others.
 KIND_UNITS = {"visibility": "fraction", "region": "frame", "shot": "frame", "view": "deg", "elevation": "deg", "roll": "deg"}
 
 
@@ -45,7 +45,8 @@ def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd
 
 def summary_table(frame: pd.DataFrame) -> pd.DataFrame:
     """Per method: full success rate, median and mean seconds, then per constraint kind its
-    success rate and mean checker error (``<kind>_error_<unit>``) over the instructions that have it."""
+    success rate and mean checker error (``<kind>_error_<unit>``, see :data:`KIND_UNITS`) over the
+    instructions that have it."""
     out = frame.groupby("method").agg(instructions=("instruction", "count"), full_success=("all_satisfied", "mean"),
                                       median_s=("seconds", "median"), mean_s=("seconds", "mean"))
     by_method = frame.groupby("method")
