@@ -15,7 +15,7 @@ import torch
 from torch import Tensor
 
 from ..geometry.camera import camera_axes, camera_center, view_angles, view_direction
-from ..render.masks import MASK_THRESHOLD
+from ..render.masks import bbox_fractions
 
 _TINY = 1e-12
 _POLE_FADE = math.sin(math.radians(5.0))  # the azimuth term fades within about this of the poles
@@ -99,22 +99,21 @@ def mask_extent(mask: Tensor, centroid: Tensor, mass: Tensor, frame: Frame | Non
     return 0.02 * torch.logsumexp(spans / 0.02, 0)  # within 0.014 of the larger span
 
 
-def bbox_extent(mask: Tensor, frame: Frame | None = None) -> float:
-    """The checker's shot size of a mask: ``max(bbox width / W, bbox height / H)`` of its pixels
-    above the mask threshold inside the frame (0 when none). No gradient. (H, W) -> float."""
-    frame = frame or Frame.whole(mask)
+def frame_crop(mask: Tensor, frame: Frame) -> Tensor:
+    """The part of a canvas mask (H, W) that is the photo: (frame.height, frame.width)."""
     x, y = round(frame.x), round(frame.y)
-    inside = mask.detach()[y:y + frame.height, x:x + frame.width] > MASK_THRESHOLD
-    if not inside.any():
-        return 0.0
-    rows, cols = inside.any(1).nonzero()[:, 0], inside.any(0).nonzero()[:, 0]
-    return max(float(cols.max() - cols.min() + 1) / frame.width, float(rows.max() - rows.min() + 1) / frame.height)
+    return mask[y:y + frame.height, x:x + frame.width]
+
+
+def bbox_extent(mask: Tensor, frame: Frame | None = None) -> float:
+    """The checker's shot size of a mask, ``max(bbox width / W, bbox height / H)`` inside the
+    frame (0 when empty). No gradient. (H, W) -> float."""
+    return max(bbox_fractions(frame_crop(mask.detach(), frame or Frame.whole(mask))))
 
 
 def in_frame_share(mask: Tensor, mass: Tensor, frame: Frame) -> Tensor:
     """Share of a mask's mass inside the frame. (H, W), () -> ()."""
-    x, y = round(frame.x), round(frame.y)
-    return mask[y:y + frame.height, x:x + frame.width].sum() / mass.clamp_min(_TINY)
+    return frame_crop(mask, frame).sum() / mass.clamp_min(_TINY)
 
 
 def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tuple[float, float] | None = None,

@@ -20,6 +20,17 @@ MASK_THRESHOLD = 0.5  # own-render alpha above this is the subject's mask (exten
 EMPTY_WEIGHT = 1e-3  # below this total alpha (in pixels) a mask counts as empty
 
 
+def bbox_fractions(alpha: Tensor) -> tuple[float, float]:
+    """Width and height of the bounding box of ``alpha > MASK_THRESHOLD`` as fractions of the
+    image ((0, 0) if empty). (H, W) -> (width, height)."""
+    mask = alpha > MASK_THRESHOLD
+    if not mask.any():
+        return 0.0, 0.0
+    H, W = mask.shape
+    rows, cols = mask.any(1).nonzero()[:, 0], mask.any(0).nonzero()[:, 0]
+    return float(cols.max() - cols.min() + 1) / W, float(rows.max() - rows.min() + 1) / H
+
+
 @dataclass
 class SubjectMask:
     """One subject in one view.
@@ -59,12 +70,7 @@ class SubjectMask:
 
     def bbox_size(self) -> tuple[float, float]:
         """Width and height of the own mask's bounding box as frame fractions ((0, 0) if empty)."""
-        mask = self.own > MASK_THRESHOLD
-        if not mask.any():
-            return 0.0, 0.0
-        H, W = mask.shape
-        rows, cols = mask.any(1).nonzero()[:, 0], mask.any(0).nonzero()[:, 0]
-        return float(cols.max() - cols.min() + 1) / W, float(rows.max() - rows.min() + 1) / H
+        return bbox_fractions(self.own)
 
     def extent(self) -> float:
         """The subject's projected size: max(bbox width / W, bbox height / H) of the own mask."""
