@@ -68,6 +68,11 @@ MIN_IN_FRAME_FRACTION = 0.6
 CLOSE_UP_MIN_IN_FRAME_FRACTION = 0.35
 
 
+def min_in_frame_fraction(shot: str | None) -> float:
+    """Share of a subject's projection that must lie inside the frame for a shot size (or None)."""
+    return CLOSE_UP_MIN_IN_FRAME_FRACTION if shot == "close-up" else MIN_IN_FRAME_FRACTION
+
+
 def _check_name(value: str | None, table: dict, field_name: str) -> None:
     if value is not None and value not in table:
         raise InputError(f"{field_name} {value!r} is unknown; expected one of {sorted(table)}")

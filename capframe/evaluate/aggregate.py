@@ -50,7 +50,7 @@ def summary_table(frame: pd.DataFrame) -> pd.DataFrame:
     out = frame.groupby("method").agg(instructions=("instruction", "count"), full_success=("all_satisfied", "mean"),
                                       median_s=("seconds", "median"), mean_s=("seconds", "mean"))
     by_method = frame.groupby("method")
-    for kind, unit in KIND_UNITS.items():
+    for kind in KIND_UNITS:
         if kind in frame:
             out[f"{kind}_success"] = by_method[kind].apply(lambda s: s.dropna().astype(float).mean())
     for kind, unit in KIND_UNITS.items():

@@ -38,7 +38,7 @@ import numpy as np
 import torch
 
 from ..constraints import (
-    CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints,
+    MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints, min_in_frame_fraction,
 )  # fmt: skip
 from ..errors import InputError
 from ..geometry import any_horizontal, camera_roll, view_angles
@@ -183,8 +183,7 @@ class ConstraintChecker:
         rows: list[CheckRow] = []
         for (sc, obj), mask in zip(subjects, masks):
             z = float(T[2, :3] @ obj.center + T[2, 3])
-            min_in_frame = CLOSE_UP_MIN_IN_FRAME_FRACTION if sc.shot == "close-up" else MIN_IN_FRAME_FRACTION
-            rows.append(self._visibility(sc.name, mask, z, min_in_frame))
+            rows.append(self._visibility(sc.name, mask, z, min_in_frame_fraction(sc.shot)))
             if sc.region is not None:
                 rows.append(self._region(sc.name, sc.region, mask, camera, obj, z))
             if sc.shot is not None:

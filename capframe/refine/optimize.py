@@ -148,6 +148,7 @@ class _Objective:
         self.K = torch.as_tensor(camera.K, dtype=torch.float64)
         self.roll = math.radians(labels.roll_deg)
         self.boxes, self.regions, self.indicators, self.rays = [], [], [], []
+        self.min_in_frame = [min_in_frame_share(s.extent) for s in labels.subjects]
         for s in labels.subjects:
             box = Box(*s.box, labels.box_angle_deg) if s.box is not None else None
             region = Box(*s.region, labels.box_angle_deg) if s.region is not None else None
@@ -168,7 +169,8 @@ class _Objective:
     def clauses_hold(self, terms: dict[str, Tensor]) -> bool:
         """Whether every pseudo-label clause holds: each subject in view and enough of it inside
         the frame, its centroid in its region, its extent in its interval and the camera at an
-        acceptable view angle, and the roll within the tolerance. Reads the unweighted terms of the last evaluation."""
+        acceptable view angle, and the roll within the tolerance. Reads the unweighted terms of
+        the last evaluation."""
         h_chord = 2.0 * math.sin(math.radians(self.config.roll_tolerance_deg) / 2.0)
         return (
             float(terms["hidden"]) == 0.0
@@ -195,7 +197,7 @@ class _Objective:
 
         for k, label in enumerate(self.labels.subjects):
             layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame,
-                                  min_in_frame_share(label.extent))
+                                  self.min_in_frame[k])
             # Out of view the layout terms carry no signal: they are blended out and a constant
             # "hidden" penalty in, while look-at aims the centroid along the ray of its target
             # point from anywhere (behind the camera included).

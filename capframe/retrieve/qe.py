@@ -19,8 +19,8 @@ import numpy as np
 import torch
 
 from ..constraints import (
-    CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES,
-    VIEW_TOLERANCE_DEG,
+    MIN_IN_FRAME_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES,
+    VIEW_TOLERANCE_DEG, min_in_frame_fraction,
 )  # fmt: skip
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..translate.instruction import ParsedInstruction
@@ -141,7 +141,7 @@ class GeometricQE:
         o = self._o(q)
         if self.views.pixels[v, o] == 0:
             return 0.0
-        min_in_frame = CLOSE_UP_MIN_IN_FRAME_FRACTION if q.target.get("shot") == "close-up" else MIN_IN_FRAME_FRACTION
+        min_in_frame = min_in_frame_fraction(q.target.get("shot"))
         return 100.0 * self.views.visible_fraction[v, o] * min(1.0, self.views.in_frame[v, o] / min_in_frame)
 
     def _region(self, v: int, q: Question) -> float:

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constraints import CLOSE_UP_MIN_IN_FRAME_FRACTION, MIN_IN_FRAME_FRACTION, REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints
+from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints, min_in_frame_fraction
 from ..errors import InputError
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
@@ -147,7 +147,7 @@ def min_in_frame_share(extent: tuple[float, float] | None) -> float:
     more, is recognised by its extent interval, the only one that starts at or above the
     checker's close-up minimum."""
     close_up = extent is not None and extent[0] >= SHOT_SIZES["close-up"][0]
-    return (CLOSE_UP_MIN_IN_FRAME_FRACTION if close_up else MIN_IN_FRAME_FRACTION) + IN_FRAME_MARGIN
+    return min_in_frame_fraction("close-up" if close_up else None) + IN_FRAME_MARGIN
 
 
 def labels_from_constraints(constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]],
