@@ -90,6 +90,12 @@ def _cmd_sensitivity(args: argparse.Namespace) -> None:
     sensitivity_command(args.reference, args.variant, args.checks_root, args.scenes_root, args.output)
 
 
+def _cmd_groups(args: argparse.Namespace) -> None:
+    from .evaluate.tables import group_table_command
+
+    group_table_command(args.tables, args.group, args.output)
+
+
 def _cmd_scene_table(args: argparse.Namespace) -> None:
     from .evaluate.tables import scene_table_command
 
@@ -99,7 +105,7 @@ def _cmd_scene_table(args: argparse.Namespace) -> None:
 def _cmd_runtime(args: argparse.Namespace) -> None:
     from .evaluate.tables import runtime_command
 
-    runtime_command(args.benchmarks, args.output)
+    runtime_command(args.benchmarks, args.output, args.methods_table)
 
 
 def _cmd_ground_stage(args: argparse.Namespace) -> None:
@@ -108,6 +114,12 @@ def _cmd_ground_stage(args: argparse.Namespace) -> None:
     from . import ground
 
     getattr(ground, f"{args.verb}_command")(args)
+
+
+def _cmd_retrieved_view(args: argparse.Namespace) -> None:
+    from .ground import retrieved_view_command
+
+    retrieved_view_command(args)
 
 
 def _cmd_grid(args: argparse.Namespace) -> None:
@@ -252,10 +264,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--long-side", type=int, default=160, help="measurement resolution (long side, pixels)")
     p.set_defaults(func=_cmd_views)
 
-    p = verbs.add_parser("compare", help="one table and an error-against-run-time plot from several methods' tables")
+    p = verbs.add_parser("compare", help="one table of several methods' summaries")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate")
-    p.add_argument("-o", "--output", required=True, help="summary CSV; .md and _pareto.png are written beside it")
+    p.add_argument("-o", "--output", required=True, help="summary CSV; .md is written beside it")
     p.set_defaults(func=_cmd_compare)
+
+    p = verbs.add_parser("groups", help="success per method and dataset group (Retrieve against Refine and the rest)")
+    p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate, rows in this order")
+    p.add_argument("--group", nargs="+", required=True, metavar="SCENE=GROUP", help="every scene's dataset group")
+    p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
+    p.set_defaults(func=_cmd_groups)
 
     p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
     p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
@@ -275,6 +293,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verbs.add_parser("runtime", help="seconds per scene and stage, and per instruction and method, from benchmark TSVs")
     p.add_argument("--benchmarks", default="results/benchmarks", help="Snakemake benchmark: folder")
+    p.add_argument("--methods-table", default=None,
+                   help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)")
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
     p.set_defaults(func=_cmd_runtime)
 
@@ -309,6 +329,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--noise-seed", type=int, default=0)
     p.add_argument("--subjects", default=None, help="subjects.json of capframe associate (default: associate here)")
     p.add_argument("--fronts", default=None, help="fronts.json of capframe orient (default: orient here)")
+
+    p = verbs.add_parser("retrieved-view", help="the retrieved view Refine starts from, written as a method's result")
+    p.add_argument("scene", help="scene directory with training cameras and scene.ply")
+    p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
+    p.add_argument("-o", "--output", required=True, help="result folder to write (result.json, camera.json, render.png)")
+    p.set_defaults(func=_cmd_retrieved_view)
 
     p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
     p.add_argument("--text", required=True, help="the instruction")

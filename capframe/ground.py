@@ -476,6 +476,37 @@ def refine_retrieved(scene_dir: str | Path, labels_path: str | Path, retrieval_p
     return refine_stage(scene, read_pseudo_labels(labels_path), Retrieved.read(retrieval_path), out_dir, options, clock)
 
 
+def retrieved_view(scene_dir: str | Path, retrieval_path: str | Path, out_dir: str | Path) -> dict:
+    """Retrieve's answer on its own: the training view Refine starts from (``starts[0]`` of a
+    ``retrieval.json``), written like a method's result (``result.json``, ``camera.json``,
+    ``render.png``) so the benchmark checks the pose before refinement beside the pose after it.
+
+    ``result.json`` has no ``timings``: the view was chosen by the coarse and QE jobs, whose
+    benchmark files carry the cost (``capframe runtime``). Returns its content.
+    """
+    scene = load_scene_dir(scene_dir)
+    if scene.gaussians is None or not scene.cameras:
+        raise InputError("needs scene.ply and training cameras to render a retrieved view", source=str(scene_dir))
+    retrieved = Retrieved.read(retrieval_path)
+    if not retrieved.starts:
+        raise InputError("'starts' is empty; expected the retrieved views, best first", source=str(retrieval_path))
+    camera = scene.cameras[_view_indices(scene, retrieved.starts[:1])[0]]
+    summary = {"T_cw": camera.T_cw.tolist(), "K": camera.K.tolist(), "width": camera.width, "height": camera.height,
+               "method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict()}  # fmt: skip
+    image = render(scene.gaussians, camera).rgb
+    with atomic_directory(out_dir) as tmp:
+        write_json(tmp / "result.json", summary)
+        write_camera_json(camera, tmp / "camera.json")
+        save_png(image, tmp / "render.png")
+    return summary
+
+
+def retrieved_view_command(args) -> None:
+    """The ``capframe retrieved-view`` verb."""
+    summary = retrieved_view(args.scene, args.retrieval, args.output)
+    print(f"{args.output}: retrieved view {summary['init_view']}")
+
+
 def ground_command(args) -> None:
     """The ``capframe ground`` verb."""
     options = GroundOptions(top_k=args.topk, seed=args.seed, candidates=args.candidates, attempts=args.attempts, parser=args.parser,

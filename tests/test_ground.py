@@ -203,3 +203,25 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
     assert main(["qe", str(scene_dir), "--coarse", str(tmp_path / "r.json"), "-o", str(tmp_path / "q.json"), *cache]) == 2
     err = capsys.readouterr().err
     assert "r.json" in err and "coarse-retrieval file" in err
+
+
+def test_retrieved_view_is_the_first_start_unrefined(scene_dir, tmp_path, capsys):
+    """``capframe retrieved-view`` writes the training camera Refine starts from (``starts[0]``),
+    unchanged and readable by the checker; a start that is not a training view is named and
+    nothing is written."""
+    text, cache = "the vase on the right, from a high angle", ["--cache", str(tmp_path / "cache")]
+    assert main(["retrieve", str(scene_dir), text, "-o", str(tmp_path / "r.json"), *cache]) == 0
+    assert main(["retrieved-view", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "v")]) == 0
+    retrieval = json.loads((tmp_path / "r.json").read_text())
+    camera, _ = read_result_camera(tmp_path / "v" / "result.json")
+    training = {c.name: c for c in load_scene_dir(scene_dir).cameras}[retrieval["starts"][0]]
+    np.testing.assert_array_equal(camera.T_cw, training.T_cw)
+    np.testing.assert_array_equal(camera.K, training.K)
+    assert (camera.width, camera.height) == (training.width, training.height)
+    assert json.loads((tmp_path / "v" / "result.json").read_text())["init_view"] == training.name
+    assert (tmp_path / "v" / "render.png").stat().st_size > 0
+
+    retrieval["starts"][0] = "frame_9999"
+    (tmp_path / "bad.json").write_text(json.dumps(retrieval))
+    code = main(["retrieved-view", str(scene_dir), "--retrieval", str(tmp_path / "bad.json"), "-o", str(tmp_path / "w")])
+    assert code == 2 and "frame_9999" in capsys.readouterr().err and not (tmp_path / "w").exists()

@@ -12,8 +12,12 @@ import pytest
 from capframe.cli import main
 from capframe.errors import InputError
 from capframe.evaluate.tables import (
+    ALL_GROUPS,
     MEAN_ROW,
     benchmark_records,
+    group_table_command,
+    pareto_front,
+    pareto_points,
     parse_variant_spec,
     read_benchmark,
     rotation_delta_deg,
@@ -227,6 +231,8 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
             bench(b, f"translate/capframe-noise/{scene}/{i}.tsv", 2.5)
             bench(b, f"refine/capframe-noise/{scene}/{i}.tsv", 4.0)
             bench(b, f"refine/oracle/{scene}/{i}.tsv", 1.5)
+            # the unrefined retrieved view: its own job, and the default coarse and qe it reuses
+            bench(b, f"retrieved/retrieve/{scene}/{i}.tsv", 0.5)
     bench(b, "tables/capframe.tsv", 99.0)  # a table job: neither a scene's nor a method's cost
     out = tmp_path / "tables" / "runtime.csv"
     per_scene, per_method = runtime_command(str(b), str(out))
@@ -239,7 +245,7 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
     assert scenes.loc["s2", "refine/capframe"] == pytest.approx(3.0 + 4.0)
     assert scenes.loc["s1", "check/capframe"] == pytest.approx(1.5)
     assert scenes.loc["s2", "colmap"] == 8.0 and math.isnan(scenes.loc["s1", "colmap"])
-    s1_total = 10 + 1 + 3 + 3 * (1 + 2 + 0.5 + 2.5 + 4 + 1.5) + (3 + 4 + 5)
+    s1_total = 10 + 1 + 3 + 3 * (1 + 2 + 0.5 + 2.5 + 4 + 1.5 + 0.5) + (3 + 4 + 5)
     assert scenes.loc["s1", "total"] == pytest.approx(s1_total)
     assert list(per_scene.columns[:7]) == ["scene", "n_instructions", "synth", "instructions", "colmap", "gravity", "views"]
     assert list(per_scene.columns[7:12]) == ["coarse/capframe", "qe/capframe", "translate/capframe", "refine/capframe",
@@ -258,6 +264,9 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
     assert methods.loc["capframe-noise", "coarse_median_s"] == 0.25 and methods.loc["capframe-noise", "qe_median_s"] == 0.75
     assert methods.loc["oracle", "median_s"] == 1.5  # no shared stages, check not counted
     assert math.isnan(methods.loc["oracle", "shared_median_s"])
+    retrieve = [0.25 + 0.75 + 0.5 + 1.0] * 3 + [0.25 + 0.75 + 0.5 + 7.0] * 2
+    assert methods.loc["retrieve", "median_s"] == pytest.approx(np.median(retrieve))
+    assert methods.loc["retrieve", "qe_median_s"] == 0.75 and math.isnan(methods.loc["retrieve", "refine_median_s"])
     assert pd.read_csv(tmp_path / "tables" / "runtime_methods.csv")["method"].tolist() == per_method["method"].tolist()
     markdown = (tmp_path / "tables" / "runtime.md").read_text()
     assert "| s1 | 3 | 10.0 | 1.0 |" in markdown and markdown.strip() in capsys.readouterr().out
@@ -268,3 +277,80 @@ def test_runtime_skips_unknown_layouts_and_needs_tsvs(tmp_path, capsys):
     with pytest.raises(InputError, match="holds no benchmark TSVs"):
         benchmark_records(tmp_path)
     assert "skipped 1 benchmark files" in capsys.readouterr().err
+
+
+def test_pareto_front_keeps_points_nothing_beats():
+    seconds = np.array([1.0, 2.0, 3.0, 0.5, 10.0])
+    success = np.array([0.5, 0.4, 0.9, 0.1, 0.9])
+    # 2 s / 0.4 is beaten by 1 s / 0.5; 10 s / 0.9 by 3 s / 0.9.
+    assert pareto_front(seconds, success).tolist() == [3, 0, 2]
+
+
+def test_pareto_points_join_end_to_end_seconds_with_success_and_error(tmp_path):
+    """Seconds come from the runtime table (end to end), success and view error from the methods
+    table; a method missing from either is left out; each front is computed on its own axis."""
+    per_method = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs"], "median_s": [20.0, 3.0, 30.0, 60.0]})
+    methods = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs", "oracle"],
+                            "full_success": [0.9, 0.2, 0.1, 0.4, 1.0],
+                            "view_error_deg": [10.0, 50.0, 60.0, 5.0, 1.0]})  # fmt: skip
+    points = pareto_points(per_method, methods).set_index("method")
+    assert sorted(points.index) == ["capframe", "ivs", "retrieve", "svs"]  # oracle has no benchmarks
+    assert points["front_success"].to_dict() == {"capframe": True, "retrieve": True, "ivs": False, "svs": False}
+    assert points["front_error"].to_dict() == {"capframe": True, "retrieve": True, "ivs": False, "svs": True}
+
+
+def test_runtime_with_the_methods_table_writes_the_pareto_plot(tmp_path):
+    b = tmp_path / "benchmarks"
+    bench(b, "views/s1.tsv", 1.0)
+    for method, seconds in (("capframe", 5.0), ("ivs", 2.0)):
+        bench(b, f"refine/{method}/s1/a.tsv", seconds)
+    pd.DataFrame({"method": ["capframe", "ivs"], "full_success": [0.75, 0.25], "view_error_deg": [12.0, 40.0]}).to_csv(
+        tmp_path / "methods.csv", index=False)
+    runtime_command(str(b), str(tmp_path / "runtime.csv"), str(tmp_path / "methods.csv"))
+    points = pd.read_csv(tmp_path / "runtime_pareto.csv").set_index("method")
+    assert points.loc["capframe", "median_s"] == 6.0 and points.loc["ivs", "median_s"] == 3.0  # + views / 1 instruction
+    assert points["front_success"].all() and points["front_error"].all()
+    assert (tmp_path / "runtime_pareto.png").stat().st_size > 1000
+    assert "Error against run time" in (tmp_path / "runtime.md").read_text()
+    (tmp_path / "bad.csv").write_text("method,seconds\ncapframe,1\n")
+    with pytest.raises(InputError, match="bad.csv.*full_success"):
+        runtime_command(str(b), str(tmp_path / "runtime.csv"), str(tmp_path / "bad.csv"))
+
+
+# --- groups ----------------------------------------------------------------------------------------
+
+
+def _instruction_table(path, method: str, rows: list[tuple[str, bool, float]]) -> str:
+    frame = pd.DataFrame([{"method": method, "scene": scene, "instruction": f"{scene}-{k}", "all_satisfied": ok,
+                           "constraints_satisfied": share} for k, (scene, ok, share) in enumerate(rows)])  # fmt: skip
+    frame.to_csv(path, index=False)
+    return str(path)
+
+
+def test_group_table_compares_retrieve_and_refine_per_group(tmp_path, capsys):
+    retrieve = _instruction_table(tmp_path / "retrieve.csv", "retrieve",
+                                  [("a1", False, 0.5), ("a2", True, 1.0), ("b1", False, 0.0)])  # fmt: skip
+    refine = _instruction_table(tmp_path / "capframe.csv", "capframe", [("a1", True, 1.0), ("a2", True, 1.0), ("b1", False, 0.75)])
+    frame = group_table_command([retrieve, refine], ["b1=tanks", "a1=lerf", "a2=lerf"], str(tmp_path / "groups.csv"))
+    assert frame["method"].tolist() == ["retrieve"] * 3 + ["capframe"] * 3  # rows in the tables' order
+    assert frame["group"].tolist()[:3] == ["tanks", "lerf", ALL_GROUPS]  # groups in the specs' order
+    cells = frame.set_index(["method", "group"])
+    assert cells.loc[("retrieve", "lerf"), "full_success"] == 0.5 and cells.loc[("retrieve", "lerf"), "constraints_satisfied"] == 0.75
+    assert cells.loc[("capframe", ALL_GROUPS), "fully_satisfied"] == 2 and cells.loc[("capframe", ALL_GROUPS), "instructions"] == 3
+    assert cells.loc[("capframe", "tanks"), "full_success"] == 0.0
+    markdown = (tmp_path / "groups.md").read_text()
+    assert "| capframe | 0.000 (0/1) | 1.000 (2/2) | 0.667 (2/3) |" in markdown and markdown.strip() in capsys.readouterr().out
+
+
+def test_group_table_rejects_bad_specs_and_unknown_scenes(tmp_path):
+    table = _instruction_table(tmp_path / "t.csv", "capframe", [("m360-garden", True, 1.0)])
+    with pytest.raises(InputError, match="expected SCENE=GROUP"):
+        group_table_command([table], ["m360-garden"], str(tmp_path / "g.csv"))
+    with pytest.raises(InputError, match="more than one group"):
+        group_table_command([table], ["m360-garden=mipnerf360", "m360-garden=tanks"], str(tmp_path / "g.csv"))
+    with pytest.raises(InputError, match=r"t.csv.*\['m360-garden'\] have no --group; closest.*m360-gardens"):
+        group_table_command([table], ["m360-gardens=mipnerf360", "tt-truck=tanks"], str(tmp_path / "g.csv"))
+    pd.DataFrame({"method": ["capframe"], "instruction": ["x"], "all_satisfied": [True]}).to_csv(tmp_path / "old.csv", index=False)
+    with pytest.raises(InputError, match=r"old.csv.*lacks columns \['scene', 'constraints_satisfied'\]"):
+        group_table_command([str(tmp_path / "old.csv")], ["a=b"], str(tmp_path / "g.csv"))
+    assert not (tmp_path / "g.csv").exists()

@@ -81,6 +81,9 @@ def test_scenes_get_only_the_stages_they_need(tmp_path):
     for scene in SCENES:
         assert f"results/refine/capframe/{scene}/{scene}-000" in out
     assert "results/tables/methods.csv" in out
+    # every instruction's retrieved view is checked unrefined, as method "retrieve"
+    for scene in SCENES:
+        assert f"results/check/retrieve/{scene}/{scene}-000.json" in out
 
 
 def _jobs(plan: str) -> dict[str, int]:
@@ -192,7 +195,8 @@ def test_deleting_one_result_reruns_only_what_is_built_from_it(tmp_path):
     assert "Nothing to be done" in planned_outputs(tmp_path)
     shutil.rmtree(tmp_path / "results/refine/capframe/room-forward/room-forward-000")
     plan = planned_outputs(tmp_path)
-    assert _jobs(plan) == {"refine_method": 1, "check": 1, "grid": 1, "aggregate": 1, "compare": 1, "runtime": 1, "all": 1}
+    assert _jobs(plan) == {"refine_method": 1, "check": 1, "grid": 1, "aggregate": 1, "compare": 1, "groups": 1, "runtime": 1,
+                           "all": 1}  # fmt: skip
     assert "results/check/capframe/room-forward/room-forward-000.json" in plan
     assert "results/report/grid/room-forward/room-forward-000.png" in plan
 

@@ -1,8 +1,7 @@
-"""Aggregation of per-instruction results into tables: ``capframe aggregate``."""
+"""Aggregation of per-instruction results into tables: ``capframe aggregate`` and ``capframe compare``."""
 
 from __future__ import annotations
 
-import io
 from collections import defaultdict
 from pathlib import Path
 
@@ -18,19 +17,24 @@ KIND_UNITS = {"visibility": "fraction", "region": "frame", "shot": "frame", "vie
 
 
 def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd.DataFrame:
-    """One row per instruction: overall verdict, verdict and worst checker error per constraint
-    kind (``<kind>_error``, in :data:`KIND_UNITS`), run time.
+    """One row per instruction: its scene, overall verdict, share of its applicable constraints
+    satisfied, verdict and worst checker error per constraint kind (``<kind>_error``, in
+    :data:`KIND_UNITS`), run time.
 
-    ``checks`` and ``results`` pair up: a check report (``capframe check -o``) and the method's
+    ``checks`` and ``results`` pair up: a check report (``capframe check -o``, laid out as
+    ``<method>/<scene>/<id>.json``: the scene is its folder's name) and the method's
     ``result.json`` (for its wall time and iterations).
     """
     rows = []
     for check_path, result_path in zip(checks, results):
         report = read_json(check_path)
         result = read_json(result_path)
-        row = {"method": method, "instruction": report.get("instruction_id") or Path(check_path).stem,
-               "all_satisfied": bool(report["all_satisfied"]), "seconds": result.get("timings", {}).get("total_s", np.nan),
-               "iterations": result.get("iterations", np.nan)}
+        applicable = report.get("applicable") or 0
+        row = {"method": method, "scene": Path(check_path).parent.name,
+               "instruction": report.get("instruction_id") or Path(check_path).stem,
+               "all_satisfied": bool(report["all_satisfied"]),
+               "constraints_satisfied": report["satisfied"] / applicable if applicable else np.nan,
+               "seconds": result.get("timings", {}).get("total_s", np.nan), "iterations": result.get("iterations", np.nan)}
         kinds, errors = defaultdict(list), defaultdict(list)
         for r in report["rows"]:
             if r["satisfied"] is not None:
@@ -74,49 +78,15 @@ def aggregate_command(method: str, checks: list[str], results: list[str], output
     print(markdown)
 
 
-def pareto_front(seconds: np.ndarray, success: np.ndarray) -> np.ndarray:
-    """Indices of the points no other point beats on both time (lower) and success (higher),
-    fastest first."""
-    order = np.lexsort((-success, seconds))
-    front, best = [], -np.inf
-    for i in order:
-        if success[i] > best:
-            front.append(int(i))
-            best = success[i]
-    return np.asarray(front, dtype=int)
-
-
 def compare_command(tables: list[str], output: str) -> pd.DataFrame:
-    """Summaries of several methods side by side (``output`` CSV, ``.md`` beside it) and the
-    error-against-run-time plot (``<stem>_pareto.png``): full-success rate against median seconds
-    per query, one point per method, the Pareto front joined."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    """Summaries of several methods side by side, best full-success rate first (``output`` CSV,
+    ``.md`` beside it), printed. Their error against end-to-end run time is ``capframe
+    runtime``'s (``--methods-table``): each method's own timer here leaves out shared stages."""
     frame = pd.concat([pd.read_csv(t) for t in tables], ignore_index=True)
     summary = summary_table(frame).sort_values("full_success", ascending=False)
     out = Path(output)
     atomic_write(out, summary.to_csv(index=False))
     markdown = summary.to_string(index=False, float_format=lambda v: f"{v:.3f}")
     atomic_write(out.with_suffix(".md"), markdown + "\n")
-    seconds, success = summary["median_s"].to_numpy(float), summary["full_success"].to_numpy(float)
-    front = pareto_front(seconds, success)
-    fig, ax = plt.subplots(figsize=(5, 3.6), dpi=120)
-    ax.scatter(seconds, success, color="tab:blue")
-    ax.plot(seconds[front], success[front], color="tab:red", lw=1, label="Pareto front")
-    for name, x, y in zip(summary["method"], seconds, success):
-        ax.annotate(name, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
-    ax.set_xscale("log")
-    ax.set_xlabel("median seconds per instruction")
-    ax.set_ylabel("instructions fully satisfied")
-    ax.set_ylim(-0.05, 1.05)
-    ax.legend(loc="lower right", fontsize=8)
-    fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png")
-    plt.close(fig)
-    atomic_write(out.with_name(out.stem + "_pareto.png"), buffer.getvalue())
     print(markdown)
     return summary

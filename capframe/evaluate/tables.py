@@ -1,4 +1,5 @@
-"""The benchmark's further tables: ``capframe sensitivity``, ``capframe scene-table``, ``capframe runtime``.
+"""The benchmark's further tables: ``capframe sensitivity``, ``capframe groups``, ``capframe scene-table``,
+``capframe runtime``.
 
 Each verb writes a CSV and a Markdown table beside it (same stem, ``.md``), atomically, and prints
 the Markdown.
@@ -9,14 +10,22 @@ the Markdown.
   divided by the scene scale (``ground_truth.json`` ``scale``), both averaged over the instructions;
   beside them the variant's full-success rate and its change against the reference's on the same
   instructions (ground-truth checks in place of the paper's CLIP/SigLIP deltas).
+* **Groups** (the paper's Table "refine", Retrieve against Refine per dataset): per method and
+  dataset group the full-success rate and the mean share of constraints satisfied, ground-truth
+  checks in place of the paper's SigLIP 2 scores. Method ``retrieve`` is the retrieved view Refine
+  starts from, unrefined.
 * **Scenes**: per scene its views and Gaussians, whether COLMAP and gravity ran, COLMAP's
   registration and pose errors (``colmap.json``), the gravity error against the true up.
 * **Runtime** (the paper's Table "time"): per scene the seconds of every stage summed over its
-  jobs, from Snakemake's ``benchmark:`` files; per method the median seconds per instruction.
+  jobs, from Snakemake's ``benchmark:`` files; per method the median seconds per instruction,
+  end to end; with the methods table, every method's success and mean view error against those
+  seconds, Pareto fronts marked (the error-against-run-time plot).
 """
 
 from __future__ import annotations
 
+import difflib
+import io
 import math
 import sys
 from pathlib import Path
@@ -221,6 +230,84 @@ def sensitivity_command(reference: str, variants: list[str], checks_root: str, s
         raise InputError(f"variant names {names} repeat; give each variant its own NAME")
     frame = sensitivity_table(reference, specs, checks_root, scenes_root)
     _write_tables(output, frame, sensitivity_markdown(frame))
+    return frame
+
+
+# --- dataset groups -------------------------------------------------------------------------------
+
+ALL_GROUPS = "all"
+
+
+def parse_group_spec(spec: str) -> tuple[str, str]:
+    """``SCENE=GROUP`` as (scene, group); :class:`InputError` naming the spec otherwise."""
+    scene, sep, group = spec.partition("=")
+    if not sep or not scene.strip() or not group.strip():
+        raise InputError(f"group {spec!r}: expected SCENE=GROUP, e.g. m360-garden=mipnerf360")
+    return scene.strip(), group.strip()
+
+
+def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFrame:
+    """Per method (in the order of ``tables``) and dataset group, then over every group
+    (``group = ALL_GROUPS``): instructions, full-success rate, and the mean share of each
+    instruction's constraints satisfied.
+
+    ``tables`` are per-instruction CSVs of ``capframe aggregate`` (with ``scene``,
+    ``all_satisfied`` and ``constraints_satisfied`` columns); ``groups`` maps every scene in them
+    to its group, whose order of first appearance orders the groups.
+    """
+    frames = []
+    for path in tables:
+        frame = pd.read_csv(path)
+        missing = [c for c in ("method", "scene", "all_satisfied", "constraints_satisfied") if c not in frame.columns]
+        if missing:
+            raise InputError(f"lacks columns {missing}; expected a table of capframe aggregate (rerun it)", source=str(path))
+        unknown = sorted(set(frame["scene"].astype(str)) - set(groups))
+        if unknown:
+            close = difflib.get_close_matches(unknown[0], list(groups), n=3) or sorted(groups)[:3]
+            raise InputError(f"scenes {unknown} have no --group; closest known scenes to {unknown[0]!r}: {close}",
+                             source=str(path))  # fmt: skip
+        frames.append(frame.assign(group=frame["scene"].astype(str).map(groups)))
+    if not frames:
+        raise InputError("no tables given; expected capframe aggregate's per-instruction CSVs")
+    frame = pd.concat(frames, ignore_index=True)
+    frame = pd.concat([frame, frame.assign(group=ALL_GROUPS)], ignore_index=True)
+    methods = list(dict.fromkeys(frame["method"]))
+    order = list(dict.fromkeys(groups.values())) + [ALL_GROUPS]
+    out = frame.groupby(["method", "group"], sort=False).agg(
+        instructions=("all_satisfied", "size"), fully_satisfied=("all_satisfied", "sum"),
+        full_success=("all_satisfied", "mean"), constraints_satisfied=("constraints_satisfied", "mean")).reset_index()
+    out["fully_satisfied"] = out["fully_satisfied"].astype(int)
+    keys = [(methods.index(m), order.index(g)) for m, g in zip(out["method"], out["group"])]
+    return out.iloc[sorted(range(len(out)), key=keys.__getitem__)].reset_index(drop=True)
+
+
+def group_markdown(frame: pd.DataFrame) -> str:
+    """Two method-by-group tables: full success (rate and count) and the mean share of
+    constraints satisfied."""
+    groups = list(dict.fromkeys(frame["group"]))
+    methods = list(dict.fromkeys(frame["method"]))
+    cells = {(r.method, r.group): r for r in frame.itertuples(index=False)}
+
+    def table(cell) -> str:
+        rows = [{"method": m, **{g: cell(cells[(m, g)]) if (m, g) in cells else "" for g in groups}} for m in methods]
+        return markdown_table(pd.DataFrame(rows, columns=["method", *groups]))
+
+    return ("Instructions fully satisfied, per dataset group\n\n"
+            + table(lambda r: f"{r.full_success:.3f} ({r.fully_satisfied}/{r.instructions})")
+            + "\n\nMean share of an instruction's constraints satisfied, per dataset group\n\n"
+            + table(lambda r: f"{r.constraints_satisfied:.3f}"))  # fmt: skip
+
+
+def group_table_command(tables: list[str], groups: list[str], output: str) -> pd.DataFrame:
+    """``capframe groups``: :func:`group_table` for ``SCENE=GROUP`` specs, written to ``output``
+    (CSV) and ``<stem>.md``, and printed."""
+    pairs = [parse_group_spec(g) for g in groups]
+    mapping = dict(pairs)
+    clashes = sorted({s for s, g in pairs if mapping[s] != g})
+    if clashes:
+        raise InputError(f"scenes {clashes} are given more than one group")
+    frame = group_table(tables, mapping)
+    _write_tables(output, frame, group_markdown(frame))
     return frame
 
 
@@ -460,8 +547,17 @@ def runtime_per_scene(records: pd.DataFrame) -> pd.DataFrame:
     return table.reset_index()
 
 
-def _is_variant(method: str) -> bool:
-    return method.startswith(DEFAULT_METHOD + "-")
+# Stages of the default method whose jobs a method reuses instead of running its own: a variant
+# "capframe-<name>" reuses every stage before the first it overrides, "retrieve" (the retrieved
+# view unrefined, workflow/rules/method.smk) is Retrieve's coarse and QE jobs.
+RETRIEVE_METHOD = "retrieve"
+
+
+def reused_stages(method: str) -> tuple[str, ...]:
+    """The default method's per-instruction stages ``method`` may reuse (see above)."""
+    if method.startswith(DEFAULT_METHOD + "-"):
+        return METHOD_STAGES
+    return ("coarse", "qe") if method == RETRIEVE_METHOD else ()
 
 
 def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
@@ -469,10 +565,10 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
 
     The rule: an instruction of method ``M`` costs
       * the seconds of M's own per-instruction jobs (``<stage>/M/<scene>/<id>.tsv``, every stage
-        but ``check``, which evaluates rather than runs it); a variant ``capframe-<name>`` that
-        has no job of its own for a method stage (``coarse`` ... ``translate``) reuses the
-        default method's output for it (common.smk ``stage_key``), so the default method's job
-        for that instruction is counted instead;
+        but ``check``, which evaluates rather than runs it); for a stage M reuses (a variant
+        ``capframe-<name>`` without a job of its own for ``coarse`` ... ``translate``, common.smk
+        ``stage_key``; ``retrieve`` for ``coarse`` and ``qe``, :func:`reused_stages`) the
+        default method's job for that instruction is counted instead;
       * plus, for every method but the oracle, the shared per-scene jobs (``colmap``,
         ``gravity``, ``views``) of its scene divided by the scene's instruction count (the
         distinct instruction ids among the scene's per-instruction benchmarks). ``synth`` and
@@ -489,13 +585,14 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
     rows = []
     for method in sorted(cost["method"].unique(), key=lambda m: (m != DEFAULT_METHOD, m)):
         own = cost[cost["method"] == method]
-        stages = set(own["stage"]) | (set(METHOD_STAGES) if _is_variant(method) else set())
-        stages = sorted(stages, key=lambda s: (METHOD_STAGES.index(s) if s in METHOD_STAGES else len(METHOD_STAGES), s))
+        reused = reused_stages(method)
+        stages = sorted(set(own["stage"]) | set(reused),
+                        key=lambda s: (METHOD_STAGES.index(s) if s in METHOD_STAGES else len(METHOD_STAGES), s))
         for scene, instruction in sorted(set(zip(own["scene"], own["instruction"]))):
             row = {"method": method, "scene": scene, "instruction": instruction}
             for stage in stages:
                 value = seconds.get((stage, method, scene, instruction))
-                if value is None and _is_variant(method) and stage in METHOD_STAGES:
+                if value is None and stage in reused:
                     value = seconds.get((stage, DEFAULT_METHOD, scene, instruction))
                 row[stage] = math.nan if value is None else value
             if method not in NO_SHARED_STAGES:
@@ -520,12 +617,94 @@ def runtime_markdown(per_scene: pd.DataFrame, per_method: pd.DataFrame) -> str:
             + markdown_table(per_method, {c: ".2f" for c in per_method.columns if c.endswith("_s")}))  # fmt: skip
 
 
-def runtime_command(benchmarks: str, output: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+def pareto_front(seconds: np.ndarray, score: np.ndarray) -> np.ndarray:
+    """Indices of the points no other point beats on both time (lower) and ``score`` (higher),
+    fastest first."""
+    order = np.lexsort((-score, seconds))
+    front, best = [], -np.inf
+    for i in order:
+        if score[i] > best:
+            front.append(int(i))
+            best = score[i]
+    return np.asarray(front, dtype=int)
+
+
+# The error axis of the error-against-run-time plot: the methods table's mean view error.
+PARETO_ERROR = "view_error_deg"
+
+
+def pareto_points(per_method: pd.DataFrame, methods: pd.DataFrame) -> pd.DataFrame:
+    """Per method in both tables: median end-to-end seconds per instruction (``per_method``, see
+    :func:`runtime_per_method`), full-success rate and mean view error (``methods``, the
+    ``capframe compare`` summary), and whether it is on the Pareto front of success against
+    seconds (``front_success``) and of error against seconds (``front_error``)."""
+    columns = ["method", "full_success"] + ([PARETO_ERROR] if PARETO_ERROR in methods.columns else [])
+    points = per_method[["method", "median_s"]].merge(methods[columns], on="method", how="inner")
+    points = points.dropna(subset=["median_s", "full_success"]).reset_index(drop=True)
+    seconds = points["median_s"].to_numpy(float)
+    points["front_success"] = False
+    points.loc[pareto_front(seconds, points["full_success"].to_numpy(float)), "front_success"] = True
+    if PARETO_ERROR in points:
+        known = points[PARETO_ERROR].notna().to_numpy()
+        front = np.flatnonzero(known)[pareto_front(seconds[known], -points[PARETO_ERROR].to_numpy(float)[known])]
+        points["front_error"] = False
+        points.loc[front, "front_error"] = True
+    return points
+
+
+def pareto_plot(points: pd.DataFrame) -> bytes:
+    """PNG of :func:`pareto_points`: full success (and, where known, mean view error) against
+    median seconds per instruction, log scale; front points ringed and joined by a step line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    panels = [("full_success", "front_success", "instructions fully satisfied")]
+    if PARETO_ERROR in points and points[PARETO_ERROR].notna().any():
+        panels.append((PARETO_ERROR, "front_error", "mean view error (deg)"))
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 3.8), dpi=120, squeeze=False)
+    for ax, (value, front, label) in zip(axes[0], panels):
+        shown = points.dropna(subset=[value])
+        on = shown[shown[front]].sort_values("median_s")
+        ax.scatter(shown["median_s"], shown[value], color="tab:blue", zorder=2)
+        ax.scatter(on["median_s"], on[value], s=140, facecolors="none", edgecolors="tab:red", zorder=3,
+                   label="Pareto front")  # fmt: skip
+        ax.step(on["median_s"], on[value], where="post", color="tab:red", lw=1, zorder=1)
+        for row in shown.itertuples(index=False):
+            ax.annotate(row.method, (row.median_s, getattr(row, value)), textcoords="offset points", xytext=(5, 4),
+                        fontsize=8)  # fmt: skip
+        ax.set_xscale("log")
+        ax.set_xlabel("median seconds per instruction (end to end)")
+        ax.set_ylabel(label)
+        if value == "full_success":
+            ax.set_ylim(-0.05, 1.05)
+        ax.legend(loc="best", fontsize=8)
+    fig.tight_layout()
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png")
+    plt.close(fig)
+    return buffer.getvalue()
+
+
+def runtime_command(benchmarks: str, output: str, methods_table: str | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """``capframe runtime``: the per-scene table to ``output`` (CSV), the per-method table to
-    ``<stem>_methods.csv``, both in ``<stem>.md``; prints the Markdown."""
+    ``<stem>_methods.csv``, both in ``<stem>.md``; prints the Markdown. With ``methods_table``
+    (``capframe compare``'s CSV) also the error-against-run-time points (``<stem>_pareto.csv``,
+    in the Markdown) and their plot (``<stem>_pareto.png``)."""
     records = benchmark_records(benchmarks)
     per_scene, per_method = runtime_per_scene(records), runtime_per_method(records)
     out = Path(output)
     atomic_write(out.with_name(out.stem + "_methods.csv"), per_method.to_csv(index=False))
-    _write_tables(out, per_scene, runtime_markdown(per_scene, per_method))
+    markdown = runtime_markdown(per_scene, per_method)
+    if methods_table is not None:
+        methods = pd.read_csv(methods_table)
+        if "method" not in methods.columns or "full_success" not in methods.columns:
+            raise InputError("lacks 'method' or 'full_success'; expected capframe compare's CSV", source=methods_table)
+        points = pareto_points(per_method, methods)
+        atomic_write(out.with_name(out.stem + "_pareto.csv"), points.to_csv(index=False))
+        atomic_write(out.with_name(out.stem + "_pareto.png"), pareto_plot(points))
+        markdown += ("\n\nError against run time (median end-to-end seconds per instruction; front: on the Pareto front)\n\n"
+                     + markdown_table(points, {"median_s": ".2f", PARETO_ERROR: ".1f"}))  # fmt: skip
+    _write_tables(out, per_scene, markdown)
     return per_scene, per_method

@@ -164,9 +164,13 @@ EVALUATE_PRIORITY = 20
 # Where each method's per-instruction result folder lives.
 METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VARIANTS}
 METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"
+# The retrieved view Refine starts from, unrefined: the "Retrieve" row against CapFrame's "Refine".
+METHOD_RESULTS["retrieve"] = "results/retrieved/{scene}/{instruction}"
 # The paper's baselines (IVS, SVS, a SplaTraj-style optimiser), scored with the embedded tier.
 BASELINES = ("ivs", "svs", "splatraj")
 METHOD_RESULTS |= {b: f"results/baselines/{b}/{{scene}}/{{instruction}}" for b in BASELINES}
 
 # Methods shown side by side in the report's image grid.
-REPORT_METHODS = ["capframe", *BASELINES, "oracle"]
+REPORT_METHODS = ["retrieve", "capframe", *BASELINES, "oracle"]
+# Methods of the per-group table, Retrieve and Refine (CapFrame) first.
+GROUP_METHODS = ["retrieve", "capframe", "oracle", *BASELINES]

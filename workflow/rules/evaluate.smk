@@ -45,13 +45,28 @@ rule compare:
     output:
         table=report("results/tables/methods.csv", caption="../report/methods.rst", category="Tables"),
         markdown="results/tables/methods.md",
-        plot=report("results/tables/methods_pareto.png", caption="../report/pareto.rst", category="Tables"),
     log:
         "results/logs/aggregate/methods.log",
     benchmark:
         "results/benchmarks/tables/methods.tsv"
     shell:
         "capframe compare {input} -o {output.table} > {log} 2>&1"
+
+
+rule groups:
+    input:
+        expand("results/tables/{method}.csv", method=GROUP_METHODS),
+    output:
+        table=report("results/tables/groups.csv", caption="../report/groups.rst", category="Tables"),
+        markdown="results/tables/groups.md",
+    params:
+        groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
+    log:
+        "results/logs/aggregate/groups.log",
+    benchmark:
+        "results/benchmarks/tables/groups.tsv"
+    shell:
+        "capframe groups {input} --group {params.groups} -o {output.table} > {log} 2>&1"
 
 
 VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
@@ -95,17 +110,20 @@ rule scene_table:
 rule runtime:
     input:
         # Last: every job's benchmark file exists once these do.
-        "results/tables/methods.csv",
+        "results/tables/groups.csv",
         "results/tables/scenes.csv",
         ["results/tables/sensitivity.csv"] if VARIANT_NAMES else [],
         per_instruction("results/report/grid/{scene}/{instruction}.png"),
+        methods="results/tables/methods.csv",
     output:
         table=report("results/tables/runtime.csv", caption="../report/runtime.rst", category="Tables"),
         methods="results/tables/runtime_methods.csv",
         markdown="results/tables/runtime.md",
+        points="results/tables/runtime_pareto.csv",
+        plot=report("results/tables/runtime_pareto.png", caption="../report/pareto.rst", category="Tables"),
     log:
         "results/logs/aggregate/runtime.log",
     benchmark:
         "results/benchmarks/tables/runtime.tsv"
     shell:
-        "capframe runtime --benchmarks results/benchmarks -o {output.table} > {log} 2>&1"
+        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods} -o {output.table} > {log} 2>&1"

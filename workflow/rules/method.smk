@@ -97,6 +97,22 @@ rule qe:
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
+rule retrieved_view:
+    # Retrieve's answer unrefined, checked as method "retrieve" (Retrieve-vs-Refine per group).
+    priority: METHOD_PRIORITY
+    input:
+        scene=posed_scene,
+        retrieval="results/retrieve/capframe/{scene}/{instruction}.json",
+    output:
+        directory("results/retrieved/{scene}/{instruction}"),
+    log:
+        "results/logs/retrieved/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/retrieved/retrieve/{scene}/{instruction}.tsv"
+    shell:
+        "capframe retrieved-view {input.scene} --retrieval {input.retrieval} -o {output} > {log} 2>&1"
+
+
 rule segment:
     priority: METHOD_PRIORITY
     input:
