@@ -290,13 +290,19 @@ def test_pareto_points_join_end_to_end_seconds_with_success_and_error(tmp_path):
     """Seconds come from the runtime table (end to end), success and view error from the methods
     table; a method missing from either is left out; each front is computed on its own axis."""
     per_method = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs"], "median_s": [20.0, 3.0, 30.0, 60.0]})
-    methods = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs", "oracle"],
-                            "full_success": [0.9, 0.2, 0.1, 0.4, 1.0],
-                            "view_error_deg": [10.0, 50.0, 60.0, 5.0, 1.0]})  # fmt: skip
-    points = pareto_points(per_method, methods).set_index("method")
-    assert sorted(points.index) == ["capframe", "ivs", "retrieve", "svs"]  # oracle has no benchmarks
+    methods = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs", "gt", "oracle"],
+                            "full_success": [0.9, 0.2, 0.1, 0.4, 1.0, 0.95],
+                            "view_error_deg": [10.0, 50.0, 60.0, 5.0, 1.0, 2.0]})  # fmt: skip
+    points = pareto_points(per_method, methods)
+    assert points["method"].tolist() == ["retrieve", "capframe", "ivs", "svs"]  # fastest first; "gt" has no benchmarks
+    points = points.set_index("method")
     assert points["front_success"].to_dict() == {"capframe": True, "retrieve": True, "ivs": False, "svs": False}
     assert points["front_error"].to_dict() == {"capframe": True, "retrieve": True, "ivs": False, "svs": True}
+    # the oracle (ground-truth labels) is shown but never on a front, however fast and accurate
+    with_oracle = pd.concat([per_method, pd.DataFrame({"method": ["oracle"], "median_s": [1.0]})])
+    points = pareto_points(with_oracle, methods).set_index("method")
+    assert not points.loc["oracle", "front_success"] and not points.loc["oracle", "front_error"]
+    assert points["front_success"].sum() == 2 and points["front_error"].sum() == 3
 
 
 def test_runtime_with_the_methods_table_writes_the_pareto_plot(tmp_path):
