@@ -133,7 +133,7 @@ def test_upright_is_finite_looking_straight_down():
     T = look_at(vec(0, 0, 5), vec(0, 0, 0), vec(0, 0, 1)).clone().requires_grad_()
     loss = upright_loss(T, vec(0, 0, 1))
     loss.backward()
-    assert float(loss) < 1e-5 and torch.isfinite(T.grad).all()
+    assert float(loss.detach()) < 1e-5 and torch.isfinite(T.grad).all()
 
 
 def test_view_loss_is_zero_inside_the_accepted_set_and_positive_outside():
