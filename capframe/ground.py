@@ -38,7 +38,7 @@ from .geometry import pose_deviation
 from .handoff import (Coarse, Retrieved, read_fronts, read_groundings, read_masks, write_fronts, write_groundings,
                       write_masks)
 from .refine.optimize import RefineConfig, RefineResult, refine_pose
-from .refine.run import scene_scale, write_refine_outputs
+from .refine.run import scene_scale, write_camera_result, write_refine_outputs
 from .render import render
 from .render.image import save_png
 from .retrieve.qe import coarse_keep, rank_kept
@@ -491,13 +491,10 @@ def retrieved_view(scene_dir: str | Path, retrieval_path: str | Path, out_dir: s
     if not retrieved.starts:
         raise InputError("'starts' is empty; expected the retrieved views, best first", source=str(retrieval_path))
     camera = scene.cameras[_view_indices(scene, retrieved.starts[:1])[0]]
-    summary = {"T_cw": camera.T_cw.tolist(), "K": camera.K.tolist(), "width": camera.width, "height": camera.height,
-               "method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict()}  # fmt: skip
     image = render(scene.gaussians, camera).rgb
     with atomic_directory(out_dir) as tmp:
-        write_json(tmp / "result.json", summary)
-        write_camera_json(camera, tmp / "camera.json")
-        save_png(image, tmp / "render.png")
+        summary = write_camera_result(tmp, camera, image, {"method": "retrieve", "init_view": camera.name,
+                                                           "instruction": retrieved.parsed.to_dict()})  # fmt: skip
     return summary
 
 

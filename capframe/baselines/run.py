@@ -25,12 +25,11 @@ import numpy as np
 from ..backends import check_perception
 from ..errors import InputError
 from ..ground import GroundOptions, StageClock, load_scene, make_perception, parse_stage, translate
-from ..refine.run import scene_scale
+from ..refine.run import scene_scale, write_camera_result
 from ..render import render
-from ..render.image import save_png
 from ..retrieve.qe import Retrieval, retrieve
-from ..scene import Camera, SceneDir, write_camera_json
-from ..scene._io import atomic_directory, write_json
+from ..scene import Camera, SceneDir
+from ..scene._io import atomic_directory
 from ..translate.labels import PseudoLabels
 from .candidates import ivs_candidates, svs_candidates
 from .scoring import QEScorer, Scorer, best_candidate
@@ -141,14 +140,11 @@ def run_baseline(method: str, scene_dir: str | Path, text: str, out_dir: str | P
     camera, score, search = SEARCHES[method](scene, retrieval, labels, scorer, options, clock)
     image = render(scene.gaussians, camera).rgb
     clock.done("render", f"{camera.width}x{camera.height}")
-    summary = {"T_cw": camera.T_cw.tolist(), "K": camera.K.tolist(), "width": camera.width, "height": camera.height,
-               "method": method, "score": score, "search": search, "instruction": parsed.to_dict(),
-               "retrieval": {"top": [scene.cameras[v].name for v in retrieval.top]}, "up": up.tolist(),
-               "timings": dict(clock.timings, total_s=time.perf_counter() - clock.start)}  # fmt: skip
+    fields = {"method": method, "score": score, "search": search, "instruction": parsed.to_dict(),
+              "retrieval": {"top": [scene.cameras[v].name for v in retrieval.top]}, "up": up.tolist(),
+              "timings": dict(clock.timings, total_s=time.perf_counter() - clock.start)}  # fmt: skip
     with atomic_directory(out_dir) as tmp:
-        write_json(tmp / "result.json", summary)
-        write_camera_json(camera, tmp / "camera.json")
-        save_png(image, tmp / "render.png")
+        summary = write_camera_result(tmp, camera, image, fields)
     return summary
 
 

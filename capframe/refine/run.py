@@ -76,15 +76,23 @@ def refine_to_dir(scene_dir: str | Path, labels_path: str | Path, init: str, out
     return result
 
 
+def write_camera_result(out: Path, camera: Camera, image: torch.Tensor, fields: dict) -> dict:
+    """The files of every method's result folder, what ``capframe check`` and the image grid read:
+    ``result.json`` (the camera's ``T_cw``, ``K``, ``width``, ``height``, then ``fields``),
+    ``camera.json`` and ``render.png`` (``image``: (H, W, 3) in [0, 1]). Returns ``result.json``'s
+    content."""
+    summary = {"T_cw": camera.T_cw.tolist(), "K": camera.K.tolist(), "width": camera.width, "height": camera.height, **fields}
+    write_json(out / "result.json", summary)
+    write_camera_json(camera, out / "camera.json")
+    save_png(image, out / "render.png")
+    return summary
+
+
 def write_refine_outputs(out: Path, camera: Camera, result: RefineResult, labels: PseudoLabels, config: RefineConfig,
                          timings: dict, image: torch.Tensor, extra: dict | None = None) -> None:
     """Write the files listed in the module docstring into ``out``; ``extra`` adds fields to
     ``result.json``."""
-    summary = {
-        "T_cw": camera.T_cw.tolist(),
-        "K": camera.K.tolist(),
-        "width": camera.width,
-        "height": camera.height,
+    fields = {
         "iterations": result.iterations,
         "stop_reason": result.stop_reason,
         "loss_terms": result.terms,
@@ -96,9 +104,7 @@ def write_refine_outputs(out: Path, camera: Camera, result: RefineResult, labels
         "subjects": [s.name for s in labels.subjects],
         **(extra or {}),
     }
-    write_json(out / "result.json", summary)
-    write_camera_json(camera, out / "camera.json")
-    save_png(image, out / "render.png")
+    write_camera_result(out, camera, image, fields)
     np.savez_compressed(out / "trajectory.npz", poses=result.trajectory, loss=result.losses, **result.history)
     names = list(result.history)
     rows = ["iteration,loss," + ",".join(names)]
