@@ -160,7 +160,7 @@ def test_view_loss_is_zero_inside_the_accepted_set_and_positive_outside():
     loss = view_loss(T, subject, front, up, (0.0,), 18.0, (-10.0, 10.0))
     loss.backward()
     # The azimuth part fades where azimuth is undefined; the elevation part pulls the camera down.
-    assert math.isclose(float(loss), 1.0 - math.sin(math.radians(10)), abs_tol=1e-5)
+    assert math.isclose(float(loss.detach()), 1.0 - math.sin(math.radians(10)), abs_tol=1e-5)
     assert torch.isfinite(T.grad).all() and T.grad.abs().sum() > 0
 
 
@@ -169,7 +169,7 @@ def test_aim_loss_pulls_from_behind_the_camera():
     behind = vec(0, 0, -3)
     loss = aim_loss(T, behind, vec(0, 0, 1))
     loss.backward()
-    assert math.isclose(float(loss), 2.0, rel_tol=1e-6) and torch.isfinite(T.grad).all()
+    assert math.isclose(float(loss.detach()), 2.0, rel_tol=1e-6) and torch.isfinite(T.grad).all()
     assert float(aim_loss(T.detach(), vec(0.0, 0.0, 5.0), vec(0, 0, 1))) < 1e-5
 
 
