@@ -186,10 +186,10 @@ def test_wide_shot_size_term_has_no_lower_bound():
         size.backward()
         assert torch.isfinite(size) and torch.isfinite(scale.grad)
         if expected_zero:
-            assert float(size) == 0.0
+            assert float(size.detach()) == 0.0
         else:
-            excess = math.log(bbox_extent(mask) / extent[1])
-            assert excess > 0 and math.isclose(float(size), excess, rel_tol=1e-9) and float(scale.grad) > 0
+            excess = math.log(bbox_extent(mask.detach()) / extent[1])
+            assert excess > 0 and math.isclose(float(size.detach()), excess, rel_tol=1e-9) and float(scale.grad) > 0
 
 
 def test_layout_boxes_stay_in_frame_and_regions_shrink():
@@ -241,7 +241,7 @@ def test_clearance_pushes_out_of_the_subject_and_vanishes_outside():
     eye = vec(0.3, 0, 0).requires_grad_()
     loss = clearance_loss(look_at(eye, eye + vec(1, 0, 0), vec(0, 0, 1)), centre, 1.0)
     loss.backward()
-    assert math.isclose(float(loss), 0.7, rel_tol=1e-9)
+    assert math.isclose(float(loss.detach()), 0.7, rel_tol=1e-9)
     assert torch.allclose(eye.grad, vec(-1.0, 0, 0))  # descent moves the camera straight out
     outside = look_at(vec(1.5, 0, 0), vec(0, 0, 0), vec(0, 0, 1))
     assert float(clearance_loss(outside, centre, 1.0)) == 0.0
