@@ -658,7 +658,8 @@ def pareto_points(per_method: pd.DataFrame, methods: pd.DataFrame) -> pd.DataFra
 def pareto_plot(points: pd.DataFrame) -> bytes:
     """PNG of :func:`pareto_points`: full success (and, where known, mean view error) against
     median seconds per instruction, log scale; front points ringed and joined by a step line,
-    reference methods grey."""
+    reference methods grey. Points are numbered fastest first, with a key beside the panels
+    (names would overlap: the variants of a method cluster)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -668,8 +669,10 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
     panels = [("full_success", "front_success", "instructions fully satisfied")]
     if PARETO_ERROR in points and points[PARETO_ERROR].notna().any():
         panels.append((PARETO_ERROR, "front_error", "mean view error (deg)"))
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.2 * len(panels), 3.8), dpi=120, squeeze=False)
-    for ax, (value, front, label) in zip(axes[0], panels):
+    fig, axes = plt.subplots(1, len(panels) + 1, figsize=(5.0 * len(panels) + 1.9, 3.8), dpi=120,
+                             width_ratios=[5.0] * len(panels) + [1.9])  # fmt: skip
+    numbers = {name: k + 1 for k, name in enumerate(points["method"])}
+    for ax, (value, front, label) in zip(axes, panels):
         shown = points.dropna(subset=[value])
         on = shown[shown[front]].sort_values("median_s")
         reference = shown["method"].isin(REFERENCE_METHODS)
@@ -678,8 +681,8 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
                    label="Pareto front")  # fmt: skip
         ax.step(on["median_s"], on[value], where="post", color="tab:red", lw=1, zorder=1)
         for row in shown.itertuples(index=False):
-            ax.annotate(row.method, (row.median_s, getattr(row, value)), textcoords="offset points", xytext=(5, 4),
-                        fontsize=8)  # fmt: skip
+            ax.annotate(str(numbers[row.method]), (row.median_s, getattr(row, value)), textcoords="offset points",
+                        xytext=(4, 3), fontsize=7)  # fmt: skip
         ax.set_xscale("log")
         ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
         ax.xaxis.set_minor_formatter(FuncFormatter(lambda x, _: f"{x:g}" if f"{x:g}"[0] in "25" else ""))
@@ -688,6 +691,10 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
         if value == "full_success":
             ax.set_ylim(-0.05, 1.05)
         ax.legend(loc="best", fontsize=8)
+    key = axes[-1]
+    key.axis("off")
+    key.text(0.0, 1.0, "\n".join(f"{k:>2}  {name}" for name, k in numbers.items()), va="top", ha="left",
+             family="monospace", fontsize=8, transform=key.transAxes)  # fmt: skip
     fig.tight_layout()
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png")
