@@ -460,9 +460,10 @@ METHOD_STAGES = ("coarse", "qe", "segment", "associate", "orient", "translate", 
 EVALUATION_STAGES = ("check",)
 # Benchmarks of the table-building jobs themselves (workflow/rules/evaluate.smk).
 TABLES_STAGE = "tables"
-# Methods that do not read the shared per-scene stages (oracle: ground-truth labels, the
-# synthetic scene directly).
-NO_SHARED_STAGES = ("oracle",)
+# Methods fed the ground truth (oracle: Refine from ground-truth labels, reading the synthetic
+# scene directly). They run no shared per-scene stage, no Retrieve or Translate, and are not
+# methods a user can run: they cost only their own jobs and sit on no Pareto front.
+GROUND_TRUTH_METHODS = ("oracle",)
 
 
 def read_benchmark(path: str | Path) -> float:
@@ -595,7 +596,7 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
                 if value is None and stage in reused:
                     value = seconds.get((stage, DEFAULT_METHOD, scene, instruction))
                 row[stage] = math.nan if value is None else value
-            if method not in NO_SHARED_STAGES:
+            if method not in GROUND_TRUTH_METHODS:
                 row["shared"] = shared.get(scene, 0.0) / scene_counts[scene]
             row["total"] = sum(v for k, v in row.items() if k not in ("method", "scene", "instruction") and not math.isnan(v))
             rows.append(row)
@@ -631,9 +632,6 @@ def pareto_front(seconds: np.ndarray, score: np.ndarray) -> np.ndarray:
 
 # The error axis of the error-against-run-time plot: the methods table's mean view error.
 PARETO_ERROR = "view_error_deg"
-# Shown for reference but never on a front: Refine from ground-truth labels costs no Retrieve
-# or Translate and is not a method a user can run.
-REFERENCE_METHODS = ("oracle",)
 
 
 def pareto_points(per_method: pd.DataFrame, methods: pd.DataFrame) -> pd.DataFrame:
@@ -641,11 +639,11 @@ def pareto_points(per_method: pd.DataFrame, methods: pd.DataFrame) -> pd.DataFra
     (``per_method``, see :func:`runtime_per_method`), full-success rate and mean view error
     (``methods``, the ``capframe compare`` summary), and whether it is on the Pareto front of
     success against seconds (``front_success``) and of error against seconds (``front_error``),
-    fronts taken over the methods not in :data:`REFERENCE_METHODS`."""
+    fronts taken over the methods not in :data:`GROUND_TRUTH_METHODS`."""
     columns = ["method", "full_success"] + ([PARETO_ERROR] if PARETO_ERROR in methods.columns else [])
     points = per_method[["method", "median_s"]].merge(methods[columns], on="method", how="inner")
     points = points.dropna(subset=["median_s", "full_success"]).sort_values("median_s", kind="stable").reset_index(drop=True)
-    runnable = ~points["method"].isin(REFERENCE_METHODS).to_numpy()
+    runnable = ~points["method"].isin(GROUND_TRUTH_METHODS).to_numpy()
     fronts = [("front_success", "full_success", 1.0)] + ([("front_error", PARETO_ERROR, -1.0)] if PARETO_ERROR in points else [])
     for front, value, sign in fronts:
         eligible = np.flatnonzero(runnable & points[value].notna().to_numpy())
@@ -658,7 +656,7 @@ def pareto_points(per_method: pd.DataFrame, methods: pd.DataFrame) -> pd.DataFra
 def pareto_plot(points: pd.DataFrame) -> bytes:
     """PNG of :func:`pareto_points`: full success (and, where known, mean view error) against
     median seconds per instruction, log scale; front points ringed and joined by a step line,
-    reference methods grey. Points are numbered fastest first, with a key beside the panels
+    ground-truth methods grey. Points are numbered fastest first, with a key beside the panels
     (names would overlap: the variants of a method cluster)."""
     import matplotlib
 
@@ -675,8 +673,8 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
     for ax, (value, front, label) in zip(axes, panels):
         shown = points.dropna(subset=[value])
         on = shown[shown[front]].sort_values("median_s")
-        reference = shown["method"].isin(REFERENCE_METHODS)
-        ax.scatter(shown["median_s"], shown[value], color=np.where(reference, "tab:gray", "tab:blue"), zorder=2)
+        ground_truth = shown["method"].isin(GROUND_TRUTH_METHODS)
+        ax.scatter(shown["median_s"], shown[value], color=np.where(ground_truth, "tab:gray", "tab:blue"), zorder=2)
         ax.scatter(on["median_s"], on[value], s=140, facecolors="none", edgecolors="tab:red", zorder=3,
                    label="Pareto front")  # fmt: skip
         ax.step(on["median_s"], on[value], where="post", color="tab:red", lw=1, zorder=1)
