@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 TORCH_SPEC ?= torch==2.13.0
 STAMP := $(VENV)/.installed
 
-.PHONY: setup test run report sensitivity bench clean
+.PHONY: setup test lint run report sensitivity bench clean
 
 setup: $(STAMP)
 
@@ -20,6 +20,12 @@ $(STAMP): pyproject.toml
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+# ruff (lint + format check), snakefmt,.
+lint: $(STAMP)
+	$(BIN)/ruff check capframe tests
+	$(BIN)/ruff format --check capframe tests
+	$(BIN)/snakefmt --check Snakefile workflow
 
 run: $(STAMP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default

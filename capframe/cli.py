@@ -186,10 +186,17 @@ def build_parser() -> argparse.ArgumentParser:
     p = verbs.add_parser("colmap", help="recover the poses of a scene without poses (structure from motion)")
     p.add_argument("scene", help="scene directory with images/")
     p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
-    p.add_argument("--align-ground-truth", action="store_true",
-                   help="synthetic scenes (evaluation only): map the poses into the ground-truth world and add the Gaussians")
-    p.add_argument("--matcher", default="auto", choices=["auto", "exhaustive", "sequential"],
-                   help="auto: exhaustive up to 60 images, else sequential in name order")
+    p.add_argument(
+        "--align-ground-truth",
+        action="store_true",
+        help="synthetic scenes (evaluation only): map the poses into the ground-truth world and add the Gaussians",
+    )
+    p.add_argument(
+        "--matcher",
+        default="auto",
+        choices=["auto", "exhaustive", "sequential"],
+        help="auto: exhaustive up to 60 images, else sequential in name order",
+    )
     p.set_defaults(func=_cmd_colmap)
 
     p = verbs.add_parser("gravity", help="estimate the world up of a scene from its cameras and straight edges")
@@ -204,13 +211,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--objects", default=None, help='comma-separated catalog names, e.g. "teddy bear,armchair,ball"')
     p.add_argument("--preset", default="tabletop", choices=["tabletop", "room", "outdoor"])
-    p.add_argument("--capture", default=None, choices=["orbit", "forward", "walkthrough"], help="camera path (default: per preset)")
+    p.add_argument(
+        "--capture", default=None, choices=["orbit", "forward", "walkthrough"], help="camera path (default: per preset)"
+    )
     p.add_argument("--views", type=int, default=24)
     p.add_argument("--scale", type=float, default=1.0, help="multiply all lengths")
     p.add_argument("--tilt", type=float, default=0.0, help="rotate the world so that up is not an axis (degrees)")
     p.add_argument("--no-poses", action="store_true", help="write images only (the COLMAP stage must recover poses)")
-    p.add_argument("--no-images", action="store_true",
-                   help="skip the training images (cameras only; the embedded tier needs them only for COLMAP and gravity)")
+    p.add_argument(
+        "--no-images",
+        action="store_true",
+        help="skip the training images (cameras only; the embedded tier needs them only for COLMAP and gravity)",
+    )
     p.add_argument("--resolution", default="320x240", help="training image size WxH")
     p.add_argument("--density", type=float, default=1.0, help="multiply the number of Gaussians")
     p.set_defaults(func=_cmd_synth)
@@ -248,10 +260,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
     p.add_argument("scene", help="scene directory")
     p.add_argument("--labels", required=True, help="pseudo labels (labels.json)")
-    p.add_argument("--init", required=True,
-                   help="initial camera: a camera.json, a training view name, or a retrieval.json (its views are tried in order)")
+    p.add_argument(
+        "--init",
+        required=True,
+        help="initial camera: a camera.json, a training view name, or a retrieval.json (its views are tried in order)",
+    )
     p.add_argument("--attempts", type=int, default=3, help="with a retrieval.json: retry from the next view while a clause fails")
-    p.add_argument("--candidates", type=int, default=1, help="with a retrieval.json: refine from this many views and rank the poses")
+    p.add_argument(
+        "--candidates", type=int, default=1, help="with a retrieval.json: refine from this many views and rank the poses"
+    )
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
@@ -277,8 +294,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
     p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
-    p.add_argument("--variant", nargs="+", required=True, metavar="NAME=DIR",
-                   help="variants' result folders, e.g. top3=results/refine/capframe-top3")
+    p.add_argument(
+        "--variant",
+        nargs="+",
+        required=True,
+        metavar="NAME=DIR",
+        help="variants' result folders, e.g. top3=results/refine/capframe-top3",
+    )
     p.add_argument("--checks-root", default="results/check", help="check reports: CHECKS_ROOT/<method>/<scene>/<id>.json")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json scale)")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
@@ -293,8 +315,11 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verbs.add_parser("runtime", help="seconds per scene and stage, and per instruction and method, from benchmark TSVs")
     p.add_argument("--benchmarks", default="results/benchmarks", help="Snakemake benchmark: folder")
-    p.add_argument("--methods-table", default=None,
-                   help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)")
+    p.add_argument(
+        "--methods-table",
+        default=None,
+        help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)",
+    )
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
     p.set_defaults(func=_cmd_runtime)
 
@@ -319,7 +344,9 @@ def build_parser() -> argparse.ArgumentParser:
         p = _stage_verb(verbs, verb, help_text, output)
         p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
         if verb == "associate":
-            p.add_argument("--masks", default=None, help="masks.npz of capframe segment (default: segment here if the perception masks)")
+            p.add_argument(
+                "--masks", default=None, help="masks.npz of capframe segment (default: segment here if the perception masks)"
+            )
 
     p = _stage_verb(verbs, "translate", "pseudo labels from a retrieval.json (Translate)", "labels.json")
     p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe retrieve")
@@ -351,7 +378,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--topk", type=int, default=2, help="retrieved views kept as initialisations")
     p.add_argument("--seed", type=int, default=0, help="picks the initial view among the top K")
     p.add_argument("--candidates", type=int, default=1, help="refine from this many retrieved views and rank the poses")
-    p.add_argument("--attempts", type=int, default=3, help="with one candidate: retry from the next retrieved view while a clause fails")
+    p.add_argument(
+        "--attempts", type=int, default=3, help="with one candidate: retry from the next retrieved view while a clause fails"
+    )
     _perception_options(p)
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
@@ -359,8 +388,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_ground)
 
     p = verbs.add_parser("baseline", help="find the camera with a baseline pose search: IVS, SVS or SplaTraj-style")
-    p.add_argument("method", help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects) "
-                                  "or splatraj (optimise mask centre, area and uprightness)")
+    p.add_argument(
+        "method",
+        help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects) "
+        "or splatraj (optimise mask centre, area and uprightness)",
+    )
     p.add_argument("scene", help="scene directory with training cameras and a semantic sidecar")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")

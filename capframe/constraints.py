@@ -129,11 +129,15 @@ class Constraints:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict) -> "Constraints":
+    def from_dict(cls, data: dict) -> Constraints:
         try:
             subjects = [SubjectConstraint(**s) for s in data.get("subjects", [])]
-            return cls(subjects=subjects, elevation=data.get("elevation"), elevation_deg=data.get("elevation_deg"),
-                       roll_deg=data.get("roll_deg"))
+            return cls(
+                subjects=subjects,
+                elevation=data.get("elevation"),
+                elevation_deg=data.get("elevation_deg"),
+                roll_deg=data.get("roll_deg"),
+            )
         except TypeError as err:  # unknown or missing keys
             raise InputError(f"malformed constraints {data!r}: {err}") from None
 

@@ -35,8 +35,7 @@ from .errors import InputError
 from .evaluate.check import CheckReport, ConstraintChecker, format_report
 from .evaluate.ground_truth import GTObject
 from .geometry import pose_deviation
-from .handoff import (Coarse, Retrieved, read_fronts, read_groundings, read_masks, write_fronts, write_groundings,
-                      write_masks)
+from .handoff import Coarse, Retrieved, read_fronts, read_groundings, read_masks, write_fronts, write_groundings, write_masks
 from .refine.optimize import RefineConfig, RefineResult, refine_pose
 from .refine.run import scene_scale, write_camera_result, write_refine_outputs
 from .render import render
@@ -127,8 +126,10 @@ def load_scene(scene_dir: Path, options: GroundOptions) -> tuple[SceneDir, np.nd
     if not scene.cameras:
         raise InputError("has no training cameras; recover them first with `capframe colmap`", source=str(scene_dir))
     if options.perception.startswith("label") and scene.semantics is None:
-        raise InputError(f"has no semantic sidecar (semantics.json + labels.npy); --perception {options.perception} needs one",
-                         source=str(scene_dir))  # fmt: skip
+        raise InputError(
+            f"has no semantic sidecar (semantics.json + labels.npy); --perception {options.perception} needs one",
+            source=str(scene_dir),
+        )
     return scene, world_up(scene_dir, options.gravity)
 
 
@@ -159,15 +160,20 @@ def orient(parsed: ParsedInstruction, perception, view_indices: list[int]) -> di
     return {s.name: perception.front(s, view_indices) for s in parsed.subjects if s.needs_front}
 
 
-def pseudo_labels(parsed: ParsedInstruction, groundings: dict[str, Grounding], fronts: dict[str, np.ndarray | None],
-                  up: np.ndarray) -> PseudoLabels:  # fmt: skip
+def pseudo_labels(
+    parsed: ParsedInstruction, groundings: dict[str, Grounding], fronts: dict[str, np.ndarray | None], up: np.ndarray
+) -> PseudoLabels:
     """The pseudo labels of ``parsed`` from its subjects' groundings and fronts (a front is used
     only where :attr:`ParsedSubject.needs_front` asks for one)."""
     missing = [s.name for s in parsed.subjects if s.name not in groundings or (s.needs_front and s.name not in fronts)]
     if missing:
-        raise InputError(f"subjects {missing} lack a grounding or a front; run capframe associate / capframe orient for this instruction")
-    subjects = {s.name: (groundings[s.name].gaussians, groundings[s.name].centroid, fronts.get(s.name) if s.needs_front else None)
-                for s in parsed.subjects}  # fmt: skip
+        raise InputError(
+            f"subjects {missing} lack a grounding or a front; run capframe associate / capframe orient for this instruction"
+        )
+    subjects = {
+        s.name: (groundings[s.name].gaussians, groundings[s.name].centroid, fronts.get(s.name) if s.needs_front else None)
+        for s in parsed.subjects
+    }
     return labels_from_constraints(parsed.constraints(), subjects, up)
 
 
@@ -204,16 +210,20 @@ def _check_options(options: GroundOptions) -> None:
     if options.drop not in (None, "layout", "orientation"):
         raise InputError(f"--drop {options.drop!r}; expected 'layout' or 'orientation'")
     if min(options.top_k, options.candidates, options.attempts) < 1:
-        raise InputError(f"--topk {options.top_k}, --candidates {options.candidates}, --attempts {options.attempts}: "
-                         "each must be at least 1")
+        raise InputError(
+            f"--topk {options.top_k}, --candidates {options.candidates}, --attempts {options.attempts}: each must be at least 1"
+        )
 
 
 def parse_stage(scene: SceneDir, text: str, options: GroundOptions, clock: StageClock) -> ParsedInstruction:
     """``text`` parsed against the scene's vocabulary (before any expensive work, so bad input
     fails fast)."""
     parsed = make_parser(options.parser).parse(text, Vocabulary.from_semantics(scene.semantics or []))
-    clock.done("parse", ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
-               + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else ""))  # fmt: skip
+    clock.done(
+        "parse",
+        ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
+        + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else ""),
+    )
     return parsed
 
 
@@ -230,17 +240,22 @@ def qe_stage(scene: SceneDir, coarse: Coarse, perception, options: GroundOptions
     """QE scoring of the kept views; the top K are retrieved, and Refine's starts drawn (seeded)."""
     names = [c.name for c in scene.cameras]
     if sorted(coarse.coarse) != sorted(names):
-        raise InputError("the coarse scores are not of this scene's training views; rerun capframe coarse", source=str(scene.root))
+        raise InputError(
+            "the coarse scores are not of this scene's training views; rerun capframe coarse", source=str(scene.root)
+        )
     scores = np.array([coarse.coarse[n] for n in names])
     retrieval = rank_kept(coarse.parsed, perception, scores, _view_indices(scene, coarse.kept), options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
     clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
-    return Retrieved(coarse.parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], coarse.up)
+    return Retrieved(
+        coarse.parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], coarse.up
+    )
 
 
-def retrieve_stage(scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions,
-                   clock: StageClock) -> Retrieved:  # fmt: skip
+def retrieve_stage(
+    scene: SceneDir, up: np.ndarray, parsed: ParsedInstruction, perception, options: GroundOptions, clock: StageClock
+) -> Retrieved:
     """Retrieve: rank the training views for ``parsed`` (coarse, then QE)."""
     return qe_stage(scene, coarse_stage(scene, up, parsed, perception, clock), perception, options, clock)
 
@@ -264,6 +279,10 @@ def ablated(parsed: ParsedInstruction, drop: str | None) -> ParsedInstruction:
     return dataclasses.replace(parsed, subjects=subjects, elevation=None, elevation_deg=None, roll_deg=None)
 
 
+def _shifted(box: tuple | None, dx: float, dy: float) -> tuple | None:
+    return None if box is None else (box[0] + dx, box[1] + dy, box[2] + dx, box[3] + dy)
+
+
 def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, seed: int) -> PseudoLabels:
     """Pseudo labels with moderate noise: each box and region shifted by ``box_noise`` (frame
     fraction) in a random direction, each front turned about the up by ``front_noise_deg``."""
@@ -272,7 +291,6 @@ def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, se
     for s in labels.subjects:
         angle = rng.uniform(0, 2 * np.pi)
         dx, dy = box_noise * np.cos(angle), box_noise * np.sin(angle)
-        shift = lambda b: None if b is None else (b[0] + dx, b[1] + dy, b[2] + dx, b[3] + dy)  # noqa: E731
         front = s.front
         if front is not None and front_noise_deg:
             from .geometry import so3_exp
@@ -280,12 +298,17 @@ def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, se
             turn = np.radians(front_noise_deg) * rng.choice([-1.0, 1.0])
             R = so3_exp(torch.as_tensor(labels.up * turn, dtype=torch.float64)).numpy()
             front = R @ front
-        subjects.append(dataclasses.replace(s, region=shift(s.region), box=shift(s.box), front=front))
+        subjects.append(dataclasses.replace(s, region=_shifted(s.region, dx, dy), box=_shifted(s.box, dx, dy), front=front))
     return dataclasses.replace(labels, subjects=subjects)
 
 
-def labels_stage(retrieved: Retrieved, groundings: dict[str, Grounding], fronts: dict[str, np.ndarray | None],
-                 options: GroundOptions, clock: StageClock) -> PseudoLabels:  # fmt: skip
+def labels_stage(
+    retrieved: Retrieved,
+    groundings: dict[str, Grounding],
+    fronts: dict[str, np.ndarray | None],
+    options: GroundOptions,
+    clock: StageClock,
+) -> PseudoLabels:
     """The pseudo labels from the subjects' groundings and fronts (ablated and perturbed as
     ``options`` ask)."""
     labels = pseudo_labels(ablated(retrieved.parsed, options.drop), groundings, fronts, retrieved.up)
@@ -295,8 +318,9 @@ def labels_stage(retrieved: Retrieved, groundings: dict[str, Grounding], fronts:
     return labels
 
 
-def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: StageClock,
-                    options: GroundOptions | None = None) -> PseudoLabels:  # fmt: skip
+def translate_stage(
+    scene: SceneDir, retrieved: Retrieved, perception, clock: StageClock, options: GroundOptions | None = None
+) -> PseudoLabels:
     """Translate: segmentation, association and orientation in the retrieved views, then the
     pseudo labels."""
     options = options or GroundOptions()
@@ -306,18 +330,21 @@ def translate_stage(scene: SceneDir, retrieved: Retrieved, perception, clock: St
     return labels_stage(retrieved, groundings, orient(parsed, perception, views), options, clock)
 
 
-def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, out_dir: str | Path, options: GroundOptions,
-                 clock: StageClock) -> dict:  # fmt: skip
+def refine_stage(
+    scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, out_dir: str | Path, options: GroundOptions, clock: StageClock
+) -> dict:
     """Refine from the retrieved starts (see :class:`GroundOptions` ``attempts``/``candidates``),
     report on the best pose with the pseudo labels and write the outputs. Returns ``result.json``."""
     scale = scene_scale(scene.cameras, scene.gaussians.means)
-    starts = _view_indices(scene, retrieved.starts[:max(options.candidates, options.attempts)])
+    starts = _view_indices(scene, retrieved.starts[: max(options.candidates, options.attempts)])
     names = [c.name for c in scene.cameras]
     runs: list[tuple[int, RefineResult]] = []
     for v in starts:
         result = refine_pose(scene.gaussians, scene.cameras[v], labels, scale, options.refine)
         runs.append((v, result))
-        clock.done("refine", f"from {names[v]}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})")
+        clock.done(
+            "refine", f"from {names[v]}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})"
+        )
         if options.candidates == 1 and result.stop_reason == "satisfied":
             break
     # A run whose clauses all held beats a lower loss that left one failing.
@@ -337,12 +364,26 @@ def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, ou
         "retrieval": retrieved.retrieval,
         "init_view": names[distinct[0][0]],
         "report": reports[0].to_dict(),
-        "candidates": [{"rank": k, "init_view": names[v], "loss": float(r.losses.min()), "T_cw": r.T_cw.tolist(),
-                        "own_all_satisfied": rep.all_satisfied} for k, ((v, r), rep) in enumerate(zip(distinct, reports))],
-        "options": {"top_k": options.top_k, "seed": options.seed, "candidates": options.candidates, "attempts": options.attempts,
-                    "parser": options.parser, "perception": options.perception},
+        "candidates": [
+            {
+                "rank": k,
+                "init_view": names[v],
+                "loss": float(r.losses.min()),
+                "T_cw": r.T_cw.tolist(),
+                "own_all_satisfied": rep.all_satisfied,
+            }
+            for k, ((v, r), rep) in enumerate(zip(distinct, reports))
+        ],
+        "options": {
+            "top_k": options.top_k,
+            "seed": options.seed,
+            "candidates": options.candidates,
+            "attempts": options.attempts,
+            "parser": options.parser,
+            "perception": options.perception,
+        },
         "up": retrieved.up.tolist(),
-    }  # fmt: skip
+    }
     with atomic_directory(out_dir) as tmp:
         write_refine_outputs(tmp, cameras[0], distinct[0][1], labels, options.refine, timings, images[0], extra)
         write_pseudo_labels(labels, tmp / "labels.json")
@@ -357,8 +398,9 @@ def refine_stage(scene: SceneDir, labels: PseudoLabels, retrieved: Retrieved, ou
     return json.loads((Path(out_dir) / "result.json").read_text())
 
 
-def ground(scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None,
-           progress: bool = True) -> dict:  # fmt: skip
+def ground(
+    scene_dir: str | Path, text: str, out_dir: str | Path, options: GroundOptions | None = None, progress: bool = True
+) -> dict:
     """Find the camera for ``text`` in the scene at ``scene_dir`` and write it to ``out_dir``
     (the three stages in one process). Returns the content of ``result.json``."""
     options = options or GroundOptions()
@@ -381,8 +423,14 @@ def _stage_inputs(args, options: GroundOptions) -> tuple[SceneDir, np.ndarray, o
 
 def retrieve_command(args) -> None:
     """``capframe retrieve``: parse and rank the training views (coarse + QE), write ``retrieval.json``."""
-    options = GroundOptions(top_k=args.topk, seed=args.seed, parser=args.parser, perception=args.perception, cache_dir=args.cache,
-                            gravity=args.gravity)  # fmt: skip
+    options = GroundOptions(
+        top_k=args.topk,
+        seed=args.seed,
+        parser=args.parser,
+        perception=args.perception,
+        cache_dir=args.cache,
+        gravity=args.gravity,
+    )
     clock = StageClock(True)
     scene, up, perception = _stage_inputs(args, options)
     parsed = parse_stage(scene, args.instruction, options, clock)
@@ -399,7 +447,9 @@ def coarse_command(args) -> None:
 
 def qe_command(args) -> None:
     """``capframe qe``: QE scoring of the coarse stage's views, ``retrieval.json``."""
-    options = GroundOptions(top_k=args.topk, seed=args.seed, perception=args.perception, cache_dir=args.cache, gravity=args.gravity)
+    options = GroundOptions(
+        top_k=args.topk, seed=args.seed, perception=args.perception, cache_dir=args.cache, gravity=args.gravity
+    )
     coarse = Coarse.read(args.coarse)
     scene, _, perception = _stage_inputs(args, options)
     write_json(args.output, qe_stage(scene, coarse, perception, options, StageClock(True)).to_dict())
@@ -428,7 +478,9 @@ def segment_command(args) -> None:
 def associate_command(args) -> None:
     """``capframe associate``: each subject's Gaussians (from ``--masks`` when given), ``subjects.json``."""
     clock, retrieved, scene, perception, views = _translate_step(args)
-    masks = read_masks(args.masks, [c.name for c in scene.cameras]) if args.masks else segment(retrieved.parsed, perception, views)
+    masks = (
+        read_masks(args.masks, [c.name for c in scene.cameras]) if args.masks else segment(retrieved.parsed, perception, views)
+    )
     groundings = associate(retrieved.parsed, perception, masks)
     write_groundings(groundings, args.output)
     clock.done("associate", ", ".join(f"{name}: {len(g.gaussians)} Gaussians" for name, g in groundings.items()))
@@ -445,8 +497,15 @@ def orient_command(args) -> None:
 def translate_command(args) -> None:
     """``capframe translate``: pseudo labels from ``retrieval.json``, written as ``labels.json``;
     from the association and orientation stages' files when given, else computed here."""
-    options = GroundOptions(perception=args.perception, cache_dir=args.cache, gravity=args.gravity, drop=args.drop,
-                            box_noise=args.box_noise, front_noise_deg=args.front_noise, noise_seed=args.noise_seed)  # fmt: skip
+    options = GroundOptions(
+        perception=args.perception,
+        cache_dir=args.cache,
+        gravity=args.gravity,
+        drop=args.drop,
+        box_noise=args.box_noise,
+        front_noise_deg=args.front_noise,
+        noise_seed=args.noise_seed,
+    )
     retrieved = Retrieved.read(args.retrieval)
     clock = StageClock(True)
     if args.subjects:
@@ -463,8 +522,9 @@ def translate_command(args) -> None:
     write_pseudo_labels(labels, args.output)
 
 
-def refine_retrieved(scene_dir: str | Path, labels_path: str | Path, retrieval_path: str | Path, out_dir: str | Path,
-                     options: GroundOptions) -> dict:  # fmt: skip
+def refine_retrieved(
+    scene_dir: str | Path, labels_path: str | Path, retrieval_path: str | Path, out_dir: str | Path, options: GroundOptions
+) -> dict:
     """``capframe refine --init retrieval.json``: Refine as ``capframe ground`` does, from files."""
     _check_options(options)
     from .translate.labels import read_pseudo_labels
@@ -493,8 +553,9 @@ def retrieved_view(scene_dir: str | Path, retrieval_path: str | Path, out_dir: s
     camera = scene.cameras[_view_indices(scene, retrieved.starts[:1])[0]]
     image = render(scene.gaussians, camera).rgb
     with atomic_directory(out_dir) as tmp:
-        summary = write_camera_result(tmp, camera, image, {"method": "retrieve", "init_view": camera.name,
-                                                           "instruction": retrieved.parsed.to_dict()})  # fmt: skip
+        summary = write_camera_result(
+            tmp, camera, image, {"method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict()}
+        )
     return summary
 
 
@@ -506,9 +567,17 @@ def retrieved_view_command(args) -> None:
 
 def ground_command(args) -> None:
     """The ``capframe ground`` verb."""
-    options = GroundOptions(top_k=args.topk, seed=args.seed, candidates=args.candidates, attempts=args.attempts, parser=args.parser,
-                            perception=args.perception, cache_dir=args.cache, gravity=args.gravity,
-                            refine=RefineConfig(iterations=args.iterations, long_side=args.long_side))  # fmt: skip
+    options = GroundOptions(
+        top_k=args.topk,
+        seed=args.seed,
+        candidates=args.candidates,
+        attempts=args.attempts,
+        parser=args.parser,
+        perception=args.perception,
+        cache_dir=args.cache,
+        gravity=args.gravity,
+        refine=RefineConfig(iterations=args.iterations, long_side=args.long_side),
+    )
     result = ground(args.scene, args.instruction, args.output, options, progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")

@@ -55,14 +55,20 @@ class Coarse:
     up: np.ndarray
 
     def write(self, path: str | Path) -> None:
-        write_json(path, {"format": 1, "instruction": self.parsed.to_dict(), "coarse": self.coarse, "kept": self.kept,
-                          "up": self.up.tolist()})  # fmt: skip
+        write_json(
+            path,
+            {"format": 1, "instruction": self.parsed.to_dict(), "coarse": self.coarse, "kept": self.kept, "up": self.up.tolist()},
+        )
 
     @classmethod
-    def read(cls, path: str | Path) -> "Coarse":
+    def read(cls, path: str | Path) -> Coarse:
         data = _read_format(path, "coarse-retrieval", "capframe coarse", ("instruction", "coarse", "kept", "up"))
-        return cls(ParsedInstruction.from_dict(data["instruction"], source=str(path)), {k: float(v) for k, v in data["coarse"].items()},
-                   list(data["kept"]), np.asarray(data["up"], dtype=np.float64))  # fmt: skip
+        return cls(
+            ParsedInstruction.from_dict(data["instruction"], source=str(path)),
+            {k: float(v) for k, v in data["coarse"].items()},
+            list(data["kept"]),
+            np.asarray(data["up"], dtype=np.float64),
+        )
 
 
 @dataclass
@@ -85,14 +91,27 @@ class Retrieved:
     up: np.ndarray
 
     def to_dict(self) -> dict:
-        return {"format": 1, "instruction": self.parsed.to_dict(), "retrieval": self.retrieval, "top": self.top,
-                "starts": self.starts, "up": self.up.tolist()}
+        return {
+            "format": 1,
+            "instruction": self.parsed.to_dict(),
+            "retrieval": self.retrieval,
+            "top": self.top,
+            "starts": self.starts,
+            "up": self.up.tolist(),
+        }
 
     @classmethod
-    def read(cls, path: str | Path) -> "Retrieved":
-        data = _read_format(path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up"))
-        return cls(ParsedInstruction.from_dict(data["instruction"], source=str(path)), data["retrieval"], data["top"],
-                   data["starts"], np.asarray(data["up"], dtype=np.float64))
+    def read(cls, path: str | Path) -> Retrieved:
+        data = _read_format(
+            path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up")
+        )
+        return cls(
+            ParsedInstruction.from_dict(data["instruction"], source=str(path)),
+            data["retrieval"],
+            data["top"],
+            data["starts"],
+            np.asarray(data["up"], dtype=np.float64),
+        )
 
 
 def write_masks(masks: dict[str, SubjectMasks], view_names: list[str], path: str | Path) -> None:
@@ -119,8 +138,11 @@ def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMask
                 names, masks = data[f"views_{i}"].tolist(), data[f"masks_{i}"]
                 unknown = [n for n in names if n not in index]
                 if unknown or masks.ndim != 3 or len(masks) != len(names):
-                    raise InputError(f"subject {name!r}: views {unknown} are not training views, or masks of shape "
-                                     f"{masks.shape} do not match {len(names)} views", source=str(path))  # fmt: skip
+                    raise InputError(
+                        f"subject {name!r}: views {unknown} are not training views, or masks of shape "
+                        f"{masks.shape} do not match {len(names)} views",
+                        source=str(path),
+                    )
                 out[name] = SubjectMasks([index[n] for n in names], masks.astype(bool))
             return out
     except FileNotFoundError:
@@ -131,8 +153,15 @@ def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMask
 
 def write_groundings(groundings: dict[str, Grounding], path: str | Path) -> None:
     """``subjects.json``: per subject its Gaussian indices and centroid."""
-    write_json(path, {"format": 1, "subjects": {name: {"gaussians": g.gaussians.tolist(), "centroid": g.centroid.tolist()}
-                                                for name, g in groundings.items()}})  # fmt: skip
+    write_json(
+        path,
+        {
+            "format": 1,
+            "subjects": {
+                name: {"gaussians": g.gaussians.tolist(), "centroid": g.centroid.tolist()} for name, g in groundings.items()
+            },
+        },
+    )
 
 
 def read_groundings(path: str | Path, n_gaussians: int) -> dict[str, Grounding]:
@@ -146,8 +175,10 @@ def read_groundings(path: str | Path, n_gaussians: int) -> dict[str, Grounding]:
         except (KeyError, TypeError, ValueError) as err:
             raise InputError(f"subject {name!r}: malformed entry ({err!r})", source=str(path)) from None
         if index.ndim != 1 or index.size == 0 or index.min() < 0 or index.max() >= n_gaussians or centroid.shape != (3,):
-            raise InputError(f"subject {name!r}: expected a non-empty list of Gaussian indices below {n_gaussians} and a "
-                             "3-vector centroid", source=str(path))  # fmt: skip
+            raise InputError(
+                f"subject {name!r}: expected a non-empty list of Gaussian indices below {n_gaussians} and a 3-vector centroid",
+                source=str(path),
+            )
         out[name] = Grounding(name, index, centroid, None)
     return out
 

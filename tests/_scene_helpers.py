@@ -61,8 +61,9 @@ def random_inria_columns(n: int, degree: int, seed: int = 0) -> dict[str, np.nda
     return columns
 
 
-def write_ply_by_hand(path: Path, columns: dict[str, np.ndarray], types: dict[str, str] | None = None,
-                      fmt: str = "binary_little_endian") -> None:  # fmt: skip
+def write_ply_by_hand(
+    path: Path, columns: dict[str, np.ndarray], types: dict[str, str] | None = None, fmt: str = "binary_little_endian"
+) -> None:
     """A PLY with one vertex element, written without capframe: properties in ``columns`` order,
     each of PLY type ``types[name]`` (default float), in ``fmt`` (binary either endian, or ascii)."""
     types = types or {}
@@ -90,11 +91,18 @@ def inria_cameras_entries(cameras: list[Camera]) -> list[dict]:
     entries = []
     for i, cam in enumerate(cameras):
         c2w = np.linalg.inv(cam.T_cw)
-        entries.append({
-            "id": i, "img_name": cam.name, "width": cam.width, "height": cam.height,
-            "position": c2w[:3, 3].tolist(), "rotation": [row.tolist() for row in c2w[:3, :3]],
-            "fy": float(cam.K[1, 1]), "fx": float(cam.K[0, 0]),
-        })  # fmt: skip
+        entries.append(
+            {
+                "id": i,
+                "img_name": cam.name,
+                "width": cam.width,
+                "height": cam.height,
+                "position": c2w[:3, 3].tolist(),
+                "rotation": [row.tolist() for row in c2w[:3, :3]],
+                "fy": float(cam.K[1, 1]),
+                "fx": float(cam.K[0, 0]),
+            }
+        )
     return entries
 
 

@@ -40,8 +40,17 @@ def _ball(n: int, radius: float, g: torch.Generator) -> torch.Tensor:
     return d * radius * torch.rand(n, 1, generator=g, dtype=torch.float64) ** (1 / 3)
 
 
-def build_scene(root: Path, *, per_object: int = 160, floor: bool = True, seed: int = 0, tilt_deg: float = 20.0,
-                scale: float = 2.0, offset=(5.0, -3.0, 10.0), objects=LOCAL_OBJECTS) -> dict:  # fmt: skip
+def build_scene(
+    root: Path,
+    *,
+    per_object: int = 160,
+    floor: bool = True,
+    seed: int = 0,
+    tilt_deg: float = 20.0,
+    scale: float = 2.0,
+    offset=(5.0, -3.0, 10.0),
+    objects=LOCAL_OBJECTS,
+) -> dict:
     """Write scene.ply, cameras.json, semantics.json, labels.npy and ground_truth.json into ``root``.
 
     Every object is a ball of small Gaussians (opaque, radius 0.85 r plus the Gaussians' spread);
@@ -59,11 +68,27 @@ def build_scene(root: Path, *, per_object: int = 160, floor: bool = True, seed: 
         colors.append(torch.tensor(COLORS[color]).expand(per_object, 3))
         labels.append(torch.full((per_object,), i))
         world_front = None if front is None else (np.asarray(front, dtype=np.float64) @ R.T).tolist()
-        gt_objects.append({"id": i, "name": name, "aliases": ALIASES.get(name, []), "color": color,
-                           "center": to_world(centre).tolist(), "radius": radius * s, "front": world_front,
-                           "label": i})  # fmt: skip
-        semantics.append(SemanticObject(i, f"{color} {name}" if name == "armchair" else name, ALIASES.get(name, []),
-                                        front is None, None if front is None else np.asarray(world_front)))  # fmt: skip
+        gt_objects.append(
+            {
+                "id": i,
+                "name": name,
+                "aliases": ALIASES.get(name, []),
+                "color": color,
+                "center": to_world(centre).tolist(),
+                "radius": radius * s,
+                "front": world_front,
+                "label": i,
+            }
+        )
+        semantics.append(
+            SemanticObject(
+                i,
+                f"{color} {name}" if name == "armchair" else name,
+                ALIASES.get(name, []),
+                front is None,
+                None if front is None else np.asarray(world_front),
+            )
+        )
     if floor:
         n = 400
         r = 3.0 * torch.rand(n, generator=g, dtype=torch.float64).sqrt()
@@ -78,8 +103,9 @@ def build_scene(root: Path, *, per_object: int = 160, floor: bool = True, seed: 
     world = torch.from_numpy(to_world(local.numpy()))
     n = len(world)
     quat = torch.tensor(_rotmat_to_quat(R), dtype=torch.float64).expand(n, 4).clone()
-    scene = GaussianScene.from_activated(world.float(), quat.float(), (torch.cat(scales) * s).float(),
-                                         torch.full((n,), 0.95), torch.cat(colors).float())  # fmt: skip
+    scene = GaussianScene.from_activated(
+        world.float(), quat.float(), (torch.cat(scales) * s).float(), torch.full((n,), 0.95), torch.cat(colors).float()
+    )
     write_ply(scene, root / "scene.ply")
     write_semantics(semantics, torch.cat(labels).numpy(), root)
     up = (np.array([0.0, 0.0, 1.0]) @ R.T).tolist()
@@ -104,8 +130,17 @@ def obj(gt: dict, name: str, color: str | None = None) -> dict:
     return next(o for o in gt["objects"] if o["name"] == name and (color is None or o["color"] == color))
 
 
-def point_camera(C, S, up, *, roll: float = 0.0, point: tuple[float, float] = (0.5, 0.5), width: int = 160,
-                 height: int = 120, focal: float = 140.0) -> Camera:  # fmt: skip
+def point_camera(
+    C,
+    S,
+    up,
+    *,
+    roll: float = 0.0,
+    point: tuple[float, float] = (0.5, 0.5),
+    width: int = 160,
+    height: int = 120,
+    focal: float = 140.0,
+) -> Camera:
     """A camera at ``C`` rolled by ``roll`` degrees whose image of the world point ``S`` is the
     normalised ``point`` (the look-at target is shifted by a few fixed-point steps)."""
     f64 = dict(dtype=torch.float64)
@@ -121,8 +156,17 @@ def point_camera(C, S, up, *, roll: float = 0.0, point: tuple[float, float] = (0
     return Camera(T.numpy(), K.numpy(), width, height, name="test")
 
 
-def aim_camera(gt: dict, subject: dict, *, azimuth: float, elevation: float, distance: float, roll: float = 0.0,
-               point: tuple[float, float] = (0.5, 0.5), **size) -> Camera:  # fmt: skip
+def aim_camera(
+    gt: dict,
+    subject: dict,
+    *,
+    azimuth: float,
+    elevation: float,
+    distance: float,
+    roll: float = 0.0,
+    point: tuple[float, float] = (0.5, 0.5),
+    **size,
+) -> Camera:
     """A camera at (azimuth, elevation) degrees and ``distance`` radii around ``subject`` (view
     angles of DESIGN §3 with the subject's front; an arbitrary horizontal front if it has none),
     rolled by ``roll`` degrees, with the subject's centre imaged at the normalised ``point``."""
@@ -131,8 +175,9 @@ def aim_camera(gt: dict, subject: dict, *, azimuth: float, elevation: float, dis
     front = subject["front"]
     if front is None:
         front = torch.linalg.cross(up, torch.tensor([1.0, 0.0, 0.0], **f64)).tolist()
-    d = view_direction(torch.tensor(math.radians(azimuth), **f64), torch.tensor(math.radians(elevation), **f64),
-                       torch.tensor(front, **f64), up)  # fmt: skip
+    d = view_direction(
+        torch.tensor(math.radians(azimuth), **f64), torch.tensor(math.radians(elevation), **f64), torch.tensor(front, **f64), up
+    )
     S = np.asarray(subject["center"])
     C = S + distance * subject["radius"] * d.numpy()
     return point_camera(C, S, gt["up"], roll=roll, point=point, **size)

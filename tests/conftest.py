@@ -10,8 +10,15 @@ from capframe.geometry import look_at
 from capframe.scene import Camera, GaussianScene
 
 
-def make_scene(n: int = 200, *, seed: int = 0, spread: float = 1.0, scale: tuple[float, float] = (0.02, 0.08),
-               sh_degree: int = 0, dtype=torch.float32) -> GaussianScene:
+def make_scene(
+    n: int = 200,
+    *,
+    seed: int = 0,
+    spread: float = 1.0,
+    scale: tuple[float, float] = (0.02, 0.08),
+    sh_degree: int = 0,
+    dtype=torch.float32,
+) -> GaussianScene:
     """Random Gaussians in a cube of half-size ``spread`` around the origin."""
     g = torch.Generator().manual_seed(seed)
     means = (torch.rand(n, 3, generator=g) * 2 - 1) * spread
@@ -23,8 +30,16 @@ def make_scene(n: int = 200, *, seed: int = 0, spread: float = 1.0, scale: tuple
     return scene.to(dtype=dtype)
 
 
-def make_camera(eye=(0.0, -0.5, -4.0), target=(0.0, 0.0, 0.0), up=(0.0, -1.0, 0.0), *, width: int = 64,
-                height: int = 48, focal: float = 60.0, roll: float = 0.0) -> Camera:
+def make_camera(
+    eye=(0.0, -0.5, -4.0),
+    target=(0.0, 0.0, 0.0),
+    up=(0.0, -1.0, 0.0),
+    *,
+    width: int = 64,
+    height: int = 48,
+    focal: float = 60.0,
+    roll: float = 0.0,
+) -> Camera:
     t = lambda v: torch.tensor(v, dtype=torch.float64)  # noqa: E731
     T = look_at(t(eye), t(target), t(up), roll)
     K = np.array([[focal, 0.0, width / 2], [0.0, focal, height / 2], [0.0, 0.0, 1.0]])

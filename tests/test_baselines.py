@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 import torch
-
 from _synth_helpers import aim_camera, build_scene, obj
+
 from capframe.baselines import SplaTrajConfig, interpolate_pose, ivs_candidates, splatraj_pose, svs_candidates
 from capframe.baselines.candidates import SVS_DISTANCE, fit_distance
 from capframe.baselines.scoring import best_candidate
@@ -154,10 +154,16 @@ def test_cli_writes_a_result_that_check_reads(scene_dir, tmp_path, method, capsy
     assert "all_satisfied" in json.loads(capsys.readouterr().out)
 
 
-@pytest.mark.parametrize("argv, message", [
-    (["baseline", "chatcam", "{scene}", INSTRUCTION, "-o", "{out}"], "baseline 'chatcam' is unknown; available: ivs, svs, splatraj"),
-    (["baseline", "ivs", "{missing}", INSTRUCTION, "-o", "{out}"], "missing"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (
+            ["baseline", "chatcam", "{scene}", INSTRUCTION, "-o", "{out}"],
+            "baseline 'chatcam' is unknown; available: ivs, svs, splatraj",
+        ),
+        (["baseline", "ivs", "{missing}", INSTRUCTION, "-o", "{out}"], "missing"),
+    ],
+)
 def test_bad_input_is_one_line(scene_dir, tmp_path, capsys, argv, message):
     paths = {"scene": str(scene_dir[0]), "out": str(tmp_path / "out"), "missing": str(tmp_path / "missing")}
     assert main([a.format(**paths) for a in argv]) == 2

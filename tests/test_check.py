@@ -204,10 +204,15 @@ def test_check_camera_and_command_outputs(world, tmp_path, capsys, monkeypatch):
     cam = bear_camera(gt, azimuth=-90.0, point=(0.8, 0.5))
     c = one(region="right", view="left")
     assert check_camera(root, cam, c).all_satisfied
-    constraints = {"s-000": {"scene": "s", "text": "The teddy bear on the right, seen from its left.",
-                             "paraphrases": ["A photo of the bear on the right, showing its left side."],
-                             "constraints": c.to_dict()},
-                   "s-001": {"scene": "s", "text": "x", "paraphrases": [], "constraints": one(region="left").to_dict()}}
+    constraints = {
+        "s-000": {
+            "scene": "s",
+            "text": "The teddy bear on the right, seen from its left.",
+            "paraphrases": ["A photo of the bear on the right, showing its left side."],
+            "constraints": c.to_dict(),
+        },
+        "s-001": {"scene": "s", "text": "x", "paraphrases": [], "constraints": one(region="left").to_dict()},
+    }
     (tmp_path / "constraints.json").write_text(json.dumps(constraints))
     write_camera_json(cam, tmp_path / "camera.json")
     result = json.loads((tmp_path / "camera.json").read_text())

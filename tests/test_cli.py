@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from conftest import make_camera, make_scene
 from PIL import Image
 
 from capframe.cli import main
@@ -12,14 +13,26 @@ from capframe.render import render
 from capframe.render.image import to_uint8
 from capframe.scene import write_camera_json, write_ply
 
-from conftest import make_camera, make_scene
-
 
 def test_render_command_writes_the_rendered_view(tmp_path):
     scene, camera = make_scene(300), make_camera()
     write_ply(scene, tmp_path / "scene.ply")
     write_camera_json(camera, tmp_path / "camera.json")
-    assert main(["render", str(tmp_path / "scene.ply"), "--camera", str(tmp_path / "camera.json"), "-o", str(tmp_path / "out.png"), "--backend", "torch"]) == 0
+    assert (
+        main(
+            [
+                "render",
+                str(tmp_path / "scene.ply"),
+                "--camera",
+                str(tmp_path / "camera.json"),
+                "-o",
+                str(tmp_path / "out.png"),
+                "--backend",
+                "torch",
+            ]
+        )
+        == 0
+    )
     written = np.asarray(Image.open(tmp_path / "out.png"))
     expected = to_uint8(render(scene, camera, backend="torch").rgb)
     assert written.shape == (camera.height, camera.width, 3)
@@ -32,7 +45,9 @@ def test_camera_with_non_finite_values_is_a_one_line_error(tmp_path, capsys):
     data = json.loads((tmp_path / "camera.json").read_text())
     data["T_cw"][0][3] = float("nan")
     (tmp_path / "camera.json").write_text(json.dumps(data))
-    code = main(["render", str(tmp_path / "scene.ply"), "--camera", str(tmp_path / "camera.json"), "-o", str(tmp_path / "out.png")])
+    code = main(
+        ["render", str(tmp_path / "scene.ply"), "--camera", str(tmp_path / "camera.json"), "-o", str(tmp_path / "out.png")]
+    )
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1
     assert "camera.json" in err and "non-finite" in err
@@ -40,7 +55,9 @@ def test_camera_with_non_finite_values_is_a_one_line_error(tmp_path, capsys):
 
 
 def test_malformed_ply_is_a_one_line_error(tmp_path, capsys):
-    (tmp_path / "bad.ply").write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\nend_header\n\x00\x00")
+    (tmp_path / "bad.ply").write_bytes(
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\nend_header\n\x00\x00"
+    )
     write_camera_json(make_camera(), tmp_path / "camera.json")
     code = main(["render", str(tmp_path / "bad.ply"), "--camera", str(tmp_path / "camera.json"), "-o", str(tmp_path / "out.png")])
     err = capsys.readouterr().err.strip()

@@ -15,11 +15,13 @@ from capframe.scene import colmap_image_line, read_colmap, read_transforms_json,
 
 def quat_to_R(w, x, y, z):
     """Rotation matrix of a unit quaternion (Hamilton, scalar first, as COLMAP)."""
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-    ])  # fmt: skip
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 @pytest.mark.parametrize("text", [False, True])
@@ -110,8 +112,20 @@ def test_transforms_json_from_nerfstudio_conversion_matches_colmap(tmp_path, row
         c2w = c2w[rows + [3], :]
         c2w[2, :] *= -1
         frame = {"file_path": f"images/{cam.name}.jpg", "transform_matrix": c2w.tolist(), "colmap_im_id": 1}
-        frame.update({"fl_x": cam.K[0, 0], "fl_y": cam.K[1, 1], "cx": cam.K[0, 2], "cy": cam.K[1, 2],
-                      "w": cam.width, "h": cam.height, "k1": 0.0, "k2": 0.0, "p1": 0.0, "p2": 0.0})  # fmt: skip
+        frame.update(
+            {
+                "fl_x": cam.K[0, 0],
+                "fl_y": cam.K[1, 1],
+                "cx": cam.K[0, 2],
+                "cy": cam.K[1, 2],
+                "w": cam.width,
+                "h": cam.height,
+                "k1": 0.0,
+                "k2": 0.0,
+                "p1": 0.0,
+                "p2": 0.0,
+            }
+        )
         frames.append(frame)
     applied = np.eye(4)[:3, :][rows, :]
     applied[2, :] *= -1
@@ -133,9 +147,14 @@ def test_transforms_json_top_level_intrinsics_and_errors(tmp_path):
     cam = random_cameras(1)[0]
     c2w_gl = np.linalg.inv(cam.T_cw) @ np.diag([1.0, -1.0, -1.0, 1.0])
     base = {
-        "fl_x": cam.K[0, 0], "fl_y": cam.K[1, 1], "cx": cam.K[0, 2], "cy": cam.K[1, 2], "w": cam.width, "h": cam.height,
+        "fl_x": cam.K[0, 0],
+        "fl_y": cam.K[1, 1],
+        "cx": cam.K[0, 2],
+        "cy": cam.K[1, 2],
+        "w": cam.width,
+        "h": cam.height,
         "frames": [{"file_path": "x/view.png", "transform_matrix": c2w_gl[:3].tolist()}],  # 3x4 is accepted too
-    }  # fmt: skip
+    }
     path = tmp_path / "transforms.json"
     path.write_text(json.dumps(base))
     (loaded,) = read_transforms_json(path)

@@ -33,7 +33,14 @@ def vec(*v):
 
 
 def test_so3_exp_log_roundtrip_including_zero_and_pi():
-    omegas = torch.cat([torch.randn(50, 3, **f64, generator=torch.Generator().manual_seed(0)), torch.zeros(1, 3, **f64), vec(math.pi - 1e-9, 0, 0)[None], vec(1e-9, -2e-9, 0)[None]])
+    omegas = torch.cat(
+        [
+            torch.randn(50, 3, **f64, generator=torch.Generator().manual_seed(0)),
+            torch.zeros(1, 3, **f64),
+            vec(math.pi - 1e-9, 0, 0)[None],
+            vec(1e-9, -2e-9, 0)[None],
+        ]
+    )
     omegas = omegas[omegas.norm(dim=-1) < math.pi]  # log returns the angle in [0, pi]
     R = so3_exp(omegas)
     assert torch.allclose(R @ R.transpose(-1, -2), torch.eye(3, **f64).expand_as(R), atol=1e-12)
@@ -147,10 +154,9 @@ def test_look_at_straight_down_is_finite():
 
 def test_padded_camera_centre_crop_is_the_original_image():
     import numpy as np
+    from conftest import make_camera, make_scene
 
     from capframe.render import render
-
-    from conftest import make_camera, make_scene
 
     scene, camera = make_scene(200, seed=9), make_camera(width=40, height=30)
     canvas = camera.padded(10, 6)

@@ -8,14 +8,13 @@ import math
 import cv2
 import numpy as np
 import pytest
+from conftest import make_scene
 
 from capframe.cli import main
 from capframe.errors import InputError
 from capframe.geometry.gravity import GravityEstimate, camera_up_consensus, estimate_gravity, vanishing_up, world_up
 from capframe.scene import Camera, write_cameras_json, write_ply
 from capframe.scene.directory import SceneMeta, write_scene_meta
-
-from conftest import make_scene
 
 K = np.array([[300.0, 0.0, 160.0], [0.0, 300.0, 120.0], [0.0, 0.0, 1.0]])
 
@@ -53,8 +52,9 @@ def camera(up, heading, pitch, roll=0.0, center=(0.0, 0.0, 0.0), name="v", image
 
 def level_cameras(up, n, rng, pitch_deg=(-60.0, 30.0)) -> list[Camera]:
     pitches = np.radians(rng.uniform(*pitch_deg, n))
-    return [camera(up, rng.uniform(0, 2 * math.pi), p, center=rng.normal(size=3) * 5, name=f"v{i}")
-            for i, p in enumerate(pitches)]  # fmt: skip
+    return [
+        camera(up, rng.uniform(0, 2 * math.pi), p, center=rng.normal(size=3) * 5, name=f"v{i}") for i, p in enumerate(pitches)
+    ]
 
 
 # --- camera consensus -----------------------------------------------------------------------------
@@ -118,6 +118,11 @@ def test_degenerate_captures_give_finite_low_confidence_estimates():
 # --- vanishing directions -------------------------------------------------------------------------
 
 
+def _corner(centre: np.ndarray, frame: np.ndarray, i: int, j: int, k: int) -> np.ndarray:
+    """Corner (i, j, k) in {0, 1}^3 of a box standing on the floor, centred at ``centre`` in plan."""
+    return centre + (i - 0.5) * frame[0] + (j - 0.5) * frame[1] + k * frame[2]
+
+
 def box_edges(up, rng, count=4, size=(0.4, 1.0)) -> list[tuple[np.ndarray, np.ndarray]]:
     """Edges (pairs of 3D endpoints) of ``count`` boxes standing on the floor, each yawed at random,
     with sides drawn from ``size``."""
@@ -128,12 +133,12 @@ def box_edges(up, rng, count=4, size=(0.4, 1.0)) -> list[tuple[np.ndarray, np.nd
         a = math.cos(yaw) * e1 + math.sin(yaw) * e2
         b = np.cross(up, a)
         centre = rng.uniform(-1.5, 1.5) * e1 + rng.uniform(-1.5, 1.5) * e2
-        sx, sy, sz = rng.uniform(*size, 3)
-        corner = lambda i, j, k: centre + (i - 0.5) * sx * a + (j - 0.5) * sy * b + k * sz * up  # noqa: E731
+        sides = rng.uniform(*size, 3)
+        frame = np.stack([sides[0] * a, sides[1] * b, sides[2] * up])  # rows: the box's edge vectors
         for i, j, k in np.ndindex(2, 2, 2):
             for di, dj, dk in ((1, 0, 0), (0, 1, 0), (0, 0, 1)):
                 if max(i + di, j + dj, k + dk) <= 1:
-                    edges.append((corner(i, j, k), corner(i + di, j + dj, k + dk)))
+                    edges.append((_corner(centre, frame, i, j, k), _corner(centre, frame, i + di, j + dj, k + dk)))
     return edges
 
 

@@ -6,8 +6,8 @@ import json
 
 import numpy as np
 import pytest
-
 from _synth_helpers import build_scene
+
 from capframe.cli import main
 from capframe.evaluate.check import GroundTruthChecker, read_result_camera
 from capframe.ground import GroundOptions, ground, own_report
@@ -36,13 +36,23 @@ def grounded(scene_dir, tmp_path_factory):
 
 def test_ground_writes_a_camera_that_satisfies_the_instruction(scene_dir, grounded):
     out, result = grounded
-    for name in ("result.json", "render.png", "camera.json", "camera_path.json", "colmap_image.txt", "labels.json",
-                 "trajectory.npz", "candidates/0/camera.json"):  # fmt: skip
+    for name in (
+        "result.json",
+        "render.png",
+        "camera.json",
+        "camera_path.json",
+        "colmap_image.txt",
+        "labels.json",
+        "trajectory.npz",
+        "candidates/0/camera.json",
+    ):
         assert (out / name).is_file(), name
     camera, _ = read_result_camera(out / "result.json")
     np.testing.assert_allclose(read_camera_json(out / "camera.json").T_cw, camera.T_cw)
     parsed = result["instruction"]
-    assert [(s["name"], s["region"], s["shot"], s["view"]) for s in parsed["subjects"]] == [("teddy bear", "right", "medium", "front")]
+    assert [(s["name"], s["region"], s["shot"], s["view"]) for s in parsed["subjects"]] == [
+        ("teddy bear", "right", "medium", "front")
+    ]
     assert parsed["elevation"] == "slightly above"
     # The ground-truth checker agrees with the method's own report on this scene.
     from capframe.translate.instruction import ParsedInstruction
@@ -97,12 +107,15 @@ def test_mask_perception_grounds_the_same_subject(scene_dir, tmp_path):
     assert result["options"]["perception"] == "label-masks"
 
 
-@pytest.mark.parametrize("instruction, message", [
-    ("", "empty"),
-    ("   ", "empty"),
-    ("a photo from slightly above", "no subject"),
-    ("a close-up of the giraffe on the left", "giraffe"),
-])
+@pytest.mark.parametrize(
+    "instruction, message",
+    [
+        ("", "empty"),
+        ("   ", "empty"),
+        ("a photo from slightly above", "no subject"),
+        ("a close-up of the giraffe on the left", "giraffe"),
+    ],
+)
 def test_bad_instructions_fail_with_one_line_and_write_nothing(scene_dir, tmp_path, capsys, instruction, message):
     out = tmp_path / "out"
     code = main(["ground", str(scene_dir), instruction, "-o", str(out), "--cache", str(tmp_path / "cache")])
@@ -141,8 +154,20 @@ def test_scene_without_up_asks_for_gravity(scene_dir, tmp_path, capsys):
 
 
 def test_json_output_is_one_object(scene_dir, tmp_path, capsys):
-    code = main(["ground", str(scene_dir), "the vase on the left", "-o", str(tmp_path / "o"), "--json", "--iterations", "50",
-                 "--cache", str(tmp_path / "cache")])  # fmt: skip
+    code = main(
+        [
+            "ground",
+            str(scene_dir),
+            "the vase on the left",
+            "-o",
+            str(tmp_path / "o"),
+            "--json",
+            "--iterations",
+            "50",
+            "--cache",
+            str(tmp_path / "cache"),
+        ]
+    )
     assert code == 0
     data = json.loads(capsys.readouterr().out)
     assert {"T_cw", "report", "instruction", "timings"} <= set(data)
@@ -152,11 +177,42 @@ def test_stage_verbs_reproduce_ground(scene_dir, tmp_path):
     """retrieve -> translate -> refine --init retrieval.json, one process each, gives the camera
     ground gives in one process (what the workflow's per-stage rules rely on)."""
     text, cache = "the vase on the right, from a high angle", str(tmp_path / "cache")
-    assert main(["ground", str(scene_dir), text, "-o", str(tmp_path / "g"), "--cache", cache, "--iterations", "200", "--json"]) == 0
+    assert (
+        main(["ground", str(scene_dir), text, "-o", str(tmp_path / "g"), "--cache", cache, "--iterations", "200", "--json"]) == 0
+    )
     assert main(["retrieve", str(scene_dir), text, "-o", str(tmp_path / "r.json"), "--cache", cache]) == 0
-    assert main(["translate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "l.json"), "--cache", cache]) == 0
-    assert main(["refine", str(scene_dir), "--labels", str(tmp_path / "l.json"), "--init", str(tmp_path / "r.json"),
-                 "-o", str(tmp_path / "s"), "--iterations", "200"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "translate",
+                str(scene_dir),
+                "--retrieval",
+                str(tmp_path / "r.json"),
+                "-o",
+                str(tmp_path / "l.json"),
+                "--cache",
+                cache,
+            ]
+        )
+        == 0
+    )
+    assert (
+        main(
+            [
+                "refine",
+                str(scene_dir),
+                "--labels",
+                str(tmp_path / "l.json"),
+                "--init",
+                str(tmp_path / "r.json"),
+                "-o",
+                str(tmp_path / "s"),
+                "--iterations",
+                "200",
+            ]
+        )
+        == 0
+    )
     staged = json.loads((tmp_path / "s" / "result.json").read_text())
     grounded = json.loads((tmp_path / "g" / "result.json").read_text())
     np.testing.assert_allclose(staged["T_cw"], grounded["T_cw"], atol=1e-9)
@@ -182,8 +238,23 @@ def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, 
     assert main(["associate", scene, "--retrieval", out("q.json"), "-o", out("a.json"), *masks, *common]) == 0
     assert main(["orient", scene, "--retrieval", out("q.json"), "-o", out("f.json"), *common]) == 0
     assert list(json.loads((tmp_path / "f.json").read_text())["fronts"]) == ["teddy bear"]
-    assert main(["translate", scene, "--retrieval", out("q.json"), "--subjects", out("a.json"), "--fronts", out("f.json"),
-                 "-o", out("staged.json")]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "translate",
+                scene,
+                "--retrieval",
+                out("q.json"),
+                "--subjects",
+                out("a.json"),
+                "--fronts",
+                out("f.json"),
+                "-o",
+                out("staged.json"),
+            ]
+        )
+        == 0
+    )
     assert json.loads((tmp_path / "staged.json").read_text()) == json.loads((tmp_path / "l.json").read_text())
 
 
@@ -191,10 +262,22 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
     text = "the teddy bear seen from its left"
     cache = ["--cache", str(tmp_path / "cache")]
     assert main(["retrieve", str(scene_dir), text, "-o", str(tmp_path / "r.json"), *cache]) == 0
-    assert main(["associate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "a.json"), *cache]) == 0
+    assert (
+        main(["associate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "a.json"), *cache]) == 0
+    )
     # the instruction needs the bear's front: translate without the orientation stage's file fails clearly
-    code = main(["translate", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "--subjects", str(tmp_path / "a.json"),
-                 "-o", str(tmp_path / "l.json")])  # fmt: skip
+    code = main(
+        [
+            "translate",
+            str(scene_dir),
+            "--retrieval",
+            str(tmp_path / "r.json"),
+            "--subjects",
+            str(tmp_path / "a.json"),
+            "-o",
+            str(tmp_path / "l.json"),
+        ]
+    )
     assert code == 2 and "capframe orient" in capsys.readouterr().err and not (tmp_path / "l.json").exists()
     # labels associate by id: there is nothing to segment
     assert main(["segment", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "m.npz"), *cache]) == 2

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import torch
-
 from _synth_helpers import build_scene
+
 from capframe.errors import InputError
 from capframe.retrieve.views import measure_views
 from capframe.scene import load_scene_dir
@@ -62,8 +62,9 @@ def test_mask_grounding_recovers_the_labelled_subject(scene, name):
     s, gt = scene
     m = measure_views(s)
     o = m.object_index(name)
-    found = ground_by_masks(name, [m.label_map[v] == o for v in range(len(m.cameras))], list(m.depth), m.cameras,
-                            s.gaussians.means)  # fmt: skip
+    found = ground_by_masks(
+        name, [m.label_map[v] == o for v in range(len(m.cameras))], list(m.depth), m.cameras, s.gaussians.means
+    )
     truth = next(x for x in s.semantics if x.name == name)
     own = (s.gaussians.labels == truth.id).numpy()
     precision = own[found.gaussians].mean()

@@ -17,9 +17,17 @@ from capframe.constraints import Constraints, SubjectConstraint
 from capframe.errors import InputError
 from capframe.geometry import look_at, view_direction
 from capframe.synth.instructions import (
-    ELEVATION_PHRASES, EXPLICIT_ELEVATION_PHRASES, KINDS, REGION_PHRASES, ROLL_PHRASES, VIEW_PHRASES,
-    generate_instructions, grammar_markdown, incompatibility, write_instructions,
-)  # fmt: skip
+    ELEVATION_PHRASES,
+    EXPLICIT_ELEVATION_PHRASES,
+    KINDS,
+    REGION_PHRASES,
+    ROLL_PHRASES,
+    VIEW_PHRASES,
+    generate_instructions,
+    grammar_markdown,
+    incompatibility,
+    write_instructions,
+)
 from capframe.synth.witness import look_at_np, view_direction_np
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -42,11 +50,22 @@ def ground_truth(scale: float = 1.0, offset=(0.0, 0.0, 0.0), up=(0.0, 0.0, 1.0))
         ("vase", "white", (0.5, -1.1, 0.2), 0.2, None, []),
     ]
     return {
-        "up": up.tolist(), "scale": 7.0 * scale,
-        "objects": [{"id": i, "name": n, "aliases": a, "color": col, "center": place(ctr), "radius": r * scale,
-                     "front": None if f is None else turn(f), "label": i}
-                    for i, (n, col, ctr, r, f, a) in enumerate(objects)],
-    }  # fmt: skip
+        "up": up.tolist(),
+        "scale": 7.0 * scale,
+        "objects": [
+            {
+                "id": i,
+                "name": n,
+                "aliases": a,
+                "color": col,
+                "center": place(ctr),
+                "radius": r * scale,
+                "front": None if f is None else turn(f),
+                "label": i,
+            }
+            for i, (n, col, ctr, r, f, a) in enumerate(objects)
+        ],
+    }
 
 
 def as_rows(instructions):
@@ -120,8 +139,12 @@ def _says(templates: list[str], text: str, **values: str) -> bool:
 
 
 def test_text_says_what_the_constraints_ask():
-    names = {"teddy bear": ["teddy bear", "bear", "plush toy"], "vase": ["vase"],
-             "red armchair": ["red armchair", "red chair"], "blue armchair": ["blue armchair", "blue chair"]}
+    names = {
+        "teddy bear": ["teddy bear", "bear", "plush toy"],
+        "vase": ["vase"],
+        "red armchair": ["red armchair", "red chair"],
+        "blue armchair": ["blue armchair", "blue chair"],
+    }
     found_alias = False
     for ins in generate_instructions(ground_truth(), 24, seed=4):
         c = ins.constraints
@@ -147,6 +170,7 @@ def test_text_says_what_the_constraints_ask():
 
 def test_judgement_rules():
     sym = {"bear": False, "vase": True, "box": True}
+
     def one(**k):
         subject = {x: k.pop(x) for x in ("region", "shot", "view") if x in k}
         return Constraints([SubjectConstraint("bear", **subject)], **k)
@@ -158,7 +182,9 @@ def test_judgement_rules():
     assert incompatibility(one(elevation="low angle", shot="wide"), sym)
     assert incompatibility(one(elevation="worm's-eye"), sym)
     assert incompatibility(Constraints([SubjectConstraint("vase", view="left")]), sym)
-    two = Constraints([SubjectConstraint("bear", region="left", shot="close-up"), SubjectConstraint("vase", "secondary", "right")])
+    two = Constraints(
+        [SubjectConstraint("bear", region="left", shot="close-up"), SubjectConstraint("vase", "secondary", "right")]
+    )
     assert incompatibility(two, sym)
 
 
@@ -171,7 +197,9 @@ def test_numpy_twins_match_geometry():
         expected = look_at(*(torch.tensor(v) for v in (eye, target, up)), roll).numpy()
         np.testing.assert_allclose(look_at_np(eye, target, up, roll), expected, atol=1e-12)
         a, e = rng.uniform(-180, 180), rng.uniform(-89, 89)
-        expected = view_direction(torch.tensor(np.radians(a)), torch.tensor(np.radians(e)), torch.tensor(target), torch.tensor(up))
+        expected = view_direction(
+            torch.tensor(np.radians(a)), torch.tensor(np.radians(e)), torch.tensor(target), torch.tensor(up)
+        )
         np.testing.assert_allclose(view_direction_np(a, e, target, up), expected.numpy(), atol=1e-12)
 
 

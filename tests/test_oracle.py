@@ -14,7 +14,13 @@ UP = torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64)
 
 
 def _camera(eye, target, name) -> Camera:
-    return Camera(look_at(torch.tensor(eye, dtype=torch.float64), torch.tensor(target, dtype=torch.float64), UP).numpy(), K, 64, 48, name=name)
+    return Camera(
+        look_at(torch.tensor(eye, dtype=torch.float64), torch.tensor(target, dtype=torch.float64), UP).numpy(),
+        K,
+        64,
+        48,
+        name=name,
+    )
 
 
 def test_start_view_is_a_seeded_view_that_shows_the_point():
@@ -27,6 +33,8 @@ def test_start_view_is_a_seeded_view_that_shows_the_point():
 def test_start_view_falls_back_to_the_camera_facing_the_point_most_directly():
     # the point is outside every frame: 60 deg off the first camera's axis, 120 deg off the second's
     point = np.array([0.0, 0.0, 0.0])
-    cameras = [_camera([5, 0, 0], [5 - np.cos(np.radians(60)), np.sin(np.radians(60)), 0], "sideways"),
-               _camera([5, 0, 0], [6, 0, 0], "behind")]  # fmt: skip
+    cameras = [
+        _camera([5, 0, 0], [5 - np.cos(np.radians(60)), np.sin(np.radians(60)), 0], "sideways"),
+        _camera([5, 0, 0], [6, 0, 0], "behind"),
+    ]
     assert start_view(cameras, point, 0).name == "sideways"

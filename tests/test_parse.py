@@ -23,21 +23,41 @@ from capframe.translate.parse import RESERVED, RuleParser, parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
 
 TABLE = yaml.safe_load((Path(__file__).parent / "data" / "phrasings.yaml").read_text())
-SCENE = Vocabulary.from_semantics([SemanticObject(i, o["name"], o["aliases"], o["symmetric"]) for i, o in enumerate(TABLE["scene"])])
+SCENE = Vocabulary.from_semantics(
+    [SemanticObject(i, o["name"], o["aliases"], o["symmetric"]) for i, o in enumerate(TABLE["scene"])]
+)
 ROWS = [pytest.param(row, id=f"{kind}-{k}") for kind in ("generator", "free") for k, row in enumerate(TABLE[kind])]
 
 
 def expected(row: dict) -> dict:
-    subjects = [{"name": s["name"], "role": "primary" if k == 0 else "secondary", "region": s.get("region"),
-                 "shot": s.get("shot"), "view": s.get("view")} for k, s in enumerate(row["subjects"])]  # fmt: skip
-    return {"subjects": subjects, "elevation": row.get("elevation"), "elevation_deg": row.get("elevation_deg"),
-            "roll_deg": row.get("roll_deg"), "unparsed": row.get("unparsed", [])}  # fmt: skip
+    subjects = [
+        {
+            "name": s["name"],
+            "role": "primary" if k == 0 else "secondary",
+            "region": s.get("region"),
+            "shot": s.get("shot"),
+            "view": s.get("view"),
+        }
+        for k, s in enumerate(row["subjects"])
+    ]
+    return {
+        "subjects": subjects,
+        "elevation": row.get("elevation"),
+        "elevation_deg": row.get("elevation_deg"),
+        "roll_deg": row.get("roll_deg"),
+        "unparsed": row.get("unparsed", []),
+    }
 
 
 def structure(p: ParsedInstruction) -> dict:
     subjects = [{"name": s.name, "role": s.role, "region": s.region, "shot": s.shot, "view": s.view} for s in p.subjects]
-    return {"subjects": subjects, "elevation": p.elevation, "elevation_deg": p.elevation_deg, "roll_deg": p.roll_deg,
-            "unparsed": p.unparsed}  # fmt: skip
+    return {
+        "subjects": subjects,
+        "elevation": p.elevation,
+        "elevation_deg": p.elevation_deg,
+        "roll_deg": p.roll_deg,
+        "unparsed": p.unparsed,
+    }
 
 
 def test_table_size():
@@ -60,8 +80,19 @@ def test_symmetric_subjects_keep_the_asked_view_but_constrain_none():
 
 def helper_ground_truth() -> dict:
     """The test scene of _synth_helpers (two armchairs told apart by colour), without rendering."""
-    objects = [{"id": i, "name": n, "aliases": ALIASES.get(n, []), "color": col, "center": list(c), "radius": r,
-                "front": None if f is None else list(f), "label": i} for i, (n, col, c, r, f) in enumerate(LOCAL_OBJECTS)]  # fmt: skip
+    objects = [
+        {
+            "id": i,
+            "name": n,
+            "aliases": ALIASES.get(n, []),
+            "color": col,
+            "center": list(c),
+            "radius": r,
+            "front": None if f is None else list(f),
+            "label": i,
+        }
+        for i, (n, col, c, r, f) in enumerate(LOCAL_OBJECTS)
+    ]
     return {"up": [0.0, 0.0, 1.0], "scale": 7.0, "objects": objects}
 
 
@@ -72,9 +103,18 @@ def catalog_ground_truth(objects: list[tuple[str, str]]) -> dict:
     for i, (name, color) in enumerate(objects):
         a = 2 * math.pi * i / len(objects)
         spec = CATALOG[name]
-        out.append({"id": i, "name": name, "aliases": [*spec.aliases, f"{color} {name}"], "color": color,
-                    "center": [2 * math.cos(a), 2 * math.sin(a), 0.3], "radius": 0.3, "label": i,
-                    "front": None if spec.symmetric else [-math.cos(a), -math.sin(a), 0.0]})  # fmt: skip
+        out.append(
+            {
+                "id": i,
+                "name": name,
+                "aliases": [*spec.aliases, f"{color} {name}"],
+                "color": color,
+                "center": [2 * math.cos(a), 2 * math.sin(a), 0.3],
+                "radius": 0.3,
+                "label": i,
+                "front": None if spec.symmetric else [-math.cos(a), -math.sin(a), 0.0],
+            }
+        )
     return {"up": [0.0, 0.0, 1.0], "scale": 6.0, "objects": out}
 
 
@@ -82,19 +122,40 @@ def vocabulary_of(ground_truth: dict) -> Vocabulary:
     """The vocabulary a scene with this ground truth carries: objects named as instructions name
     them (the colour added when names repeat), with their aliases."""
     gt = parse_ground_truth(ground_truth)
-    return Vocabulary.from_semantics([SemanticObject(o.id, gt.reference_name(o), [*o.aliases, *gt.unique_aliases(o)], o.front is None)
-                                      for o in gt.objects])  # fmt: skip
+    return Vocabulary.from_semantics(
+        [SemanticObject(o.id, gt.reference_name(o), [*o.aliases, *gt.unique_aliases(o)], o.front is None) for o in gt.objects]
+    )
 
 
 GROUND_TRUTHS = {
     "helper": helper_ground_truth(),
-    "living-room": catalog_ground_truth([("teddy bear", "brown"), ("armchair", "red"), ("armchair", "grey"),
-                                         ("television", "black"), ("potted plant", "terracotta"), ("mug", "white"),
-                                         ("coffee table", "tan"), ("toy car", "yellow")]),
-    "mixed": catalog_ground_truth([("sofa", "grey"), ("floor lamp", "cream"), ("ball", "red"), ("bookshelf", "brown"),
-                                   ("refrigerator", "white"), ("cushion", "pink"), ("vase", "blue"), ("bench", "green"),
-                                   ("tree", "green"), ("traffic cone", "orange")]),
-}  # fmt: skip
+    "living-room": catalog_ground_truth(
+        [
+            ("teddy bear", "brown"),
+            ("armchair", "red"),
+            ("armchair", "grey"),
+            ("television", "black"),
+            ("potted plant", "terracotta"),
+            ("mug", "white"),
+            ("coffee table", "tan"),
+            ("toy car", "yellow"),
+        ]
+    ),
+    "mixed": catalog_ground_truth(
+        [
+            ("sofa", "grey"),
+            ("floor lamp", "cream"),
+            ("ball", "red"),
+            ("bookshelf", "brown"),
+            ("refrigerator", "white"),
+            ("cushion", "pink"),
+            ("vase", "blue"),
+            ("bench", "green"),
+            ("tree", "green"),
+            ("traffic cone", "orange"),
+        ]
+    ),
+}
 
 
 @pytest.mark.parametrize("scene", list(GROUND_TRUTHS))
@@ -122,8 +183,13 @@ def _parse(text: str) -> dict:
 
 def _one(**asked) -> dict:
     subject = {k: asked.pop(k, None) for k in ("region", "shot", "view")}
-    return {"subjects": [{"name": "teddy bear", "role": "primary", **subject}],
-            "elevation": None, "elevation_deg": None, "roll_deg": None, **asked}  # fmt: skip
+    return {
+        "subjects": [{"name": "teddy bear", "role": "primary", **subject}],
+        "elevation": None,
+        "elevation_deg": None,
+        "roll_deg": None,
+        **asked,
+    }
 
 
 def test_every_phrase_of_the_grammar_doc():
@@ -166,34 +232,52 @@ def test_every_phrase_of_the_grammar_doc():
 # --- vocabulary -----------------------------------------------------------------------------------
 
 
-LIVING_ROOM = Vocabulary.from_semantics([
-    SemanticObject(0, "teddy bear", ["brown teddy bear", "stuffed animal"], False),
-    SemanticObject(1, "red armchair", ["chair", "easy chair"], False),
-    SemanticObject(2, "grey armchair", ["chair", "easy chair"], False),
-    SemanticObject(3, "coffee table", ["table"], True),
-    SemanticObject(4, "dining table", ["table"], True),
-    SemanticObject(5, "television", ["tv", "tv set"], False),
-    SemanticObject(6, "bookshelf", ["book shelf"], False),
-])  # fmt: skip
+LIVING_ROOM = Vocabulary.from_semantics(
+    [
+        SemanticObject(0, "teddy bear", ["brown teddy bear", "stuffed animal"], False),
+        SemanticObject(1, "red armchair", ["chair", "easy chair"], False),
+        SemanticObject(2, "grey armchair", ["chair", "easy chair"], False),
+        SemanticObject(3, "coffee table", ["table"], True),
+        SemanticObject(4, "dining table", ["table"], True),
+        SemanticObject(5, "television", ["tv", "tv set"], False),
+        SemanticObject(6, "bookshelf", ["book shelf"], False),
+    ]
+)
 
 
-@pytest.mark.parametrize("mention, name", [
-    ("the teddy bear", "teddy bear"), ("teddy", "teddy bear"), ("the bears", "teddy bear"), ("The Brown Teddy-Bear", "teddy bear"),
-    ("a big fluffy bear", "teddy bear"), ("the stuffed animals", "teddy bear"), ("the big red chair", "red armchair"),
-    ("the gray easy chair", "grey armchair"), ("the grey armchair", "grey armchair"), ("the coffee table", "coffee table"),
-    ("the TVs", "television"), ("the TV-set", "television"), ("the bookshelves", "bookshelf"), ("that red armchair", "red armchair"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "mention, name",
+    [
+        ("the teddy bear", "teddy bear"),
+        ("teddy", "teddy bear"),
+        ("the bears", "teddy bear"),
+        ("The Brown Teddy-Bear", "teddy bear"),
+        ("a big fluffy bear", "teddy bear"),
+        ("the stuffed animals", "teddy bear"),
+        ("the big red chair", "red armchair"),
+        ("the gray easy chair", "grey armchair"),
+        ("the grey armchair", "grey armchair"),
+        ("the coffee table", "coffee table"),
+        ("the TVs", "television"),
+        ("the TV-set", "television"),
+        ("the bookshelves", "bookshelf"),
+        ("that red armchair", "red armchair"),
+    ],
+)
 def test_vocabulary_matches_one_name(mention, name):
     assert LIVING_ROOM.match(mention) == name
 
 
-@pytest.mark.parametrize("mention, message", [
-    ("the chair", r"subject 'the chair' is ambiguous in this scene; say which: \['grey armchair', 'red armchair'\]"),
-    ("a table", r"ambiguous.*\['coffee table', 'dining table'\]"),
-    ("the blue chair", r"subject 'the blue chair' is not in this scene; closest: \[.*armchair"),
-    ("the tedy", r"not in this scene; closest: \['teddy bear'\]"),
-    ("the giraffe", r"not in this scene; known: \['bookshelf', 'coffee table'"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "mention, message",
+    [
+        ("the chair", r"subject 'the chair' is ambiguous in this scene; say which: \['grey armchair', 'red armchair'\]"),
+        ("a table", r"ambiguous.*\['coffee table', 'dining table'\]"),
+        ("the blue chair", r"subject 'the blue chair' is not in this scene; closest: \[.*armchair"),
+        ("the tedy", r"not in this scene; closest: \['teddy bear'\]"),
+        ("the giraffe", r"not in this scene; known: \['bookshelf', 'coffee table'"),
+    ],
+)
 def test_vocabulary_errors_name_the_mention_and_the_options(mention, message):
     with pytest.raises(InputError, match=message) as err:
         LIVING_ROOM.match(mention)
@@ -214,7 +298,9 @@ def test_vocabulary_needs_unique_names():
 
 
 def test_words_normalise_spelling_numbers_and_hyphens():
-    assert " ".join(words("Top-left, tilted twenty-five degrees anti-clockwise")) == "top left , tilted 25 degrees counterclockwise"
+    assert (
+        " ".join(words("Top-left, tilted twenty-five degrees anti-clockwise")) == "top left , tilted 25 degrees counterclockwise"
+    )
     assert " ".join(words("a three-quarter view at minus 15°, the bear's")) == "a three quarter view at -15 degrees , the bear 's"
     assert " ".join(words("centred, the one on the left, one degree")) == "centered , the one on the left , 1 degrees"
 
@@ -222,24 +308,33 @@ def test_words_normalise_spelling_numbers_and_hyphens():
 # --- errors and what was not understood -------------------------------------------------------------
 
 
-@pytest.mark.parametrize("text, message", [
-    ("", r"the instruction is empty"),
-    ("   \n\t", r"the instruction is empty"),
-    ("Make it look nice.", r"no subject in 'Make it look nice\.' \(not understood: \['look nice'\]\); name one of the scene's objects: "
-                           r"\['blue armchair', 'potted plant', 'red armchair', 'teddy bear', 'television', 'vase'\]"),
-    ("A close-up from a low angle.", r"no subject in .*; name one of the scene's objects"),
-    ("A photo of the giraffe on the left.", r"subject 'giraffe' is not in this scene; known: \["),
-    ("The bear on the left and the giraffe on the right.", r"subject 'giraffe' is not in this scene"),
-    ("The bear and the giraffe.", r"subject 'giraffe' is not in this scene"),
-    ("A close-up of the teddx.", r"subject 'teddx' is not in this scene; closest: \['teddy bear'\]"),
-    ("The chair on the left.", r"subject 'the chair' is ambiguous in this scene; say which: \['blue armchair', 'red armchair'\]"),
-    ("A close-up of the bear, small in the frame.", r"conflicting shot for 'teddy bear': 'close-up' and 'wide'"),
-    ("The bear from a low angle, 40 degrees above.", r"conflicting elevations: 'low angle' is -60 to -8 degrees, not 40"),
-    ("The bear from a high angle, at eye level.", r"conflicting elevations"),
-    ("The bear at an elevation of 120 degrees.", r"elevation 120 degrees is out of range"),
-    ("The bear, rolled 20 degrees clockwise, keeping the horizon level.", r"conflicting roll"),
-    ("The bear with a dutch angle of 100 degrees.", r"roll 100 degrees is out of range"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("", r"the instruction is empty"),
+        ("   \n\t", r"the instruction is empty"),
+        (
+            "Make it look nice.",
+            r"no subject in 'Make it look nice\.' \(not understood: \['look nice'\]\); name one of the scene's objects: "
+            r"\['blue armchair', 'potted plant', 'red armchair', 'teddy bear', 'television', 'vase'\]",
+        ),
+        ("A close-up from a low angle.", r"no subject in .*; name one of the scene's objects"),
+        ("A photo of the giraffe on the left.", r"subject 'giraffe' is not in this scene; known: \["),
+        ("The bear on the left and the giraffe on the right.", r"subject 'giraffe' is not in this scene"),
+        ("The bear and the giraffe.", r"subject 'giraffe' is not in this scene"),
+        ("A close-up of the teddx.", r"subject 'teddx' is not in this scene; closest: \['teddy bear'\]"),
+        (
+            "The chair on the left.",
+            r"subject 'the chair' is ambiguous in this scene; say which: \['blue armchair', 'red armchair'\]",
+        ),
+        ("A close-up of the bear, small in the frame.", r"conflicting shot for 'teddy bear': 'close-up' and 'wide'"),
+        ("The bear from a low angle, 40 degrees above.", r"conflicting elevations: 'low angle' is -60 to -8 degrees, not 40"),
+        ("The bear from a high angle, at eye level.", r"conflicting elevations"),
+        ("The bear at an elevation of 120 degrees.", r"elevation 120 degrees is out of range"),
+        ("The bear, rolled 20 degrees clockwise, keeping the horizon level.", r"conflicting roll"),
+        ("The bear with a dutch angle of 100 degrees.", r"roll 100 degrees is out of range"),
+    ],
+)
 def test_bad_instructions_are_one_line_input_errors(text, message):
     with pytest.raises(InputError, match=message) as err:
         parse_instruction(text, SCENE)
@@ -251,13 +346,16 @@ def test_a_scene_without_names_is_an_input_error():
         parse_instruction("a photo of the bear", Vocabulary.from_semantics([]))
 
 
-@pytest.mark.parametrize("text, unparsed", [
-    ("A close-up of the bear on the left, with a shallow depth of field.", ["shallow depth of field"]),
-    ("Frame the bear, blorpy zindle, seen from its left, lots of bokeh.", ["blorpy zindle", "lots of bokeh"]),
-    ("The bear in profile, 85mm lens, 2 metres away.", ["profile", "85 mm lens", "2 meters away"]),
-    ("The bear, slightly off-centre to the left.", ["slightly off center"]),
-    ("The bear to the left of the vase.", ["left"]),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "text, unparsed",
+    [
+        ("A close-up of the bear on the left, with a shallow depth of field.", ["shallow depth of field"]),
+        ("Frame the bear, blorpy zindle, seen from its left, lots of bokeh.", ["blorpy zindle", "lots of bokeh"]),
+        ("The bear in profile, 85mm lens, 2 metres away.", ["profile", "85 mm lens", "2 meters away"]),
+        ("The bear, slightly off-centre to the left.", ["slightly off center"]),
+        ("The bear to the left of the vase.", ["left"]),
+    ],
+)
 def test_unparsed_reports_what_was_not_understood(text, unparsed):
     assert parse_instruction(text, SCENE).unparsed == unparsed
 
@@ -270,11 +368,15 @@ def test_parsing_is_deterministic():
 # --- JSON form ----------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("text", [
-    "A photo with the blue chair in the left third and the TV in the right third, the blue chair seen from its front right, overhead.",
-    "The vase from its left, with the horizon tilted 20 degrees clockwise, small in the frame.",
-    "A close-up of the bear, looking up at it from 15° below, zoomed in, from the teddy bear's back left.",
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "text",
+    [
+        "A photo with the blue chair in the left third and the TV in the right third, "
+        "the blue chair seen from its front right, overhead.",
+        "The vase from its left, with the horizon tilted 20 degrees clockwise, small in the frame.",
+        "A close-up of the bear, looking up at it from 15° below, zoomed in, from the teddy bear's back left.",
+    ],
+)
 def test_json_round_trip_and_schema(text):
     p = parse_instruction(text, SCENE)
     data = json.loads(json.dumps(p.to_dict()))

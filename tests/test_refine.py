@@ -28,8 +28,13 @@ def vec(*v):
 def blob(centre=(0.0, 0.0, 0.4), n=400, seed=0) -> GaussianScene:
     g = torch.Generator().manual_seed(seed)
     means = torch.randn(n, 3, generator=g, dtype=f64) * vec(0.3, 0.2, 0.4) + vec(*centre)
-    return GaussianScene.from_activated(means, torch.randn(n, 4, generator=g, dtype=f64), torch.full((n, 3), 0.06, dtype=f64),
-                                        torch.full((n,), 0.7, dtype=f64), torch.rand(n, 3, generator=g, dtype=f64)).to(dtype=torch.float32)
+    return GaussianScene.from_activated(
+        means,
+        torch.randn(n, 4, generator=g, dtype=f64),
+        torch.full((n, 3), 0.06, dtype=f64),
+        torch.full((n,), 0.7, dtype=f64),
+        torch.rand(n, 3, generator=g, dtype=f64),
+    ).to(dtype=torch.float32)
 
 
 def camera_looking(eye, target, roll=0.0) -> Camera:
@@ -38,16 +43,24 @@ def camera_looking(eye, target, roll=0.0) -> Camera:
 
 
 def subjects_of(scene: GaussianScene, groups: dict[str, slice], fronts: dict[str, np.ndarray | None]):
-    return {name: (np.arange(len(scene))[sl], scene.means[sl].double().mean(0).numpy(), fronts.get(name)) for name, sl in groups.items()}
+    return {
+        name: (np.arange(len(scene))[sl], scene.means[sl].double().mean(0).numpy(), fronts.get(name))
+        for name, sl in groups.items()
+    }
 
 
 def measure(scene: GaussianScene, camera: Camera, T: np.ndarray, centre: np.ndarray) -> dict:
     T = torch.as_tensor(T)
     uv = project(world_to_camera(torch.as_tensor(centre)[None], T), torch.as_tensor(camera.K))[0]
     az, el = view_angles(camera_center(T), torch.as_tensor(centre), torch.as_tensor(FRONT), torch.as_tensor(UP))
-    return {"x": float(uv[0]) / camera.width, "y": float(uv[1]) / camera.height, "azimuth": math.degrees(az),
-            "elevation": math.degrees(el), "roll": math.degrees(camera_roll(T, torch.as_tensor(UP))),
-            "depth": float(world_to_camera(torch.as_tensor(centre)[None], T)[0, 2])}
+    return {
+        "x": float(uv[0]) / camera.width,
+        "y": float(uv[1]) / camera.height,
+        "azimuth": math.degrees(az),
+        "elevation": math.degrees(el),
+        "roll": math.degrees(camera_roll(T, torch.as_tensor(UP))),
+        "depth": float(world_to_camera(torch.as_tensor(centre)[None], T)[0, 2]),
+    }
 
 
 def run(scene, camera, constraints, groups=None, fronts=None, scale=3.0, config=CONFIG):
@@ -74,8 +87,13 @@ def test_scaled_and_offset_scenes_give_the_same_normalised_result(scale, offset)
     base, camera = blob(), camera_looking((2.5, -1.5, 1.0), (0, 0, 0.4))
     reference, _ = run(base, camera, c, scale=3.0)
     shift = np.array([offset, -offset, offset])
-    moved = GaussianScene(base.means * scale + torch.as_tensor(shift, dtype=torch.float32), base.quats,
-                          base.log_scales + math.log(scale), base.opacity_logits, base.sh)
+    moved = GaussianScene(
+        base.means * scale + torch.as_tensor(shift, dtype=torch.float32),
+        base.quats,
+        base.log_scales + math.log(scale),
+        base.opacity_logits,
+        base.sh,
+    )
     # float32 cannot hold the offset scene's means to better than ~1e-3 of a unit: compare in float64.
     moved = moved.to(dtype=f64) if offset else moved
     R = camera.R
@@ -96,8 +114,9 @@ def test_straight_up_and_down_converge_without_nan(elevation):
     assert abs(m["elevation"] - elevation) < 10 and m["depth"] > 0
 
 
-@pytest.mark.parametrize("eye, target", [((2.5, 0.0, 0.6), (5.0, 0.0, 0.6)), ((2.5, 0.0, 0.6), (3.5, 3.0, 0.6))],
-                         ids=["behind", "outside-frame"])
+@pytest.mark.parametrize(
+    "eye, target", [((2.5, 0.0, 0.6), (5.0, 0.0, 0.6)), ((2.5, 0.0, 0.6), (3.5, 3.0, 0.6))], ids=["behind", "outside-frame"]
+)
 def test_subject_out_of_view_is_brought_into_its_box(eye, target):
     scene = blob()
     camera = camera_looking(eye, target)
@@ -106,7 +125,9 @@ def test_subject_out_of_view_is_brought_into_its_box(eye, target):
     depth = float(world_to_camera(centre, torch.as_tensor(camera.T_cw))[0, 2])
     assert depth < 0 or not (0 < float(uv[0]) < camera.width)  # out of view at the start
     # Turning around takes pi / 0.007 steps at the default rotation rate.
-    result, labels = run(scene, camera, Constraints([SubjectConstraint("blob", region="left")]), config=RefineConfig(long_side=64))
+    result, labels = run(
+        scene, camera, Constraints([SubjectConstraint("blob", region="left")]), config=RefineConfig(long_side=64)
+    )
     m = measure(scene, camera, result.T_cw, labels.subjects[0].centroid)
     assert m["depth"] > 0 and m["x"] < 0.45 and 0 < m["y"] < 1
 
@@ -133,12 +154,29 @@ def test_degenerate_gaussians_in_the_subject():
 
 
 def test_two_subjects_with_conflicting_boxes_reach_a_finite_compromise():
-    scene = GaussianScene(*(torch.cat([a, b]) for a, b in zip(
-        (blob().means, blob().quats, blob().log_scales, blob().opacity_logits, blob().sh),
-        (blob((0, 1.5, 0.4), seed=1).means, blob(seed=1).quats, blob(seed=1).log_scales, blob(seed=1).opacity_logits, blob(seed=1).sh))))
+    scene = GaussianScene(
+        *(
+            torch.cat([a, b])
+            for a, b in zip(
+                (blob().means, blob().quats, blob().log_scales, blob().opacity_logits, blob().sh),
+                (
+                    blob((0, 1.5, 0.4), seed=1).means,
+                    blob(seed=1).quats,
+                    blob(seed=1).log_scales,
+                    blob(seed=1).opacity_logits,
+                    blob(seed=1).sh,
+                ),
+            )
+        )
+    )
     camera = camera_looking((3.0, 0.7, 0.8), (0, 0.7, 0.4))
     groups = {"a": slice(0, 400), "b": slice(400, 800)}
-    c = Constraints([SubjectConstraint("a", region="center", shot="close-up"), SubjectConstraint("b", role="secondary", region="center", shot="close-up")])
+    c = Constraints(
+        [
+            SubjectConstraint("a", region="center", shot="close-up"),
+            SubjectConstraint("b", role="secondary", region="center", shot="close-up"),
+        ]
+    )
     result, _ = run(scene, camera, c, groups=groups, fronts={"a": None, "b": None})
     assert result.stop_reason in ("plateau", "max_iterations", "converged")
     assert np.isfinite(result.T_cw).all()
@@ -146,8 +184,9 @@ def test_two_subjects_with_conflicting_boxes_reach_a_finite_compromise():
 
 def test_requested_look_down_is_reached_and_not_fought_by_upright():
     scene, camera = blob(), camera_looking((3.0, 0.0, 0.5), (0, 0, 0.4))
-    result, labels = run(scene, camera, Constraints([SubjectConstraint("blob", region="center")], elevation_deg=45.0),
-                         fronts={"blob": None})
+    result, labels = run(
+        scene, camera, Constraints([SubjectConstraint("blob", region="center")], elevation_deg=45.0), fronts={"blob": None}
+    )
     m = measure(scene, camera, result.T_cw, labels.subjects[0].centroid)
     assert abs(m["elevation"] - 45) < 10 and abs(m["roll"]) < 2
 

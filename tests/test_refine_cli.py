@@ -6,13 +6,12 @@ import json
 
 import numpy as np
 import pytest
+from test_refine import FRONT, UP, blob, camera_looking, subjects_of
 
 from capframe.cli import main
 from capframe.constraints import Constraints, SubjectConstraint
 from capframe.scene import read_cameras_json, write_cameras_json, write_ply
 from capframe.translate.labels import labels_from_constraints, read_pseudo_labels, write_pseudo_labels
-
-from test_refine import FRONT, UP, blob, camera_looking, subjects_of
 
 
 @pytest.fixture
@@ -20,7 +19,9 @@ def scene_dir(tmp_path):
     root = tmp_path / "scene"
     scene = blob()
     write_ply(scene, root / "scene.ply")
-    views = [camera_looking((2.5 * np.cos(a), 2.5 * np.sin(a), 0.8), (0, 0, 0.4)) for a in np.linspace(0, 2 * np.pi, 6, endpoint=False)]
+    views = [
+        camera_looking((2.5 * np.cos(a), 2.5 * np.sin(a), 0.8), (0, 0, 0.4)) for a in np.linspace(0, 2 * np.pi, 6, endpoint=False)
+    ]
     for k, view in enumerate(views):
         view.name = f"view_{k}"
     write_cameras_json(views, root / "cameras.json")
@@ -42,7 +43,11 @@ def test_refine_writes_its_outputs(scene_dir, tmp_path):
     assert set(result["timings"]) >= {"refine_s", "final_render_s", "total_s"}
     trajectory = np.load(out / "trajectory.npz")
     poses = trajectory["poses"]
-    assert poses.shape[1:] == (4, 4) and result["iterations"] + 1 <= len(poses) <= result["iterations"] + 2 and np.isfinite(poses).all()
+    assert (
+        poses.shape[1:] == (4, 4)
+        and result["iterations"] + 1 <= len(poses) <= result["iterations"] + 2
+        and np.isfinite(poses).all()
+    )
     # The start is the asked view orbited about the world up through the subject (the yaw scan):
     # the subject keeps its place in the camera frame and the camera stays level.
     init, centroid = read_cameras_json(scene_dir / "cameras.json")[1].T_cw, read_pseudo_labels(labels).subjects[0].centroid

@@ -9,8 +9,18 @@ import pytest
 import torch
 
 from capframe.geometry import look_at, se3_exp, view_direction
-from capframe.refine.losses import (Box, Frame, aim_loss, bbox_extent, box_indicator, layout_terms, mask_extent, soft_centroid,
-                                   upright_loss, view_loss)
+from capframe.refine.losses import (
+    Box,
+    Frame,
+    aim_loss,
+    bbox_extent,
+    box_indicator,
+    layout_terms,
+    mask_extent,
+    soft_centroid,
+    upright_loss,
+    view_loss,
+)
 from capframe.refine.optimize import LossWeights, RefineConfig, _Objective
 from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes, min_in_frame_share
 
@@ -140,7 +150,9 @@ def test_view_loss_is_zero_inside_the_accepted_set_and_positive_outside():
     subject, front, up = vec(0, 0, 0), vec(1, 0, 0), vec(0, 0, 1)
 
     def camera_at(az_deg, el_deg):
-        eye = 4 * view_direction(torch.tensor(math.radians(az_deg), dtype=f64), torch.tensor(math.radians(el_deg), dtype=f64), front, up)
+        eye = 4 * view_direction(
+            torch.tensor(math.radians(az_deg), dtype=f64), torch.tensor(math.radians(el_deg), dtype=f64), front, up
+        )
         return look_at(eye, subject, up)
 
     left = ((-90.0,), 18.0, (8.0, 26.0))
@@ -204,8 +216,13 @@ def blob(n=400, seed=0):
 
     g = torch.Generator().manual_seed(seed)
     means = torch.randn(n, 3, generator=g, dtype=f64) * vec(0.3, 0.2, 0.4) + vec(0, 0, 0.4)
-    return GaussianScene.from_activated(means, torch.randn(n, 4, generator=g, dtype=f64), torch.full((n, 3), 0.06, dtype=f64),
-                                        torch.full((n,), 0.7, dtype=f64), torch.rand(n, 3, generator=g, dtype=f64))
+    return GaussianScene.from_activated(
+        means,
+        torch.randn(n, 4, generator=g, dtype=f64),
+        torch.full((n, 3), 0.06, dtype=f64),
+        torch.full((n,), 0.7, dtype=f64),
+        torch.rand(n, 3, generator=g, dtype=f64),
+    )
 
 
 def test_full_objective_pose_gradient_matches_finite_differences():
@@ -216,9 +233,16 @@ def test_full_objective_pose_gradient_matches_finite_differences():
     scene = blob()
     T0 = look_at(vec(2.5, 1.2, 1.0), vec(0, 0, 0.4), vec(0, 0, 1))
     camera = Camera(T0.numpy(), np.array([[60.0, 0, 32], [0, 60, 24], [0, 0, 1]]), 64, 48)
-    subject = SubjectLabel("blob", np.arange(len(scene)), scene.means.mean(0).numpy(), np.array([1.0, 0, 0]),
-                           region=(0.6, 0.1, 0.95, 0.9), box=(0.55, 0.2, 1.0, 0.8), extent=(0.5, 0.8),
-                           view=ViewTarget((-90.0,), 18.0, (8.0, 26.0)))
+    subject = SubjectLabel(
+        "blob",
+        np.arange(len(scene)),
+        scene.means.mean(0).numpy(),
+        np.array([1.0, 0, 0]),
+        region=(0.6, 0.1, 0.95, 0.9),
+        box=(0.55, 0.2, 1.0, 0.8),
+        extent=(0.5, 0.8),
+        view=ViewTarget((-90.0,), 18.0, (8.0, 26.0)),
+    )
     labels = PseudoLabels([subject], np.array([0.0, 0, 1]), roll_deg=10.0, box_angle_deg=10.0)
     objective = _Objective(scene, camera, labels, RefineConfig(weights=LossWeights(size=0.0)), f64)
     tau0 = torch.tensor([0.02, -0.03, 0.01, 0.05, -0.02, 0.03], dtype=f64)

@@ -8,14 +8,13 @@ import math
 import numpy as np
 import pytest
 import torch
+from conftest import make_camera, make_scene
 
 from capframe.geometry import se3_exp
 from capframe.render import render
 from capframe.render.sh import sh_basis
 from capframe.render.torch_backend import ALPHA_MAX, ALPHA_MIN, SIGMA_MAX, TRANSMITTANCE_MIN, composite_blocks
 from capframe.scene import Camera, GaussianScene
-
-from conftest import make_camera, make_scene
 
 f64 = torch.float64
 
@@ -63,7 +62,9 @@ def test_front_to_back_order_and_background():
 
 def test_transmittance_cutoff_stops_before_one_in_ten_thousand():
     # Alpha clamps at 0.999: after one Gaussian T = 1e-3, a second would leave 1e-6 < 1e-4, so it is skipped.
-    scene = gaussians([[0, 0, 2.0], [0, 0, 3.0], [0, 0, 4.0]], [[0.3] * 3] * 3, [1.0, 1.0, 1.0], [[1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    scene = gaussians(
+        [[0, 0, 2.0], [0, 0, 3.0], [0, 0, 4.0]], [[0.3] * 3] * 3, [1.0, 1.0, 1.0], [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    )
     out = render(scene, axis_camera(), backend="torch", dtype=f64)
     assert torch.allclose(out.rgb[15, 20], torch.tensor([0.999, 0, 0], dtype=f64), atol=1e-12)
 
@@ -83,8 +84,11 @@ def test_pose_gradient_matches_central_differences(tau_scale):
     scene = make_scene(150, seed=3, sh_degree=2, dtype=f64)
     camera = make_camera(width=40, height=30)
     g = torch.Generator().manual_seed(1)
-    weights = (torch.rand(30, 40, 3, generator=g, dtype=f64), torch.rand(30, 40, generator=g, dtype=f64),
-               torch.rand(30, 40, generator=g, dtype=f64))
+    weights = (
+        torch.rand(30, 40, 3, generator=g, dtype=f64),
+        torch.rand(30, 40, generator=g, dtype=f64),
+        torch.rand(30, 40, generator=g, dtype=f64),
+    )
     tau0 = torch.randn(6, generator=g, dtype=f64) * tau_scale
     T0 = torch.as_tensor(camera.T_cw)
 
@@ -98,8 +102,10 @@ def test_pose_gradient_matches_central_differences(tau_scale):
         e = torch.zeros(6, dtype=f64)
         e[i] = h
         with torch.no_grad():
-            numeric[i] = (_pose_loss(scene, camera, se3_exp(tau0 + e) @ T0, weights)
-                          - _pose_loss(scene, camera, se3_exp(tau0 - e) @ T0, weights)) / (2 * h)
+            numeric[i] = (
+                _pose_loss(scene, camera, se3_exp(tau0 + e) @ T0, weights)
+                - _pose_loss(scene, camera, se3_exp(tau0 - e) @ T0, weights)
+            ) / (2 * h)
     assert float((tau.grad - numeric).norm() / numeric.norm()) < 1e-3
 
 
@@ -118,9 +124,13 @@ def reference_composite(attributes, slot_index, block_x, block_y, block_first, t
         g = opacity[k, :, None] * torch.exp(-sigma)
         alpha = torch.where((sigma <= SIGMA_MAX) & (g >= ALPHA_MIN), g.clamp_max(ALPHA_MAX), torch.zeros_like(g))
         log_keep[k] = torch.log1p(-alpha)
-        carried = sum((log_keep[j].sum(0) for j in range(k) if block_first[j] == block_first[k]), torch.zeros(tile_size**2, dtype=f64))
+        carried = sum(
+            (log_keep[j].sum(0) for j in range(k) if block_first[j] == block_first[k]), torch.zeros(tile_size**2, dtype=f64)
+        )
         log_after = carried + torch.cumsum(log_keep[k], 0)
-        weights = torch.where(log_after > math.log(TRANSMITTANCE_MIN), alpha * torch.exp(log_after - log_keep[k]), torch.zeros_like(alpha))
+        weights = torch.where(
+            log_after > math.log(TRANSMITTANCE_MIN), alpha * torch.exp(log_after - log_keep[k]), torch.zeros_like(alpha)
+        )
         out.append(weights.T @ torch.cat([values[k], torch.ones_like(values[k, :, :1])], -1))
     return torch.stack(out)
 
@@ -148,14 +158,23 @@ def test_analytic_compositing_backward_matches_autograd():
     analytic = composite_blocks(attributes, *args)
     reference = reference_composite(attributes, *args)
     assert torch.allclose(analytic, reference, atol=1e-14)
-    (grad_analytic,) = torch.autograd.grad((analytic * torch.arange(analytic.numel(), dtype=f64).view_as(analytic)).sum(), attributes)
-    (grad_reference,) = torch.autograd.grad((reference * torch.arange(reference.numel(), dtype=f64).view_as(reference)).sum(), attributes)
+    (grad_analytic,) = torch.autograd.grad(
+        (analytic * torch.arange(analytic.numel(), dtype=f64).view_as(analytic)).sum(), attributes
+    )
+    (grad_reference,) = torch.autograd.grad(
+        (reference * torch.arange(reference.numel(), dtype=f64).view_as(reference)).sum(), attributes
+    )
     assert torch.allclose(grad_analytic, grad_reference, rtol=1e-9, atol=1e-9)
 
 
 def test_tile_size_and_chunking_do_not_change_the_image_or_gradient(scene, camera):
     results = []
-    for options in ({"tile_size": 4}, {"tile_size": 8, "block": 8}, {"tile_size": 16}, {"tile_size": 4, "max_chunk_elements": 2048}):
+    for options in (
+        {"tile_size": 4},
+        {"tile_size": 8, "block": 8},
+        {"tile_size": 16},
+        {"tile_size": 4, "max_chunk_elements": 2048},
+    ):
         T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
         out = render(scene, camera, T_cw=T, backend="torch", dtype=f64, **options)
         (out.rgb.sum() + out.depth.sum()).backward()
@@ -265,7 +284,9 @@ def test_frustum_precull_never_drops_a_gaussian_the_projection_keeps():
 
     g = torch.Generator().manual_seed(3)
     n = 20000
-    means = torch.randn(n, 3, generator=g, dtype=f64) * torch.tensor([4.0, 3.0, 2.0], dtype=f64) + torch.tensor([0, 0, 2.5], dtype=f64)
+    means = torch.randn(n, 3, generator=g, dtype=f64) * torch.tensor([4.0, 3.0, 2.0], dtype=f64) + torch.tensor(
+        [0, 0, 2.5], dtype=f64
+    )
     means[:, 2] = means[:, 2].abs() + 0.05  # in front of the camera, some very near
     scales = torch.exp(torch.randn(n, 3, generator=g, dtype=f64) * 1.5 - 2.0)  # anisotropic, up to metres
     quats = torch.randn(n, 4, generator=g, dtype=f64)

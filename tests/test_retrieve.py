@@ -6,9 +6,17 @@ import math
 
 import numpy as np
 import pytest
-
 from _synth_helpers import aim_camera, build_scene, obj
-from capframe.retrieve.qe import ADAPTIVE_CUT_POINTS, REGION_SCALE, VIEW_SCALE_DEG, GeometricQE, SubjectGeometry, questions_for, retrieve
+
+from capframe.retrieve.qe import (
+    ADAPTIVE_CUT_POINTS,
+    REGION_SCALE,
+    VIEW_SCALE_DEG,
+    GeometricQE,
+    SubjectGeometry,
+    questions_for,
+    retrieve,
+)
 from capframe.retrieve.views import cached_view_measurements, load_view_measurements, measure_views, scene_fingerprint
 from capframe.scene import load_scene_dir, write_cameras_json
 from capframe.translate.instruction import ParsedInstruction, ParsedSubject
@@ -65,18 +73,34 @@ def test_view_cache_is_reused_and_invalidated(scene_dir, tmp_path):
 
 
 def test_questions_cover_every_cue():
-    parsed = ParsedInstruction("t", [ParsedSubject("the bear", "teddy bear", region="right", shot="medium", view="left"),
-                                     ParsedSubject("the vase", "vase", role="secondary", symmetric=True, view="front")],
-                               elevation="high angle", roll_deg=10.0)  # fmt: skip
+    parsed = ParsedInstruction(
+        "t",
+        [
+            ParsedSubject("the bear", "teddy bear", region="right", shot="medium", view="left"),
+            ParsedSubject("the vase", "vase", role="secondary", symmetric=True, view="front"),
+        ],
+        elevation="high angle",
+        roll_deg=10.0,
+    )
     kinds = [(q.kind, q.subject) for q in questions_for(parsed)]
-    assert kinds == [("visible", "teddy bear"), ("region", "teddy bear"), ("shot", "teddy bear"), ("view", "teddy bear"),
-                     ("visible", "vase"), ("elevation", "teddy bear"), ("roll", None), ("overall", None)]  # fmt: skip
+    assert kinds == [
+        ("visible", "teddy bear"),
+        ("region", "teddy bear"),
+        ("shot", "teddy bear"),
+        ("view", "teddy bear"),
+        ("visible", "vase"),
+        ("elevation", "teddy bear"),
+        ("roll", None),
+        ("overall", None),
+    ]
 
 
 def _qe(root, gt):
     scene = load_scene_dir(root)
-    geometry = {o.name: SubjectGeometry(np.asarray(g["center"]), None if g["front"] is None else np.asarray(g["front"]))
-                for o, g in zip(scene.semantics, gt["objects"])}  # fmt: skip
+    geometry = {
+        o.name: SubjectGeometry(np.asarray(g["center"]), None if g["front"] is None else np.asarray(g["front"]))
+        for o, g in zip(scene.semantics, gt["objects"])
+    }
     return GeometricQE(measure_views(scene), geometry, np.asarray(gt["up"]))
 
 
@@ -136,11 +160,14 @@ class _FixedScores:
         return self.scores[views][:, None]
 
 
-@pytest.mark.parametrize("scores, top", [
-    ([20, 90, 60, 55, 10, 5], [1]),  # the best leads by 30 > ADAPTIVE_CUT_POINTS: keep it alone
-    ([20, 90, 80, 40, 10, 5], [1, 2]),
-    ([90, 89, 88, 87, 86, 85], [0, 1]),  # ties keep the training order
-])
+@pytest.mark.parametrize(
+    "scores, top",
+    [
+        ([20, 90, 60, 55, 10, 5], [1]),  # the best leads by 30 > ADAPTIVE_CUT_POINTS: keep it alone
+        ([20, 90, 80, 40, 10, 5], [1, 2]),
+        ([90, 89, 88, 87, 86, 85], [0, 1]),  # ties keep the training order
+    ],
+)
 def test_adaptive_cut_keeps_one_dominant_view(scores, top):
     assert ADAPTIVE_CUT_POINTS == 25.0
     fixed = _FixedScores(scores)

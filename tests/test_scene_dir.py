@@ -10,8 +10,15 @@ import os
 import numpy as np
 import pytest
 import torch
-from _scene_helpers import centred, inria_cameras_entries, random_cameras, random_inria_columns, random_scene
-from _scene_helpers import touch_images, write_ply_by_hand
+from _scene_helpers import (
+    centred,
+    inria_cameras_entries,
+    random_cameras,
+    random_inria_columns,
+    random_scene,
+    touch_images,
+    write_ply_by_hand,
+)
 
 from capframe.cli import main
 from capframe.errors import InputError

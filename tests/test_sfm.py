@@ -7,6 +7,7 @@ import os
 
 import numpy as np
 import pytest
+from conftest import make_camera
 from PIL import Image
 
 from capframe.cli import main
@@ -15,8 +16,6 @@ from capframe.evaluate.oracle import ground_truth_cameras
 from capframe.scene import load_scene_dir
 from capframe.scene.sfm import align_cameras, colmap_command, reconstruct, umeyama_sim3
 from capframe.synth.generator import generate_scene
-
-from conftest import make_camera
 
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:
@@ -49,11 +48,14 @@ def test_umeyama_returns_a_rotation_for_mirrored_points():
     assert s > 0
 
 
-@pytest.mark.parametrize("src, message", [
-    (np.zeros((2, 3)), "at least 3"),
-    (np.outer(np.arange(5.0), [1.0, 2.0, 3.0]), "one line"),
-    (np.ones((4, 3)), "coincide"),
-])  # fmt: skip
+@pytest.mark.parametrize(
+    "src, message",
+    [
+        (np.zeros((2, 3)), "at least 3"),
+        (np.outer(np.arange(5.0), [1.0, 2.0, 3.0]), "one line"),
+        (np.ones((4, 3)), "coincide"),
+    ],
+)
 def test_umeyama_rejects_degenerate_points(src, message):
     with pytest.raises(InputError, match=message):
         umeyama_sim3(src, src)
@@ -83,9 +85,18 @@ def test_align_cameras_keeps_projections(scale):
 def unposed_scene(tmp_path_factory):
     """A small synthetic tabletop orbit without poses, scaled and tilted so that the alignment
     has a non-trivial similarity to find."""
-    return generate_scene(tmp_path_factory.mktemp("sfm") / "scene", seed=5, preset="tabletop", capture="orbit",
-                          views=14, resolution=(240, 180), density=0.5, poses=False, scale=50.0,
-                          tilt_deg=25.0)  # fmt: skip
+    return generate_scene(
+        tmp_path_factory.mktemp("sfm") / "scene",
+        seed=5,
+        preset="tabletop",
+        capture="orbit",
+        views=14,
+        resolution=(240, 180),
+        density=0.5,
+        poses=False,
+        scale=50.0,
+        tilt_deg=25.0,
+    )
 
 
 def test_colmap_recovers_and_aligns_a_synthetic_scene(unposed_scene, tmp_path):
@@ -109,7 +120,12 @@ def test_colmap_without_alignment_writes_cameras_only(unposed_scene, tmp_path, c
     assert main(["colmap", str(unposed_scene), "-o", str(tmp_path / "out")]) == 0
     assert "train a 3DGS on these poses" in capsys.readouterr().out
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
-        "cameras.json", "colmap.json", "images", "scene.json", "sparse"]  # fmt: skip
+        "cameras.json",
+        "colmap.json",
+        "images",
+        "scene.json",
+        "sparse",
+    ]
     scene = load_scene_dir(tmp_path / "out")
     assert len(scene.cameras) == 14 and scene.gaussians is None
     assert not list(tmp_path.glob(".*"))  # no work folder left beside the output

@@ -33,8 +33,17 @@ def test_same_seed_gives_identical_files(tmp_path):
     a = generate_scene(tmp_path / "a", seed=11, **SMALL)
     b = generate_scene(tmp_path / "b", seed=11, **SMALL)
     files_a, files_b = _files(a), _files(b)
-    expected = {"scene.ply", "cameras.json", "scene.json", "semantics.json", "labels.npy", "ground_truth.json",
-                "sparse/0/cameras.bin", "sparse/0/images.bin", "sparse/0/points3D.bin"}  # fmt: skip
+    expected = {
+        "scene.ply",
+        "cameras.json",
+        "scene.json",
+        "semantics.json",
+        "labels.npy",
+        "ground_truth.json",
+        "sparse/0/cameras.bin",
+        "sparse/0/images.bin",
+        "sparse/0/points3D.bin",
+    }
     assert expected <= set(files_a)
     assert sum(name.startswith("images/") and name.endswith(".png") for name in files_a) == 3
     assert files_a.keys() == files_b.keys()
@@ -95,8 +104,9 @@ def _box_contains(box: dict, points: np.ndarray, shrink: float = 0.0) -> np.ndar
     return (np.abs(local) <= np.asarray(box["half_extents"]) - shrink).all(1)
 
 
-@pytest.mark.parametrize("preset,capture,seed", [("tabletop", None, 5), ("room", "forward", 6), ("room", "orbit", 7),
-                                                 ("outdoor", "walkthrough", 8)])  # fmt: skip
+@pytest.mark.parametrize(
+    "preset,capture,seed", [("tabletop", None, 5), ("room", "forward", 6), ("room", "orbit", 7), ("outdoor", "walkthrough", 8)]
+)
 def test_objects_do_not_intersect(preset, capture, seed):
     scene = build_scene(seed=seed, preset=preset, capture=capture, views=8, density=0.2, tilt_deg=20.0)
     gt = scene.ground_truth
@@ -143,8 +153,15 @@ def test_symmetric_objects_have_no_front_feature():
 
 def test_tilted_scene_fronts_up_and_upright_views():
     tilt = 33.0
-    scene = build_scene(seed=21, preset="room", objects=["television", "armchair", "toy car", "vase"], views=6,
-                        density=0.3, tilt_deg=tilt, resolution=(64, 48))  # fmt: skip
+    scene = build_scene(
+        seed=21,
+        preset="room",
+        objects=["television", "armchair", "toy car", "vase"],
+        views=6,
+        density=0.3,
+        tilt_deg=tilt,
+        resolution=(64, 48),
+    )
     gt = scene.ground_truth
     up = np.asarray(gt["up"])
     assert math.degrees(math.acos(np.clip(up[2], -1, 1))) == pytest.approx(tilt, abs=1e-6)
@@ -158,12 +175,12 @@ def test_tilted_scene_fronts_up_and_upright_views():
         assert float(T[1, :3] @ up_t) < -0.5  # image "down" points against up: an upright photo
     # In the rendered training view, the floor fills the bottom of the frame, not the top.
     cam = scene.cameras[0]
-    floor = (scene.gaussians.labels == -1) & (torch.abs((scene.gaussians.means.double() @ up_t)) < 1e-3)
+    floor = (scene.gaussians.labels == -1) & (torch.abs(scene.gaussians.means.double() @ up_t) < 1e-3)
     mask = render(scene.gaussians, cam, extra=floor.float()[:, None], backend="torch").extra[..., 0]
     assert mask[:12].mean() < 0.1 and mask[-16:].mean() > 0.3
     # Fronts are world directions perpendicular to up, and the view-angle convention holds in the world.
     features = torch.zeros(len(scene.gaussians))
-    for obj_id, ranges in gt["front_feature"].items():
+    for ranges in gt["front_feature"].values():
         for a, b in ranges:
             features[a:b] = 1.0
     for obj in gt["objects"]:
@@ -175,8 +192,9 @@ def test_tilted_scene_fronts_up_and_upright_views():
         subset = scene.gaussians.labels == obj["id"]
         shares = []
         for azimuth in (0.0, 180.0):
-            d = view_direction(torch.tensor(math.radians(azimuth), **F64), torch.tensor(math.radians(15.0), **F64),
-                               torch.from_numpy(front), up_t)  # fmt: skip
+            d = view_direction(
+                torch.tensor(math.radians(azimuth), **F64), torch.tensor(math.radians(15.0), **F64), torch.from_numpy(front), up_t
+            )
             T = look_at(centre + 3.0 * obj["radius"] * d, centre, up_t)
             camera = Camera(T.numpy(), np.array([[60.0, 0, 32], [0, 60.0, 24], [0, 0, 1]]), 64, 48)
             shares.append(_front_share(scene.gaussians, features, camera, subset))
@@ -205,8 +223,22 @@ def _synth_args(tmp_path, **overrides) -> argparse.Namespace:
     """`capframe synth` arguments as the command line parses them, with ``overrides``."""
     from capframe.cli import build_parser
 
-    args = build_parser().parse_args(["synth", str(tmp_path / "s"), "--seed", "0", "--preset", "tabletop", "--views", "3",
-                                      "--resolution", "64x48", "--density", "0.2"])  # fmt: skip
+    args = build_parser().parse_args(
+        [
+            "synth",
+            str(tmp_path / "s"),
+            "--seed",
+            "0",
+            "--preset",
+            "tabletop",
+            "--views",
+            "3",
+            "--resolution",
+            "64x48",
+            "--density",
+            "0.2",
+        ]
+    )
     for key, value in overrides.items():
         setattr(args, key, value)
     return args
@@ -237,8 +269,19 @@ def test_bad_resolution(text):
         parse_resolution(text)
 
 
-@pytest.mark.parametrize("bad", [dict(views=0), dict(scale=-1.0), dict(scale=float("nan")), dict(preset="moon"),
-                                 dict(capture="drone"), dict(density=0.0), dict(seed=-3), dict(tilt_deg=120.0)])  # fmt: skip
+@pytest.mark.parametrize(
+    "bad",
+    [
+        dict(views=0),
+        dict(scale=-1.0),
+        dict(scale=float("nan")),
+        dict(preset="moon"),
+        dict(capture="drone"),
+        dict(density=0.0),
+        dict(seed=-3),
+        dict(tilt_deg=120.0),
+    ],
+)
 def test_bad_arguments(bad):
     kwargs = dict(seed=0, preset="tabletop", views=2) | bad
     with pytest.raises(InputError):
@@ -261,7 +304,11 @@ def test_suites_are_valid_and_shaped_like_the_benchmark():
     assert min(s.views for s in full) == 12 and max(s.views for s in full) == 411
     assert all(s.instructions in (3, 4) for s in full)
     assert any(not s.poses for s in full) and any(s.tilt != 0 for s in full)
-    assert {s.preset for s in full} == {"tabletop", "room", "outdoor"} and {s.capture for s in full} == {"orbit", "forward", "walkthrough"}
+    assert {s.preset for s in full} == {"tabletop", "room", "outdoor"} and {s.capture for s in full} == {
+        "orbit",
+        "forward",
+        "walkthrough",
+    }
     assert len({s.resolution for s in full}) > 5
     assert len({s.id for s in full}) == 38 and len({s.seed for s in full}) == 38
 
@@ -270,8 +317,10 @@ def test_suite_errors_name_the_scene(tmp_path):
     from capframe.synth.suite import load_suite
 
     bad = tmp_path / "bad.yaml"
-    bad.write_text("suite: x\nscenes:\n  - {id: a, group: g, seed: 1, preset: room, capture: orbit, objects: [sofa, chiar],\n"
-                   "     views: 3, scale: 1, tilt: 0, poses: true, resolution: 64x48, density: 1, instructions: 3}\n")
+    bad.write_text(
+        "suite: x\nscenes:\n  - {id: a, group: g, seed: 1, preset: room, capture: orbit, objects: [sofa, chiar],\n"
+        "     views: 3, scale: 1, tilt: 0, poses: true, resolution: 64x48, density: 1, instructions: 3}\n"
+    )
     with pytest.raises(InputError, match=r"scene 0 \('a'\).*did you mean 'chair'"):
         load_suite(bad)
     bad.write_text("suite: x\nscenes:\n  - {id: a, group: g, seed: 1, preset: room, capture: orbit, views: 3}\n")

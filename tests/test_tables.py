@@ -49,8 +49,10 @@ def write_json(path, value) -> None:
 
 
 def write_result(root, method, scene, instruction, T) -> None:
-    write_json(root / "refine" / method / scene / instruction / "result.json",
-               {"T_cw": T.tolist(), "K": K, "width": 64, "height": 48, "instruction_id": instruction})  # fmt: skip
+    write_json(
+        root / "refine" / method / scene / instruction / "result.json",
+        {"T_cw": T.tolist(), "K": K, "width": 64, "height": 48, "instruction_id": instruction},
+    )
 
 
 def write_check(root, method, scene, instruction, ok: bool) -> None:
@@ -59,14 +61,17 @@ def write_check(root, method, scene, instruction, ok: bool) -> None:
 
 def write_scene(root, scene, scale=4.0, up=(0.0, 0.0, 1.0), views=3, gaussians=None) -> None:
     folder = root / "scenes" / scene
-    write_json(folder / "ground_truth.json", {"up": list(up), "scale": scale,
-                                              "objects": [{"name": "ball", "center": [0, 0, 0], "radius": 1}]})  # fmt: skip
+    write_json(
+        folder / "ground_truth.json",
+        {"up": list(up), "scale": scale, "objects": [{"name": "ball", "center": [0, 0, 0], "radius": 1}]},
+    )
     (folder / "images").mkdir(parents=True)
     for i in range(views):
         (folder / "images" / f"v{i:02d}.png").write_bytes(b"")
     if gaussians is not None:
-        (folder / "scene.ply").write_bytes(f"ply\nformat binary_little_endian 1.0\nelement vertex {gaussians}\n"
-                                           "property float x\nend_header\n".encode())  # fmt: skip
+        (folder / "scene.ply").write_bytes(
+            f"ply\nformat binary_little_endian 1.0\nelement vertex {gaussians}\nproperty float x\nend_header\n".encode()
+        )
 
 
 # --- sensitivity -----------------------------------------------------------------------------------
@@ -92,8 +97,13 @@ def test_sensitivity_deltas_on_hand_built_poses(tmp_path, capsys):
     write_check(tmp_path, "capframe-top3", "s1", "a", True)
     write_check(tmp_path, "capframe-top3", "s1", "b", True)
     out = tmp_path / "tables" / "sensitivity.csv"
-    frame = sensitivity_command(str(tmp_path / "refine" / "capframe"), [f"top3={tmp_path / 'refine' / 'capframe-top3'}"],
-                                str(tmp_path / "check"), str(tmp_path / "scenes"), str(out))  # fmt: skip
+    frame = sensitivity_command(
+        str(tmp_path / "refine" / "capframe"),
+        [f"top3={tmp_path / 'refine' / 'capframe-top3'}"],
+        str(tmp_path / "check"),
+        str(tmp_path / "scenes"),
+        str(out),
+    )
     row = frame.iloc[0]
     assert (row["group"], row["perturbation"], row["instructions"]) == ("Top-K images", "Top-3 images", 2)
     assert row["delta_R_deg"] == pytest.approx((90.0 + 0.0) / 2)
@@ -117,9 +127,13 @@ def test_sensitivity_compares_the_intersection_and_groups_like_the_paper(tmp_pat
     write_result(tmp_path, "capframe-no-layout", "s2", "d", pose(rot_z(80), [9.0, 0.0, -5.0]))
     write_result(tmp_path, "capframe-paraphrase", "s1", "a", base)
     refine = tmp_path / "refine"
-    frame = sensitivity_command(str(refine / "capframe"),
-                                [f"no-layout={refine / 'capframe-no-layout'}", f"capframe-paraphrase={refine / 'capframe-paraphrase'}"],
-                                str(tmp_path / "check"), str(tmp_path / "scenes"), str(tmp_path / "s.csv"))  # fmt: skip
+    frame = sensitivity_command(
+        str(refine / "capframe"),
+        [f"no-layout={refine / 'capframe-no-layout'}", f"capframe-paraphrase={refine / 'capframe-paraphrase'}"],
+        str(tmp_path / "check"),
+        str(tmp_path / "scenes"),
+        str(tmp_path / "s.csv"),
+    )
     assert frame["group"].tolist() == ["Input text", "Pseudo labels"]  # paper order, not argument order
     layout = frame.set_index("variant").loc["no-layout"]
     assert layout["instructions"] == 2 and layout["only_reference"] == 1 and layout["only_variant"] == 1
@@ -155,9 +169,15 @@ def test_scene_table_errors_and_mean_gravity(tmp_path, capsys):
     write_scene(tmp_path, "unposed", views=6, up=(0.0, 1.0, 0.0))
     write_json(tmp_path / "gravity" / "tilted.json", {"format": 1, "up": [0.0, 1.0, 1.0], "confidence": 0.9, "skipped": False})
     write_json(tmp_path / "gravity" / "unposed.json", {"format": 1, "up": [0.0, 1.0, 0.0], "confidence": 0.5, "skipped": False})
-    write_json(tmp_path / "colmap" / "unposed" / "colmap.json",
-               {"images_total": 6, "images_registered": 5, "rotation_error_deg": {"mean": 0.3, "max": 0.7},
-                "position_error_rel": {"mean": 0.003, "max": 0.0125}})  # fmt: skip
+    write_json(
+        tmp_path / "colmap" / "unposed" / "colmap.json",
+        {
+            "images_total": 6,
+            "images_registered": 5,
+            "rotation_error_deg": {"mean": 0.3, "max": 0.7},
+            "position_error_rel": {"mean": 0.003, "max": 0.0125},
+        },
+    )
     out = tmp_path / "tables" / "scenes.csv"
     frame = scene_table_command(str(tmp_path / "scenes"), str(tmp_path / "colmap"), str(tmp_path / "gravity"), str(out))
     rows = frame.set_index("scene")
@@ -180,8 +200,9 @@ def test_scene_table_excludes_skipped_gravity_from_the_mean(tmp_path):
     write_scene(tmp_path, "b")
     write_json(tmp_path / "gravity" / "a.json", {"format": 1, "up": [0.0, 0.0, 1.0], "confidence": 1.0, "skipped": True})
     write_json(tmp_path / "gravity" / "b.json", {"format": 1, "up": [1.0, 0.0, 0.0], "confidence": 0.2, "skipped": False})
-    frame = scene_table_command(str(tmp_path / "scenes"), str(tmp_path / "colmap"), str(tmp_path / "gravity"),
-                                str(tmp_path / "t.csv"))  # fmt: skip
+    frame = scene_table_command(
+        str(tmp_path / "scenes"), str(tmp_path / "colmap"), str(tmp_path / "gravity"), str(tmp_path / "t.csv")
+    )
     assert frame["gravity_error_deg"].iloc[-1] == pytest.approx(90.0)
     assert "| skipped |" in (tmp_path / "t.md").read_text()
 
@@ -248,8 +269,13 @@ def test_runtime_sums_per_stage_and_amortises_shared_stages(tmp_path, capsys):
     s1_total = 10 + 1 + 3 + 3 * (1 + 2 + 0.5 + 2.5 + 4 + 1.5 + 0.5) + (3 + 4 + 5)
     assert scenes.loc["s1", "total"] == pytest.approx(s1_total)
     assert list(per_scene.columns[:7]) == ["scene", "n_instructions", "synth", "instructions", "colmap", "gravity", "views"]
-    assert list(per_scene.columns[7:12]) == ["coarse/capframe", "qe/capframe", "translate/capframe", "refine/capframe",
-                                             "translate/capframe-noise"]  # fmt: skip
+    assert list(per_scene.columns[7:12]) == [
+        "coarse/capframe",
+        "qe/capframe",
+        "translate/capframe",
+        "refine/capframe",
+        "translate/capframe-noise",
+    ]
     assert per_scene.columns[-1] == "total"
 
     methods = per_method.set_index("method")
@@ -290,9 +316,13 @@ def test_pareto_points_join_end_to_end_seconds_with_success_and_error(tmp_path):
     """Seconds come from the runtime table (end to end), success and view error from the methods
     table; a method missing from either is left out; each front is computed on its own axis."""
     per_method = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs"], "median_s": [20.0, 3.0, 30.0, 60.0]})
-    methods = pd.DataFrame({"method": ["capframe", "retrieve", "ivs", "svs", "gt", "oracle"],
-                            "full_success": [0.9, 0.2, 0.1, 0.4, 1.0, 0.95],
-                            "view_error_deg": [10.0, 50.0, 60.0, 5.0, 1.0, 2.0]})  # fmt: skip
+    methods = pd.DataFrame(
+        {
+            "method": ["capframe", "retrieve", "ivs", "svs", "gt", "oracle"],
+            "full_success": [0.9, 0.2, 0.1, 0.4, 1.0, 0.95],
+            "view_error_deg": [10.0, 50.0, 60.0, 5.0, 1.0, 2.0],
+        }
+    )
     points = pareto_points(per_method, methods)
     assert points["method"].tolist() == ["retrieve", "capframe", "ivs", "svs"]  # fastest first; "gt" has no benchmarks
     points = points.set_index("method")
@@ -311,7 +341,8 @@ def test_runtime_with_the_methods_table_writes_the_pareto_plot(tmp_path):
     for method, seconds in (("capframe", 5.0), ("ivs", 2.0)):
         bench(b, f"refine/{method}/s1/a.tsv", seconds)
     pd.DataFrame({"method": ["capframe", "ivs"], "full_success": [0.75, 0.25], "view_error_deg": [12.0, 40.0]}).to_csv(
-        tmp_path / "methods.csv", index=False)
+        tmp_path / "methods.csv", index=False
+    )
     runtime_command(str(b), str(tmp_path / "runtime.csv"), str(tmp_path / "methods.csv"))
     points = pd.read_csv(tmp_path / "runtime_pareto.csv").set_index("method")
     assert points.loc["capframe", "median_s"] == 6.0 and points.loc["ivs", "median_s"] == 3.0  # + views / 1 instruction
@@ -327,22 +358,34 @@ def test_runtime_with_the_methods_table_writes_the_pareto_plot(tmp_path):
 
 
 def _instruction_table(path, method: str, rows: list[tuple[str, bool, float]]) -> str:
-    frame = pd.DataFrame([{"method": method, "scene": scene, "instruction": f"{scene}-{k}", "all_satisfied": ok,
-                           "constraints_satisfied": share} for k, (scene, ok, share) in enumerate(rows)])  # fmt: skip
+    frame = pd.DataFrame(
+        [
+            {"method": method, "scene": scene, "instruction": f"{scene}-{k}", "all_satisfied": ok, "constraints_satisfied": share}
+            for k, (scene, ok, share) in enumerate(rows)
+        ]
+    )
     frame.to_csv(path, index=False)
     return str(path)
 
 
 def test_group_table_compares_retrieve_and_refine_per_group(tmp_path, capsys):
-    retrieve = _instruction_table(tmp_path / "retrieve.csv", "retrieve",
-                                  [("a1", False, 0.5), ("a2", True, 1.0), ("b1", False, 0.0)])  # fmt: skip
-    refine = _instruction_table(tmp_path / "capframe.csv", "capframe", [("a1", True, 1.0), ("a2", True, 1.0), ("b1", False, 0.75)])
+    retrieve = _instruction_table(
+        tmp_path / "retrieve.csv", "retrieve", [("a1", False, 0.5), ("a2", True, 1.0), ("b1", False, 0.0)]
+    )
+    refine = _instruction_table(
+        tmp_path / "capframe.csv", "capframe", [("a1", True, 1.0), ("a2", True, 1.0), ("b1", False, 0.75)]
+    )
     frame = group_table_command([retrieve, refine], ["b1=tanks", "a1=lerf", "a2=lerf"], str(tmp_path / "groups.csv"))
     assert frame["method"].tolist() == ["retrieve"] * 3 + ["capframe"] * 3  # rows in the tables' order
     assert frame["group"].tolist()[:3] == ["tanks", "lerf", ALL_GROUPS]  # groups in the specs' order
     cells = frame.set_index(["method", "group"])
-    assert cells.loc[("retrieve", "lerf"), "full_success"] == 0.5 and cells.loc[("retrieve", "lerf"), "constraints_satisfied"] == 0.75
-    assert cells.loc[("capframe", ALL_GROUPS), "fully_satisfied"] == 2 and cells.loc[("capframe", ALL_GROUPS), "instructions"] == 3
+    assert (
+        cells.loc[("retrieve", "lerf"), "full_success"] == 0.5
+        and cells.loc[("retrieve", "lerf"), "constraints_satisfied"] == 0.75
+    )
+    assert (
+        cells.loc[("capframe", ALL_GROUPS), "fully_satisfied"] == 2 and cells.loc[("capframe", ALL_GROUPS), "instructions"] == 3
+    )
     assert cells.loc[("capframe", "tanks"), "full_success"] == 0.0
     markdown = (tmp_path / "groups.md").read_text()
     assert "| capframe | 0.000 (0/1) | 1.000 (2/2) | 0.667 (2/3) |" in markdown and markdown.strip() in capsys.readouterr().out
@@ -356,7 +399,9 @@ def test_group_table_rejects_bad_specs_and_unknown_scenes(tmp_path):
         group_table_command([table], ["m360-garden=mipnerf360", "m360-garden=tanks"], str(tmp_path / "g.csv"))
     with pytest.raises(InputError, match=r"t.csv.*\['m360-garden'\] have no --group; closest.*m360-gardens"):
         group_table_command([table], ["m360-gardens=mipnerf360", "tt-truck=tanks"], str(tmp_path / "g.csv"))
-    pd.DataFrame({"method": ["capframe"], "instruction": ["x"], "all_satisfied": [True]}).to_csv(tmp_path / "old.csv", index=False)
+    pd.DataFrame({"method": ["capframe"], "instruction": ["x"], "all_satisfied": [True]}).to_csv(
+        tmp_path / "old.csv", index=False
+    )
     with pytest.raises(InputError, match=r"old.csv.*lacks columns \['scene', 'constraints_satisfied'\]"):
         group_table_command([str(tmp_path / "old.csv")], ["a=b"], str(tmp_path / "g.csv"))
     assert not (tmp_path / "g.csv").exists()

@@ -17,8 +17,20 @@ SCENES = ("tabletop-orbit", "room-forward", "outdoor-orbit", "room-walkthrough")
 
 def dry_run(tmp_path, *extra: str) -> str:
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
-    cmd = [sys.executable, "-m", "snakemake", "-n", "--nolock", "--cores", "2", "--directory", str(ROOT),
-           "--snakefile", str(ROOT / "Snakefile"), *extra]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "-n",
+        "--nolock",
+        "--cores",
+        "2",
+        "--directory",
+        str(ROOT),
+        "--snakefile",
+        str(ROOT / "Snakefile"),
+        *extra,
+    ]
     done = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-2000:]
     return done.stdout
@@ -33,8 +45,21 @@ def test_dry_run_schedules_every_scene_of_the_suite(tmp_path):
 
 def test_bad_config_is_rejected_by_the_schema(tmp_path):
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
-    cmd = [sys.executable, "-m", "snakemake", "-n", "--nolock", "--cores", "1", "--snakefile", str(ROOT / "Snakefile"),
-           "--directory", str(ROOT), "--config", "refine={'iterations': -1, 'long_side': 160}"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "-n",
+        "--nolock",
+        "--cores",
+        "1",
+        "--snakefile",
+        str(ROOT / "Snakefile"),
+        "--directory",
+        str(ROOT),
+        "--config",
+        "refine={'iterations': -1, 'long_side': 160}",
+    ]
     done = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
     output = done.stdout + done.stderr
     assert done.returncode != 0 and "Error validating config" in output and "iterations" in output
@@ -45,7 +70,9 @@ def _fake_generated_suite(work: Path) -> None:
     folders with only a semantic sidecar, one instruction per scene), so a dry run sees past the
     instructions checkpoint."""
     shutil.copytree(ROOT / "config", work / "config")
-    semantics = {"objects": [{"id": 0, "name": "teddy bear", "aliases": ["plush toy"]}, {"id": 1, "name": "ball", "symmetric": True}]}
+    semantics = {
+        "objects": [{"id": 0, "name": "teddy bear", "aliases": ["plush toy"]}, {"id": 1, "name": "ball", "symmetric": True}]
+    }
     for scene in SCENES:
         (work / "results" / "scenes" / scene).mkdir(parents=True)
         (work / "results" / "scenes" / scene / "semantics.json").write_text(json.dumps(semantics))
@@ -61,8 +88,22 @@ def _fake_generated_suite(work: Path) -> None:
 
 def planned_outputs(work: Path, *extra: str) -> str:
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
-    cmd = [sys.executable, "-m", "snakemake", "-n", "--nolock", "--cores", "2", "--directory", str(work),
-           "--snakefile", str(ROOT / "Snakefile"), *extra, "--rerun-triggers", "mtime"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "snakemake",
+        "-n",
+        "--nolock",
+        "--cores",
+        "2",
+        "--directory",
+        str(work),
+        "--snakefile",
+        str(ROOT / "Snakefile"),
+        *extra,
+        "--rerun-triggers",
+        "mtime",
+    ]
     done = subprocess.run(cmd, cwd=work, env=env, capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     return done.stdout
@@ -90,7 +131,7 @@ def _jobs(plan: str) -> dict[str, int]:
     """Job counts of a dry run's summary table."""
     import re
 
-    table = plan[plan.index("Job stats:"):]
+    table = plan[plan.index("Job stats:") :]
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)$", table, re.M) if m.group(1) not in ("total",)}
 
 
@@ -100,10 +141,16 @@ def _fake_method_run(work: Path) -> None:
     time.sleep(0.05)
     for scene in SCENES:
         stem = f"{scene}/{scene}-000.json"
-        files = {f"results/colmap/{scene}/scene.json": "{}", f"results/gravity/{scene}.json": "{}", f"results/views/{scene}/label_views.npz": "",
-                 f"results/coarse/capframe/{stem}": "{}", f"results/retrieve/capframe/{stem}": "{}",
-                 f"results/associate/capframe/{stem}": "{}", f"results/orient/capframe/{stem}": "{}",
-                 f"results/translate/capframe/{stem}": "{}"}  # fmt: skip
+        files = {
+            f"results/colmap/{scene}/scene.json": "{}",
+            f"results/gravity/{scene}.json": "{}",
+            f"results/views/{scene}/label_views.npz": "",
+            f"results/coarse/capframe/{stem}": "{}",
+            f"results/retrieve/capframe/{stem}": "{}",
+            f"results/associate/capframe/{stem}": "{}",
+            f"results/orient/capframe/{stem}": "{}",
+            f"results/translate/capframe/{stem}": "{}",
+        }
         if scene != "tabletop-orbit":
             del files[f"results/orient/capframe/{stem}"]
         for path, text in files.items():
@@ -143,7 +190,10 @@ def test_instructions_get_only_the_translate_stages_they_need(tmp_path):
     _fake_method_run(tmp_path)
     for stage in ("orient", "translate"):
         shutil.rmtree(tmp_path / "results" / stage)
-    _with_variants(tmp_path, {"masks": {"translate": {"perception": "label-masks"}}, "no-orientation": {"translate": {"drop": "orientation"}}})
+    _with_variants(
+        tmp_path,
+        {"masks": {"translate": {"perception": "label-masks"}}, "no-orientation": {"translate": {"drop": "orientation"}}},
+    )
 
     default = planned_outputs(tmp_path, "results/tables/capframe.csv")
     assert _jobs(default)["orient"] == 1 and "results/orient/capframe/tabletop-orbit/tabletop-orbit-000.json" in default
@@ -158,7 +208,9 @@ def _planned_jobs(plan: str) -> list[tuple[list[str], list[str]]]:
     """(inputs, outputs) of every job a dry run printed."""
     jobs = []
     for block in re.split(r"^(?:local)?(?:rule|checkpoint) \w+:$", plan, flags=re.M)[1:]:
-        fields = {m.group(1): [p.strip() for p in m.group(2).split(",")] for m in re.finditer(r"^\s+(input|output): (.*)$", block, re.M)}
+        fields = {
+            m.group(1): [p.strip() for p in m.group(2).split(",")] for m in re.finditer(r"^\s+(input|output): (.*)$", block, re.M)
+        }
         jobs.append((fields.get("input", []), fields.get("output", [])))
     return jobs
 
@@ -195,8 +247,16 @@ def test_deleting_one_result_reruns_only_what_is_built_from_it(tmp_path):
     assert "Nothing to be done" in planned_outputs(tmp_path)
     shutil.rmtree(tmp_path / "results/refine/capframe/room-forward/room-forward-000")
     plan = planned_outputs(tmp_path)
-    assert _jobs(plan) == {"refine_method": 1, "check": 1, "grid": 1, "aggregate": 1, "compare": 1, "groups": 1, "runtime": 1,
-                           "all": 1}  # fmt: skip
+    assert _jobs(plan) == {
+        "refine_method": 1,
+        "check": 1,
+        "grid": 1,
+        "aggregate": 1,
+        "compare": 1,
+        "groups": 1,
+        "runtime": 1,
+        "all": 1,
+    }
     assert "results/check/capframe/room-forward/room-forward-000.json" in plan
     assert "results/report/grid/room-forward/room-forward-000.png" in plan
 
@@ -214,8 +274,14 @@ def test_lint_finds_nothing_but_the_software_environment_notice():
     import re
 
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
-    done = subprocess.run([sys.executable, "-m", "snakemake", "--lint", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(ROOT)],
-                          cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)  # fmt: skip
+    done = subprocess.run(
+        [sys.executable, "-m", "snakemake", "--lint", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(ROOT)],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     lints = re.findall(r"^\s+\* (.+?):?$", done.stdout + done.stderr, re.M)
     assert lints, "snakemake --lint printed nothing: the parsing of its output is stale"
     assert {lint.rstrip(".:") for lint in lints} == {"Specify a conda environment or container for each rule"}

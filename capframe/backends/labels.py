@@ -37,7 +37,9 @@ class LabelPerception:
         self.views = views
         self.masks = masks
         means = scene.gaussians.means.detach()
-        self._by_label = {o.name: ground_by_labels(o.name, scene.gaussians.labels, means, scene.semantics) for o in scene.semantics}
+        self._by_label = {
+            o.name: ground_by_labels(o.name, scene.gaussians.labels, means, scene.semantics) for o in scene.semantics
+        }
         geometry = {name: SubjectGeometry(g.centroid, g.front) for name, g in self._by_label.items()}
         self._qe = GeometricQE(views, geometry, up)
 
@@ -67,5 +69,10 @@ class LabelPerception:
         rendered depth (the model tier's route)."""
         if masks is None:
             return self._by_label[subject.name]
-        return ground_by_masks(subject.name, list(masks.masks), [self.views.depth[v] for v in masks.views],
-                               [self.views.cameras[v] for v in masks.views], self.scene.gaussians.means.detach())  # fmt: skip
+        return ground_by_masks(
+            subject.name,
+            list(masks.masks),
+            [self.views.depth[v] for v in masks.views],
+            [self.views.cameras[v] for v in masks.views],
+            self.scene.gaussians.means.detach(),
+        )

@@ -17,5 +17,14 @@ from .run import METHODS, BaselineOptions, run_baseline
 from .scoring import QEScorer
 from .splatraj import SplaTrajConfig, splatraj_pose
 
-__all__ = ["METHODS", "BaselineOptions", "QEScorer", "SplaTrajConfig", "interpolate_pose", "ivs_candidates", "run_baseline",
-           "splatraj_pose", "svs_candidates"]
+__all__ = [
+    "METHODS",
+    "BaselineOptions",
+    "QEScorer",
+    "SplaTrajConfig",
+    "interpolate_pose",
+    "ivs_candidates",
+    "run_baseline",
+    "splatraj_pose",
+    "svs_candidates",
+]

@@ -54,8 +54,10 @@ def ivs_candidates(cameras: list[Camera], fractions: tuple[float, ...] = IVS_FRA
     out = list(cameras)
     for a, b in itertools.combinations(cameras, 2):
         poses = interpolate_pose(torch.from_numpy(a.T_cw), torch.from_numpy(b.T_cw), t)
-        out += [dataclasses.replace(a, T_cw=T.numpy(), name=f"{a.name}~{b.name}@{f:g}", image_path=None)
-                for T, f in zip(poses, fractions)]  # fmt: skip
+        out += [
+            dataclasses.replace(a, T_cw=T.numpy(), name=f"{a.name}~{b.name}@{f:g}", image_path=None)
+            for T, f in zip(poses, fractions)
+        ]
     return out
 
 
@@ -67,8 +69,9 @@ def fit_distance(radius: float, camera: Camera) -> float:
     return radius / math.sin(half)
 
 
-def sphere_directions(up: np.ndarray, count: int, rng: np.random.Generator,
-                      elevation_deg: tuple[float, float] = SVS_ELEVATION_DEG) -> np.ndarray:  # fmt: skip
+def sphere_directions(
+    up: np.ndarray, count: int, rng: np.random.Generator, elevation_deg: tuple[float, float] = SVS_ELEVATION_DEG
+) -> np.ndarray:
     """(count, 3) unit directions uniform over the part of the sphere whose elevation about
     ``up`` lies in ``elevation_deg``: uniform directions, those outside the band rejected."""
     lo, hi = (math.sin(math.radians(e)) for e in elevation_deg)
@@ -80,9 +83,16 @@ def sphere_directions(up: np.ndarray, count: int, rng: np.random.Generator,
     return kept[:count]
 
 
-def svs_candidates(centre: np.ndarray, radius: float, up: np.ndarray, camera: Camera, count: int, seed: int = 0,
-                   elevation_deg: tuple[float, float] = SVS_ELEVATION_DEG,
-                   distance: tuple[float, float] = SVS_DISTANCE) -> list[Camera]:  # fmt: skip
+def svs_candidates(
+    centre: np.ndarray,
+    radius: float,
+    up: np.ndarray,
+    camera: Camera,
+    count: int,
+    seed: int = 0,
+    elevation_deg: tuple[float, float] = SVS_ELEVATION_DEG,
+    distance: tuple[float, float] = SVS_DISTANCE,
+) -> list[Camera]:
     """SVS candidates: ``count`` level cameras looking at ``centre`` (3,) from directions of
     :func:`sphere_directions` at distances uniform in ``distance`` times :func:`fit_distance`
     of ``radius``, with ``camera``'s intrinsics and image size. Deterministic for a seed."""
@@ -92,5 +102,7 @@ def svs_candidates(centre: np.ndarray, radius: float, up: np.ndarray, camera: Ca
     distances = rng.uniform(*distance, count) * fit_distance(radius, camera)
     target, world_up = torch.as_tensor(centre, dtype=torch.float64), torch.from_numpy(up)
     eyes = torch.from_numpy(np.asarray(centre) + distances[:, None] * directions)
-    return [dataclasses.replace(camera, T_cw=look_at(eye, target, world_up).numpy(), name=f"svs{k}", image_path=None)
-            for k, eye in enumerate(eyes)]  # fmt: skip
+    return [
+        dataclasses.replace(camera, T_cw=look_at(eye, target, world_up).numpy(), name=f"svs{k}", image_path=None)
+        for k, eye in enumerate(eyes)
+    ]

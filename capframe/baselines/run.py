@@ -76,8 +76,9 @@ def _select(candidates: list[Camera], scorer: Scorer, clock: StageClock) -> tupl
     return candidates[best], float(scores[best]), top
 
 
-def _ivs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-         clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
+def _ivs(
+    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+) -> tuple[Camera, float, dict]:
     views = search_ranking(retrieval)[: min(options.max_views, len(scene.cameras))]
     candidates = ivs_candidates([scene.cameras[v] for v in views])
     clock.done("candidates", f"{len(candidates)} poses between the top {len(views)} views")
@@ -85,37 +86,62 @@ def _ivs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Sc
     return camera, score, {"views": [scene.cameras[v].name for v in views], "candidates": len(candidates), "best": top}
 
 
-def _svs(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-         clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
+def _svs(
+    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+) -> tuple[Camera, float, dict]:
     L = min(options.max_views, len(scene.cameras))
     means = scene.gaussians.means.detach().double().numpy()[np.concatenate([s.gaussians for s in labels.subjects])]
     centre = means.mean(0)
-    radius = max(float(np.linalg.norm(means - centre, axis=1).max()), MIN_RADIUS * scene_scale(scene.cameras, scene.gaussians.means))
+    radius = max(
+        float(np.linalg.norm(means - centre, axis=1).max()), MIN_RADIUS * scene_scale(scene.cameras, scene.gaussians.means)
+    )
     candidates = svs_candidates(centre, radius, labels.up, scene.cameras[0], max(1, 3 * L * (L - 1) // 2), options.seed)
     clock.done("candidates", f"{len(candidates)} poses around the subjects (radius {radius:.3g})")
     camera, score, top = _select(candidates, scorer, clock)
-    return camera, score, {"centre": centre.tolist(), "radius": radius, "candidates": len(candidates), "seed": options.seed,
-                           "best": top}  # fmt: skip
+    return (
+        camera,
+        score,
+        {"centre": centre.tolist(), "radius": radius, "candidates": len(candidates), "seed": options.seed, "best": top},
+    )
 
 
-def _splatraj(scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions,
-              clock: StageClock) -> tuple[Camera, float, dict]:  # fmt: skip
+def _splatraj(
+    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+) -> tuple[Camera, float, dict]:
     start = scene.cameras[retrieval.top[0]]
     result = splatraj_pose(scene.gaussians, start, labels, scene_scale(scene.cameras, scene.gaussians.means), options.splatraj)
     camera = start.with_pose(result.T_cw)
-    clock.done("optimise", f"from {start.name}: {result.iterations} iterations, loss {result.losses[0]:.3g} -> {result.losses.min():.3g}")
+    clock.done(
+        "optimise", f"from {start.name}: {result.iterations} iterations, loss {result.losses[0]:.3g} -> {result.losses.min():.3g}"
+    )
     score = float(scorer([camera])[0])
     clock.done("score", f"{score:.1f} (not used by the search)")
-    return camera, score, {"init_view": start.name, "iterations": result.iterations, "stop_reason": result.stop_reason,
-                           "loss_initial": float(result.losses[0]), "loss": float(result.losses.min()), "loss_terms": result.terms,
-                           "config": dataclasses.asdict(options.splatraj)}  # fmt: skip
+    return (
+        camera,
+        score,
+        {
+            "init_view": start.name,
+            "iterations": result.iterations,
+            "stop_reason": result.stop_reason,
+            "loss_initial": float(result.losses[0]),
+            "loss": float(result.losses.min()),
+            "loss_terms": result.terms,
+            "config": dataclasses.asdict(options.splatraj),
+        },
+    )
 
 
 SEARCHES = {"ivs": _ivs, "svs": _svs, "splatraj": _splatraj}
 
 
-def run_baseline(method: str, scene_dir: str | Path, text: str, out_dir: str | Path, options: BaselineOptions | None = None,
-                 progress: bool = True) -> dict:  # fmt: skip
+def run_baseline(
+    method: str,
+    scene_dir: str | Path,
+    text: str,
+    out_dir: str | Path,
+    options: BaselineOptions | None = None,
+    progress: bool = True,
+) -> dict:
     """Find the camera for ``text`` with the baseline ``method`` and write it to ``out_dir``.
 
     Returns the content of ``result.json``.
@@ -140,9 +166,15 @@ def run_baseline(method: str, scene_dir: str | Path, text: str, out_dir: str | P
     camera, score, search = SEARCHES[method](scene, retrieval, labels, scorer, options, clock)
     image = render(scene.gaussians, camera).rgb
     clock.done("render", f"{camera.width}x{camera.height}")
-    fields = {"method": method, "score": score, "search": search, "instruction": parsed.to_dict(),
-              "retrieval": {"top": [scene.cameras[v].name for v in retrieval.top]}, "up": up.tolist(),
-              "timings": dict(clock.timings, total_s=time.perf_counter() - clock.start)}  # fmt: skip
+    fields = {
+        "method": method,
+        "score": score,
+        "search": search,
+        "instruction": parsed.to_dict(),
+        "retrieval": {"top": [scene.cameras[v].name for v in retrieval.top]},
+        "up": up.tolist(),
+        "timings": dict(clock.timings, total_s=time.perf_counter() - clock.start),
+    }
     with atomic_directory(out_dir) as tmp:
         summary = write_camera_result(tmp, camera, image, fields)
     return summary

@@ -30,7 +30,7 @@ import torch
 from torch import Tensor
 
 from ..refine.losses import aim_loss, soft_centroid, target_ray, upright_loss
-from ..refine.optimize import RefineConfig, RefineResult, PoseDescent
+from ..refine.optimize import PoseDescent, RefineConfig, RefineResult
 from ..render import prepare, render, scene_extent
 from ..scene import Camera, GaussianScene
 from ..translate.labels import PseudoLabels
@@ -82,7 +82,8 @@ class _Objective:
         offset = centroid - self.image_centre
         gate = (mass / cfg.mask_floor_px).clamp(0.0, 1.0)
         terms = {
-            "center": gate * torch.sqrt(offset @ offset + 1e-12) / max(w, h) + (1.0 - gate) * aim_loss(T_cw, self.centroids[0], self.axis),
+            "center": gate * torch.sqrt(offset @ offset + 1e-12) / max(w, h)
+            + (1.0 - gate) * aim_loss(T_cw, self.centroids[0], self.axis),
             "area": torch.sqrt((mass / (w * h) - cfg.area_ratio) ** 2 + 1e-12),
             "upright": upright_loss(T_cw, self.up),
         }
@@ -93,8 +94,14 @@ class _Objective:
         return False  # SplaTraj has no clauses to settle on: it runs its iterations
 
 
-def splatraj_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: SplaTrajConfig | None = None,
-                  dtype: torch.dtype = torch.float32) -> RefineResult:  # fmt: skip
+def splatraj_pose(
+    scene: GaussianScene,
+    camera: Camera,
+    labels: PseudoLabels,
+    scale: float,
+    config: SplaTrajConfig | None = None,
+    dtype: torch.dtype = torch.float32,
+) -> RefineResult:
     """Optimise ``camera``'s pose for the SplaTraj loss of the subjects of ``labels``.
 
     Args:
@@ -106,8 +113,13 @@ def splatraj_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, sc
     start = time.perf_counter()
     config = config or SplaTrajConfig()
     # Refine's descent without its extras: no yaw scan, no plateau stop (patience beyond the run).
-    descent = RefineConfig(iterations=config.iterations, lr_rotation=config.lr_rotation, lr_translation=config.lr_translation,
-                           patience=config.iterations + 1, yaw_scan=1)  # fmt: skip
+    descent = RefineConfig(
+        iterations=config.iterations,
+        lr_rotation=config.lr_rotation,
+        lr_translation=config.lr_translation,
+        patience=config.iterations + 1,
+        yaw_scan=1,
+    )
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
@@ -115,6 +127,13 @@ def splatraj_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, sc
         T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=False)
     finally:
         torch.set_num_threads(threads)
-    return RefineResult(T_cw=T.numpy(), iterations=run.steps, stop_reason=run.stop_reason, terms=run.best_terms,
-                        trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
-                        history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)  # fmt: skip
+    return RefineResult(
+        T_cw=T.numpy(),
+        iterations=run.steps,
+        stop_reason=run.stop_reason,
+        terms=run.best_terms,
+        trajectory=np.stack(run.trajectory),
+        losses=np.asarray(run.losses),
+        history={k: np.asarray(v) for k, v in run.history.items()},
+        seconds=time.perf_counter() - start,
+    )

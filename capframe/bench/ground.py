@@ -75,8 +75,12 @@ def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
         report = checkers[ground_dir].check(camera, constraints)
         applicable = [r for r in report.rows if r.satisfied is not None]
         rows.append((key, report.all_satisfied, sum(bool(r.satisfied) for r in applicable), len(applicable), seconds))
-        print(f"{key}: {'ok  ' if report.all_satisfied else 'FAIL'} {rows[-1][2]}/{rows[-1][3]} constraints, "
-              f"{seconds:.1f} s  {text}", file=sys.stderr, flush=True)  # fmt: skip
+        print(
+            f"{key}: {'ok  ' if report.all_satisfied else 'FAIL'} {rows[-1][2]}/{rows[-1][3]} constraints, "
+            f"{seconds:.1f} s  {text}",
+            file=sys.stderr,
+            flush=True,
+        )
     times = np.array([r[4] for r in rows])
     return {
         "instructions": len(rows),

@@ -52,8 +52,12 @@ def suite_cases(suite: str | Path, root: Path) -> list[tuple[Path, str, Constrai
     return cases
 
 
-def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite", sweep: bool = True,
-                 out: str | Path = "results/bench/refine") -> dict:
+def bench_refine(
+    suite: str | Path = DEFAULT_SUITE,
+    root: str | Path = "results/bench/suite",
+    sweep: bool = True,
+    out: str | Path = "results/bench/refine",
+) -> dict:
     """Run the benchmark on ``suite``; scenes and instructions are generated under ``root`` (shared
     with the other benchmarks), the sweep is written under ``out``."""
     root, out = Path(root), Path(out)
@@ -68,8 +72,12 @@ def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
         if scene_dir not in loaded:
             scene = load_scene_dir(scene_dir)
             # The scale capframe refine (and the workflow) use: the method does not know gt.scale.
-            loaded[scene_dir] = (scene.gaussians, read_ground_truth(scene_dir), GroundTruthChecker(scene_dir),
-                                 scene_scale(scene.cameras, scene.gaussians.means))
+            loaded[scene_dir] = (
+                scene.gaussians,
+                read_ground_truth(scene_dir),
+                GroundTruthChecker(scene_dir),
+                scene_scale(scene.cameras, scene.gaussians.means),
+            )
         gaussians, gt, checker, scale = loaded[scene_dir]
         labels = oracle_labels(gaussians, gt, constraints)
         camera = initial_view(scene_dir, gt, constraints, key)
@@ -80,12 +88,25 @@ def bench_refine(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
             judged = [r for r in report.rows if r.satisfied is not None]
             if name == "res320":
                 full_res_pose = result.T_cw
-            rows.append({"setting": name, "long_side": config.long_side, "iterations_budget": config.iterations,
-                         "scene": scene_dir.name, "instruction": key, "seconds": result.seconds, "iterations": result.iterations,
-                         "stop_reason": result.stop_reason, "constraints": len(judged), "satisfied": sum(r.satisfied for r in judged),
-                         "all_satisfied": report.all_satisfied, "T_cw": result.T_cw, "scale": scale})
+            rows.append(
+                {
+                    "setting": name,
+                    "long_side": config.long_side,
+                    "iterations_budget": config.iterations,
+                    "scene": scene_dir.name,
+                    "instruction": key,
+                    "seconds": result.seconds,
+                    "iterations": result.iterations,
+                    "stop_reason": result.stop_reason,
+                    "constraints": len(judged),
+                    "satisfied": sum(r.satisfied for r in judged),
+                    "all_satisfied": report.all_satisfied,
+                    "T_cw": result.T_cw,
+                    "scale": scale,
+                }
+            )
         if full_res_pose is not None:
-            for row in rows[-len(settings):]:
+            for row in rows[-len(settings) :]:
                 row["dR_deg"], row["dt_rel"] = pose_deviation(row["T_cw"], full_res_pose, row["scale"])
     return _summarise(rows, out, sweep)
 
@@ -98,11 +119,16 @@ def _summarise(rows: list[dict], out: Path, sweep: bool) -> dict:
     summary = []
     for name, group in by_setting.items():
         total = sum(r["constraints"] for r in group)
-        entry = {"setting": name, "long_side": group[0]["long_side"], "iterations_budget": group[0]["iterations_budget"],
-                 "constraint_success_rate": sum(r["satisfied"] for r in group) / max(total, 1),
-                 "full_success_rate": float(np.mean([r["all_satisfied"] for r in group])),
-                 "median_s": float(np.median([r["seconds"] for r in group])), "mean_s": float(np.mean([r["seconds"] for r in group])),
-                 "mean_iterations": float(np.mean([r["iterations"] for r in group]))}
+        entry = {
+            "setting": name,
+            "long_side": group[0]["long_side"],
+            "iterations_budget": group[0]["iterations_budget"],
+            "constraint_success_rate": sum(r["satisfied"] for r in group) / max(total, 1),
+            "full_success_rate": float(np.mean([r["all_satisfied"] for r in group])),
+            "median_s": float(np.median([r["seconds"] for r in group])),
+            "mean_s": float(np.mean([r["seconds"] for r in group])),
+            "mean_iterations": float(np.mean([r["iterations"] for r in group])),
+        }
         if "dR_deg" in group[0]:
             entry["mean_dR_deg"] = float(np.mean([r["dR_deg"] for r in group]))
             entry["mean_dt_rel"] = float(np.mean([r["dt_rel"] for r in group]))
@@ -140,7 +166,9 @@ def _plot(summary: list[dict], path: Path) -> None:
     fig, ax = plt.subplots(figsize=(6, 4), dpi=120)
     for s in summary:
         ax.scatter(s["mean_s"], 1.0 - s["constraint_success_rate"], s=30)
-        ax.annotate(s["setting"], (s["mean_s"], 1.0 - s["constraint_success_rate"]), textcoords="offset points", xytext=(4, 4), fontsize=8)
+        ax.annotate(
+            s["setting"], (s["mean_s"], 1.0 - s["constraint_success_rate"]), textcoords="offset points", xytext=(4, 4), fontsize=8
+        )
     ax.set_xlabel("mean refinement time per instruction (s)")
     ax.set_ylabel("constraints not satisfied (share)")
     ax.set_title("Refine with oracle pseudo labels: error against run time")

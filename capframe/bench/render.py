@@ -31,13 +31,16 @@ def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> 
 
     def floor(k):
         p = torch.rand(k, 2, generator=g, dtype=torch.float64) * 4 - 2
-        return torch.cat([p, torch.zeros(k, 1, dtype=torch.float64)], 1), torch.tensor([[0.0, 0, 1]], dtype=torch.float64).expand(k, 3)
+        return torch.cat([p, torch.zeros(k, 1, dtype=torch.float64)], 1), torch.tensor([[0.0, 0, 1]], dtype=torch.float64).expand(
+            k, 3
+        )
 
     def sphere(centre, radius):
         def sample(k):
             d = torch.randn(k, 3, generator=g, dtype=torch.float64)
             d = d / d.norm(dim=1, keepdim=True)
             return torch.tensor(centre, dtype=torch.float64) + radius * d, d
+
         return sample, 4 * math.pi * radius**2
 
     def box(centre, half):
@@ -51,10 +54,17 @@ def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> 
             normal = torch.zeros(k, 3, dtype=torch.float64)
             normal[torch.arange(k), axis] = sign
             return c + u * h, normal
+
         return sample, 8 * float(h[0] * h[1] + h[1] * h[2] + h[0] * h[2])
 
-    surfaces = [(floor, 16.0), sphere((0.8, 0.6, 0.5), 0.5), sphere((-0.9, -0.7, 0.35), 0.35),
-                box((-0.6, 0.8, 0.4), (0.4, 0.3, 0.4)), box((0.7, -0.8, 0.3), (0.3, 0.3, 0.3)), box((0.0, 0.0, 0.15), (0.25, 0.5, 0.15))]
+    surfaces = [
+        (floor, 16.0),
+        sphere((0.8, 0.6, 0.5), 0.5),
+        sphere((-0.9, -0.7, 0.35), 0.35),
+        box((-0.6, 0.8, 0.4), (0.4, 0.3, 0.4)),
+        box((0.7, -0.8, 0.3), (0.3, 0.3, 0.3)),
+        box((0.0, 0.0, 0.15), (0.25, 0.5, 0.15)),
+    ]
     total_area = sum(a for _, a in surfaces)
     counts = [int(n * a / total_area) for _, a in surfaces]
     counts[0] += n - sum(counts)
@@ -66,7 +76,11 @@ def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> 
     normals = torch.cat([nrm for _, nrm, _ in parts])
     spacing = torch.cat([torch.full((len(p),), s, dtype=torch.float64) for p, _, s in parts])
     # Rotation whose third column is the normal: the flat axis of the Gaussian.
-    helper = torch.where(normals[:, :1].abs() < 0.9, torch.tensor([[1.0, 0, 0]], dtype=torch.float64), torch.tensor([[0.0, 1, 0]], dtype=torch.float64))
+    helper = torch.where(
+        normals[:, :1].abs() < 0.9,
+        torch.tensor([[1.0, 0, 0]], dtype=torch.float64),
+        torch.tensor([[0.0, 1, 0]], dtype=torch.float64),
+    )
     t1 = torch.linalg.cross(normals, helper)
     t1 = t1 / t1.norm(dim=1, keepdim=True)
     R = torch.stack([t1, torch.linalg.cross(normals, t1), normals], -1)
@@ -80,7 +94,9 @@ def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> 
 def orbit_camera(width: int, height: int, azimuth_deg: float = 30.0) -> Camera:
     """A training-like view: 4.5 units out, 35 degrees up, 60 degree horizontal field of view."""
     az, el = math.radians(azimuth_deg), math.radians(35.0)
-    eye = torch.tensor([4.5 * math.cos(el) * math.cos(az), 4.5 * math.cos(el) * math.sin(az), 4.5 * math.sin(el)], dtype=torch.float64)
+    eye = torch.tensor(
+        [4.5 * math.cos(el) * math.cos(az), 4.5 * math.cos(el) * math.sin(az), 4.5 * math.sin(el)], dtype=torch.float64
+    )
     T = look_at(eye, torch.tensor([0.0, 0.0, 0.3], dtype=torch.float64), torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64))
     focal = 0.5 * width / math.tan(math.radians(30.0))
     return Camera(T.numpy(), intrinsics(focal, focal, width / 2, height / 2), width, height, name="bench")

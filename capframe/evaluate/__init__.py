@@ -4,6 +4,13 @@ from .check import CheckReport, CheckRow, GroundTruthChecker, check_camera, chec
 from .ground_truth import GroundTruth, GTObject, parse_ground_truth, read_ground_truth
 
 __all__ = [
-    "CheckReport", "CheckRow", "GroundTruthChecker", "check_camera", "check_command",
-    "GroundTruth", "GTObject", "parse_ground_truth", "read_ground_truth",
-]  # fmt: skip
+    "CheckReport",
+    "CheckRow",
+    "GroundTruthChecker",
+    "check_camera",
+    "check_command",
+    "GroundTruth",
+    "GTObject",
+    "parse_ground_truth",
+    "read_ground_truth",
+]

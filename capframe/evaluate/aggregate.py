@@ -10,7 +10,6 @@ import pandas as pd
 
 from ..scene._io import atomic_write, read_json
 
-
 # Constraint kinds in table order, and the unit of each kind's checker error: the deviation from
 # the target for view and roll, the distance to the accepted interval (0 inside) for the others.
 KIND_UNITS = {"visibility": "fraction", "region": "frame", "shot": "frame", "view": "deg", "elevation": "deg", "roll": "deg"}
@@ -30,11 +29,15 @@ def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd
         report = read_json(check_path)
         result = read_json(result_path)
         applicable = report.get("applicable") or 0
-        row = {"method": method, "scene": Path(check_path).parent.name,
-               "instruction": report.get("instruction_id") or Path(check_path).stem,
-               "all_satisfied": bool(report["all_satisfied"]),
-               "constraints_satisfied": report["satisfied"] / applicable if applicable else np.nan,
-               "seconds": result.get("timings", {}).get("total_s", np.nan), "iterations": result.get("iterations", np.nan)}
+        row = {
+            "method": method,
+            "scene": Path(check_path).parent.name,
+            "instruction": report.get("instruction_id") or Path(check_path).stem,
+            "all_satisfied": bool(report["all_satisfied"]),
+            "constraints_satisfied": report["satisfied"] / applicable if applicable else np.nan,
+            "seconds": result.get("timings", {}).get("total_s", np.nan),
+            "iterations": result.get("iterations", np.nan),
+        }
         kinds, errors = defaultdict(list), defaultdict(list)
         for r in report["rows"]:
             if r["satisfied"] is not None:
@@ -51,8 +54,12 @@ def summary_table(frame: pd.DataFrame) -> pd.DataFrame:
     """Per method: full success rate, median and mean seconds, then per constraint kind its
     success rate and mean checker error (``<kind>_error_<unit>``, see :data:`KIND_UNITS`) over the
     instructions that have it."""
-    out = frame.groupby("method").agg(instructions=("instruction", "count"), full_success=("all_satisfied", "mean"),
-                                      median_s=("seconds", "median"), mean_s=("seconds", "mean"))
+    out = frame.groupby("method").agg(
+        instructions=("instruction", "count"),
+        full_success=("all_satisfied", "mean"),
+        median_s=("seconds", "median"),
+        mean_s=("seconds", "mean"),
+    )
     by_method = frame.groupby("method")
     for kind in KIND_UNITS:
         if kind in frame:

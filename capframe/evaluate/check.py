@@ -38,8 +38,15 @@ import numpy as np
 import torch
 
 from ..constraints import (
-    MIN_VISIBLE_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints, min_in_frame_fraction,
-)  # fmt: skip
+    MIN_VISIBLE_FRACTION,
+    REGIONS,
+    ROLL_TOLERANCE_DEG,
+    SHOT_SIZES,
+    VIEW_SIDES,
+    VIEW_TOLERANCE_DEG,
+    Constraints,
+    min_in_frame_fraction,
+)
 from ..errors import InputError
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..render import NEAR_FRACTION, resolve_backend, scene_extent
@@ -87,10 +94,16 @@ class CheckRow:
 
     def to_dict(self) -> dict:
         return {
-            "constraint": self.constraint, "subject": self.subject, "satisfied": self.satisfied,
-            "measured": self.measured, "target": self.target, "error": self.error, "unit": self.unit,
-            "note": self.note, "details": self.details,
-        }  # fmt: skip
+            "constraint": self.constraint,
+            "subject": self.subject,
+            "satisfied": self.satisfied,
+            "measured": self.measured,
+            "target": self.target,
+            "error": self.error,
+            "unit": self.unit,
+            "note": self.note,
+            "details": self.details,
+        }
 
 
 @dataclass
@@ -152,8 +165,16 @@ class ConstraintChecker:
         backend: render backend (``auto``: gsplat on CUDA, else the torch reference).
     """
 
-    def __init__(self, gaussians: GaussianScene, objects: dict[str, GTObject], members: dict[int, torch.Tensor], up: np.ndarray,
-                 *, long_side: int | None = None, backend: str = "auto"):  # fmt: skip
+    def __init__(
+        self,
+        gaussians: GaussianScene,
+        objects: dict[str, GTObject],
+        members: dict[int, torch.Tensor],
+        up: np.ndarray,
+        *,
+        long_side: int | None = None,
+        backend: str = "auto",
+    ):
         self.backend = resolve_backend(backend)
         device = "cuda" if self.backend == "gsplat" else "cpu"
         self.gaussians = gaussians.to(device=device)
@@ -203,7 +224,9 @@ class ConstraintChecker:
     def _masks(self, camera: Camera, objects: list[GTObject]) -> list[SubjectMask]:
         """Per subject: its visible and own masks at the check resolution (see :func:`subject_masks`)."""
         member = torch.stack([self.members[obj.id] for obj in objects], 1)
-        masks, _ = subject_masks(self.gaussians, camera.with_long_side(self.long_side), member, backend=self.backend, near=self.near)
+        masks, _ = subject_masks(
+            self.gaussians, camera.with_long_side(self.long_side), member, backend=self.backend, near=self.near
+        )
         return masks
 
     def _visibility(self, name: str, mask: SubjectMask, z: float, min_in_frame: float) -> CheckRow:
@@ -219,9 +242,17 @@ class ConstraintChecker:
             notes.append("subject is mostly occluded")
         if pixels > 0 and in_frame < min_in_frame:
             notes.append("subject is mostly cut off by the frame edge")
-        return CheckRow("visibility", name, ok, fraction, {"min_visible_fraction": MIN_VISIBLE_FRACTION, "min_in_frame_fraction": min_in_frame},
-                        max(MIN_VISIBLE_FRACTION - fraction, min_in_frame - in_frame, 0.0), "fraction", "; ".join(notes),
-                        {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame})  # fmt: skip
+        return CheckRow(
+            "visibility",
+            name,
+            ok,
+            fraction,
+            {"min_visible_fraction": MIN_VISIBLE_FRACTION, "min_in_frame_fraction": min_in_frame},
+            max(MIN_VISIBLE_FRACTION - fraction, min_in_frame - in_frame, 0.0),
+            "fraction",
+            "; ".join(notes),
+            {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame},
+        )
 
     def _region(self, name: str, region: str, mask: SubjectMask, camera: Camera, obj: GTObject, z: float) -> CheckRow:
         box = REGIONS[region]
@@ -236,8 +267,17 @@ class ConstraintChecker:
             source = "projected centre"
             note = "mask empty: projected ground-truth centre used"
         else:
-            return CheckRow("region", name, False, None, target, None, "normalised",
-                            "subject behind the camera: no image position", {"source": None})  # fmt: skip
+            return CheckRow(
+                "region",
+                name,
+                False,
+                None,
+                target,
+                None,
+                "normalised",
+                "subject behind the camera: no image position",
+                {"source": None},
+            )
         error = _box_distance(x, y, box)
         return CheckRow("region", name, error == 0.0, [x, y], target, error, "normalised", note, {"source": source})
 
@@ -245,13 +285,15 @@ class ConstraintChecker:
         lo, hi = SHOT_SIZES[shot]
         target = {"shot": shot, "range": [lo, hi]}
         if mask.pixels == 0:
-            return CheckRow("shot", name, False, 0.0, target, _interval_error(0.0, lo, hi), "frame fraction",
-                            "subject mask is empty")  # fmt: skip
+            return CheckRow(
+                "shot", name, False, 0.0, target, _interval_error(0.0, lo, hi), "frame fraction", "subject mask is empty"
+            )
         width, height = mask.bbox_size()
         extent = max(width, height)
         error = _interval_error(extent, lo, hi)
-        return CheckRow("shot", name, error == 0.0, extent, target, error, "frame fraction", "",
-                        {"bbox_width": width, "bbox_height": height})  # fmt: skip
+        return CheckRow(
+            "shot", name, error == 0.0, extent, target, error, "frame fraction", "", {"bbox_width": width, "bbox_height": height}
+        )
 
     def _view(self, name: str, view: str, centre: np.ndarray, obj: GTObject, up: np.ndarray) -> CheckRow:
         target = {"view": view, "azimuths_deg": list(VIEW_SIDES[view]), "tolerance_deg": VIEW_TOLERANCE_DEG}
@@ -264,8 +306,9 @@ class ConstraintChecker:
         deviation = min(abs(wrap_deg(azimuth - a)) for a in VIEW_SIDES[view])
         return CheckRow("view", name, deviation <= VIEW_TOLERANCE_DEG, azimuth, target, deviation, "deg")
 
-    def _elevation(self, name: str, constraints: Constraints, rng: tuple[float, float], centre: np.ndarray,
-                   obj: GTObject, up: np.ndarray) -> CheckRow:  # fmt: skip
+    def _elevation(
+        self, name: str, constraints: Constraints, rng: tuple[float, float], centre: np.ndarray, obj: GTObject, up: np.ndarray
+    ) -> CheckRow:
         target = {"range_deg": list(rng)}
         if constraints.elevation is not None:
             target["elevation"] = constraints.elevation
@@ -281,8 +324,16 @@ class ConstraintChecker:
         target = {"roll_deg": roll_deg, "tolerance_deg": ROLL_TOLERANCE_DEG}
         forward_up = float(T[2, :3] @ up)
         if abs(forward_up) > math.cos(math.radians(ROLL_UNDEFINED_DEG)):
-            return CheckRow("roll", None, None, None, target, None, "deg",
-                            f"camera looks within {ROLL_UNDEFINED_DEG:g} deg of straight up/down: roll undefined")  # fmt: skip
+            return CheckRow(
+                "roll",
+                None,
+                None,
+                None,
+                target,
+                None,
+                "deg",
+                f"camera looks within {ROLL_UNDEFINED_DEG:g} deg of straight up/down: roll undefined",
+            )
         roll = math.degrees(float(camera_roll(torch.as_tensor(T), torch.as_tensor(up))))
         deviation = abs(wrap_deg(roll - roll_deg))
         return CheckRow("roll", None, deviation <= ROLL_TOLERANCE_DEG, roll, target, deviation, "deg")
@@ -293,8 +344,9 @@ class ConstraintChecker:
             return None
         f64 = dict(dtype=torch.float64)
         front = obj.front if obj.front is not None else any_horizontal(up)
-        az, el = view_angles(torch.tensor(centre, **f64), torch.tensor(obj.center, **f64),
-                             torch.tensor(front, **f64), torch.tensor(up, **f64))  # fmt: skip
+        az, el = view_angles(
+            torch.tensor(centre, **f64), torch.tensor(obj.center, **f64), torch.tensor(front, **f64), torch.tensor(up, **f64)
+        )
         return math.degrees(float(az)), math.degrees(float(el))
 
 
@@ -314,8 +366,10 @@ class GroundTruthChecker(ConstraintChecker):
         if scene.gaussians is None:
             raise InputError("has no scene.ply; the check renders subject masks from it", source=str(scene_dir))
         if scene.gaussians.labels is None:
-            raise InputError("has no semantic sidecar (semantics.json + labels.npy); the check needs per-Gaussian labels",
-                             source=str(scene_dir))  # fmt: skip
+            raise InputError(
+                "has no semantic sidecar (semantics.json + labels.npy); the check needs per-Gaussian labels",
+                source=str(scene_dir),
+            )
         labels = scene.gaussians.labels
         objects = {o.name: o for o in self.ground_truth.objects}
         members = {o.id: labels == o.label for o in self.ground_truth.objects}
@@ -323,8 +377,6 @@ class GroundTruthChecker(ConstraintChecker):
 
     def resolve(self, name: str) -> GTObject:
         return self.ground_truth.resolve(name)
-
-
 
 
 def check_camera(scene_dir: str | Path, camera: Camera, constraints: Constraints, **options) -> CheckReport:
@@ -364,8 +416,7 @@ def load_constraints(path: str | Path, instruction_id: str | None) -> tuple[str 
     source = str(path)
     data = read_json(path)
     if not isinstance(data, dict):
-        raise InputError(f"top level is {type(data).__name__}; expected a JSON object keyed by instruction id",
-                         source=source)  # fmt: skip
+        raise InputError(f"top level is {type(data).__name__}; expected a JSON object keyed by instruction id", source=source)
     if "subjects" in data:
         return instruction_id, {}, Constraints.from_dict(data)
     if not data:
@@ -373,8 +424,9 @@ def load_constraints(path: str | Path, instruction_id: str | None) -> tuple[str 
     if instruction_id is None:
         if len(data) != 1:
             some = sorted(data)[:5]
-            raise InputError(f"holds {len(data)} instructions; pass --id (or put instruction_id in the result), "
-                             f"e.g. {some}", source=source)  # fmt: skip
+            raise InputError(
+                f"holds {len(data)} instructions; pass --id (or put instruction_id in the result), e.g. {some}", source=source
+            )
         instruction_id = next(iter(data))
     key = instruction_id
     if key not in data and (m := _PARAPHRASE_ID.match(key)) and m.group("base") in data:
@@ -422,8 +474,16 @@ def format_report(report: CheckReport) -> str:
     for r in report.rows:
         result = "n/a" if r.satisfied is None else ("ok" if r.satisfied else "FAIL")
         error = "-" if r.error is None else (f"{r.error:.1f}°" if r.unit == "deg" else f"{r.error:.3f}")
-        lines.append((r.constraint, r.subject or "-", _format_target(r), _format_measured(r), error,
-                      result + (f"  ({r.note})" if r.note else "")))  # fmt: skip
+        lines.append(
+            (
+                r.constraint,
+                r.subject or "-",
+                _format_target(r),
+                _format_measured(r),
+                error,
+                result + (f"  ({r.note})" if r.note else ""),
+            )
+        )
     widths = [max(len(row[i]) for row in [header, *lines]) for i in range(len(header) - 1)]
     fmt = lambda row: "  ".join(c.ljust(w) for c, w in zip(row[:-1], widths)) + "  " + row[-1]  # noqa: E731
     out = []
@@ -436,8 +496,15 @@ def format_report(report: CheckReport) -> str:
     return "\n".join(out)
 
 
-def check_command(scene: str | Path, result: str | Path, constraints: str | Path, *, instruction_id: str | None = None,
-                  as_json: bool = False, output: str | Path | None = None) -> CheckReport:  # fmt: skip
+def check_command(
+    scene: str | Path,
+    result: str | Path,
+    constraints: str | Path,
+    *,
+    instruction_id: str | None = None,
+    as_json: bool = False,
+    output: str | Path | None = None,
+) -> CheckReport:
     """``capframe check``: check a result camera against one instruction's constraints and print a
     table (or, with ``as_json``, one JSON object); ``output`` also writes the JSON object to a
     file, atomically. The instruction id defaults to the result's ``instruction_id``."""

@@ -186,8 +186,9 @@ def parse_ground_truth(data: object, source: str | None = None) -> GroundTruth:
             front = as_array(front, (3,), f"{what} 'front'", source)
             horizontal = front - (front @ up) * up / (up @ up)
             if not np.isfinite(front).all() or np.linalg.norm(horizontal) < 1e-9 * max(np.linalg.norm(front), 1e-300):
-                raise InputError(f"{what}: 'front' {front.tolist()} has no horizontal part; expected a facing direction",
-                                 source=source)  # fmt: skip
+                raise InputError(
+                    f"{what}: 'front' {front.tolist()} has no horizontal part; expected a facing direction", source=source
+                )
             front = front / np.linalg.norm(front)
         aliases = entry.get("aliases", [])
         if not isinstance(aliases, list) or not all(isinstance(a, str) for a in aliases):
@@ -238,6 +239,7 @@ def read_ground_truth(scene_dir: str | Path) -> GroundTruth:
     """Read ``<scene_dir>/ground_truth.json``; :class:`InputError` if it is missing or malformed."""
     path = Path(scene_dir) / GROUND_TRUTH_FILE
     if not path.is_file():
-        raise InputError(f"{GROUND_TRUTH_FILE} not found; checks and instructions need a synthetic scene's ground truth",
-                         source=str(scene_dir))  # fmt: skip
+        raise InputError(
+            f"{GROUND_TRUTH_FILE} not found; checks and instructions need a synthetic scene's ground truth", source=str(scene_dir)
+        )
     return parse_ground_truth(read_json(path), str(path))

@@ -37,7 +37,10 @@ def ground_truth_cameras(scene_dir: str | Path) -> list[Camera]:
     from ..scene._io import read_json
 
     data = read_json(Path(scene_dir) / "ground_truth.json")
-    return [Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"]) for c in data.get("cameras", [])]
+    return [
+        Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"])
+        for c in data.get("cameras", [])
+    ]
 
 
 def visible_views(cameras: list[Camera], point: np.ndarray) -> list[Camera]:

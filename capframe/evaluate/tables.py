@@ -130,8 +130,9 @@ def result_folders(root: str | Path, what: str) -> dict[tuple[str, str], Path]:
     :class:`InputError` naming ``root`` when it is missing."""
     root = Path(root)
     if not root.is_dir():
-        raise InputError(f"{what} folder not found; expected <scene>/<id>/result.json folders "
-                         "(e.g. results/refine/capframe)", source=str(root))  # fmt: skip
+        raise InputError(
+            f"{what} folder not found; expected <scene>/<id>/result.json folders (e.g. results/refine/capframe)", source=str(root)
+        )
     found = {}
     for scene in _visible_dirs(root):
         for instruction in _visible_dirs(scene):
@@ -151,8 +152,9 @@ def _success(checks_root: Path, method: str, scene: str, instruction: str) -> bo
     return bool(report["all_satisfied"])
 
 
-def sensitivity_table(reference: str | Path, variants: list[tuple[str, Path]], checks_root: str | Path,
-                      scenes_root: str | Path) -> pd.DataFrame:  # fmt: skip
+def sensitivity_table(
+    reference: str | Path, variants: list[tuple[str, Path]], checks_root: str | Path, scenes_root: str | Path
+) -> pd.DataFrame:
     """One row per variant (grouped as in the paper): mean ΔR (deg) and Δt (/ scene scale) against
     the reference over the instructions both have results for, and the full-success rates.
 
@@ -195,13 +197,23 @@ def sensitivity_table(reference: str | Path, variants: list[tuple[str, Path]], c
         group, perturbation = variant_label(name)
         var_rate = float(np.mean(var_ok)) if var_ok else math.nan
         ref_rate = float(np.mean(ref_ok)) if ref_ok else math.nan
-        rows.append({"group": group, "perturbation": perturbation, "variant": name, "instructions": len(common),
-                     "only_reference": len(set(ref_results) - set(var_results)),
-                     "only_variant": len(set(var_results) - set(ref_results)),
-                     "delta_R_deg": float(np.mean(d_rot)) if d_rot else math.nan,
-                     "delta_t_rel": float(np.mean(d_pos)) if d_pos else math.nan,
-                     "checked": len(var_ok), "full_success": var_rate, "reference_success": ref_rate,
-                     "full_success_change": var_rate - ref_rate, "_order": order})  # fmt: skip
+        rows.append(
+            {
+                "group": group,
+                "perturbation": perturbation,
+                "variant": name,
+                "instructions": len(common),
+                "only_reference": len(set(ref_results) - set(var_results)),
+                "only_variant": len(set(var_results) - set(ref_results)),
+                "delta_R_deg": float(np.mean(d_rot)) if d_rot else math.nan,
+                "delta_t_rel": float(np.mean(d_pos)) if d_pos else math.nan,
+                "checked": len(var_ok),
+                "full_success": var_rate,
+                "reference_success": ref_rate,
+                "full_success_change": var_rate - ref_rate,
+                "_order": order,
+            }
+        )
     frame = pd.DataFrame(rows)
     frame["_group"] = frame["group"].map(SENSITIVITY_GROUPS.index)
     return frame.sort_values(["_group", "_order"], kind="stable").drop(columns=["_group", "_order"]).reset_index(drop=True)
@@ -210,18 +222,21 @@ def sensitivity_table(reference: str | Path, variants: list[tuple[str, Path]], c
 def sensitivity_markdown(frame: pd.DataFrame) -> str:
     """The paper's layout: Type, Perturbation, ΔR, Δt, then the success rates; a group's name only
     on its first row."""
-    view = pd.DataFrame({
-        "Type": [g if i == 0 or g != frame["group"].iloc[i - 1] else "" for i, g in enumerate(frame["group"])],
-        "Perturbation": frame["perturbation"], "Instructions": frame["instructions"],
-        "ΔR (deg)": frame["delta_R_deg"], "Δt (/ scale)": frame["delta_t_rel"],
-        "Full success": frame["full_success"], "Δ full success": frame["full_success_change"],
-    })  # fmt: skip
-    return markdown_table(view, {"ΔR (deg)": ".2f", "Δt (/ scale)": ".3f", "Full success": ".3f",
-                                 "Δ full success": "+.3f"})  # fmt: skip
+    view = pd.DataFrame(
+        {
+            "Type": [g if i == 0 or g != frame["group"].iloc[i - 1] else "" for i, g in enumerate(frame["group"])],
+            "Perturbation": frame["perturbation"],
+            "Instructions": frame["instructions"],
+            "ΔR (deg)": frame["delta_R_deg"],
+            "Δt (/ scale)": frame["delta_t_rel"],
+            "Full success": frame["full_success"],
+            "Δ full success": frame["full_success_change"],
+        }
+    )
+    return markdown_table(view, {"ΔR (deg)": ".2f", "Δt (/ scale)": ".3f", "Full success": ".3f", "Δ full success": "+.3f"})
 
 
-def sensitivity_command(reference: str, variants: list[str], checks_root: str, scenes_root: str,
-                        output: str) -> pd.DataFrame:  # fmt: skip
+def sensitivity_command(reference: str, variants: list[str], checks_root: str, scenes_root: str, output: str) -> pd.DataFrame:
     """``capframe sensitivity``: :func:`sensitivity_table` for ``NAME=DIR`` variant specs, written
     to ``output`` (CSV) and ``<stem>.md``, and printed."""
     specs = [parse_variant_spec(v) for v in variants]
@@ -264,8 +279,9 @@ def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFram
         unknown = sorted(set(frame["scene"].astype(str)) - set(groups))
         if unknown:
             close = difflib.get_close_matches(unknown[0], list(groups), n=3) or sorted(groups)[:3]
-            raise InputError(f"scenes {unknown} have no --group; closest known scenes to {unknown[0]!r}: {close}",
-                             source=str(path))  # fmt: skip
+            raise InputError(
+                f"scenes {unknown} have no --group; closest known scenes to {unknown[0]!r}: {close}", source=str(path)
+            )
         frames.append(frame.assign(group=frame["scene"].astype(str).map(groups)))
     if not frames:
         raise InputError("no tables given; expected capframe aggregate's per-instruction CSVs")
@@ -273,9 +289,16 @@ def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFram
     frame = pd.concat([frame, frame.assign(group=ALL_GROUPS)], ignore_index=True)
     methods = list(dict.fromkeys(frame["method"]))
     order = list(dict.fromkeys(groups.values())) + [ALL_GROUPS]
-    out = frame.groupby(["method", "group"], sort=False).agg(
-        instructions=("all_satisfied", "size"), fully_satisfied=("all_satisfied", "sum"),
-        full_success=("all_satisfied", "mean"), constraints_satisfied=("constraints_satisfied", "mean")).reset_index()
+    out = (
+        frame.groupby(["method", "group"], sort=False)
+        .agg(
+            instructions=("all_satisfied", "size"),
+            fully_satisfied=("all_satisfied", "sum"),
+            full_success=("all_satisfied", "mean"),
+            constraints_satisfied=("constraints_satisfied", "mean"),
+        )
+        .reset_index()
+    )
     out["fully_satisfied"] = out["fully_satisfied"].astype(int)
     keys = [(methods.index(m), order.index(g)) for m, g in zip(out["method"], out["group"])]
     return out.iloc[sorted(range(len(out)), key=keys.__getitem__)].reset_index(drop=True)
@@ -292,10 +315,12 @@ def group_markdown(frame: pd.DataFrame) -> str:
         rows = [{"method": m, **{g: cell(cells[(m, g)]) if (m, g) in cells else "" for g in groups}} for m in methods]
         return markdown_table(pd.DataFrame(rows, columns=["method", *groups]))
 
-    return ("Instructions fully satisfied, per dataset group\n\n"
-            + table(lambda r: f"{r.full_success:.3f} ({r.fully_satisfied}/{r.instructions})")
-            + "\n\nMean share of an instruction's constraints satisfied, per dataset group\n\n"
-            + table(lambda r: f"{r.constraints_satisfied:.3f}"))  # fmt: skip
+    return (
+        "Instructions fully satisfied, per dataset group\n\n"
+        + table(lambda r: f"{r.full_success:.3f} ({r.fully_satisfied}/{r.instructions})")
+        + "\n\nMean share of an instruction's constraints satisfied, per dataset group\n\n"
+        + table(lambda r: f"{r.constraints_satisfied:.3f}")
+    )
 
 
 def group_table_command(tables: list[str], groups: list[str], output: str) -> pd.DataFrame:
@@ -321,8 +346,11 @@ def count_views(scene_dir: Path) -> int | None:
     of ``cameras.json``; None when it has neither."""
     images = scene_dir / "images"
     if images.is_dir():
-        return sum(1 for p in images.rglob("*") if p.suffix.lower() in _IMAGE_SUFFIX_SET
-                   and not any(part.startswith(".") for part in p.relative_to(images).parts))  # fmt: skip
+        return sum(
+            1
+            for p in images.rglob("*")
+            if p.suffix.lower() in _IMAGE_SUFFIX_SET and not any(part.startswith(".") for part in p.relative_to(images).parts)
+        )
     if (scene_dir / "cameras.json").is_file():
         cameras = read_json(scene_dir / "cameras.json")
         return len(cameras) if isinstance(cameras, list) else None
@@ -390,9 +418,22 @@ def scene_rows(scenes_root: str | Path, colmap_root: str | Path, gravity_root: s
         rows.append(row)
     if not rows:
         raise InputError("holds no scene folders", source=str(scenes_root))
-    columns = ["scene", "views", "gaussians", "colmap", "registered", "images", "rotation_error_mean_deg",
-               "rotation_error_max_deg", "position_error_mean_pct", "position_error_max_pct", "gravity",
-               "gravity_skipped", "gravity_error_deg", "gravity_confidence"]  # fmt: skip
+    columns = [
+        "scene",
+        "views",
+        "gaussians",
+        "colmap",
+        "registered",
+        "images",
+        "rotation_error_mean_deg",
+        "rotation_error_max_deg",
+        "position_error_mean_pct",
+        "position_error_max_pct",
+        "gravity",
+        "gravity_skipped",
+        "gravity_error_deg",
+        "gravity_confidence",
+    ]
     frame = pd.DataFrame(rows).reindex(columns=columns)
     for column in ("views", "gaussians", "registered", "images"):
         frame[column] = frame[column].astype("Int64")
@@ -408,8 +449,11 @@ def scene_table(scenes_root: str | Path, colmap_root: str | Path, gravity_root: 
     confidence over the scenes whose gravity was estimated (ran and not skipped)."""
     frame = scene_rows(scenes_root, colmap_root, gravity_root)
     needed = frame[frame["gravity"] & ~frame["gravity_skipped"].fillna(False).astype(bool)]
-    bottom = {"scene": MEAN_ROW, "gravity_error_deg": needed["gravity_error_deg"].mean() if len(needed) else math.nan,
-              "gravity_confidence": needed["gravity_confidence"].mean() if len(needed) else math.nan}  # fmt: skip
+    bottom = {
+        "scene": MEAN_ROW,
+        "gravity_error_deg": needed["gravity_error_deg"].mean() if len(needed) else math.nan,
+        "gravity_confidence": needed["gravity_confidence"].mean() if len(needed) else math.nan,
+    }
     return pd.concat([frame, pd.DataFrame([bottom])], ignore_index=True)
 
 
@@ -424,13 +468,20 @@ def scene_markdown(frame: pd.DataFrame) -> str:
     for row in frame.itertuples(index=False):
         skipped = not pd.isna(row.gravity_skipped) and bool(row.gravity_skipped)
         gravity.append("" if row.scene == MEAN_ROW else ("skipped" if skipped else flag(row.gravity)))
-    view = pd.DataFrame({
-        "Scene": frame["scene"], "Views": frame["views"], "Gaussians": frame["gaussians"],
-        "COLMAP": [flag(v) for v in frame["colmap"]], "Registered": [registered(r) for r in frame.itertuples(index=False)],
-        "Rot. err. mean/max (deg)": _pairs(frame, "rotation_error_mean_deg", "rotation_error_max_deg"),
-        "Pos. err. mean/max (% scale)": _pairs(frame, "position_error_mean_pct", "position_error_max_pct"),
-        "Gravity": gravity, "Gravity err. (deg)": frame["gravity_error_deg"], "Confidence": frame["gravity_confidence"],
-    })  # fmt: skip
+    view = pd.DataFrame(
+        {
+            "Scene": frame["scene"],
+            "Views": frame["views"],
+            "Gaussians": frame["gaussians"],
+            "COLMAP": [flag(v) for v in frame["colmap"]],
+            "Registered": [registered(r) for r in frame.itertuples(index=False)],
+            "Rot. err. mean/max (deg)": _pairs(frame, "rotation_error_mean_deg", "rotation_error_max_deg"),
+            "Pos. err. mean/max (% scale)": _pairs(frame, "position_error_mean_pct", "position_error_max_pct"),
+            "Gravity": gravity,
+            "Gravity err. (deg)": frame["gravity_error_deg"],
+            "Confidence": frame["gravity_confidence"],
+        }
+    )
     view = view.astype(object).where(view.notna(), None)
     return markdown_table(view, {"Gravity err. (deg)": ".2f", "Confidence": ".2f"})
 
@@ -474,8 +525,9 @@ def read_benchmark(path: str | Path) -> float:
     except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as err:
         raise InputError(f"not a Snakemake benchmark TSV ({err})", source=str(path)) from None
     if "s" not in table.columns or table.empty:
-        raise InputError(f"no 's' column with a row (columns {list(table.columns)}); expected a Snakemake benchmark TSV",
-                         source=str(path))  # fmt: skip
+        raise InputError(
+            f"no 's' column with a row (columns {list(table.columns)}); expected a Snakemake benchmark TSV", source=str(path)
+        )
     seconds = pd.to_numeric(table["s"], errors="coerce")
     if seconds.isna().any():
         raise InputError(f"'s' holds {table['s'].tolist()}; expected seconds", source=str(path))
@@ -508,14 +560,15 @@ def benchmark_records(root: str | Path) -> pd.DataFrame:
         else:
             skipped.append(str(path))
             continue
-        rows.append({"stage": stage, "method": method, "scene": scene, "instruction": instruction,
-                     "seconds": read_benchmark(path)})  # fmt: skip
+        rows.append(
+            {"stage": stage, "method": method, "scene": scene, "instruction": instruction, "seconds": read_benchmark(path)}
+        )
     if skipped:
-        print(f"capframe runtime: skipped {len(skipped)} benchmark files in an unknown layout, e.g. {skipped[0]}",
-              file=sys.stderr)  # fmt: skip
+        print(
+            f"capframe runtime: skipped {len(skipped)} benchmark files in an unknown layout, e.g. {skipped[0]}", file=sys.stderr
+        )
     if not rows:
-        raise InputError("holds no benchmark TSVs (<stage>/<scene>.tsv or <stage>/<method>/<scene>/<id>.tsv)",
-                         source=str(root))  # fmt: skip
+        raise InputError("holds no benchmark TSVs (<stage>/<scene>.tsv or <stage>/<method>/<scene>/<id>.tsv)", source=str(root))
     return pd.DataFrame(rows, columns=["stage", "method", "scene", "instruction", "seconds"])
 
 
@@ -587,8 +640,10 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
     for method in sorted(cost["method"].unique(), key=lambda m: (m != DEFAULT_METHOD, m)):
         own = cost[cost["method"] == method]
         reused = reused_stages(method)
-        stages = sorted(set(own["stage"]) | set(reused),
-                        key=lambda s: (METHOD_STAGES.index(s) if s in METHOD_STAGES else len(METHOD_STAGES), s))
+        stages = sorted(
+            set(own["stage"]) | set(reused),
+            key=lambda s: (METHOD_STAGES.index(s) if s in METHOD_STAGES else len(METHOD_STAGES), s),
+        )
         for scene, instruction in sorted(set(zip(own["scene"], own["instruction"]))):
             row = {"method": method, "scene": scene, "instruction": instruction}
             for stage in stages:
@@ -612,10 +667,12 @@ def runtime_per_method(records: pd.DataFrame) -> pd.DataFrame:
 
 
 def runtime_markdown(per_scene: pd.DataFrame, per_method: pd.DataFrame) -> str:
-    return ("Seconds per scene (each stage summed over the scene's jobs)\n\n"
-            + markdown_table(per_scene, {c: ".1f" for c in per_scene.columns if c not in ("scene", "n_instructions")})
-            + "\n\nSeconds per instruction, per method (own jobs + shared per-scene jobs / the scene's instructions)\n\n"
-            + markdown_table(per_method, {c: ".2f" for c in per_method.columns if c.endswith("_s")}))  # fmt: skip
+    return (
+        "Seconds per scene (each stage summed over the scene's jobs)\n\n"
+        + markdown_table(per_scene, {c: ".1f" for c in per_scene.columns if c not in ("scene", "n_instructions")})
+        + "\n\nSeconds per instruction, per method (own jobs + shared per-scene jobs / the scene's instructions)\n\n"
+        + markdown_table(per_method, {c: ".2f" for c in per_method.columns if c.endswith("_s")})
+    )
 
 
 def pareto_front(seconds: np.ndarray, score: np.ndarray) -> np.ndarray:
@@ -667,20 +724,25 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
     panels = [("full_success", "front_success", "instructions fully satisfied")]
     if PARETO_ERROR in points and points[PARETO_ERROR].notna().any():
         panels.append((PARETO_ERROR, "front_error", "mean view error (deg)"))
-    fig, axes = plt.subplots(1, len(panels) + 1, figsize=(5.0 * len(panels) + 1.9, 3.8), dpi=120,
-                             width_ratios=[5.0] * len(panels) + [1.9])  # fmt: skip
+    fig, axes = plt.subplots(
+        1, len(panels) + 1, figsize=(5.0 * len(panels) + 1.9, 3.8), dpi=120, width_ratios=[5.0] * len(panels) + [1.9]
+    )
     numbers = {name: k + 1 for k, name in enumerate(points["method"])}
     for ax, (value, front, label) in zip(axes, panels):
         shown = points.dropna(subset=[value])
         on = shown[shown[front]].sort_values("median_s")
         ground_truth = shown["method"].isin(GROUND_TRUTH_METHODS)
         ax.scatter(shown["median_s"], shown[value], color=np.where(ground_truth, "tab:gray", "tab:blue"), zorder=2)
-        ax.scatter(on["median_s"], on[value], s=140, facecolors="none", edgecolors="tab:red", zorder=3,
-                   label="Pareto front")  # fmt: skip
+        ax.scatter(on["median_s"], on[value], s=140, facecolors="none", edgecolors="tab:red", zorder=3, label="Pareto front")
         ax.step(on["median_s"], on[value], where="post", color="tab:red", lw=1, zorder=1)
         for row in shown.itertuples(index=False):
-            ax.annotate(str(numbers[row.method]), (row.median_s, getattr(row, value)), textcoords="offset points",
-                        xytext=(4, 3), fontsize=7)  # fmt: skip
+            ax.annotate(
+                str(numbers[row.method]),
+                (row.median_s, getattr(row, value)),
+                textcoords="offset points",
+                xytext=(4, 3),
+                fontsize=7,
+            )
         ax.set_xscale("log")
         ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
         ax.xaxis.set_minor_formatter(FuncFormatter(lambda x, _: f"{x:g}" if f"{x:g}"[0] in "25" else ""))
@@ -691,8 +753,16 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
         ax.legend(loc="best", fontsize=8)
     key = axes[-1]
     key.axis("off")
-    key.text(0.0, 1.0, "\n".join(f"{k:>2}  {name}" for name, k in numbers.items()), va="top", ha="left",
-             family="monospace", fontsize=8, transform=key.transAxes)  # fmt: skip
+    key.text(
+        0.0,
+        1.0,
+        "\n".join(f"{k:>2}  {name}" for name, k in numbers.items()),
+        va="top",
+        ha="left",
+        family="monospace",
+        fontsize=8,
+        transform=key.transAxes,
+    )
     fig.tight_layout()
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png")
@@ -717,7 +787,9 @@ def runtime_command(benchmarks: str, output: str, methods_table: str | None = No
         points = pareto_points(per_method, methods)
         atomic_write(out.with_name(out.stem + "_pareto.csv"), points.to_csv(index=False))
         atomic_write(out.with_name(out.stem + "_pareto.png"), pareto_plot(points))
-        markdown += ("\n\nError against run time (median end-to-end seconds per instruction; front: on the Pareto front)\n\n"
-                     + markdown_table(points, {"median_s": ".2f", PARETO_ERROR: ".1f"}))  # fmt: skip
+        markdown += (
+            "\n\nError against run time (median end-to-end seconds per instruction; front: on the Pareto front)\n\n"
+            + markdown_table(points, {"median_s": ".2f", PARETO_ERROR: ".1f"})
+        )
     _write_tables(out, per_scene, markdown)
     return per_scene, per_method

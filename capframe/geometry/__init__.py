@@ -17,7 +17,25 @@ from .lie import hat, left_update, rotation_angle_deg, se3_exp, se3_log, so3_exp
 from .quaternion import quat_multiply, quat_to_rotmat, rotmat_to_quat
 
 __all__ = [
-    "any_horizontal", "camera_axes", "camera_center", "camera_roll", "look_at", "pose_deviation", "project", "subject_frame",
-    "view_angles", "view_direction", "world_to_camera", "hat", "left_update", "rotation_angle_deg",
-    "se3_exp", "se3_log", "so3_exp", "so3_log", "quat_multiply", "quat_to_rotmat", "rotmat_to_quat",
+    "any_horizontal",
+    "camera_axes",
+    "camera_center",
+    "camera_roll",
+    "look_at",
+    "pose_deviation",
+    "project",
+    "subject_frame",
+    "view_angles",
+    "view_direction",
+    "world_to_camera",
+    "hat",
+    "left_update",
+    "rotation_angle_deg",
+    "se3_exp",
+    "se3_log",
+    "so3_exp",
+    "so3_log",
+    "quat_multiply",
+    "quat_to_rotmat",
+    "rotmat_to_quat",
 ]

@@ -114,10 +114,14 @@ class GravityEstimate:
 
     def to_dict(self) -> dict:
         return {
-            "up": self.up.tolist(), "sigma_deg": self.sigma_deg, "confidence": self.confidence,
-            "residual_deg": self.residual_deg, "inlier_share": self.inlier_share, "count": self.count,
+            "up": self.up.tolist(),
+            "sigma_deg": self.sigma_deg,
+            "confidence": self.confidence,
+            "residual_deg": self.residual_deg,
+            "inlier_share": self.inlier_share,
+            "count": self.count,
             **self.details,
-        }  # fmt: skip
+        }
 
 
 def confidence_of(sigma_deg: float, sign_certainty: float = 1.0) -> float:
@@ -237,10 +241,14 @@ def camera_up_consensus(cameras: list[Camera], inlier_deg: float = CAMERA_INLIER
     if margin < 0:
         u, margin = -u, -margin
     return GravityEstimate(
-        up=u, information=information, residual_deg=_rms_deg(x[inliers] @ u, ones[inliers]),
-        inlier_share=float(inliers.mean()), count=int(inliers.sum()),
-        sign_certainty=0.5 + 0.5 * min(1.0, margin / SIGN_MARGIN), details={"cameras": len(cameras)},
-    )  # fmt: skip
+        up=u,
+        information=information,
+        residual_deg=_rms_deg(x[inliers] @ u, ones[inliers]),
+        inlier_share=float(inliers.mean()),
+        count=int(inliers.sum()),
+        sign_certainty=0.5 + 0.5 * min(1.0, margin / SIGN_MARGIN),
+        details={"cameras": len(cameras)},
+    )
 
 
 # --- lines ----------------------------------------------------------------------------------------
@@ -300,8 +308,9 @@ class _Direction:
     images: int
 
 
-def _fit_direction(normals: np.ndarray, sigmas: np.ndarray, inliers: np.ndarray,
-                   images: int) -> tuple[np.ndarray, np.ndarray, float]:  # fmt: skip
+def _fit_direction(
+    normals: np.ndarray, sigmas: np.ndarray, inliers: np.ndarray, images: int
+) -> tuple[np.ndarray, np.ndarray, float]:
     """Weighted least-squares direction orthogonal to the inlier normals (weights 1/σ²).
 
     Its information is scaled by the residuals' reduced χ² when that exceeds 1 (noisier than
@@ -363,8 +372,9 @@ def _up_candidates(directions: list[_Direction]) -> list[tuple[np.ndarray, np.nd
     return candidates
 
 
-def vanishing_up(cameras: list[Camera], prior: GravityEstimate | None = None, max_images: int = 60,
-                 seed: int = 0) -> GravityEstimate | None:  # fmt: skip
+def vanishing_up(
+    cameras: list[Camera], prior: GravityEstimate | None = None, max_images: int = 60, seed: int = 0
+) -> GravityEstimate | None:
     """World up from vanishing directions of straight edges in the cameras' images (module docstring).
 
     ``prior`` (default: :func:`camera_up_consensus` of ``cameras``) picks the candidate closest to
@@ -404,11 +414,18 @@ def vanishing_up(cameras: list[Camera], prior: GravityEstimate | None = None, ma
     inliers = np.any([directions[i].inliers for i in used], axis=0)
     residual = math.sqrt(np.mean([directions[i].residual_deg ** 2 for i in used]))
     return GravityEstimate(
-        up=u if u @ prior.up >= 0 else -u, information=information, residual_deg=residual,
-        inlier_share=float(inliers.mean()), count=int(inliers.sum()),
-        details={"images": len(picked), "segments": len(normals), "directions": len(directions),
-                 "manhattan_pair": len(used) == 2},
-    )  # fmt: skip
+        up=u if u @ prior.up >= 0 else -u,
+        information=information,
+        residual_deg=residual,
+        inlier_share=float(inliers.mean()),
+        count=int(inliers.sum()),
+        details={
+            "images": len(picked),
+            "segments": len(normals),
+            "directions": len(directions),
+            "manhattan_pair": len(used) == 2,
+        },
+    )
 
 
 # --- fusion and files -----------------------------------------------------------------------------
@@ -445,13 +462,20 @@ def estimate_gravity(scene_dir: str | Path, use_lines: bool = True) -> dict:
     scene = load_scene_dir(scene_dir, load_gaussians=False)
     if scene.metadata.aligned and scene.metadata.up is not None:
         up = scene.metadata.up
-        return {"format": GRAVITY_FORMAT, "up": up.tolist(), "sigma_deg": 0.0, "confidence": 1.0, "skipped": True,
-                "sources": None}  # fmt: skip
+        return {
+            "format": GRAVITY_FORMAT,
+            "up": up.tolist(),
+            "sigma_deg": 0.0,
+            "confidence": 1.0,
+            "skipped": True,
+            "sources": None,
+        }
     if not scene.cameras:
         raise InputError(
             "no training cameras (cameras.json, sparse/0 or transforms.json) to estimate the world up "
-            "from; run the COLMAP stage first", source=str(scene.root),
-        )  # fmt: skip
+            "from; run the COLMAP stage first",
+            source=str(scene.root),
+        )
     cameras = camera_up_consensus(scene.cameras)
     lines = vanishing_up(scene.cameras, prior=cameras) if use_lines else None
     up, information, lines_used = fuse(cameras, lines)
@@ -459,8 +483,14 @@ def estimate_gravity(scene_dir: str | Path, use_lines: bool = True) -> dict:
     sources = {"cameras": {**cameras.to_dict(), "angle_deg": _angle_deg(cameras.up, up)}, "vanishing_points": None}
     if lines is not None:
         sources["vanishing_points"] = {**lines.to_dict(), "angle_deg": _angle_deg(lines.up, up), "used": lines_used}
-    return {"format": GRAVITY_FORMAT, "up": up.tolist(), "sigma_deg": sigma,
-            "confidence": confidence_of(sigma, cameras.sign_certainty), "skipped": False, "sources": sources}  # fmt: skip
+    return {
+        "format": GRAVITY_FORMAT,
+        "up": up.tolist(),
+        "sigma_deg": sigma,
+        "confidence": confidence_of(sigma, cameras.sign_certainty),
+        "skipped": False,
+        "sources": sources,
+    }
 
 
 def _summary(result: dict, output: Path) -> str:
@@ -480,8 +510,9 @@ def _summary(result: dict, output: Path) -> str:
     return "; ".join(parts) + f" -> {output}"
 
 
-def gravity_command(scene_dir: str | Path, output: str | Path | None = None, use_lines: bool = True,
-                    as_json: bool = False) -> dict:  # fmt: skip
+def gravity_command(
+    scene_dir: str | Path, output: str | Path | None = None, use_lines: bool = True, as_json: bool = False
+) -> dict:
     """``capframe gravity``: estimate the world up of ``scene_dir`` and write it to ``output``
     (default ``SCENE_DIR/gravity.json``), atomically; print a one-line summary or the JSON."""
     result = estimate_gravity(scene_dir, use_lines=use_lines)
@@ -518,5 +549,6 @@ def world_up(scene_dir: str | Path, gravity_path: str | Path | None = None) -> n
     has_up = "scene.json has up = null" if meta_path.is_file() else "there is no scene.json"
     raise InputError(
         f"no world up: {has_up} and there is no {gravity.name if gravity_path is None else gravity}; "
-        f"run `capframe gravity {root}`", source=str(root),
-    )  # fmt: skip
+        f"run `capframe gravity {root}`",
+        source=str(root),
+    )

@@ -31,7 +31,7 @@ class Frame(NamedTuple):
     height: int
 
     @classmethod
-    def whole(cls, mask: Tensor) -> "Frame":
+    def whole(cls, mask: Tensor) -> Frame:
         return cls(0.0, 0.0, mask.shape[1], mask.shape[0])
 
 
@@ -68,8 +68,11 @@ def to_box_frame(points: Tensor, centre: Tensor, angle: float) -> Tensor:
 def box_indicator(box: Box, canvas_width: int, canvas_height: int, frame: Frame | None = None, dtype=torch.float32) -> Tensor:
     """(H, W) canvas: 1 for pixel centres inside the (rotated) box, else 0."""
     centre, half, angle = box.on(frame or Frame(0.0, 0.0, canvas_width, canvas_height))
-    ys, xs = torch.meshgrid(torch.arange(canvas_height, dtype=torch.float64) + 0.5, torch.arange(canvas_width, dtype=torch.float64) + 0.5,
-                            indexing="ij")
+    ys, xs = torch.meshgrid(
+        torch.arange(canvas_height, dtype=torch.float64) + 0.5,
+        torch.arange(canvas_width, dtype=torch.float64) + 0.5,
+        indexing="ij",
+    )
     local = to_box_frame(torch.stack([xs, ys], -1), centre, angle)
     return (local.abs() <= half).all(-1).to(dtype)
 
@@ -102,7 +105,7 @@ def mask_extent(mask: Tensor, centroid: Tensor, mass: Tensor, frame: Frame | Non
 def frame_crop(mask: Tensor, frame: Frame) -> Tensor:
     """The part of a canvas mask (H, W) that is the photo: (frame.height, frame.width)."""
     x, y = round(frame.x), round(frame.y)
-    return mask[y:y + frame.height, x:x + frame.width]
+    return mask[y : y + frame.height, x : x + frame.width]
 
 
 def bbox_extent(mask: Tensor, frame: Frame | None = None) -> float:
@@ -116,8 +119,15 @@ def in_frame_share(mask: Tensor, mass: Tensor, frame: Frame) -> Tensor:
     return frame_crop(mask, frame).sum() / mass.clamp_min(_TINY)
 
 
-def layout_terms(mask: Tensor, box: Box | None, region: Box | None, extent: tuple[float, float] | None = None,
-                 inside: Tensor | None = None, frame: Frame | None = None, min_in_frame: float | None = None) -> dict[str, Tensor]:
+def layout_terms(
+    mask: Tensor,
+    box: Box | None,
+    region: Box | None,
+    extent: tuple[float, float] | None = None,
+    inside: Tensor | None = None,
+    frame: Frame | None = None,
+    min_in_frame: float | None = None,
+) -> dict[str, Tensor]:
     """Layout losses of one subject's opacity mask (H, W) rendered on a canvas that holds the
     photo at ``frame`` (default: the whole mask).
 
@@ -211,8 +221,15 @@ def upright_loss(T_cw: Tensor, up: Tensor, roll_rad: float = 0.0) -> Tensor:
     return torch.sqrt(a * a + (h - b) ** 2 + 1e-12)
 
 
-def view_loss(T_cw: Tensor, subject: Tensor, front: Tensor | None, up: Tensor, azimuths_deg: tuple[float, ...],
-              azimuth_tolerance_deg: float, elevation_range_deg: tuple[float, float] | None) -> Tensor:
+def view_loss(
+    T_cw: Tensor,
+    subject: Tensor,
+    front: Tensor | None,
+    up: Tensor,
+    azimuths_deg: tuple[float, ...],
+    azimuth_tolerance_deg: float,
+    elevation_range_deg: tuple[float, float] | None,
+) -> Tensor:
     """Distance of the camera's direction from the subject, ``p``, to the acceptable view angles.
 
     * azimuth: the chord between the horizontal direction of ``p`` and ``d``, the nearest
@@ -236,7 +253,9 @@ def view_loss(T_cw: Tensor, subject: Tensor, front: Tensor | None, up: Tensor, a
         q_sq = q @ q
         with torch.no_grad():
             azimuth, _ = view_angles(camera_center(T_cw.detach()), subject, front, up)
-            nearest = _nearest_in_arcs(float(azimuth), [math.radians(a) for a in azimuths_deg], math.radians(azimuth_tolerance_deg))
+            nearest = _nearest_in_arcs(
+                float(azimuth), [math.radians(a) for a in azimuths_deg], math.radians(azimuth_tolerance_deg)
+            )
             d = view_direction(torch.as_tensor(nearest, dtype=p.dtype), torch.zeros((), dtype=p.dtype), front, up)
         gap = q / torch.sqrt(q_sq + 1e-12) - d
         # Full weight away from the poles, fading within a few degrees of them (where azimuth is
@@ -260,5 +279,17 @@ def _nearest_in_arcs(angle: float, centres: list[float], half_width: float) -> f
     return best
 
 
-__all__ = ["Box", "Frame", "aim_loss", "box_indicator", "clearance_loss", "layout_terms", "mask_extent", "soft_centroid", "target_ray", "to_box_frame",
-           "upright_loss", "view_loss"]
+__all__ = [
+    "Box",
+    "Frame",
+    "aim_loss",
+    "box_indicator",
+    "clearance_loss",
+    "layout_terms",
+    "mask_extent",
+    "soft_centroid",
+    "target_ray",
+    "to_box_frame",
+    "upright_loss",
+    "view_loss",
+]

@@ -154,14 +154,18 @@ class _Objective:
             region = Box(*s.region, labels.box_angle_deg) if s.region is not None else None
             self.boxes.append(box)
             self.regions.append(region)
-            self.indicators.append(box_indicator(box, self.camera.width, self.camera.height, self.frame, dtype) if box is not None else None)
+            self.indicators.append(
+                box_indicator(box, self.camera.width, self.camera.height, self.frame, dtype) if box is not None else None
+            )
             aim = region or box
             point = ((aim.x0 + aim.x1) / 2, (aim.y0 + aim.y1) / 2) if aim is not None else (0.5, 0.5)
             self.rays.append(target_ray(point, self.K, w, h))
         self.centroids = [torch.as_tensor(s.centroid, dtype=torch.float64) for s in labels.subjects]
         # Subject radius: 90th percentile of its Gaussians' distances to the centroid.
-        self.radii = [float((scene.means[torch.as_tensor(s.gaussians, dtype=torch.long)].double() - c).norm(dim=-1).quantile(0.9))
-                      for s, c in zip(labels.subjects, self.centroids)]
+        self.radii = [
+            float((scene.means[torch.as_tensor(s.gaussians, dtype=torch.long)].double() - c).norm(dim=-1).quantile(0.9))
+            for s, c in zip(labels.subjects, self.centroids)
+        ]
         self.fronts = [None if s.front is None else torch.as_tensor(s.front, dtype=torch.float64) for s in labels.subjects]
         self.full_scene = None  # set by prepare_occlusion
         self.penalise_occlusion = False
@@ -185,7 +189,9 @@ class _Objective:
 
     def __call__(self, T_cw: Tensor) -> tuple[Tensor, dict[str, Tensor]]:
         wts, cfg = self.config.weights, self.config
-        out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch")
+        out = render(
+            self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch"
+        )
         masks = out.extra.permute(2, 0, 1)  # (subjects, H, W)
         terms: dict[str, Tensor] = {}
         total = T_cw.new_zeros(())
@@ -196,8 +202,9 @@ class _Objective:
             total = total + weight * value.to(torch.float64)
 
         for k, label in enumerate(self.labels.subjects):
-            layout = layout_terms(masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame,
-                                  self.min_in_frame[k])
+            layout = layout_terms(
+                masks[k], self.boxes[k], self.regions[k], label.extent, self.indicators[k], self.frame, self.min_in_frame[k]
+            )
             # Out of view the layout terms carry no signal: they are blended out and a constant
             # "hidden" penalty in, while look-at aims the centroid along the ray of its target
             # point from anywhere (behind the camera included).
@@ -211,8 +218,19 @@ class _Objective:
             add("look_at", wts.look_at, aim_loss(T_cw, self.centroids[k], self.rays[k]))
             add("clearance", wts.clearance, clearance_loss(T_cw, self.centroids[k], 1.2 * self.radii[k]))
             if label.view is not None:
-                add("view", wts.view, view_loss(T_cw, self.centroids[k], self.fronts[k], self.up, label.view.azimuths_deg,
-                                                label.view.azimuth_tolerance_deg, label.view.elevation_range_deg))
+                add(
+                    "view",
+                    wts.view,
+                    view_loss(
+                        T_cw,
+                        self.centroids[k],
+                        self.fronts[k],
+                        self.up,
+                        label.view.azimuths_deg,
+                        label.view.azimuth_tolerance_deg,
+                        label.view.elevation_range_deg,
+                    ),
+                )
         add("upright", wts.upright, upright_loss(T_cw, self.up, self.roll))
         if self.penalise_occlusion:
             visible = self._visible(T_cw, masks)
@@ -228,18 +246,21 @@ class _Objective:
 
     def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
         """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
-        full = render(self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype,
-                      backend="torch")
+        full = render(
+            self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype, backend="torch"
+        )
         return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
 
     def visible_shares(self, T_cw: Tensor) -> list[float]:
         """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
         with torch.no_grad():
-            out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch")
+            out = render(
+                self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch"
+            )
             return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
 
 
-def _yaw_scan(objective: "_Objective", T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:
+def _yaw_scan(objective: _Objective, T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:
     """The best of ``steps`` rotations of the start about the world up through the pivot.
 
     Gradient descent cannot undo some starts: two subjects in swapped order sit at a stationary
@@ -263,8 +284,14 @@ def _yaw_scan(objective: "_Objective", T0: Tensor, pivot: Tensor, up: Tensor, st
     return best[1], best[2]
 
 
-def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float,
-                config: RefineConfig | None = None, dtype: torch.dtype = torch.float32) -> RefineResult:
+def refine_pose(
+    scene: GaussianScene,
+    camera: Camera,
+    labels: PseudoLabels,
+    scale: float,
+    config: RefineConfig | None = None,
+    dtype: torch.dtype = torch.float32,
+) -> RefineResult:
     """Optimise ``camera``'s pose so the subjects satisfy their pseudo labels.
 
     Args:
@@ -282,8 +309,9 @@ def refine_pose(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scal
         torch.set_num_threads(threads)
 
 
-def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: RefineConfig,
-            dtype: torch.dtype) -> RefineResult:
+def _refine(
+    scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: RefineConfig, dtype: torch.dtype
+) -> RefineResult:
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
     run = PoseDescent(objective, scale, config)
@@ -298,9 +326,16 @@ def _refine(scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: f
             # Scan again, now with the whole scene in the objective: it finds an orbit position
             # where nothing stands in front of the subject (the current pose is one candidate).
             T = run.descend(T, remaining, scan=True)
-    return RefineResult(T_cw=T.numpy(), iterations=run.steps, stop_reason=run.stop_reason, terms=run.best_terms,
-                        trajectory=np.stack(run.trajectory), losses=np.asarray(run.losses),
-                        history={k: np.asarray(v) for k, v in run.history.items()}, seconds=time.perf_counter() - start)
+    return RefineResult(
+        T_cw=T.numpy(),
+        iterations=run.steps,
+        stop_reason=run.stop_reason,
+        terms=run.best_terms,
+        trajectory=np.stack(run.trajectory),
+        losses=np.asarray(run.losses),
+        history={k: np.asarray(v) for k, v in run.history.items()},
+        seconds=time.perf_counter() - start,
+    )
 
 
 class PoseDescent:
@@ -331,8 +366,10 @@ class PoseDescent:
         # beta2 = 0.99 (a ~100-step memory, not ~1000): the gradient scale drops by orders of
         # magnitude once an out-of-view subject enters the frame, and a long memory of the large
         # gradients before would leave the steps tiny afterwards.
-        optimizer = torch.optim.Adam([{"params": [rotation], "lr": config.lr_rotation},
-                                      {"params": [translation], "lr": config.lr_translation}], betas=(0.9, 0.99))
+        optimizer = torch.optim.Adam(
+            [{"params": [rotation], "lr": config.lr_rotation}, {"params": [translation], "lr": config.lr_translation}],
+            betas=(0.9, 0.99),
+        )
         best_loss, best_T, best_history, settled = math.inf, T0, [], 0
         self.stop_reason = "max_iterations"
         for step in range(iterations + 1):

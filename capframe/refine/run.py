@@ -54,8 +54,9 @@ def initial_camera(scene_cameras: list[Camera], init: str) -> Camera:
     raise InputError(f"--init {init!r} is neither a camera.json nor a training view; closest views: {close}")
 
 
-def refine_to_dir(scene_dir: str | Path, labels_path: str | Path, init: str, out_dir: str | Path,
-                  config: RefineConfig | None = None) -> RefineResult:
+def refine_to_dir(
+    scene_dir: str | Path, labels_path: str | Path, init: str, out_dir: str | Path, config: RefineConfig | None = None
+) -> RefineResult:
     config = config or RefineConfig()
     t0 = time.perf_counter()
     scene = load_scene_dir(scene_dir)
@@ -88,8 +89,16 @@ def write_camera_result(out: Path, camera: Camera, image: torch.Tensor, fields: 
     return summary
 
 
-def write_refine_outputs(out: Path, camera: Camera, result: RefineResult, labels: PseudoLabels, config: RefineConfig,
-                         timings: dict, image: torch.Tensor, extra: dict | None = None) -> None:
+def write_refine_outputs(
+    out: Path,
+    camera: Camera,
+    result: RefineResult,
+    labels: PseudoLabels,
+    config: RefineConfig,
+    timings: dict,
+    image: torch.Tensor,
+    extra: dict | None = None,
+) -> None:
     """Write the files listed in the module docstring into ``out``; ``extra`` adds fields to
     ``result.json``."""
     fields = {
@@ -108,7 +117,9 @@ def write_refine_outputs(out: Path, camera: Camera, result: RefineResult, labels
     np.savez_compressed(out / "trajectory.npz", poses=result.trajectory, loss=result.losses, **result.history)
     names = list(result.history)
     rows = ["iteration,loss," + ",".join(names)]
-    rows += [f"{i},{result.losses[i]:.6g}," + ",".join(f"{result.history[n][i]:.6g}" for n in names) for i in range(len(result.losses))]
+    rows += [
+        f"{i},{result.losses[i]:.6g}," + ",".join(f"{result.history[n][i]:.6g}" for n in names) for i in range(len(result.losses))
+    ]
     (out / "losses.csv").write_text("\n".join(rows) + "\n")
     path_plot(result.trajectory, labels).save(out / "path.png")
 

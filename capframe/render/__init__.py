@@ -89,7 +89,7 @@ class PreparedGaussians:
     def __len__(self) -> int:
         return len(self.means)
 
-    def subset(self, index: Tensor) -> "PreparedGaussians":
+    def subset(self, index: Tensor) -> PreparedGaussians:
         return PreparedGaussians(self.means[index], self.factors[index], self.opacities[index], self.sh[index], self.extent)
 
 
@@ -169,11 +169,15 @@ def render(
     if name == "gsplat":
         from .gsplat_backend import rasterize_gsplat
 
-        image, alpha, depth_sum, stats = rasterize_gsplat(*args, camera.width, camera.height, near=near, far=far, **backend_options)
+        image, alpha, depth_sum, stats = rasterize_gsplat(
+            *args, camera.width, camera.height, near=near, far=far, **backend_options
+        )
     else:
         from .torch_backend import rasterize_torch
 
-        image, alpha, depth_sum, stats = rasterize_torch(*args, camera.width, camera.height, near=near, far=far, **backend_options)
+        image, alpha, depth_sum, stats = rasterize_torch(
+            *args, camera.width, camera.height, near=near, far=far, **backend_options
+        )
 
     channels = 3 if colors else 0
     rgb = image[..., :3] if colors else None
@@ -183,7 +187,9 @@ def render(
     valid = alpha > DEPTH_ALPHA_MIN
     depth = torch.where(valid, depth_sum / alpha.clamp_min(DEPTH_ALPHA_MIN), torch.zeros_like(alpha))
     stats["backend"] = name
-    return RenderOutput(rgb=rgb, alpha=alpha, depth=depth, extra=image[..., channels:] if extra is not None else None, stats=stats)
+    return RenderOutput(
+        rgb=rgb, alpha=alpha, depth=depth, extra=image[..., channels:] if extra is not None else None, stats=stats
+    )
 
 
 __all__ = ["PreparedGaussians", "RenderOutput", "prepare", "render", "resolve_backend", "scene_extent"]

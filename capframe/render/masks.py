@@ -77,8 +77,14 @@ class SubjectMask:
         return max(self.bbox_size())
 
 
-def subject_masks(gaussians: GaussianScene | PreparedGaussians, camera: Camera, members: Tensor, *, backend: str = "auto",
-                  near: float | None = None) -> tuple[list[SubjectMask], RenderOutput]:
+def subject_masks(
+    gaussians: GaussianScene | PreparedGaussians,
+    camera: Camera,
+    members: Tensor,
+    *,
+    backend: str = "auto",
+    near: float | None = None,
+) -> tuple[list[SubjectMask], RenderOutput]:
     """Masks of several subjects in one view, without gradients.
 
     Args:
@@ -108,7 +114,7 @@ def subject_masks(gaussians: GaussianScene | PreparedGaussians, camera: Camera, 
                 own_canvas = render(gaussians, canvas, subset=members[:, s], colors=False, **options).alpha.cpu()
             else:
                 own_canvas = torch.zeros(canvas.height, canvas.width)
-            own = own_canvas[gy:gy + H, gx:gx + W]
+            own = own_canvas[gy : gy + H, gx : gx + W]
             total = float(own_canvas.sum())
             in_frame = float(own.sum()) / total if total > EMPTY_WEIGHT else 0.0
             masks.append(SubjectMask(full.extra[..., s].clamp(0.0, 1.0).cpu(), own, in_frame))

@@ -255,7 +255,9 @@ def intersect_tiles(
         # The cut-off is sigma <= min(4.5, log(255 opacity)), with a margin against rounding.
         reach = torch.log(opacities.clamp_min(ALPHA_MIN) / ALPHA_MIN).clamp_max(SIGMA_MAX) + 1e-4
         band_lo = (ty * tile_size).to(means2d.dtype) + 0.5
-        left, right = _row_spans(means2d[row_gaussian], conics[row_gaussian], reach[row_gaussian], band_lo, band_lo + tile_size - 1)
+        left, right = _row_spans(
+            means2d[row_gaussian], conics[row_gaussian], reach[row_gaussian], band_lo, band_lo + tile_size - 1
+        )
         # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
         tx0 = torch.ceil((left + 0.5 - tile_size) / tile_size).long().clamp(0, tiles_x)
         tx1 = torch.floor((right - 0.5) / tile_size).long().clamp(-1, tiles_x - 1)
@@ -390,12 +392,13 @@ class _GatherRows(torch.autograd.Function):
     @staticmethod
     def backward(ctx, grad):
         (index,) = ctx.saved_tensors
-        out = grad.new_zeros(ctx.rows, *grad.shape[index.dim():])
+        out = grad.new_zeros(ctx.rows, *grad.shape[index.dim() :])
         return out.index_add_(0, index.flatten(), grad.flatten(0, index.dim() - 1)), None
 
 
-def _slot_exponents(attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor,
-                    tile_size: int) -> tuple[Tensor, Tensor, Tensor]:
+def _slot_exponents(
+    attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor, tile_size: int
+) -> tuple[Tensor, Tensor, Tensor]:
     """Per-slot coefficients of ``q = log(opacity) - sigma`` in the pixel-offset basis.
 
     With the offset ``(ox, oy)`` of a pixel from its tile centre and ``(ex, ey)`` the tile centre
@@ -419,8 +422,9 @@ def _slot_exponents(attributes: Tensor, slot_index: Tensor, block_x: Tensor, blo
     return coefs, threshold, slots[..., 6:]
 
 
-def composite_blocks(attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor, block_first: Tensor,
-                     tile_size: int) -> Tensor:
+def composite_blocks(
+    attributes: Tensor, slot_index: Tensor, block_x: Tensor, block_y: Tensor, block_first: Tensor, tile_size: int
+) -> Tensor:
     """Front-to-back compositing of depth-sorted pair blocks.
 
     Args:
@@ -468,10 +472,21 @@ def rasterize_torch(
     """
     proj = project_gaussians(means, factors, opacities.detach(), T_cw, K, width, height, near, far)
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
-    blocks = intersect_tiles(proj.means2d.detach(), proj.conics.detach(), opacities[proj.index].detach(), proj.extents, tile_size, tiles_x, tiles_y, block)
+    blocks = intersect_tiles(
+        proj.means2d.detach(),
+        proj.conics.detach(),
+        opacities[proj.index].detach(),
+        proj.extents,
+        tile_size,
+        tiles_x,
+        tiles_y,
+        block,
+    )
 
     # One row per visible Gaussian plus a zero-opacity row for empty slots.
-    attributes = torch.cat([proj.means2d, proj.conics, opacities[proj.index, None], features[proj.index], proj.depths[:, None]], -1)
+    attributes = torch.cat(
+        [proj.means2d, proj.conics, opacities[proj.index, None], features[proj.index], proj.depths[:, None]], -1
+    )
     attributes = torch.cat([attributes, attributes.new_zeros(1, attributes.shape[1])], 0)
 
     pixels = tile_size * tile_size
@@ -483,7 +498,9 @@ def rasterize_torch(
         if b1 == b0:
             continue
         tile = blocks.block_tile[b0:b1]
-        out = composite_blocks(attributes, blocks.gaussian[b0:b1], tile % tiles_x, tile // tiles_x, blocks.block_first[b0:b1] - b0, tile_size)
+        out = composite_blocks(
+            attributes, blocks.gaussian[b0:b1], tile % tiles_x, tile // tiles_x, blocks.block_first[b0:b1] - b0, tile_size
+        )
         image_tiles = image_tiles.index_add(0, tile, out)
     image = (
         image_tiles.reshape(tiles_y, tiles_x, tile_size, tile_size, -1)

@@ -19,9 +19,14 @@ import numpy as np
 import torch
 
 from ..constraints import (
-    MIN_IN_FRAME_FRACTION, REGIONS, ROLL_TOLERANCE_DEG, SHOT_SIZES, VIEW_SIDES,
-    VIEW_TOLERANCE_DEG, min_in_frame_fraction,
-)  # fmt: skip
+    MIN_IN_FRAME_FRACTION,
+    REGIONS,
+    ROLL_TOLERANCE_DEG,
+    SHOT_SIZES,
+    VIEW_SIDES,
+    VIEW_TOLERANCE_DEG,
+    min_in_frame_fraction,
+)
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..translate.instruction import ParsedInstruction
 from .views import ViewMeasurements
@@ -67,8 +72,7 @@ def questions_for(parsed: ParsedInstruction) -> list[Question]:
     """The questions an instruction decomposes into, in a fixed order."""
     out = []
     for s in parsed.subjects:
-        out.append(Question("visible", f"Is the {s.mention} visible and not cut off?", s.name,
-                            {"shot": s.shot}))  # fmt: skip
+        out.append(Question("visible", f"Is the {s.mention} visible and not cut off?", s.name, {"shot": s.shot}))
         if s.region:
             out.append(Question("region", f"Is the {s.mention} in the {s.region} of the frame?", s.name, {"region": s.region}))
         if s.shot:
@@ -79,8 +83,14 @@ def questions_for(parsed: ParsedInstruction) -> list[Question]:
     if elevation is not None:
         primary = parsed.subjects[0]
         asked = parsed.elevation or f"{parsed.elevation_deg:+g} degrees"
-        out.append(Question("elevation", f"Is the camera at {asked} relative to the {primary.mention}?", primary.name,
-                            {"range_deg": list(elevation)}))  # fmt: skip
+        out.append(
+            Question(
+                "elevation",
+                f"Is the camera at {asked} relative to the {primary.mention}?",
+                primary.name,
+                {"range_deg": list(elevation)},
+            )
+        )
     if parsed.roll_deg is not None:
         out.append(Question("roll", f"Is the camera rolled {parsed.roll_deg:+g} degrees?", None, {"roll_deg": parsed.roll_deg}))
     out.append(Question("overall", f"Does the view match: {parsed.text!r}?"))
@@ -160,8 +170,12 @@ class GeometricQE:
         g = self.geometry[name]
         front = g.front if g.front is not None else any_horizontal(self.up)
         f64 = dict(dtype=torch.float64)
-        az, el = view_angles(torch.tensor(self.views.cameras[v].center, **f64), torch.tensor(g.centroid, **f64),
-                             torch.tensor(front, **f64), torch.tensor(self.up, **f64))  # fmt: skip
+        az, el = view_angles(
+            torch.tensor(self.views.cameras[v].center, **f64),
+            torch.tensor(g.centroid, **f64),
+            torch.tensor(front, **f64),
+            torch.tensor(self.up, **f64),
+        )
         return math.degrees(float(az)), math.degrees(float(el))
 
     def _view(self, v: int, q: Question) -> float:
@@ -178,8 +192,6 @@ class GeometricQE:
         roll = math.degrees(float(camera_roll(T, torch.as_tensor(self.up))))
         excess = max(0.0, abs(_wrap_deg(roll - q.target["roll_deg"])) - ROLL_TOLERANCE_DEG)
         return _falloff(excess, ROLL_SCALE_DEG)
-
-
 
 
 def coarse_scores(views: ViewMeasurements, subjects: list[str]) -> np.ndarray:
@@ -220,10 +232,18 @@ class Retrieval:
         ranked = np.argsort(-self.scores, kind="stable")
         return {
             "questions": [asdict(q) for q in self.questions],
-            "views": [{"view": view_names[self.kept[i]], "coarse": float(self.coarse[self.kept[i]]), "score": float(self.scores[i]),
-                       "answers": [float(a) for a in self.answers[i]], "retrieved": self.kept[i] in self.top} for i in ranked],
+            "views": [
+                {
+                    "view": view_names[self.kept[i]],
+                    "coarse": float(self.coarse[self.kept[i]]),
+                    "score": float(self.scores[i]),
+                    "answers": [float(a) for a in self.answers[i]],
+                    "retrieved": self.kept[i] in self.top,
+                }
+                for i in ranked
+            ],
             "top": [view_names[v] for v in self.top],
-        }  # fmt: skip
+        }
 
 
 def coarse_keep(coarse: np.ndarray) -> list[int]:

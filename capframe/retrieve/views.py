@@ -58,8 +58,9 @@ class ViewMeasurements:
         return self.object_names.index(name)
 
 
-def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: list[Camera] | None = None,
-                  objects: list[str] | None = None) -> ViewMeasurements:  # fmt: skip
+def measure_views(
+    scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: list[Camera] | None = None, objects: list[str] | None = None
+) -> ViewMeasurements:
     """Render and measure every training view of ``scene`` (which needs Gaussians and a semantic
     sidecar), or the given ``cameras`` (candidate poses of a view search), all of one image size;
     every labelled object, or only those named in ``objects`` (each costs one render per view;
@@ -71,16 +72,18 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: li
     near = NEAR_FRACTION * prepared.extent
     named = scene.cameras if cameras is None else cameras
     cameras = [c.with_long_side(long_side) for c in named]
-    V, O = len(cameras), len(objects)
+    n_views, n_objects = len(cameras), len(objects)
     H, W = cameras[0].height, cameras[0].width
-    fields = {k: np.zeros((V, O)) for k in ("visible_fraction", "in_frame", "extent", "pixels")}
-    centroid = np.full((V, O, 2), np.nan)
-    label_map = np.full((V, H, W), -1, dtype=np.int16)
-    depth = np.zeros((V, H, W), dtype=np.float32)
+    fields = {k: np.zeros((n_views, n_objects)) for k in ("visible_fraction", "in_frame", "extent", "pixels")}
+    centroid = np.full((n_views, n_objects, 2), np.nan)
+    label_map = np.full((n_views, H, W), -1, dtype=np.int16)
+    depth = np.zeros((n_views, H, W), dtype=np.float32)
     for v, camera in enumerate(cameras):
         if (camera.height, camera.width) != (H, W):
-            raise InputError(f"view {camera.name!r} is {camera.width}x{camera.height}, the first is {W}x{H}; "
-                             "retrieval expects one image size", source=str(scene.root))  # fmt: skip
+            raise InputError(
+                f"view {camera.name!r} is {camera.width}x{camera.height}, the first is {W}x{H}; retrieval expects one image size",
+                source=str(scene.root),
+            )
         masks, full = subject_masks(prepared, camera, members, near=near)
         for o, mask in enumerate(masks):
             fields["visible_fraction"][v, o] = mask.visible_fraction
@@ -93,8 +96,9 @@ def measure_views(scene: SceneDir, long_side: int = VIEWS_LONG_SIDE, cameras: li
         best = share.max(-1)
         label_map[v] = np.where(best.values.numpy() > 0.5, best.indices.numpy(), -1)
         depth[v] = full.depth.cpu().numpy()
-    return ViewMeasurements([c.name for c in named], [o.name for o in objects], cameras, centroid=centroid,
-                            label_map=label_map, depth=depth, **fields)  # fmt: skip
+    return ViewMeasurements(
+        [c.name for c in named], [o.name for o in objects], cameras, centroid=centroid, label_map=label_map, depth=depth, **fields
+    )
 
 
 def scene_fingerprint(scene: SceneDir, long_side: int) -> str:
@@ -113,11 +117,27 @@ def save_view_measurements(m: ViewMeasurements, path: str | Path, fingerprint: s
     """Write ``m`` as one ``.npz``, atomically."""
     import io
 
-    meta = {"format": FORMAT, "fingerprint": fingerprint, "view_names": m.view_names, "object_names": m.object_names,
-            "cameras": [{"name": c.name, "T_cw": c.T_cw.tolist(), "K": c.K.tolist(), "width": c.width, "height": c.height} for c in m.cameras]}
+    meta = {
+        "format": FORMAT,
+        "fingerprint": fingerprint,
+        "view_names": m.view_names,
+        "object_names": m.object_names,
+        "cameras": [
+            {"name": c.name, "T_cw": c.T_cw.tolist(), "K": c.K.tolist(), "width": c.width, "height": c.height} for c in m.cameras
+        ],
+    }
     buffer = io.BytesIO()
-    np.savez_compressed(buffer, meta=np.array(json.dumps(meta)), visible_fraction=m.visible_fraction, in_frame=m.in_frame,
-                        centroid=m.centroid, extent=m.extent, pixels=m.pixels, label_map=m.label_map, depth=m.depth)
+    np.savez_compressed(
+        buffer,
+        meta=np.array(json.dumps(meta)),
+        visible_fraction=m.visible_fraction,
+        in_frame=m.in_frame,
+        centroid=m.centroid,
+        extent=m.extent,
+        pixels=m.pixels,
+        label_map=m.label_map,
+        depth=m.depth,
+    )
     atomic_write(path, buffer.getvalue())
 
 
@@ -135,7 +155,9 @@ def load_view_measurements(path: str | Path, fingerprint: str | None = None) -> 
             arrays = {k: data[k] for k in ("visible_fraction", "in_frame", "centroid", "extent", "pixels", "label_map", "depth")}
     except (OSError, ValueError, KeyError) as err:
         raise InputError(f"unreadable view measurements ({err}); delete the file to recompute it", source=str(path)) from None
-    cameras = [Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"]) for c in meta["cameras"]]
+    cameras = [
+        Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"]) for c in meta["cameras"]
+    ]
     return ViewMeasurements(meta["view_names"], meta["object_names"], cameras, **arrays)
 
 

@@ -15,10 +15,24 @@ from .nerfstudio import read_transforms_json
 from .ply import read_ply, write_ply
 
 __all__ = [
-    "Camera", "GaussianScene", "rgb_to_sh_dc", "sh_degree_of",
-    "read_ply", "write_ply",
-    "read_cameras_json", "write_cameras_json", "read_camera_json", "write_camera_json", "write_camera_path_json",
-    "read_colmap", "write_colmap", "colmap_image_line",
+    "Camera",
+    "GaussianScene",
+    "rgb_to_sh_dc",
+    "sh_degree_of",
+    "read_ply",
+    "write_ply",
+    "read_cameras_json",
+    "write_cameras_json",
+    "read_camera_json",
+    "write_camera_json",
+    "write_camera_path_json",
+    "read_colmap",
+    "write_colmap",
+    "colmap_image_line",
     "read_transforms_json",
-    "SceneDir", "SceneMeta", "SemanticObject", "load_scene_dir", "import_scene",
-]  # fmt: skip
+    "SceneDir",
+    "SceneMeta",
+    "SemanticObject",
+    "load_scene_dir",
+    "import_scene",
+]

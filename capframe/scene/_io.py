@@ -142,8 +142,9 @@ def as_array(value: Any, shape: tuple[int, ...], what: str, source: str) -> np.n
     return array
 
 
-def make_camera(T_cw: np.ndarray, K: np.ndarray, width: int, height: int, name: str, image_path: str | None,
-                source: str) -> Camera:
+def make_camera(
+    T_cw: np.ndarray, K: np.ndarray, width: int, height: int, name: str, image_path: str | None, source: str
+) -> Camera:
     """Build a :class:`Camera`, re-raising its validation error with the file's name in front."""
     try:
         return Camera(T_cw=T_cw, K=K, width=width, height=height, name=name, image_path=image_path)

@@ -19,9 +19,16 @@ import numpy as np
 
 from ..errors import InputError
 from ._io import (
-    as_array, as_size, check_unique_names, intrinsics, make_camera, read_json, require_keys, resolve_image,
+    as_array,
+    as_size,
+    check_unique_names,
+    intrinsics,
+    make_camera,
+    read_json,
+    require_keys,
+    resolve_image,
     write_json,
-)  # fmt: skip
+)
 from .model import Camera
 
 # Right-multiplying a camera-to-world pose by this flips the camera's y and z axes, converting
@@ -66,11 +73,14 @@ def read_cameras_json(path: str | Path, images_dir: str | Path | None = None) ->
         R_wc = as_array(entry["rotation"], (3, 3), f"{what} 'rotation'", source)
         K = as_array(
             [entry["fx"], entry["fy"], entry.get("cx", width / 2.0), entry.get("cy", height / 2.0)],
-            (4,), f"{what} 'fx', 'fy', 'cx', 'cy'", source,
-        )  # fmt: skip
+            (4,),
+            f"{what} 'fx', 'fy', 'cx', 'cy'",
+            source,
+        )
         cameras.append(
-            make_camera(_pose_from_center(R_wc, center), intrinsics(*K), width, height, name,
-                        resolve_image(images_dir, name), source)  # fmt: skip
+            make_camera(
+                _pose_from_center(R_wc, center), intrinsics(*K), width, height, name, resolve_image(images_dir, name), source
+            )
         )
     check_unique_names([c.name for c in cameras], source)
     return cameras

@@ -54,9 +54,7 @@ def _intrinsics(camera: pycolmap.Camera, source: str) -> np.ndarray:
             f"camera {camera.camera_id} ({model}) has distortion {distortion.tolist()}; {_UNDISTORT_HINT}",
             source=source,
         )
-    raise InputError(
-        f"camera {camera.camera_id} uses the {model} model, not a pinhole; {_UNDISTORT_HINT}", source=source
-    )
+    raise InputError(f"camera {camera.camera_id} uses the {model} model, not a pinhole; {_UNDISTORT_HINT}", source=source)
 
 
 def read_colmap(sparse_dir: str | Path, images_dir: str | Path | None = None) -> list[Camera]:
@@ -87,9 +85,14 @@ def read_colmap(sparse_dir: str | Path, images_dir: str | Path | None = None) ->
         T_cw[:3, :] = image.cam_from_world().matrix()
         cameras.append(
             make_camera(
-                T_cw, K_of[image.camera_id], colmap_camera.width, colmap_camera.height,
-                str(PurePosixPath(image.name).with_suffix("")), resolve_image(images_dir, image.name), source,
-            )  # fmt: skip
+                T_cw,
+                K_of[image.camera_id],
+                colmap_camera.width,
+                colmap_camera.height,
+                str(PurePosixPath(image.name).with_suffix("")),
+                resolve_image(images_dir, image.name),
+                source,
+            )
         )
     cameras.sort(key=lambda c: c.name)
     check_unique_names([c.name for c in cameras], source)

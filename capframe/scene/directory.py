@@ -140,13 +140,9 @@ def read_semantics(path: str | Path) -> list[SemanticObject]:
         if not isinstance(name, str) or not name:
             raise InputError(f"object {i}: 'name' is {name!r}; expected a non-empty string", source=source)
         if not isinstance(aliases, list) or not all(isinstance(a, str) for a in aliases):
-            raise InputError(
-                f"object {i} ('{name}'): 'aliases' is {aliases!r}; expected a list of strings", source=source
-            )
+            raise InputError(f"object {i} ('{name}'): 'aliases' is {aliases!r}; expected a list of strings", source=source)
         if not isinstance(symmetric, bool):
-            raise InputError(
-                f"object {i} ('{name}'): 'symmetric' is {symmetric!r}; expected true or false", source=source
-            )
+            raise InputError(f"object {i} ('{name}'): 'symmetric' is {symmetric!r}; expected true or false", source=source)
         front = None if front is None else _unit_vector(front, f"object {i} ('{name}') 'front'", source)
         objects.append(SemanticObject(oid, name, aliases, symmetric, front))
     for key in ("id", "name"):
@@ -301,9 +297,7 @@ def _place_images(cameras: list[Camera], images_dir: Path, copy: bool, source: s
             os.symlink(target, link)
 
 
-def import_scene(
-    src: str | Path, dst: str | Path, copy_images: bool = False, ply: str | Path | None = None
-) -> Path:
+def import_scene(src: str | Path, dst: str | Path, copy_images: bool = False, ply: str | Path | None = None) -> Path:
     """Import ``src`` into a new scene directory ``dst`` and return ``dst``.
 
     ``src`` may be (a) an Inria 3DGS output folder: the highest ``point_cloud/iteration_<N>``

@@ -72,7 +72,7 @@ class GaussianScene:
         opacities: Tensor,
         colors_or_sh: Tensor,
         labels: Tensor | None = None,
-    ) -> "GaussianScene":
+    ) -> GaussianScene:
         """Build from activated values: positive scales (N, 3), opacities in (0, 1) (N,), and
         either RGB colours in [0, 1] (N, 3) or SH coefficients (N, K, 3).
 
@@ -110,15 +110,15 @@ class GaussianScene:
     def sh_degree(self) -> int:
         return sh_degree_of(self.sh.shape[1])
 
-    def _map(self, fn) -> "GaussianScene":
+    def _map(self, fn) -> GaussianScene:
         values = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
         return GaussianScene(**{k: (fn(k, v) if v is not None else None) for k, v in values.items()})
 
-    def to(self, device: torch.device | str | None = None, dtype: torch.dtype | None = None) -> "GaussianScene":
+    def to(self, device: torch.device | str | None = None, dtype: torch.dtype | None = None) -> GaussianScene:
         """Move to a device and/or cast the floating-point fields (labels stay int64)."""
         return self._map(lambda k, v: v.to(device=device) if k == "labels" else v.to(device=device, dtype=dtype))
 
-    def subset(self, index: Tensor) -> "GaussianScene":
+    def subset(self, index: Tensor) -> GaussianScene:
         """The Gaussians selected by a boolean mask (N,) or an index tensor (M,)."""
         return self._map(lambda k, v: v[index])
 
@@ -216,19 +216,19 @@ class Camera:
         T[:3, 3] = self.center
         return T
 
-    def resized(self, width: int, height: int) -> "Camera":
+    def resized(self, width: int, height: int) -> Camera:
         """The same camera at another image size (intrinsics scaled per axis)."""
         K = self.K.copy()
         K[0] *= width / self.width
         K[1] *= height / self.height
         return dataclasses.replace(self, K=K, width=width, height=height)
 
-    def with_long_side(self, long_side: int) -> "Camera":
+    def with_long_side(self, long_side: int) -> Camera:
         """The same camera resized so that its longer side is ``long_side`` pixels."""
         s = long_side / max(self.width, self.height)
         return self.resized(max(1, round(self.width * s)), max(1, round(self.height * s)))
 
-    def padded(self, pad_x: int, pad_y: int) -> "Camera":
+    def padded(self, pad_x: int, pad_y: int) -> Camera:
         """The same camera on a canvas with a border of ``pad_x`` and ``pad_y`` pixels on each
         side: the principal point moves with the frame, so the canvas's centre crop is exactly
         this camera's image."""
@@ -237,5 +237,5 @@ class Camera:
         K[1, 2] += pad_y
         return dataclasses.replace(self, K=K, width=self.width + 2 * pad_x, height=self.height + 2 * pad_y)
 
-    def with_pose(self, T_cw: np.ndarray) -> "Camera":
+    def with_pose(self, T_cw: np.ndarray) -> Camera:
         return dataclasses.replace(self, T_cw=np.asarray(T_cw, dtype=np.float64))

@@ -19,8 +19,16 @@ import numpy as np
 
 from ..errors import InputError
 from ._io import (
-    as_array, as_float, as_size, check_unique_names, intrinsics, make_camera, read_json, require_keys, resolve_image,
-)  # fmt: skip
+    as_array,
+    as_float,
+    as_size,
+    check_unique_names,
+    intrinsics,
+    make_camera,
+    read_json,
+    require_keys,
+    resolve_image,
+)
 from .cameras_json import OPENCV_TO_OPENGL
 from .model import Camera
 
@@ -39,9 +47,7 @@ def _frame_intrinsics(i: int, frame: dict, top: dict, source: str) -> tuple[np.n
         raise InputError(f"frame {i} has no {', '.join(missing)} (at the top level or in the frame)", source=source)
     model = params["camera_model"] or "OPENCV"
     if model not in _PINHOLE_MODELS:
-        raise InputError(
-            f"frame {i}: camera_model {model!r} is not a pinhole; expected one of {_PINHOLE_MODELS}", source=source
-        )
+        raise InputError(f"frame {i}: camera_model {model!r} is not a pinhole; expected one of {_PINHOLE_MODELS}", source=source)
     distortion = {k: as_float(params[k], f"frame {i} {k!r}", source) for k in _DISTORTION if params[k] is not None}
     if any(distortion.values()):
         raise InputError(f"frame {i} has non-zero distortion {distortion}; undistort the images first", source=source)
@@ -59,8 +65,7 @@ def _frame_pose(i: int, rows: object, world_from_json: np.ndarray, source: str) 
     c2w_gl = np.eye(4)
     c2w_gl[:n_rows] = as_array(rows, (n_rows, 4), f"frame {i} 'transform_matrix'", source)
     if not np.array_equal(c2w_gl[3], [0, 0, 0, 1]):
-        raise InputError(f"frame {i}: 'transform_matrix' last row is {c2w_gl[3].tolist()}, expected [0, 0, 0, 1]",
-                         source=source)  # fmt: skip
+        raise InputError(f"frame {i}: 'transform_matrix' last row is {c2w_gl[3].tolist()}, expected [0, 0, 0, 1]", source=source)
     c2w = world_from_json @ c2w_gl @ OPENCV_TO_OPENGL
     T_cw = np.eye(4)
     T_cw[:3, :3] = c2w[:3, :3].T

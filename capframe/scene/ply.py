@@ -32,14 +32,40 @@ from .model import GaussianScene
 
 # PLY scalar type names (both spellings of the spec) -> numpy type codes.
 _PLY_TYPES = {
-    "char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1",
-    "short": "i2", "int16": "i2", "ushort": "u2", "uint16": "u2",
-    "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-    "float": "f4", "float32": "f4", "double": "f8", "float64": "f8",
+    "char": "i1",
+    "int8": "i1",
+    "uchar": "u1",
+    "uint8": "u1",
+    "short": "i2",
+    "int16": "i2",
+    "ushort": "u2",
+    "uint16": "u2",
+    "int": "i4",
+    "int32": "i4",
+    "uint": "u4",
+    "uint32": "u4",
+    "float": "f4",
+    "float32": "f4",
+    "double": "f8",
+    "float64": "f8",
 }
 _FORMATS = {"ascii": None, "binary_little_endian": "<", "binary_big_endian": ">"}
-_REQUIRED = ("x", "y", "z", "f_dc_0", "f_dc_1", "f_dc_2", "opacity",
-             "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3")  # fmt: skip
+_REQUIRED = (
+    "x",
+    "y",
+    "z",
+    "f_dc_0",
+    "f_dc_1",
+    "f_dc_2",
+    "opacity",
+    "scale_0",
+    "scale_1",
+    "scale_2",
+    "rot_0",
+    "rot_1",
+    "rot_2",
+    "rot_3",
+)
 _F_REST = re.compile(r"f_rest_(\d+)")
 _MAX_HEADER_LINES = 10_000  # a real header has < 100 lines; stop early on a binary non-PLY
 
@@ -131,8 +157,7 @@ def _read_vertex(path: Path, source: str) -> tuple[list[str], Callable[[list[str
         size = path.stat().st_size
         if size < start + need:
             raise InputError(
-                f"truncated data: the header declares {n} vertices ({start + need} bytes in all) "
-                f"but the file has {size} bytes",
+                f"truncated data: the header declares {n} vertices ({start + need} bytes in all) but the file has {size} bytes",
                 source=source,
             )
         f.seek(start)
@@ -155,9 +180,7 @@ def _sh_rest_count(props: list[str], source: str) -> int:
         )
     if indices != list(range(m)):
         missing = sorted(set(range(m)) - set(indices))
-        raise InputError(
-            f"f_rest_* properties are not numbered 0..{m - 1} (missing f_rest_{missing[0]})", source=source
-        )
+        raise InputError(f"f_rest_* properties are not numbered 0..{m - 1} (missing f_rest_{missing[0]})", source=source)
     return m
 
 

@@ -93,9 +93,14 @@ class SfmResult:
             "mean_reprojection_error_px": self.mean_reprojection_error,
             "num_points3D": self.num_points3D,
             "matcher": self.matcher,
-            "camera": {"fx": self.cameras[0].K[0, 0], "fy": self.cameras[0].K[1, 1],
-                       "cx": self.cameras[0].K[0, 2], "cy": self.cameras[0].K[1, 2],
-                       "width": self.cameras[0].width, "height": self.cameras[0].height},  # fmt: skip
+            "camera": {
+                "fx": self.cameras[0].K[0, 0],
+                "fy": self.cameras[0].K[1, 1],
+                "cx": self.cameras[0].K[0, 2],
+                "cy": self.cameras[0].K[1, 2],
+                "width": self.cameras[0].width,
+                "height": self.cameras[0].height,
+            },
             "timings": self.timings,
         }
 
@@ -125,8 +130,15 @@ def _colmap_log(verbose: bool) -> Iterator[None]:
         pycolmap.logging.minloglevel = level
 
 
-def reconstruct(image_dir: str | Path, work_dir: str | Path, *, matcher: str = "auto", num_threads: int = 1,
-                seed: int = 0, verbose: bool = False) -> SfmResult:
+def reconstruct(
+    image_dir: str | Path,
+    work_dir: str | Path,
+    *,
+    matcher: str = "auto",
+    num_threads: int = 1,
+    seed: int = 0,
+    verbose: bool = False,
+) -> SfmResult:
     """Recover the camera of every image in ``image_dir`` by incremental structure from motion.
 
     Steps (pycolmap): SIFT extraction on the CPU into ``work_dir/database.db``; matching, exhaustive
@@ -209,9 +221,14 @@ def _extract(database: Path, image_dir: Path, names: list[str], num_threads: int
     options.num_threads = num_threads
     options.use_gpu = False
     pycolmap.extract_features(
-        database, image_dir, image_names=names, camera_mode=pycolmap.CameraMode.SINGLE,
-        reader_options=reader, extraction_options=options, device=pycolmap.Device.cpu,
-    )  # fmt: skip
+        database,
+        image_dir,
+        image_names=names,
+        camera_mode=pycolmap.CameraMode.SINGLE,
+        reader_options=reader,
+        extraction_options=options,
+        device=pycolmap.Device.cpu,
+    )
 
 
 def _match(database: Path, matcher: str, num_threads: int, seed: int) -> None:
@@ -222,19 +239,24 @@ def _match(database: Path, matcher: str, num_threads: int, seed: int) -> None:
     verification = pycolmap.TwoViewGeometryOptions()
     verification.ransac.random_seed = seed
     if matcher == "exhaustive":
-        pycolmap.match_exhaustive(database, matching_options=options, verification_options=verification,
-                                  device=pycolmap.Device.cpu)  # fmt: skip
+        pycolmap.match_exhaustive(
+            database, matching_options=options, verification_options=verification, device=pycolmap.Device.cpu
+        )
     else:
         pairing = pycolmap.SequentialPairingOptions()
         pairing.overlap = SEQUENTIAL_OVERLAP
         pairing.quadratic_overlap = True
         pairing.num_threads = num_threads
-        pycolmap.match_sequential(database, matching_options=options, pairing_options=pairing,
-                                  verification_options=verification, device=pycolmap.Device.cpu)  # fmt: skip
+        pycolmap.match_sequential(
+            database,
+            matching_options=options,
+            pairing_options=pairing,
+            verification_options=verification,
+            device=pycolmap.Device.cpu,
+        )
 
 
-def _map(database: Path, image_dir: Path, models_dir: Path, num_threads: int,
-         seed: int) -> pycolmap.Reconstruction | None:
+def _map(database: Path, image_dir: Path, models_dir: Path, num_threads: int, seed: int) -> pycolmap.Reconstruction | None:
     """Incremental mapping; the model with the most registered images, or ``None`` if none."""
     options = pycolmap.IncrementalPipelineOptions()
     options.num_threads = options.mapper.num_threads = num_threads
@@ -317,8 +339,13 @@ def pose_errors(cameras: list[Camera], reference: list[Camera], scale: float) ->
     for camera in cameras:
         ref = truth[camera.name]
         angle = rotation_angle_deg(torch.from_numpy(camera.R), torch.from_numpy(ref.R))
-        per_view.append({"name": camera.name, "rotation_deg": float(angle),
-                         "position_rel": float(np.linalg.norm(camera.center - ref.center) / scale)})  # fmt: skip
+        per_view.append(
+            {
+                "name": camera.name,
+                "rotation_deg": float(angle),
+                "position_rel": float(np.linalg.norm(camera.center - ref.center) / scale),
+            }
+        )
     summary = {}
     for key, out in (("rotation_deg", "rotation_error_deg"), ("position_rel", "position_error_rel")):
         values = np.array([v[key] for v in per_view])
@@ -343,13 +370,19 @@ def align_to_ground_truth(cameras: list[Camera], scene_dir: str | Path) -> tuple
     truth = {c.name: c for c in ground_truth_cameras(scene_dir)}
     matched = [c for c in cameras if c.name in truth]
     if len(matched) < MIN_REGISTERED:
-        raise InputError(f"only {len(matched)} registered views have a ground-truth camera (need at least "
-                         f"{MIN_REGISTERED}); the names must match the images'", source=source)  # fmt: skip
+        raise InputError(
+            f"only {len(matched)} registered views have a ground-truth camera (need at least "
+            f"{MIN_REGISTERED}); the names must match the images'",
+            source=source,
+        )
     s, R, t = umeyama_sim3(np.array([c.center for c in matched]), np.array([truth[c.name].center for c in matched]))
     aligned = align_cameras(cameras, s, R, t)
     errors = pose_errors([c for c in aligned if c.name in truth], list(truth.values()), scale)
-    record = {"alignment": {"scale": s, "R": R.tolist(), "t": t.tolist(), "views": len(matched)},
-              "ground_truth_scale": scale, **errors}  # fmt: skip
+    record = {
+        "alignment": {"scale": s, "R": R.tolist(), "t": t.tolist(), "views": len(matched)},
+        "ground_truth_scale": scale,
+        **errors,
+    }
     return aligned, (s, R, t), record
 
 
@@ -364,8 +397,9 @@ def _link_or_copy(src: Path, dst: Path) -> None:
         shutil.copy2(src, dst)
 
 
-def colmap_command(scene_dir: str | Path, out_dir: str | Path, align_ground_truth: bool = False,
-                   matcher: str = "auto", num_threads: int = 1) -> dict:
+def colmap_command(
+    scene_dir: str | Path, out_dir: str | Path, align_ground_truth: bool = False, matcher: str = "auto", num_threads: int = 1
+) -> dict:
     """``capframe colmap``: recover the poses of ``scene_dir/images`` and write a scene directory.
 
     ``out_dir`` gets ``cameras.json`` (registered views), ``sparse/0`` (the COLMAP model),
@@ -389,14 +423,20 @@ def colmap_command(scene_dir: str | Path, out_dir: str | Path, align_ground_trut
     if align_ground_truth:
         missing = [name for name in _ALIGNED_SCENE_FILES if not (scene_dir / name).is_file()]
         if missing:
-            raise InputError(f"--align-ground-truth needs a synthetic scene's {', '.join(missing)}; "
-                             "only synthetic scenes can be aligned", source=str(scene_dir))  # fmt: skip
-    with atomic_directory(out_dir) as tmp, \
-            tempfile.TemporaryDirectory(prefix=f".{out_dir.name}.colmap-", dir=tmp.parent) as work:  # fmt: skip
+            raise InputError(
+                f"--align-ground-truth needs a synthetic scene's {', '.join(missing)}; only synthetic scenes can be aligned",
+                source=str(scene_dir),
+            )
+    with atomic_directory(out_dir) as tmp, tempfile.TemporaryDirectory(prefix=f".{out_dir.name}.colmap-", dir=tmp.parent) as work:
         result = reconstruct(scene_dir / "images", work, matcher=matcher, num_threads=num_threads)
         cameras, reconstruction = result.cameras, result.reconstruction
-        record = {"format": 1, **result.stats(), "device": platform.processor() or platform.machine(),
-                  "threads": num_threads, "aligned_to_ground_truth": align_ground_truth}  # fmt: skip
+        record = {
+            "format": 1,
+            **result.stats(),
+            "device": platform.processor() or platform.machine(),
+            "threads": num_threads,
+            "aligned_to_ground_truth": align_ground_truth,
+        }
         if align_ground_truth:
             cameras, (s, R, t), alignment = align_to_ground_truth(cameras, scene_dir)
             reconstruction.transform(pycolmap.Sim3d(s, pycolmap.Rotation3d(R), t))
@@ -414,18 +454,29 @@ def colmap_command(scene_dir: str | Path, out_dir: str | Path, align_ground_trut
 
 
 def _print_summary(out_dir: Path, record: dict) -> None:
-    print(f"{out_dir}: {record['images_registered']}/{record['images_total']} views registered, "
-          f"{record['num_points3D']} points, reprojection error {record['mean_reprojection_error_px']:.2f} px "
-          f"({record['timings']['total_s']:.1f} s)")  # fmt: skip
+    print(
+        f"{out_dir}: {record['images_registered']}/{record['images_total']} views registered, "
+        f"{record['num_points3D']} points, reprojection error {record['mean_reprojection_error_px']:.2f} px "
+        f"({record['timings']['total_s']:.1f} s)"
+    )
     if record["aligned_to_ground_truth"]:
         rot, pos = record["rotation_error_deg"], record["position_error_rel"]
-        print(f"aligned to the ground truth: rotation error mean {rot['mean']:.3f} deg, max {rot['max']:.3f} deg; "
-              f"position error mean {100 * pos['mean']:.3f} %, max {100 * pos['max']:.3f} % of the scene scale")
+        print(
+            f"aligned to the ground truth: rotation error mean {rot['mean']:.3f} deg, max {rot['max']:.3f} deg; "
+            f"position error mean {100 * pos['mean']:.3f} %, max {100 * pos['max']:.3f} % of the scene scale"
+        )
     else:
         print("no scene.ply: train a 3DGS on these poses (cameras.json, sparse/0, images/) before rendering")
 
 
 __all__ = [
-    "SfmResult", "reconstruct", "list_images", "umeyama_sim3", "align_cameras", "pose_errors",
-    "align_to_ground_truth", "colmap_command", "MATCHERS",
-]  # fmt: skip
+    "SfmResult",
+    "reconstruct",
+    "list_images",
+    "umeyama_sim3",
+    "align_cameras",
+    "pose_errors",
+    "align_to_ground_truth",
+    "colmap_command",
+    "MATCHERS",
+]

@@ -26,14 +26,16 @@ def gaussians_to_scene(g: ObjectGaussians, extra_labels: np.ndarray | None = Non
     return GaussianScene.from_activated(t(g.means), t(g.quats), t(g.scales), t(g.opacities), t(g.lit()), labels)
 
 
-def object_camera(obj: BuiltObject, azimuth_deg: float, elevation_deg: float = 15.0, size=(160, 120),
-                  fov_deg: float = 40.0, fill: float = 0.8) -> Camera:
+def object_camera(
+    obj: BuiltObject, azimuth_deg: float, elevation_deg: float = 15.0, size=(160, 120), fov_deg: float = 40.0, fill: float = 0.8
+) -> Camera:
     """A camera at the given view angles around an object in its local frame (front +x, up +z),
     far enough that its bounding sphere fills ``fill`` of the image height."""
     f64 = dict(dtype=torch.float64)
     up, front = torch.tensor([0.0, 0.0, 1.0], **f64), torch.tensor([1.0, 0.0, 0.0], **f64)
-    direction = view_direction(torch.tensor(math.radians(azimuth_deg), **f64), torch.tensor(math.radians(elevation_deg), **f64),
-                               front, up)  # fmt: skip
+    direction = view_direction(
+        torch.tensor(math.radians(azimuth_deg), **f64), torch.tensor(math.radians(elevation_deg), **f64), front, up
+    )
     width, height = size
     focal = (height / 2) / math.tan(math.radians(fov_deg) / 2)
     distance = obj.radius / math.sin(math.atan(fill * height / 2 / focal))
@@ -54,8 +56,9 @@ def _label(image: Image.Image, text: str) -> Image.Image:
     return image
 
 
-def object_gallery(path: str | Path, names: list[str] | None = None, *, tile=(200, 150), seed: int = 0,
-                   density: float = 1.0, columns: int = 2) -> Path:
+def object_gallery(
+    path: str | Path, names: list[str] | None = None, *, tile=(200, 150), seed: int = 0, density: float = 1.0, columns: int = 2
+) -> Path:
     """Render every catalog object (or ``names``) from the front, its right side and the back and
     save a labelled grid PNG at ``path``."""
     names = names or catalog_names()
@@ -94,8 +97,7 @@ def contact_sheet(scene_dirs: list[str | Path], path: str | Path, *, per_scene: 
     for root in scene_dirs:
         images = sorted((Path(root) / "images").glob("*.png"))
         picks = [images[round(k * (len(images) - 1) / max(per_scene - 1, 1))] for k in range(min(per_scene, len(images)))]
-        row = [_label(Image.open(p).convert("RGB").resize(tile, Image.BILINEAR), f"{Path(root).name}/{p.stem}")
-               for p in picks]  # fmt: skip
+        row = [_label(Image.open(p).convert("RGB").resize(tile, Image.BILINEAR), f"{Path(root).name}/{p.stem}") for p in picks]
         row += [Image.new("RGB", tile, (255, 255, 255))] * (per_scene - len(row))
         rows.append(row)
     return _save_grid(rows, path, 1)

@@ -36,8 +36,15 @@ from ..scene import Camera, GaussianScene, write_cameras_json, write_colmap, wri
 from ..scene._io import atomic_directory, atomic_write
 from ..scene.directory import SceneMeta, SemanticObject, write_scene_meta, write_semantics
 from .objects import (
-    CATALOG, BuiltObject, ShapeBuilder, bake_lighting, build_object, catalog_names, lattice_hash, resolve_names,
-)  # fmt: skip
+    CATALOG,
+    BuiltObject,
+    ShapeBuilder,
+    bake_lighting,
+    build_object,
+    catalog_names,
+    lattice_hash,
+    resolve_names,
+)
 
 PRESETS = ("tabletop", "room", "outdoor")
 CAPTURES = ("orbit", "forward", "walkthrough")
@@ -48,10 +55,12 @@ PIXELS_PER_SAMPLE = 2.8  # ground/wall sample spacing in the nearest training vi
 # Objects drawn when none are given: (pool, (min, max) count), and per-preset size multipliers.
 POOLS: dict[str, tuple[tuple[str, ...], tuple[int, int]]] = {
     "tabletop": (("mug", "teddy bear", "vase", "toy car", "ball", "cushion", "potted plant"), (2, 4)),
-    "room": (("armchair", "sofa", "coffee table", "floor lamp", "bookshelf", "television", "refrigerator",
-              "potted plant"), (5, 6)),
+    "room": (
+        ("armchair", "sofa", "coffee table", "floor lamp", "bookshelf", "television", "refrigerator", "potted plant"),
+        (5, 6),
+    ),
     "outdoor": (("bench", "tree", "traffic cone", "toy car", "ball", "teddy bear", "potted plant", "armchair"), (3, 5)),
-}  # fmt: skip
+}
 SIZES: dict[str, dict[str, float]] = {
     "tabletop": {"ball": 0.6, "cushion": 0.75, "potted plant": 0.55},
     "room": {},
@@ -61,19 +70,31 @@ BACKGROUNDS = {"tabletop": (0.86, 0.86, 0.84), "room": (0.80, 0.80, 0.82), "outd
 
 # Texture palettes: base colours (large blobs) and accents (small blobs) per surface.
 _PALETTES = {
-    "table": ([(0.62, 0.45, 0.30), (0.52, 0.36, 0.22), (0.70, 0.55, 0.38), (0.44, 0.29, 0.17)],
-              [(0.30, 0.40, 0.55), (0.62, 0.30, 0.24), (0.85, 0.78, 0.55), (0.86, 0.84, 0.78)]),
-    "under": ([(0.45, 0.47, 0.50), (0.35, 0.37, 0.42), (0.55, 0.52, 0.48)],
-              [(0.25, 0.30, 0.45), (0.65, 0.60, 0.50), (0.20, 0.20, 0.22)]),
-    "floor": ([(0.55, 0.40, 0.26), (0.46, 0.32, 0.20), (0.63, 0.48, 0.32)],
-              [(0.32, 0.22, 0.14), (0.75, 0.62, 0.45), (0.42, 0.42, 0.48), (0.58, 0.34, 0.24)]),
-    "wall": ([(0.86, 0.83, 0.76), (0.78, 0.80, 0.82), (0.82, 0.77, 0.68)],
-             [(0.60, 0.66, 0.74), (0.70, 0.74, 0.62), (0.78, 0.64, 0.58), (0.95, 0.93, 0.88)]),
-    "grass": ([(0.30, 0.48, 0.20), (0.20, 0.36, 0.12), (0.42, 0.54, 0.24)],
-              [(0.66, 0.63, 0.56), (0.42, 0.33, 0.20), (0.72, 0.70, 0.64), (0.12, 0.22, 0.08), (0.58, 0.62, 0.30)]),
-    "bush": ([(0.18, 0.36, 0.14), (0.24, 0.44, 0.18), (0.30, 0.40, 0.16)],
-             [(0.45, 0.55, 0.22), (0.10, 0.22, 0.08), (0.55, 0.45, 0.25)]),
-}  # fmt: skip
+    "table": (
+        [(0.62, 0.45, 0.30), (0.52, 0.36, 0.22), (0.70, 0.55, 0.38), (0.44, 0.29, 0.17)],
+        [(0.30, 0.40, 0.55), (0.62, 0.30, 0.24), (0.85, 0.78, 0.55), (0.86, 0.84, 0.78)],
+    ),
+    "under": (
+        [(0.45, 0.47, 0.50), (0.35, 0.37, 0.42), (0.55, 0.52, 0.48)],
+        [(0.25, 0.30, 0.45), (0.65, 0.60, 0.50), (0.20, 0.20, 0.22)],
+    ),
+    "floor": (
+        [(0.55, 0.40, 0.26), (0.46, 0.32, 0.20), (0.63, 0.48, 0.32)],
+        [(0.32, 0.22, 0.14), (0.75, 0.62, 0.45), (0.42, 0.42, 0.48), (0.58, 0.34, 0.24)],
+    ),
+    "wall": (
+        [(0.86, 0.83, 0.76), (0.78, 0.80, 0.82), (0.82, 0.77, 0.68)],
+        [(0.60, 0.66, 0.74), (0.70, 0.74, 0.62), (0.78, 0.64, 0.58), (0.95, 0.93, 0.88)],
+    ),
+    "grass": (
+        [(0.30, 0.48, 0.20), (0.20, 0.36, 0.12), (0.42, 0.54, 0.24)],
+        [(0.66, 0.63, 0.56), (0.42, 0.33, 0.20), (0.72, 0.70, 0.64), (0.12, 0.22, 0.08), (0.58, 0.62, 0.30)],
+    ),
+    "bush": (
+        [(0.18, 0.36, 0.14), (0.24, 0.44, 0.18), (0.30, 0.40, 0.16)],
+        [(0.45, 0.55, 0.22), (0.10, 0.22, 0.08), (0.55, 0.45, 0.25)],
+    ),
+}
 
 
 def _rng(seed: int, *keys: int) -> np.random.Generator:
@@ -95,7 +116,7 @@ class Soup:
     rgb: np.ndarray
 
     @staticmethod
-    def concat(parts: list["Soup"]) -> "Soup":
+    def concat(parts: list[Soup]) -> Soup:
         return Soup(*[np.concatenate([getattr(p, f.name) for p in parts]) for f in dataclasses.fields(Soup)])
 
     def __len__(self) -> int:
@@ -137,8 +158,13 @@ def blob_texture(uv: np.ndarray, cell: float, palette: str, salt: int) -> np.nda
     bases, accents = (np.asarray(p, dtype=np.float64) for p in _PALETTES[palette])
     pick = np.random.default_rng(np.random.SeedSequence([salt, 99]))
     col = np.broadcast_to(bases[int(pick.integers(len(bases)))], (len(uv), 3)).copy()
-    octaves = [(7.0, bases, 0.45, 0.7), (3.0, bases, 0.5, 0.7), (1.6, accents, 0.66, 0.6), (1.0, accents, 0.68, 0.7),
-               (0.6, bases, 0.6, 0.6)]  # fmt: skip
+    octaves = [
+        (7.0, bases, 0.45, 0.7),
+        (3.0, bases, 0.5, 0.7),
+        (1.6, accents, 0.66, 0.6),
+        (1.0, accents, 0.68, 0.7),
+        (0.6, bases, 0.6, 0.6),
+    ]
     for k, (size, palette_k, threshold, amount) in enumerate(octaves):
         noise = _value_noise(uv, cell * size, salt * 16 + k)
         colour = palette_k[int(pick.integers(len(palette_k)))] * pick.uniform(0.85, 1.1)
@@ -182,8 +208,19 @@ class Resolution:
         return self.s_min * 2.0 ** np.round(np.log2(s / self.s_min))
 
 
-def _plane(origin, u_axis, v_axis, u_range, v_range, spacing: float | Resolution, palette: str, cell: float,
-           rng: np.random.Generator, keep=None, salt: int | None = None) -> Soup:
+def _plane(
+    origin,
+    u_axis,
+    v_axis,
+    u_range,
+    v_range,
+    spacing: float | Resolution,
+    palette: str,
+    cell: float,
+    rng: np.random.Generator,
+    keep=None,
+    salt: int | None = None,
+) -> Soup:
     """Flat Gaussians on a jittered grid over ``origin + u * u_axis + v * v_axis``, with a fixed
     ``spacing`` or one per tile from a :class:`Resolution`; ``keep(u, v)`` optionally filters
     samples. Colours from :func:`blob_texture` (a function of the surface position, so tiles of
@@ -194,8 +231,7 @@ def _plane(origin, u_axis, v_axis, u_range, v_range, spacing: float | Resolution
         nt_u = max(1, math.ceil((u_range[1] - u_range[0]) / tile))
         nt_v = max(1, math.ceil((v_range[1] - v_range[0]) / tile))
         tu, tv = (u_range[1] - u_range[0]) / nt_u, (v_range[1] - v_range[0]) / nt_v
-        cu, cv = np.meshgrid(u_range[0] + (np.arange(nt_u) + 0.5) * tu, v_range[0] + (np.arange(nt_v) + 0.5) * tv,
-                             indexing="ij")  # fmt: skip
+        cu, cv = np.meshgrid(u_range[0] + (np.arange(nt_u) + 0.5) * tu, v_range[0] + (np.arange(nt_v) + 0.5) * tv, indexing="ij")
         cu, cv = cu.ravel(), cv.ravel()
         centres = origin + cu[:, None] * u_axis + cv[:, None] * v_axis
         spacings = spacing.spacing(centres, 0.5 * math.hypot(tu, tv))
@@ -290,9 +326,11 @@ def _make_stage(preset: str, capture: str, objects: list[BuiltObject], grow: flo
         ly = max(4.2, 2.0 * (packed + 1.6)) + rng.uniform(0.0, 0.5)
     height = 2.6
     hx, hy = lx / 2, ly / 2
-    walls = [(np.array([hx, 0.0]), np.array([-1.0, 0.0]), hy),
-             (np.array([0.0, hy]), np.array([0.0, -1.0]), hx),
-             (np.array([0.0, -hy]), np.array([0.0, 1.0]), hx)]  # fmt: skip
+    walls = [
+        (np.array([hx, 0.0]), np.array([-1.0, 0.0]), hy),
+        (np.array([0.0, hy]), np.array([0.0, -1.0]), hx),
+        (np.array([0.0, -hy]), np.array([0.0, 1.0]), hx),
+    ]
     if capture == "forward":
         region = ("rect", -hx + 1.9, hx - 0.5, -hy + 0.5, hy - 0.5)
         target = np.array([0.55 + 0.1 * hx, 0.0, 0.5])
@@ -300,8 +338,7 @@ def _make_stage(preset: str, capture: str, objects: list[BuiltObject], grow: flo
         walls.append((np.array([-hx, 0.0]), np.array([1.0, 0.0]), hy))
         region = ("disk", max(0.8, min(hx, hy) - 1.6))
         target = np.array([0.0, 0.0, 0.45])
-    return Stage(preset, capture, region, walls=walls, bounds=(-hx, hx, -hy, hy), target=target, unit=1.0,
-                 room=(lx, ly, height))  # fmt: skip
+    return Stage(preset, capture, region, walls=walls, bounds=(-hx, hx, -hy, hy), target=target, unit=1.0, room=(lx, ly, height))
 
 
 def _focal(width: int, rng) -> tuple[float, float]:
@@ -486,8 +523,12 @@ def _place(objects: list[BuiltObject], stage: Stage, cameras: list, rng) -> list
             if stage.bounds is not None:
                 x0, x1, y0, y1 = stage.bounds
                 m = 0.02
-                if (corners[:, 0].min() < x0 + m or corners[:, 0].max() > x1 - m or corners[:, 1].min() < y0 + m
-                        or corners[:, 1].max() > y1 - m):  # fmt: skip
+                if (
+                    corners[:, 0].min() < x0 + m
+                    or corners[:, 0].max() > x1 - m
+                    or corners[:, 1].min() < y0 + m
+                    or corners[:, 1].max() > y1 - m
+                ):
                     continue
             if stage.preset == "tabletop" and np.abs(corners).max() > stage.region[1] + 0.5 * stage.unit:
                 continue
@@ -521,8 +562,7 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
 
     def resolution(cell: float, s_max: float, s_min: float | None = None) -> Resolution:
         s_min = (cell / 3.0 if s_min is None else s_min) * k
-        return Resolution(eyes, forwards, PIXELS_PER_SAMPLE * k / focal, s_min, max(s_max * k, s_min), 16 * s_min,
-                          cos_view)  # fmt: skip
+        return Resolution(eyes, forwards, PIXELS_PER_SAMPLE * k / focal, s_min, max(s_max * k, s_min), 16 * s_min, cos_view)
 
     parts = []
     if stage.preset == "tabletop":
@@ -532,24 +572,71 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
         parts.append(_plane((0, 0, 0), (1, 0, 0), (0, 1, 0), (-hx, hx), (-hy, hy), resolution(cell, 0.03), "table", cell, rng))
         thick = 0.04
         for sign in (-1.0, 1.0):  # table edges
-            parts.append(_plane((sign * hx, 0, -thick / 2), (0, sign, 0), (0, 0, 1), (-hy, hy), (-thick / 2, thick / 2),
-                                0.015 * k, "table", cell, rng))  # fmt: skip
-            parts.append(_plane((0, sign * hy, -thick / 2), (-sign, 0, 0), (0, 0, 1), (-hx, hx), (-thick / 2, thick / 2),
-                                0.015 * k, "table", cell, rng))  # fmt: skip
+            parts.append(
+                _plane(
+                    (sign * hx, 0, -thick / 2),
+                    (0, sign, 0),
+                    (0, 0, 1),
+                    (-hy, hy),
+                    (-thick / 2, thick / 2),
+                    0.015 * k,
+                    "table",
+                    cell,
+                    rng,
+                )
+            )
+            parts.append(
+                _plane(
+                    (0, sign * hy, -thick / 2),
+                    (-sign, 0, 0),
+                    (0, 0, 1),
+                    (-hx, hx),
+                    (-thick / 2, thick / 2),
+                    0.015 * k,
+                    "table",
+                    cell,
+                    rng,
+                )
+            )
         for sx in (-1.0, 1.0):
             for sy in (-1.0, 1.0):
                 for ax, ay in ((1, 0), (0, 1), (-1, 0), (0, -1)):
                     origin = (sx * (hx - 0.08) + 0.03 * ax, sy * (hy - 0.08) + 0.03 * ay, -0.39)
-                    parts.append(_plane(origin, (-ay, ax, 0), (0, 0, 1), (-0.03, 0.03), (-0.35, 0.35), 0.03 * k,
-                                        "under", 0.1, rng))  # fmt: skip
-        parts.append(_plane((0, 0, -0.74), (1, 0, 0), (0, 1, 0), (-5.0, 5.0), (-5.0, 5.0), resolution(0.12, 0.4, 0.06), "under",
-                            0.12, rng, keep=_disk_keep(5.0)))  # fmt: skip
+                    parts.append(
+                        _plane(origin, (-ay, ax, 0), (0, 0, 1), (-0.03, 0.03), (-0.35, 0.35), 0.03 * k, "under", 0.1, rng)
+                    )
+        parts.append(
+            _plane(
+                (0, 0, -0.74),
+                (1, 0, 0),
+                (0, 1, 0),
+                (-5.0, 5.0),
+                (-5.0, 5.0),
+                resolution(0.12, 0.4, 0.06),
+                "under",
+                0.12,
+                rng,
+                keep=_disk_keep(5.0),
+            )
+        )
     elif stage.preset == "outdoor":
         reach = float(np.max(np.linalg.norm(eyes[:, :2], axis=1)))
         radius = max(14.0, 1.6 * reach)
         cell = 0.18
-        parts.append(_plane((0, 0, 0), (1, 0, 0), (0, 1, 0), (-radius, radius), (-radius, radius), resolution(cell, 0.5),
-                            "grass", cell, rng, keep=_disk_keep(radius)))  # fmt: skip
+        parts.append(
+            _plane(
+                (0, 0, 0),
+                (1, 0, 0),
+                (0, 1, 0),
+                (-radius, radius),
+                (-radius, radius),
+                resolution(cell, 0.5),
+                "grass",
+                cell,
+                rng,
+                keep=_disk_keep(radius),
+            )
+        )
         bushes = ShapeBuilder()
         count = 22
         for j in range(count):
@@ -557,8 +644,9 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
             d = radius * rng.uniform(0.78, 0.9)
             size = rng.uniform(1.2, 2.6)
             centre = np.array([d * math.cos(a), d * math.sin(a), 0.6 * size])
-            bushes.ellipsoid(centre, (size, size * rng.uniform(0.8, 1.4), size), _foliage(centre, int(rng.integers(2**31))),
-                             noise=0.1)  # fmt: skip
+            bushes.ellipsoid(
+                centre, (size, size * rng.uniform(0.8, 1.4), size), _foliage(centre, int(rng.integers(2**31))), noise=0.1
+            )
         g = bushes.build(round(6000 * density), rng)
         parts.append(Soup(g.means, g.quats, g.scales, g.opacities, g.lit()))
     else:
@@ -570,8 +658,9 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
         parts.append(_plane((0, 0, 0), (1, 0, 0), (0, 1, 0), (floor_x0, hx), (-hy, hy), res, "floor", cell, rng))
         for point, normal, half_len in stage.walls:
             along = np.array([-normal[1], normal[0], 0.0])
-            parts.append(_plane((point[0], point[1], 0.0), along, (0, 0, 1), (-half_len, half_len), (0.0, height),
-                                res, "wall", cell, rng))  # fmt: skip
+            parts.append(
+                _plane((point[0], point[1], 0.0), along, (0, 0, 1), (-half_len, half_len), (0.0, height), res, "wall", cell, rng)
+            )
             base = np.array([point[0] + 0.012 * normal[0], point[1] + 0.012 * normal[1], 0.0])  # skirting board
             board = _plane(base, along, (0, 0, 1), (-half_len, half_len), (0.0, 0.09), 0.03 * k, "wall", cell, rng)
             board.rgb[:] = bake_lighting(np.full((len(board), 3), 0.93), np.broadcast_to(np.r_[normal, 0.0], (len(board), 3)))
@@ -653,9 +742,19 @@ def _check_args(preset, capture, views, scale, tilt_deg, resolution, density, se
     return capture, (width, height)
 
 
-def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "tabletop", capture: str | None = None,
-                views: int = 24, scale: float = 1.0, tilt_deg: float = 0.0, poses: bool = True,
-                resolution: tuple[int, int] = (320, 240), density: float = 1.0) -> SynthScene:
+def build_scene(
+    *,
+    seed: int,
+    objects: list[str] | None = None,
+    preset: str = "tabletop",
+    capture: str | None = None,
+    views: int = 24,
+    scale: float = 1.0,
+    tilt_deg: float = 0.0,
+    poses: bool = True,
+    resolution: tuple[int, int] = (320, 240),
+    density: float = 1.0,
+) -> SynthScene:
     """Build a synthetic scene in memory (no rendering, no files); arguments as :func:`generate_scene`."""
     capture, (width, height) = _check_args(preset, capture, views, scale, tilt_deg, resolution, density, seed)
     if objects is None:
@@ -669,10 +768,11 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
         specs = resolve_names(list(objects))
     names = catalog_names()
     built = [
-        build_object(spec.name, rng=_rng(seed, 2, names.index(spec.name)), density=density,
-                     size=SIZES[preset].get(spec.name, 1.0))
+        build_object(
+            spec.name, rng=_rng(seed, 2, names.index(spec.name)), density=density, size=SIZES[preset].get(spec.name, 1.0)
+        )
         for spec in specs
-    ]  # fmt: skip
+    ]
     focal, fov = _focal(width, _rng(seed, 3))
     for attempt in range(8):
         grow = 1.2**attempt
@@ -683,8 +783,10 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
         if placed is not None:
             break
     else:
-        raise InputError(f"could not place {len(built)} objects ({', '.join(o.name for o in built)}) in a "
-                         f"{preset} scene without overlaps; try fewer or smaller objects")  # fmt: skip
+        raise InputError(
+            f"could not place {len(built)} objects ({', '.join(o.name for o in built)}) in a "
+            f"{preset} scene without overlaps; try fewer or smaller objects"
+        )
     env = _environment(stage, cameras, focal, (width, height), density, _rng(seed, 6))
 
     # Objects in the pre-tilt world, lit there.
@@ -706,28 +808,30 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
         front = None if p.obj.spec.symmetric else (R_world @ Rz[:, 0])
         center = S * (R_world @ (Rz @ p.obj.center + t))
         lo, hi = p.obj.lo, p.obj.hi
-        gt_objects.append({
-            "id": oid,
-            "label": oid,
-            "name": p.obj.name,
-            "aliases": list(p.obj.spec.aliases),
-            "color": p.obj.color,
-            "symmetric": p.obj.spec.symmetric,
-            "center": center,
-            "radius": S * p.obj.radius,
-            "front": front,
-            "up": up,
-            "base": S * (R_world @ t),
-            "height": S * p.obj.height,
-            "size": p.obj.size,
-            "yaw_deg": math.degrees(p.yaw),
-            "box": {
-                "center": S * (R_world @ (Rz @ ((lo + hi) / 2) + t)),
-                "axes": (R_world @ Rz).T,  # rows: the object's front (+x), left (+y), up (+z) in the world
-                "half_extents": S * (hi - lo) / 2,
-            },
-            "gaussians": [offset, offset + len(g)],
-        })  # fmt: skip
+        gt_objects.append(
+            {
+                "id": oid,
+                "label": oid,
+                "name": p.obj.name,
+                "aliases": list(p.obj.spec.aliases),
+                "color": p.obj.color,
+                "symmetric": p.obj.spec.symmetric,
+                "center": center,
+                "radius": S * p.obj.radius,
+                "front": front,
+                "up": up,
+                "base": S * (R_world @ t),
+                "height": S * p.obj.height,
+                "size": p.obj.size,
+                "yaw_deg": math.degrees(p.yaw),
+                "box": {
+                    "center": S * (R_world @ (Rz @ ((lo + hi) / 2) + t)),
+                    "axes": (R_world @ Rz).T,  # rows: the object's front (+x), left (+y), up (+z) in the world
+                    "half_extents": S * (hi - lo) / 2,
+                },
+                "gaussians": [offset, offset + len(g)],
+            }
+        )
         front_ranges[str(oid)] = _ranges(g.front_feature, offset)
         offset += len(g)
     soups.append(env)
@@ -740,8 +844,14 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
     means = S * (soup.means @ R_world.T)
     quats = quat_multiply(q_world.expand(len(soup), 4), torch.from_numpy(soup.quats)).numpy()
     f32 = lambda a: torch.from_numpy(np.ascontiguousarray(a, dtype=np.float32))  # noqa: E731
-    gaussians = GaussianScene.from_activated(f32(means), f32(quats), f32(S * soup.scales), f32(soup.opacities),
-                                             f32(soup.rgb), labels=torch.from_numpy(label_array.astype(np.int64)))  # fmt: skip
+    gaussians = GaussianScene.from_activated(
+        f32(means),
+        f32(quats),
+        f32(S * soup.scales),
+        f32(soup.opacities),
+        f32(soup.rgb),
+        labels=torch.from_numpy(label_array.astype(np.int64)),
+    )
 
     K = np.array([[focal, 0.0, width / 2.0], [0.0, focal, height / 2.0], [0.0, 0.0, 1.0]])
     z_up = torch.tensor([0.0, 0.0, 1.0], dtype=torch.float64)
@@ -758,17 +868,31 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
     scene_center = np.mean([o["center"] for o in gt_objects], axis=0)
     distances = [float(np.linalg.norm(cam.center - scene_center)) for cam in cams]
     semantics = [
-        SemanticObject(o["id"], o["name"], list(o["aliases"]) + [f"{o['color']} {o['name']}"], o["symmetric"],
-                       None if o["front"] is None else np.asarray(o["front"]))
+        SemanticObject(
+            o["id"],
+            o["name"],
+            list(o["aliases"]) + [f"{o['color']} {o['name']}"],
+            o["symmetric"],
+            None if o["front"] is None else np.asarray(o["front"]),
+        )
         for o in gt_objects
-    ]  # fmt: skip
+    ]
     for o in gt_objects:
         o["aliases"] = list(o["aliases"]) + [f"{o['color']} {o['name']}"]
     ground_truth = {
         "format": 1,
-        "generator": {"version": GENERATOR_VERSION, "seed": int(seed), "preset": preset, "capture": capture,
-                      "views": int(views), "scale": S, "tilt_deg": float(tilt_deg), "poses": bool(poses),
-                      "resolution": [width, height], "density": float(density)},  # fmt: skip
+        "generator": {
+            "version": GENERATOR_VERSION,
+            "seed": int(seed),
+            "preset": preset,
+            "capture": capture,
+            "views": int(views),
+            "scale": S,
+            "tilt_deg": float(tilt_deg),
+            "poses": bool(poses),
+            "resolution": [width, height],
+            "density": float(density),
+        },
         "up": up,
         "scale": float(np.median(distances)),
         "center": scene_center,
@@ -779,7 +903,9 @@ def build_scene(*, seed: int, objects: list[str] | None = None, preset: str = "t
         "num_gaussians": len(gaussians),
         "objects": gt_objects,
         "front_feature": front_ranges,
-        "room": None if stage.room is None else {
+        "room": None
+        if stage.room is None
+        else {
             "size": S * np.array(stage.room),  # interior [-sx/2, sx/2] x [-sy/2, sy/2] x [0, sz] before world_rotation
             "walls": [("+" if n[0] + n[1] < 0 else "-") + ("x" if n[0] != 0 else "y") for _, n, _ in stage.walls],
         },
@@ -867,8 +993,10 @@ def write_scene(scene: SynthScene, out_dir: str | Path, images: list[np.ndarray]
         for cam, image in zip(scene.cameras, images or []):
             atomic_write(tmp / "images" / f"{cam.name}.png", png_bytes(image))
         if scene.poses:
-            cams = [dataclasses.replace(c, image_path=None if images is None else str(tmp / "images" / f"{c.name}.png"))
-                    for c in scene.cameras]  # fmt: skip
+            cams = [
+                dataclasses.replace(c, image_path=None if images is None else str(tmp / "images" / f"{c.name}.png"))
+                for c in scene.cameras
+            ]
             write_cameras_json(cams, tmp / "cameras.json")
             _write_colmap_with_points(cams, scene.gaussians, tmp / "sparse" / "0", scene.ground_truth["generator"]["seed"])
         write_scene_meta(scene.meta, tmp / "scene.json")
@@ -877,10 +1005,22 @@ def write_scene(scene: SynthScene, out_dir: str | Path, images: list[np.ndarray]
     return out_dir
 
 
-def generate_scene(out_dir: str | Path, *, seed: int, objects: list[str] | None = None, preset: str = "tabletop",
-                   capture: str | None = None, views: int = 24, scale: float = 1.0, tilt_deg: float = 0.0,
-                   poses: bool = True, resolution: tuple[int, int] = (320, 240), density: float = 1.0,
-                   images: bool = True, backend: str = "auto") -> Path:
+def generate_scene(
+    out_dir: str | Path,
+    *,
+    seed: int,
+    objects: list[str] | None = None,
+    preset: str = "tabletop",
+    capture: str | None = None,
+    views: int = 24,
+    scale: float = 1.0,
+    tilt_deg: float = 0.0,
+    poses: bool = True,
+    resolution: tuple[int, int] = (320, 240),
+    density: float = 1.0,
+    images: bool = True,
+    backend: str = "auto",
+) -> Path:
     """Generate a synthetic scene directory at ``out_dir`` (which must not hold files) and return it.
 
     Args:
@@ -901,8 +1041,18 @@ def generate_scene(out_dir: str | Path, *, seed: int, objects: list[str] | None 
     """
     if not images and not poses:
         raise InputError("a scene without poses needs its images (COLMAP recovers the poses from them)")
-    scene = build_scene(seed=seed, objects=objects, preset=preset, capture=capture, views=views, scale=scale,
-                        tilt_deg=tilt_deg, poses=poses, resolution=resolution, density=density)  # fmt: skip
+    scene = build_scene(
+        seed=seed,
+        objects=objects,
+        preset=preset,
+        capture=capture,
+        views=views,
+        scale=scale,
+        tilt_deg=tilt_deg,
+        poses=poses,
+        resolution=resolution,
+        density=density,
+    )
     return write_scene(scene, out_dir, render_views(scene, backend=backend) if images else None)
 
 
@@ -925,17 +1075,38 @@ def synth_command(args: argparse.Namespace) -> None:
         names = [n.strip() for n in args.objects.split(",") if n.strip()]
     start = time.perf_counter()
     path = generate_scene(
-        args.out_dir, seed=args.seed, objects=names, preset=args.preset, capture=args.capture, views=args.views,
-        scale=args.scale, tilt_deg=args.tilt, poses=not args.no_poses, resolution=parse_resolution(args.resolution),
-        density=args.density, images=not args.no_images,
-    )  # fmt: skip
+        args.out_dir,
+        seed=args.seed,
+        objects=names,
+        preset=args.preset,
+        capture=args.capture,
+        views=args.views,
+        scale=args.scale,
+        tilt_deg=args.tilt,
+        poses=not args.no_poses,
+        resolution=parse_resolution(args.resolution),
+        density=args.density,
+        images=not args.no_images,
+    )
     gt = json.loads((Path(path) / "ground_truth.json").read_text())
     objects = ", ".join(f"{o['color']} {o['name']}" for o in gt["objects"])
-    print(f"{path}: {gt['num_gaussians']} Gaussians, {args.views} views, objects: {objects} "
-          f"({time.perf_counter() - start:.1f} s)")  # fmt: skip
+    print(
+        f"{path}: {gt['num_gaussians']} Gaussians, {args.views} views, objects: {objects} ({time.perf_counter() - start:.1f} s)"
+    )
 
 
 __all__ = [
-    "generate_scene", "build_scene", "write_scene", "render_views", "synth_command", "parse_resolution",
-    "tilt_rotation", "blob_texture", "json_text", "SynthScene", "PRESETS", "CAPTURES", "POOLS",
-]  # fmt: skip
+    "generate_scene",
+    "build_scene",
+    "write_scene",
+    "render_views",
+    "synth_command",
+    "parse_resolution",
+    "tilt_rotation",
+    "blob_texture",
+    "json_text",
+    "SynthScene",
+    "PRESETS",
+    "CAPTURES",
+    "POOLS",
+]

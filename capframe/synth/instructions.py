@@ -90,88 +90,220 @@ SHOT_HEADS = {
 PLAIN_HEADS = ["a photo of {X}", "a shot of {X}", "frame {X}", "capture {X}", "photograph {X}", "a picture of {X}", "{X}"]
 SHOT_CLAUSES = {
     "close-up": ["filling the frame", "filling most of the frame", "shot up close", "framed tightly"],
-    "medium": ["as a medium shot", "at medium size in the frame", "framed at mid distance",
-               "taking up a moderate part of the frame"],
+    "medium": [
+        "as a medium shot",
+        "at medium size in the frame",
+        "framed at mid distance",
+        "taking up a moderate part of the frame",
+    ],
     "wide": ["small in the frame", "from far away", "as a wide shot", "with plenty of space around {obj}"],
-}  # fmt: skip
+}
 REGION_PHRASES = {
-    "left": ["on the left", "on the left of the frame", "on the left side of the frame", "in the left half of the frame",
-             "at the left of the picture"],
-    "right": ["on the right", "on the right of the frame", "on the right side of the frame",
-              "in the right half of the frame", "at the right of the picture"],
-    "center": ["in the centre of the frame", "in the center of the frame", "centred in the frame", "in the middle of the frame",
-               "centered in the picture"],
+    "left": [
+        "on the left",
+        "on the left of the frame",
+        "on the left side of the frame",
+        "in the left half of the frame",
+        "at the left of the picture",
+    ],
+    "right": [
+        "on the right",
+        "on the right of the frame",
+        "on the right side of the frame",
+        "in the right half of the frame",
+        "at the right of the picture",
+    ],
+    "center": [
+        "in the centre of the frame",
+        "in the center of the frame",
+        "centred in the frame",
+        "in the middle of the frame",
+        "centered in the picture",
+    ],
     "top": ["at the top of the frame", "in the upper half of the frame", "near the top of the picture", "high in the frame"],
-    "bottom": ["at the bottom of the frame", "in the lower half of the frame", "near the bottom of the picture",
-               "low in the frame"],
-    "left third": ["in the left third of the frame", "within the left third of the picture", "in the leftmost third of the frame"],
-    "center third": ["in the middle third of the frame", "in the central third of the frame",
-                     "within the centre third of the picture"],
-    "right third": ["in the right third of the frame", "within the right third of the picture",
-                    "in the rightmost third of the frame"],
-    "upper left": ["in the upper-left corner of the frame", "in the top-left corner", "at the top left of the frame",
-                   "in the upper left of the picture"],
-    "upper right": ["in the upper-right corner of the frame", "in the top-right corner", "at the top right of the frame",
-                    "in the upper right of the picture"],
-    "lower left": ["in the lower-left corner of the frame", "in the bottom-left corner", "at the bottom left of the frame",
-                   "in the lower left of the picture"],
-    "lower right": ["in the lower-right corner of the frame", "in the bottom-right corner",
-                    "at the bottom right of the frame", "in the lower right of the picture"],
-}  # fmt: skip
+    "bottom": [
+        "at the bottom of the frame",
+        "in the lower half of the frame",
+        "near the bottom of the picture",
+        "low in the frame",
+    ],
+    "left third": [
+        "in the left third of the frame",
+        "within the left third of the picture",
+        "in the leftmost third of the frame",
+    ],
+    "center third": [
+        "in the middle third of the frame",
+        "in the central third of the frame",
+        "within the centre third of the picture",
+    ],
+    "right third": [
+        "in the right third of the frame",
+        "within the right third of the picture",
+        "in the rightmost third of the frame",
+    ],
+    "upper left": [
+        "in the upper-left corner of the frame",
+        "in the top-left corner",
+        "at the top left of the frame",
+        "in the upper left of the picture",
+    ],
+    "upper right": [
+        "in the upper-right corner of the frame",
+        "in the top-right corner",
+        "at the top right of the frame",
+        "in the upper right of the picture",
+    ],
+    "lower left": [
+        "in the lower-left corner of the frame",
+        "in the bottom-left corner",
+        "at the bottom left of the frame",
+        "in the lower left of the picture",
+    ],
+    "lower right": [
+        "in the lower-right corner of the frame",
+        "in the bottom-right corner",
+        "at the bottom right of the frame",
+        "in the lower right of the picture",
+    ],
+}
 VIEW_PHRASES = {
-    "front": ["seen from the front", "seen from {P} front", "showing {P} front", "facing the camera", "in front view",
-              "with the camera in front of {obj}"],
-    "back": ["seen from behind", "seen from {P} back", "showing {P} back", "facing away from the camera", "in rear view",
-             "with the camera behind {obj}"],
-    "left": ["seen from {P} left", "showing {P} left side", "in left profile", "with the camera at {P} left",
-             "from {P} left side", "with {P} left side towards the camera"],
-    "right": ["seen from {P} right", "showing {P} right side", "in right profile", "with the camera at {P} right",
-              "from {P} right side", "with {P} right side towards the camera"],
-    "front-left": ["seen from {P} front left", "showing {P} front and left side", "in a front-left three-quarter view",
-                   "with the camera at {P} front left", "from {P} front-left"],
-    "front-right": ["seen from {P} front right", "showing {P} front and right side", "in a front-right three-quarter view",
-                    "with the camera at {P} front right", "from {P} front-right"],
-    "back-left": ["seen from {P} back left", "showing {P} back and left side", "seen from behind on {P} left",
-                  "with the camera at {P} back left", "from {P} rear left"],
-    "back-right": ["seen from {P} back right", "showing {P} back and right side", "seen from behind on {P} right",
-                   "with the camera at {P} back right", "from {P} rear right"],
-    "three-quarter": ["in three-quarter view", "at a three-quarter angle", "seen at three-quarters",
-                      "in a three-quarter front view"],
-}  # fmt: skip
+    "front": [
+        "seen from the front",
+        "seen from {P} front",
+        "showing {P} front",
+        "facing the camera",
+        "in front view",
+        "with the camera in front of {obj}",
+    ],
+    "back": [
+        "seen from behind",
+        "seen from {P} back",
+        "showing {P} back",
+        "facing away from the camera",
+        "in rear view",
+        "with the camera behind {obj}",
+    ],
+    "left": [
+        "seen from {P} left",
+        "showing {P} left side",
+        "in left profile",
+        "with the camera at {P} left",
+        "from {P} left side",
+        "with {P} left side towards the camera",
+    ],
+    "right": [
+        "seen from {P} right",
+        "showing {P} right side",
+        "in right profile",
+        "with the camera at {P} right",
+        "from {P} right side",
+        "with {P} right side towards the camera",
+    ],
+    "front-left": [
+        "seen from {P} front left",
+        "showing {P} front and left side",
+        "in a front-left three-quarter view",
+        "with the camera at {P} front left",
+        "from {P} front-left",
+    ],
+    "front-right": [
+        "seen from {P} front right",
+        "showing {P} front and right side",
+        "in a front-right three-quarter view",
+        "with the camera at {P} front right",
+        "from {P} front-right",
+    ],
+    "back-left": [
+        "seen from {P} back left",
+        "showing {P} back and left side",
+        "seen from behind on {P} left",
+        "with the camera at {P} back left",
+        "from {P} rear left",
+    ],
+    "back-right": [
+        "seen from {P} back right",
+        "showing {P} back and right side",
+        "seen from behind on {P} right",
+        "with the camera at {P} back right",
+        "from {P} rear right",
+    ],
+    "three-quarter": [
+        "in three-quarter view",
+        "at a three-quarter angle",
+        "seen at three-quarters",
+        "in a three-quarter front view",
+    ],
+}
 ELEVATION_PHRASES = {
     "eye level": ["at eye level", "from eye level", "with the camera at {P} height", "shot straight on at {P} height"],
-    "slightly above": ["from slightly above", "looking a little down at {obj}", "with the camera slightly above {obj}",
-                       "from a little above"],
+    "slightly above": [
+        "from slightly above",
+        "looking a little down at {obj}",
+        "with the camera slightly above {obj}",
+        "from a little above",
+    ],
     "high angle": ["from a high angle", "looking down at {obj}", "in a high-angle shot", "with the camera well above {obj}"],
-    "bird's-eye": ["from a bird's-eye view", "from directly above", "looking straight down at {obj}", "in an overhead shot",
-                   "as a top-down view"],
+    "bird's-eye": [
+        "from a bird's-eye view",
+        "from directly above",
+        "looking straight down at {obj}",
+        "in an overhead shot",
+        "as a top-down view",
+    ],
     "low angle": ["from a low angle", "looking up at {obj}", "in a low-angle shot", "with the camera below {obj}, looking up"],
     "worm's-eye": ["from a worm's-eye view", "looking straight up at {obj}", "from the ground looking steeply up"],
-}  # fmt: skip
+}
 EXPLICIT_ELEVATION_PHRASES = {
-    "above": ["from {d} degrees above", "with the camera {d} degrees above {obj}", "looking down at {obj} from {d}° above",
-              "at an elevation of {d} degrees"],
-    "below": ["from {d} degrees below", "with the camera {d} degrees below {obj}", "looking up at {obj} from {d}° below",
-              "at an elevation of -{d} degrees"],
-}  # fmt: skip
+    "above": [
+        "from {d} degrees above",
+        "with the camera {d} degrees above {obj}",
+        "looking down at {obj} from {d}° above",
+        "at an elevation of {d} degrees",
+    ],
+    "below": [
+        "from {d} degrees below",
+        "with the camera {d} degrees below {obj}",
+        "looking up at {obj} from {d}° below",
+        "at an elevation of -{d} degrees",
+    ],
+}
 ROLL_PHRASES = {
-    "clockwise": ["with a {d}-degree clockwise dutch angle", "with the camera rolled {d} degrees clockwise",
-                  "camera tilted {d}° clockwise", "with a dutch tilt of {d} degrees clockwise",
-                  "with the camera's right side dipped {d} degrees"],
-    "counter-clockwise": ["with a {d}-degree counter-clockwise dutch angle",
-                          "with the camera rolled {d} degrees counter-clockwise", "camera tilted {d}° anticlockwise",
-                          "with a dutch tilt of {d} degrees counterclockwise", "with the camera's left side dipped {d} degrees"],
+    "clockwise": [
+        "with a {d}-degree clockwise dutch angle",
+        "with the camera rolled {d} degrees clockwise",
+        "camera tilted {d}° clockwise",
+        "with a dutch tilt of {d} degrees clockwise",
+        "with the camera's right side dipped {d} degrees",
+    ],
+    "counter-clockwise": [
+        "with a {d}-degree counter-clockwise dutch angle",
+        "with the camera rolled {d} degrees counter-clockwise",
+        "camera tilted {d}° anticlockwise",
+        "with a dutch tilt of {d} degrees counterclockwise",
+        "with the camera's left side dipped {d} degrees",
+    ],
     "level": ["keeping the horizon level", "with no dutch angle", "with a straight horizon", "with the horizon straight"],
-}  # fmt: skip
+}
 TWO_SUBJECT_HEADS = ["{A} and {B}", "a photo with {A} and {B}", "frame {A} and {B}", "a shot of {A} and {B}", "{A}, {B}"]
 TWO_SUBJECT_WIDE_HEADS = ["a wide shot with {A} and {B}", "a wide view with {A} and {B}"]
 
 # --- sampling tables --------------------------------------------------------------------------
 
 _REGION_WEIGHTS = {
-    "left": 3, "right": 3, "center": 3, "top": 1, "bottom": 1, "left third": 1, "center third": 0.5,
-    "right third": 1, "upper left": 0.7, "upper right": 0.7, "lower left": 0.7, "lower right": 0.7,
-}  # fmt: skip
+    "left": 3,
+    "right": 3,
+    "center": 3,
+    "top": 1,
+    "bottom": 1,
+    "left third": 1,
+    "center third": 0.5,
+    "right third": 1,
+    "upper left": 0.7,
+    "upper right": 0.7,
+    "lower left": 0.7,
+    "lower right": 0.7,
+}
 _CLOSE_UP_REGIONS = ("left", "right", "center", "top", "bottom")
 _BIRDS_EYE_REGIONS = ("left", "right", "center")
 _NAMED_ELEVATIONS = ("eye level", "slightly above", "high angle", "bird's-eye", "low angle")  # worm's-eye: never
@@ -179,9 +311,14 @@ _EXPLICIT_ABOVE = (15, 20, 30, 40, 45)
 _EXPLICIT_BELOW = (10, 15)
 _ROLL_DEGREES = (10, 15, 20, 25, 30)
 _VIEWS = tuple(VIEW_PHRASES)
-_PAIR_REGIONS = [(("left", "right"), 4), (("right", "left"), 4), (("left third", "right third"), 1),
-                 (("right third", "left third"), 1), (("upper left", "lower right"), 0.5),
-                 (("lower left", "upper right"), 0.5)]  # fmt: skip
+_PAIR_REGIONS = [
+    (("left", "right"), 4),
+    (("right", "left"), 4),
+    (("left third", "right third"), 1),
+    (("right third", "left third"), 1),
+    (("upper left", "lower right"), 0.5),
+    (("lower left", "upper right"), 0.5),
+]
 _MAX_ATTEMPTS = 60
 
 
@@ -234,8 +371,9 @@ def incompatibility(constraints: Constraints, symmetric: dict[str, bool]) -> str
             return f"view side asked of the symmetric {s.name}"
         if s.shot == "close-up" and (two or s.region not in (None, *_CLOSE_UP_REGIONS)):
             return "a close-up only with no region or a half-frame/centre region, and of a single subject"
-        if s.shot == "wide" and (c.elevation in ("high angle", "bird's-eye", "low angle", "worm's-eye") or looks_up
-                                 or extreme_up):  # fmt: skip
+        if s.shot == "wide" and (
+            c.elevation in ("high angle", "bird's-eye", "low angle", "worm's-eye") or looks_up or extreme_up
+        ):
             return "no wide shot from a steep or low angle"
         if extreme_up and s.region not in (None, *_BIRDS_EYE_REGIONS):
             return "from overhead only left/right/centre regions"
@@ -266,8 +404,9 @@ def _elevation(rng: random.Random, c: Constraints, explicit_share: float = 0.4) 
         else:
             c.elevation_deg = -float(rng.choice(_EXPLICIT_BELOW))
     else:
-        c.elevation = _weighted(rng, {"eye level": 1, "slightly above": 1.3, "high angle": 1, "bird's-eye": 0.7,
-                                      "low angle": 0.8})  # fmt: skip
+        c.elevation = _weighted(
+            rng, {"eye level": 1, "slightly above": 1.3, "high angle": 1, "bird's-eye": 0.7, "low angle": 0.8}
+        )
 
 
 def _sample(kind: str, rng: random.Random, subjects: list[str], asymmetric: bool) -> Constraints:
@@ -394,6 +533,7 @@ def _phrasings(rng: random.Random, c: Constraints, references: dict[str, list[st
         if len(pool) >= 4 * count:
             break
     while len(texts) < count and pool:
+
         def distance(t: str) -> float:
             w = _words(t)
             return min(1.0 - len(w & _words(o)) / len(w | _words(o)) for o in texts)
@@ -434,9 +574,16 @@ def _witness(finder: WitnessFinder, c: Constraints, subjects: list[int], fronts:
     return None
 
 
-def generate_instructions(ground_truth: dict | GroundTruth, count: int, seed: int, *, scene: str = "scene",
-                          cameras: list[Camera] | None = None, paraphrases: int = PARAPHRASES,
-                          verify: Callable[[Camera, Constraints], bool] | None = None) -> list[Instruction]:  # fmt: skip
+def generate_instructions(
+    ground_truth: dict | GroundTruth,
+    count: int,
+    seed: int,
+    *,
+    scene: str = "scene",
+    cameras: list[Camera] | None = None,
+    paraphrases: int = PARAPHRASES,
+    verify: Callable[[Camera, Constraints], bool] | None = None,
+) -> list[Instruction]:
     """Generate ``count`` instructions for a scene from its ground truth, deterministically for ``seed``.
 
     Args:
@@ -460,8 +607,7 @@ def generate_instructions(ground_truth: dict | GroundTruth, count: int, seed: in
     objects = gt.objects
     names = {id(o): gt.reference_name(o) for o in objects}
     if len(set(n.lower() for n in names.values())) != len(objects):
-        raise InputError("objects share a name and a colour, so instructions cannot tell them apart",
-                         source="ground_truth.json")  # fmt: skip
+        raise InputError("objects share a name and a colour, so instructions cannot tell them apart", source="ground_truth.json")
     index = {names[id(o)]: i for i, o in enumerate(objects)}
     symmetric = {names[id(o)]: o.front is None for o in objects}
     references = {names[id(o)]: [names[id(o)], *gt.unique_aliases(o)] for o in objects}
@@ -544,11 +690,19 @@ def write_instructions(scene_dir: str | Path, out_dir: str | Path, count: int = 
             rows.append("\t".join([pid, ins.scene, _tsv_field(text), ins.id, ins.kind]))
     out_dir = Path(out_dir)
     atomic_write(out_dir / "instructions.tsv", "\n".join(rows) + "\n")
-    write_json(out_dir / "constraints.json", {
-        ins.id: {"scene": ins.scene, "text": ins.text, "kind": ins.kind, "paraphrases": ins.paraphrases,
-                 "constraints": ins.constraints.to_dict()}
-        for ins in instructions
-    })  # fmt: skip
+    write_json(
+        out_dir / "constraints.json",
+        {
+            ins.id: {
+                "scene": ins.scene,
+                "text": ins.text,
+                "kind": ins.kind,
+                "paraphrases": ins.paraphrases,
+                "constraints": ins.constraints.to_dict(),
+            }
+            for ins in instructions
+        },
+    )
     return instructions
 
 
@@ -593,7 +747,15 @@ def grammar_markdown() -> str:
     table("Named elevations", "elevation", ELEVATION_PHRASES)
     table("Explicit elevations (`elevation_deg` = +d above, -d below)", "side", EXPLICIT_ELEVATION_PHRASES)
     table("Roll (`roll_deg` = +d clockwise, -d counter-clockwise, 0 level)", "direction", ROLL_PHRASES)
-    out.extend(["## Two-subject heads", "", " · ".join(f"`{p}`" for p in TWO_SUBJECT_HEADS),
-                "", "With a wide shot of the primary: " + " · ".join(f"`{p}`" for p in TWO_SUBJECT_WIDE_HEADS), ""])  # fmt: skip
+    out.extend(
+        [
+            "## Two-subject heads",
+            "",
+            " · ".join(f"`{p}`" for p in TWO_SUBJECT_HEADS),
+            "",
+            "With a wide shot of the primary: " + " · ".join(f"`{p}`" for p in TWO_SUBJECT_WIDE_HEADS),
+            "",
+        ]
+    )
     assert set(REGION_PHRASES) == set(REGIONS) and set(ELEVATION_PHRASES) == set(ELEVATIONS)
     return "\n".join(out)

@@ -120,17 +120,17 @@ class Samples:
     s1: np.ndarray
     s2: np.ndarray
 
-    def transformed(self, R: np.ndarray, c: np.ndarray) -> "Samples":
+    def transformed(self, R: np.ndarray, c: np.ndarray) -> Samples:
         return Samples(self.points @ R.T + c, self.t1 @ R.T, self.t2 @ R.T, self.normal @ R.T, self.s1, self.s2)
 
     @staticmethod
-    def concat(parts: list["Samples"]) -> "Samples":
-        return Samples(*[np.concatenate([getattr(p, k) for p in parts])
-                         for k in ("points", "t1", "t2", "normal", "s1", "s2")])  # fmt: skip
+    def concat(parts: list[Samples]) -> Samples:
+        return Samples(*[np.concatenate([getattr(p, k) for p in parts]) for k in ("points", "t1", "t2", "normal", "s1", "s2")])
 
 
-def _ring_samples(radii: np.ndarray, zs: np.ndarray, tangent_r: np.ndarray, tangent_z: np.ndarray,
-                  h: float, step: np.ndarray, phase: np.ndarray) -> Samples:
+def _ring_samples(
+    radii: np.ndarray, zs: np.ndarray, tangent_r: np.ndarray, tangent_z: np.ndarray, h: float, step: np.ndarray, phase: np.ndarray
+) -> Samples:
     """Rings of a surface of revolution about +z: station i has radius radii[i], height zs[i], unit
     profile tangent (tangent_r[i], tangent_z[i]) and spacing step[i] along the profile. The normal
     is the profile tangent turned clockwise in the (r, z) plane: outward for a profile traced
@@ -147,8 +147,14 @@ def _ring_samples(radii: np.ndarray, zs: np.ndarray, tangent_r: np.ndarray, tang
         arc = 2.0 * math.pi * r / count if r > 1e-9 else ds
         s1s.append(np.full(count, max(arc, 1e-6)))
         s2s.append(np.full(count, ds))
-    return Samples(np.concatenate(pts), np.concatenate(t1s), np.concatenate(t2s), np.concatenate(ns),
-                   np.concatenate(s1s), np.concatenate(s2s))  # fmt: skip
+    return Samples(
+        np.concatenate(pts),
+        np.concatenate(t1s),
+        np.concatenate(t2s),
+        np.concatenate(ns),
+        np.concatenate(s1s),
+        np.concatenate(s2s),
+    )
 
 
 class Part:
@@ -156,9 +162,20 @@ class Part:
 
     area: float = 0.0
 
-    def __init__(self, color, *, feature: bool = False, detail: float = 1.0, min_count: int = 0,
-                 rot=None, center=(0.0, 0.0, 0.0), opacity: float = 0.93, noise: float = 0.04,
-                 emissive: bool = False, texture: float = 0.22):
+    def __init__(
+        self,
+        color,
+        *,
+        feature: bool = False,
+        detail: float = 1.0,
+        min_count: int = 0,
+        rot=None,
+        center=(0.0, 0.0, 0.0),
+        opacity: float = 0.93,
+        noise: float = 0.04,
+        emissive: bool = False,
+        texture: float = 0.22,
+    ):
         self.color = color
         self.emissive = emissive
         self.texture = 0.0 if emissive else texture
@@ -234,8 +251,9 @@ class RoundedBox(Part):
             nu = max(2, math.ceil(2 * self.radii[u_axis] / h))
             nv = max(2, math.ceil(2 * self.radii[v_axis] / h))
             du, dv = 2 * self.radii[u_axis] / nu, 2 * self.radii[v_axis] / nv
-            uu, vv = np.meshgrid((np.arange(nu) + 0.5) * du - self.radii[u_axis],
-                                 (np.arange(nv) + 0.5) * dv - self.radii[v_axis], indexing="ij")  # fmt: skip
+            uu, vv = np.meshgrid(
+                (np.arange(nu) + 0.5) * du - self.radii[u_axis], (np.arange(nv) + 0.5) * dv - self.radii[v_axis], indexing="ij"
+            )
             for sign in (-1.0, 1.0):
                 q = np.zeros((nu * nv, 3))
                 q[:, u_axis], q[:, v_axis] = uu.ravel(), vv.ravel()
@@ -255,8 +273,14 @@ class RoundedBox(Part):
                 ns.append(normal)
                 s1s.append(np.maximum(np.linalg.norm(ju, axis=1), 1e-6))
                 s2s.append(np.maximum(np.abs(np.sum(jv * t2, 1)), np.linalg.norm(jv, axis=1) * 0.5))
-        return Samples(np.concatenate(pts), np.concatenate(t1s), np.concatenate(t2s), np.concatenate(ns),
-                       np.concatenate(s1s), np.concatenate(s2s))  # fmt: skip
+        return Samples(
+            np.concatenate(pts),
+            np.concatenate(t1s),
+            np.concatenate(t2s),
+            np.concatenate(ns),
+            np.concatenate(s1s),
+            np.concatenate(s2s),
+        )
 
 
 class Box(Part):
@@ -278,8 +302,9 @@ class Box(Part):
             nu = max(1, round(2 * self.half[u_axis] / h))
             nv = max(1, round(2 * self.half[v_axis] / h))
             du, dv = 2 * self.half[u_axis] / nu, 2 * self.half[v_axis] / nv
-            uu, vv = np.meshgrid((np.arange(nu) + 0.5) * du - self.half[u_axis],
-                                 (np.arange(nv) + 0.5) * dv - self.half[v_axis], indexing="ij")  # fmt: skip
+            uu, vv = np.meshgrid(
+                (np.arange(nu) + 0.5) * du - self.half[u_axis], (np.arange(nv) + 0.5) * dv - self.half[v_axis], indexing="ij"
+            )
             k = nu * nv
             p = np.zeros((k, 3))
             p[:, u_axis] = uu.ravel() + rng.uniform(-0.15, 0.15, k) * du
@@ -295,8 +320,14 @@ class Box(Part):
             ns.append(normal)
             s1s.append(np.full(k, du))
             s2s.append(np.full(k, dv))
-        return Samples(np.concatenate(pts), np.concatenate(t1s), np.concatenate(t2s), np.concatenate(ns),
-                       np.concatenate(s1s), np.concatenate(s2s))  # fmt: skip
+        return Samples(
+            np.concatenate(pts),
+            np.concatenate(t1s),
+            np.concatenate(t2s),
+            np.concatenate(ns),
+            np.concatenate(s1s),
+            np.concatenate(s2s),
+        )
 
 
 class Lathe(Part):
@@ -341,8 +372,9 @@ def _disk_samples(radius: float, h: float, inner: float = 0.0, facing: float = 1
     count = max(1, math.ceil((radius - inner) / h))
     dr = (radius - inner) / count
     r = inner + (np.arange(count) + 0.5) * dr
-    return _ring_samples(r, np.zeros(count), np.full(count, -facing), np.zeros(count), h, np.full(count, dr),
-                         (np.arange(count) * _GOLDEN) % 1.0)  # fmt: skip
+    return _ring_samples(
+        r, np.zeros(count), np.full(count, -facing), np.zeros(count), h, np.full(count, dr), (np.arange(count) * _GOLDEN) % 1.0
+    )
 
 
 class Disk(Part):
@@ -390,8 +422,14 @@ class Tube(Part):
             t2s.append(np.broadcast_to(T, (around, 3)))
             ns.append(radial)
         n = count * around
-        return Samples(np.concatenate(pts), np.concatenate(t1s), np.concatenate(t2s).copy(), np.concatenate(ns),
-                       np.full(n, 2.0 * math.pi * self.radius / around), np.full(n, ds))  # fmt: skip
+        return Samples(
+            np.concatenate(pts),
+            np.concatenate(t1s),
+            np.concatenate(t2s).copy(),
+            np.concatenate(ns),
+            np.full(n, 2.0 * math.pi * self.radius / around),
+            np.full(n, ds),
+        )
 
 
 # --- building ------------------------------------------------------------------------------------
@@ -456,7 +494,7 @@ class ObjectGaussians:
     def __len__(self) -> int:
         return len(self.means)
 
-    def scaled(self, factor: float) -> "ObjectGaussians":
+    def scaled(self, factor: float) -> ObjectGaussians:
         return dataclasses.replace(self, means=self.means * factor, scales=self.scales * factor)
 
     def lit(self, light=None) -> np.ndarray:
@@ -511,8 +549,7 @@ class ShapeBuilder:
 
     def cylinder(self, base, radius, height, color, axis=(0.0, 0.0, 1.0), caps: bool = True, **kw):
         R = rotation_from_z(axis)
-        return self.add(Lathe([0.0, height], [radius, radius], color, cap_start=caps, cap_end=caps,
-                              rot=R, center=base, **kw))  # fmt: skip
+        return self.add(Lathe([0.0, height], [radius, radius], color, cap_start=caps, cap_end=caps, rot=R, center=base, **kw))
 
     def disk(self, center, radius, color, normal=(0.0, 0.0, 1.0), **kw):
         return self.add(Disk(radius, color, rot=rotation_from_z(normal), center=center, **kw))
@@ -546,8 +583,7 @@ class ShapeBuilder:
             sn = np.maximum(NORMAL_PER_SPACING * np.minimum(samples.s1, samples.s2), 1e-5)
             scales = np.stack([s1, s2, sn], 1)
             opac = np.clip(part.opacity + rng.uniform(-0.04, 0.04, k), 0.05, 0.995)
-            chunks.append((samples.points, R, scales, opac, rgb, np.full(k, part.feature), normal,
-                           np.full(k, part.emissive)))  # fmt: skip
+            chunks.append((samples.points, R, scales, opac, rgb, np.full(k, part.feature), normal, np.full(k, part.emissive)))
         means = np.concatenate([c[0] for c in chunks])
         R = np.concatenate([c[1] for c in chunks])
         quats = rotmat_to_quat(torch.from_numpy(R)).numpy()
@@ -627,8 +663,9 @@ def _seat_furniture(b: ShapeBuilder, fabric: np.ndarray, rng, width: float, seat
     for k in range(seats):
         y = -inner + (k + 0.5) * w
         b.rounded_box((0.06, y, 0.405), (0.32, w / 2 - 0.01, 0.055), cushion, power=6, feature=True)
-        b.rounded_box((-depth / 2 + 0.24, y, 0.62), (0.05, w / 2 - 0.015, 0.19), cushion, power=6,
-                      feature=True, rot=rotation_y(-0.18))  # fmt: skip
+        b.rounded_box(
+            (-depth / 2 + 0.24, y, 0.62), (0.05, w / 2 - 0.015, 0.19), cushion, power=6, feature=True, rot=rotation_y(-0.18)
+        )
 
 
 def _armchair(b, fabric, rng):
@@ -656,8 +693,12 @@ def _coffee_table(b, wood, rng):
     b.box((0.0, 0.0, 0.12), (length / 2 - 0.06, width / 2 - 0.06, 0.012), _wood_grain(shade(wood, 0.9)))
     for sx in (-1.0, 1.0):
         for sy in (-1.0, 1.0):
-            b.box((sx * (length / 2 - 0.05), sy * (width / 2 - 0.05), (height - 0.05) / 2),
-                  (0.025, 0.025, (height - 0.05) / 2), shade(wood, 0.8), faces="+x -x +y -y")  # fmt: skip
+            b.box(
+                (sx * (length / 2 - 0.05), sy * (width / 2 - 0.05), (height - 0.05) / 2),
+                (0.025, 0.025, (height - 0.05) / 2),
+                shade(wood, 0.8),
+                faces="+x -x +y -y",
+            )
 
 
 def _floor_lamp(b, shade_color, rng):
@@ -695,10 +736,12 @@ def _television(b, frame, rng):
     zc = bottom + height / 2
     b.box((0.0, 0.0, zc), (0.03, width / 2, height / 2), frame, faces="-x +y -y +z -z")
     border = 0.03
-    for y, half_y, z, half_z in ((0.0, width / 2, zc + height / 2 - border / 2, border / 2),
-                                 (0.0, width / 2, zc - height / 2 + border / 2, border / 2),
-                                 (width / 2 - border / 2, border / 2, zc, height / 2 - border),
-                                 (-width / 2 + border / 2, border / 2, zc, height / 2 - border)):  # bezel
+    for y, half_y, z, half_z in (
+        (0.0, width / 2, zc + height / 2 - border / 2, border / 2),
+        (0.0, width / 2, zc - height / 2 + border / 2, border / 2),
+        (width / 2 - border / 2, border / 2, zc, height / 2 - border),
+        (-width / 2 + border / 2, border / 2, zc, height / 2 - border),
+    ):  # bezel
         b.box((0.03, y, z), (0.0005, half_y, half_z), frame, faces="+x", min_count=20)
     b.box((-0.07, 0.0, zc - 0.03), (0.045, width * 0.3, height * 0.3), shade(frame, 0.85), faces="-x +y -y +z -z")
     b.box((-0.02, 0.0, bottom / 2 + 0.02), (0.025, 0.05, bottom / 2), shade(frame, 0.9))  # neck
@@ -717,8 +760,7 @@ def _television(b, frame, rng):
         out[house] = (1.0, 0.35, 0.3)
         return out
 
-    b.box((0.03, 0.0, zc), (0.0005, sw, sh), picture, faces="+x", feature=True, detail=0.7, noise=0.01,
-          emissive=True)
+    b.box((0.03, 0.0, zc), (0.0005, sw, sh), picture, faces="+x", feature=True, detail=0.7, noise=0.01, emissive=True)
 
 
 def _potted_plant(b, pot, rng):
@@ -733,8 +775,9 @@ def _potted_plant(b, pot, rng):
         d = np.array([math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el)])
         green = np.array([0.16, 0.45 + rng.uniform(-0.08, 0.1), 0.16 + rng.uniform(0.0, 0.08)])
         R = rotation_z(az) @ rotation_y(-el)  # leaf x-axis along d
-        b.ellipsoid(np.array([0.0, 0.0, base_z]) + d * length * 0.55, (length / 2, length * 0.16, 0.006), green,
-                    rot=R, detail=0.8)  # fmt: skip
+        b.ellipsoid(
+            np.array([0.0, 0.0, base_z]) + d * length * 0.55, (length / 2, length * 0.16, 0.006), green, rot=R, detail=0.8
+        )
     b.tube([(0.0, 0.0, 0.2), (0.0, 0.0, 0.42)], 0.01, (0.2, 0.35, 0.15))
 
 
@@ -759,15 +802,23 @@ def _toy_car(b, paint, rng):
         for x in (-0.08, 0.08):
             b.cylinder((x, side * 0.055, 0.03), 0.03, 0.022, black, axis=(0.0, side, 0.0))
             b.disk((x, side * 0.0775, 0.03), 0.016, (0.75, 0.75, 0.78), normal=(0.0, side, 0.0), noise=0.0)
-        b.ellipsoid((0.128, side * 0.038, 0.064), (0.008, 0.014, 0.011), (1.0, 0.97, 0.7), feature=True, noise=0.0,
-                   emissive=True)
+        b.ellipsoid((0.128, side * 0.038, 0.064), (0.008, 0.014, 0.011), (1.0, 0.97, 0.7), feature=True, noise=0.0, emissive=True)
         b.ellipsoid((-0.129, side * 0.04, 0.066), (0.006, 0.014, 0.008), (0.95, 0.08, 0.06), noise=0.0, emissive=True)
     b.box((0.131, 0.0, 0.05), (0.002, 0.022, 0.012), (0.15, 0.15, 0.17), faces="+x", feature=True)  # grille
     b.box((0.131, 0.0, 0.033), (0.003, 0.06, 0.006), (0.8, 0.8, 0.82), faces="+x +z", feature=True)  # bumper
 
 
-_BOOK_COLORS = ((0.75, 0.15, 0.12), (0.12, 0.3, 0.65), (0.15, 0.5, 0.25), (0.9, 0.75, 0.2), (0.92, 0.9, 0.85),
-                (0.45, 0.2, 0.5), (0.9, 0.45, 0.15), (0.1, 0.1, 0.1), (0.2, 0.6, 0.7))  # fmt: skip
+_BOOK_COLORS = (
+    (0.75, 0.15, 0.12),
+    (0.12, 0.3, 0.65),
+    (0.15, 0.5, 0.25),
+    (0.9, 0.75, 0.2),
+    (0.92, 0.9, 0.85),
+    (0.45, 0.2, 0.5),
+    (0.9, 0.45, 0.15),
+    (0.1, 0.1, 0.1),
+    (0.2, 0.6, 0.7),
+)
 
 
 def _bookshelf(b, wood, rng):
@@ -792,8 +843,15 @@ def _bookshelf(b, wood, rng):
             bh = gap * rng.uniform(0.62, 0.86)
             bd = rng.uniform(0.19, 0.25)
             color = np.array(_BOOK_COLORS[int(rng.integers(len(_BOOK_COLORS)))]) * rng.uniform(0.8, 1.1)
-            b.box((hd - 0.04 - bd / 2, y + bw / 2, k * gap + t + bh / 2), (bd / 2, bw / 2 - 0.001, bh / 2),
-                  np.clip(color, 0, 1), faces="+x +z +y -y", feature=True, detail=0.6, min_count=1)  # fmt: skip
+            b.box(
+                (hd - 0.04 - bd / 2, y + bw / 2, k * gap + t + bh / 2),
+                (bd / 2, bw / 2 - 0.001, bh / 2),
+                np.clip(color, 0, 1),
+                faces="+x +z +y -y",
+                feature=True,
+                detail=0.6,
+                min_count=1,
+            )
             y += bw
 
 
@@ -803,7 +861,7 @@ def _refrigerator(b, color, rng):
     steel = (0.55, 0.56, 0.58)
 
     def coils(p, part):
-        lines = (np.floor(p[:, 2] / 0.05) % 2 == 0)
+        lines = np.floor(p[:, 2] / 0.05) % 2 == 0
         return np.where(lines[:, None], np.array([[0.12, 0.12, 0.12]]), np.array([[0.3, 0.3, 0.3]]))
 
     b.box((0.0, 0.0, height / 2), (hd, hw, height / 2), color, faces="+y -y +z")
@@ -812,14 +870,22 @@ def _refrigerator(b, color, rng):
     b.box((hd, 0.0, height / 2), (0.001, hw, height / 2), (0.12, 0.12, 0.13), faces="+x", detail=1.5)  # seams
     split = 1.15
     door = shade(color, 1.04)
-    b.box((hd + 0.02, 0.0, (split + height) / 2 + 0.005), (0.02, hw - 0.006, (height - split) / 2 - 0.012), door,
-          faces="+x +y -y +z -z", feature=True)  # fmt: skip
-    b.box((hd + 0.02, 0.0, split / 2 + 0.02), (0.02, hw - 0.006, split / 2 - 0.028), door,
-          faces="+x +y -y +z -z", feature=True)  # fmt: skip
+    b.box(
+        (hd + 0.02, 0.0, (split + height) / 2 + 0.005),
+        (0.02, hw - 0.006, (height - split) / 2 - 0.012),
+        door,
+        faces="+x +y -y +z -z",
+        feature=True,
+    )
+    b.box((hd + 0.02, 0.0, split / 2 + 0.02), (0.02, hw - 0.006, split / 2 - 0.028), door, faces="+x +y -y +z -z", feature=True)
     y = hw - 0.07
     for z0, z1 in ((split + 0.08, split + 0.4), (split - 0.45, split - 0.06)):
-        b.tube([(hd + 0.04, y, z0), (hd + 0.085, y, z0 + 0.02), (hd + 0.085, y, z1 - 0.02), (hd + 0.04, y, z1)],
-               0.013, steel, feature=True)  # fmt: skip
+        b.tube(
+            [(hd + 0.04, y, z0), (hd + 0.085, y, z0 + 0.02), (hd + 0.085, y, z1 - 0.02), (hd + 0.04, y, z1)],
+            0.013,
+            steel,
+            feature=True,
+        )
     b.box((hd + 0.041, -hw + 0.12, height - 0.12), (0.001, 0.06, 0.02), (0.2, 0.2, 0.22), faces="+x", feature=True)
 
 
@@ -828,7 +894,7 @@ def _cushion(b, color, rng):
     base = _rgb(color)
 
     def stripes(p, part):
-        s = (np.floor((p[:, 0] + p[:, 1]) / 0.05) % 2 == 0)
+        s = np.floor((p[:, 0] + p[:, 1]) / 0.05) % 2 == 0
         return np.where(s[:, None], base[None], stripe[None])
 
     b.rounded_box((0.0, 0.0, 0.065), (0.2, 0.2, 0.065), stripes, power=4)
@@ -856,8 +922,7 @@ def _bench(b, wood, rng):
     for k in range(3):
         b.box((0.16 - k * 0.11, 0.0, 0.44), (0.05, length / 2, 0.015), _wood_grain(wood), feature=True)
     for k in range(3):
-        b.box((-0.22, 0.0, 0.58 + k * 0.12), (0.012, length / 2, 0.05), _wood_grain(shade(wood, 0.95)),
-              rot=rotation_y(-0.12))  # fmt: skip
+        b.box((-0.22, 0.0, 0.58 + k * 0.12), (0.012, length / 2, 0.05), _wood_grain(shade(wood, 0.95)), rot=rotation_y(-0.12))
     for y in (-length / 2 + 0.08, length / 2 - 0.08):
         b.box((0.12, y, 0.22), (0.025, 0.02, 0.22), metal, faces="+x -x +y -y")
         b.box((-0.2, y, 0.45), (0.025, 0.02, 0.45), metal, faces="+x -x +y -y")
@@ -892,44 +957,108 @@ def _traffic_cone(b, color, rng):
 CATALOG: dict[str, ObjectSpec] = {
     spec.name: spec
     for spec in (
-        ObjectSpec("teddy bear", ("teddy", "stuffed bear", "bear", "plush bear", "stuffed animal"), False,
-                   ("brown", "tan", "cream", "pink", "grey", "white"), 3000, _teddy_bear,
-                   front_description="face with eyes and snout"),
-        ObjectSpec("armchair", ("chair", "easy chair", "lounge chair"), False,
-                   ("red", "blue", "green", "grey", "brown", "mustard", "teal", "navy"), 3000, _armchair,
-                   front_description="seat opening with cushions"),
-        ObjectSpec("sofa", ("couch", "settee"), False,
-                   ("red", "blue", "green", "grey", "brown", "mustard", "teal", "navy", "beige"), 4000, _sofa,
-                   front_description="seat opening with cushions"),
-        ObjectSpec("coffee table", ("table", "low table"), True, ("brown", "tan", "white", "grey"), 2000,
-                   _coffee_table),
-        ObjectSpec("floor lamp", ("lamp", "standing lamp"), True, ("white", "cream", "red", "blue", "green", "black"),
-                   1800, _floor_lamp),
-        ObjectSpec("ball", ("beach ball", "toy ball"), True, ("red", "blue", "green", "yellow", "orange", "purple"),
-                   1500, _ball),
-        ObjectSpec("television", ("tv", "television set", "tv set", "screen"), False, ("black", "grey", "white"),
-                   3000, _television, wall=True, front_description="bright screen"),
-        ObjectSpec("potted plant", ("plant", "houseplant", "pot plant"), True,
-                   ("terracotta", "white", "blue", "grey", "black"), 3000, _potted_plant),
-        ObjectSpec("mug", ("cup", "coffee mug", "coffee cup"), True,
-                   ("white", "red", "blue", "yellow", "green"), 1500, _mug),
-        ObjectSpec("toy car", ("car", "model car", "toy vehicle"), False,
-                   ("blue", "yellow", "green", "orange", "white", "purple"), 2500, _toy_car,
-                   front_description="headlights and windscreen (red tail lights at the back)"),
-        ObjectSpec("bookshelf", ("bookcase", "shelf", "book shelf"), False, ("brown", "tan", "white", "grey"), 8000,
-                   _bookshelf, wall=True, front_description="shelf openings with coloured books"),
-        ObjectSpec("refrigerator", ("fridge", "icebox"), False, ("white", "silver", "cream", "red"), 3500,
-                   _refrigerator, wall=True, front_description="doors with handles"),
-        ObjectSpec("cushion", ("pillow", "throw pillow"), True,
-                   ("red", "blue", "green", "yellow", "orange", "purple", "pink", "teal"), 1500, _cushion),
-        ObjectSpec("vase", ("flower vase",), True, ("blue", "white", "red", "green", "black", "terracotta"),
-                   1500, _vase),
-        ObjectSpec("bench", ("park bench", "garden bench"), False, ("brown", "tan", "green"), 3000, _bench,
-                   front_description="seat slats (backrest at the back)"),
+        ObjectSpec(
+            "teddy bear",
+            ("teddy", "stuffed bear", "bear", "plush bear", "stuffed animal"),
+            False,
+            ("brown", "tan", "cream", "pink", "grey", "white"),
+            3000,
+            _teddy_bear,
+            front_description="face with eyes and snout",
+        ),
+        ObjectSpec(
+            "armchair",
+            ("chair", "easy chair", "lounge chair"),
+            False,
+            ("red", "blue", "green", "grey", "brown", "mustard", "teal", "navy"),
+            3000,
+            _armchair,
+            front_description="seat opening with cushions",
+        ),
+        ObjectSpec(
+            "sofa",
+            ("couch", "settee"),
+            False,
+            ("red", "blue", "green", "grey", "brown", "mustard", "teal", "navy", "beige"),
+            4000,
+            _sofa,
+            front_description="seat opening with cushions",
+        ),
+        ObjectSpec("coffee table", ("table", "low table"), True, ("brown", "tan", "white", "grey"), 2000, _coffee_table),
+        ObjectSpec(
+            "floor lamp", ("lamp", "standing lamp"), True, ("white", "cream", "red", "blue", "green", "black"), 1800, _floor_lamp
+        ),
+        ObjectSpec("ball", ("beach ball", "toy ball"), True, ("red", "blue", "green", "yellow", "orange", "purple"), 1500, _ball),
+        ObjectSpec(
+            "television",
+            ("tv", "television set", "tv set", "screen"),
+            False,
+            ("black", "grey", "white"),
+            3000,
+            _television,
+            wall=True,
+            front_description="bright screen",
+        ),
+        ObjectSpec(
+            "potted plant",
+            ("plant", "houseplant", "pot plant"),
+            True,
+            ("terracotta", "white", "blue", "grey", "black"),
+            3000,
+            _potted_plant,
+        ),
+        ObjectSpec("mug", ("cup", "coffee mug", "coffee cup"), True, ("white", "red", "blue", "yellow", "green"), 1500, _mug),
+        ObjectSpec(
+            "toy car",
+            ("car", "model car", "toy vehicle"),
+            False,
+            ("blue", "yellow", "green", "orange", "white", "purple"),
+            2500,
+            _toy_car,
+            front_description="headlights and windscreen (red tail lights at the back)",
+        ),
+        ObjectSpec(
+            "bookshelf",
+            ("bookcase", "shelf", "book shelf"),
+            False,
+            ("brown", "tan", "white", "grey"),
+            8000,
+            _bookshelf,
+            wall=True,
+            front_description="shelf openings with coloured books",
+        ),
+        ObjectSpec(
+            "refrigerator",
+            ("fridge", "icebox"),
+            False,
+            ("white", "silver", "cream", "red"),
+            3500,
+            _refrigerator,
+            wall=True,
+            front_description="doors with handles",
+        ),
+        ObjectSpec(
+            "cushion",
+            ("pillow", "throw pillow"),
+            True,
+            ("red", "blue", "green", "yellow", "orange", "purple", "pink", "teal"),
+            1500,
+            _cushion,
+        ),
+        ObjectSpec("vase", ("flower vase",), True, ("blue", "white", "red", "green", "black", "terracotta"), 1500, _vase),
+        ObjectSpec(
+            "bench",
+            ("park bench", "garden bench"),
+            False,
+            ("brown", "tan", "green"),
+            3000,
+            _bench,
+            front_description="seat slats (backrest at the back)",
+        ),
         ObjectSpec("tree", ("small tree",), True, ("green",), 4000, _tree),
         ObjectSpec("traffic cone", ("cone", "safety cone"), True, ("orange", "yellow"), 1500, _traffic_cone),
     )
-}  # fmt: skip
+}
 
 
 def catalog_names() -> list[str]:
@@ -962,8 +1091,9 @@ def resolve_names(names: list[str]) -> list[ObjectSpec]:
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise InputError(f"unknown object {name!r}{hint} The catalog has: {', '.join(catalog_names())}")
         if spec in specs:
-            raise InputError(f"object {spec.name!r} is listed twice; scene objects are matched by name, so each "
-                             "catalog object may appear once")  # fmt: skip
+            raise InputError(
+                f"object {spec.name!r} is listed twice; scene objects are matched by name, so each catalog object may appear once"
+            )
         specs.append(spec)
     return specs
 
@@ -997,8 +1127,15 @@ class BuiltObject:
         return self.spec.name
 
 
-def build_object(name: str, *, rng: np.random.Generator | None = None, seed: int = 0, density: float = 1.0,
-                 color: str | None = None, size: float = 1.0) -> BuiltObject:
+def build_object(
+    name: str,
+    *,
+    rng: np.random.Generator | None = None,
+    seed: int = 0,
+    density: float = 1.0,
+    color: str | None = None,
+    size: float = 1.0,
+) -> BuiltObject:
     """Build one instance of the catalog object ``name`` (or alias).
 
     Args:
@@ -1042,6 +1179,18 @@ def build_object(name: str, *, rng: np.random.Generator | None = None, seed: int
 
 
 __all__ = [
-    "CATALOG", "COLORS", "LIGHT_DIRECTION", "ObjectSpec", "ObjectGaussians", "BuiltObject", "ShapeBuilder",
-    "build_object", "catalog_names", "lookup", "resolve_names", "bake_lighting", "material_noise", "lattice_hash",
-]  # fmt: skip
+    "CATALOG",
+    "COLORS",
+    "LIGHT_DIRECTION",
+    "ObjectSpec",
+    "ObjectGaussians",
+    "BuiltObject",
+    "ShapeBuilder",
+    "build_object",
+    "catalog_names",
+    "lookup",
+    "resolve_names",
+    "bake_lighting",
+    "material_noise",
+    "lattice_hash",
+]

@@ -17,8 +17,20 @@ from ..errors import InputError
 from .generator import CAPTURES, PRESETS, parse_resolution
 from .objects import resolve_names
 
-_REQUIRED = ("id", "group", "seed", "preset", "capture", "views", "scale", "tilt", "poses", "resolution", "density",
-             "instructions")  # fmt: skip
+_REQUIRED = (
+    "id",
+    "group",
+    "seed",
+    "preset",
+    "capture",
+    "views",
+    "scale",
+    "tilt",
+    "poses",
+    "resolution",
+    "density",
+    "instructions",
+)
 _OPTIONAL = ("objects",)
 
 
@@ -42,15 +54,39 @@ class SuiteScene:
 
     def generate_kwargs(self) -> dict:
         """Keyword arguments for :func:`~capframe.synth.generator.generate_scene`."""
-        return dict(seed=self.seed, objects=None if self.objects is None else list(self.objects), preset=self.preset,
-                    capture=self.capture, views=self.views, scale=self.scale, tilt_deg=self.tilt, poses=self.poses,
-                    resolution=self.resolution, density=self.density)  # fmt: skip
+        return dict(
+            seed=self.seed,
+            objects=None if self.objects is None else list(self.objects),
+            preset=self.preset,
+            capture=self.capture,
+            views=self.views,
+            scale=self.scale,
+            tilt_deg=self.tilt,
+            poses=self.poses,
+            resolution=self.resolution,
+            density=self.density,
+        )
 
     def synth_args(self) -> list[str]:
         """The same as ``capframe synth`` arguments (after the output folder)."""
-        args = ["--seed", str(self.seed), "--preset", self.preset, "--capture", self.capture,
-                "--views", str(self.views), "--scale", repr(self.scale), "--tilt", repr(self.tilt),
-                "--resolution", f"{self.resolution[0]}x{self.resolution[1]}", "--density", repr(self.density)]  # fmt: skip
+        args = [
+            "--seed",
+            str(self.seed),
+            "--preset",
+            self.preset,
+            "--capture",
+            self.capture,
+            "--views",
+            str(self.views),
+            "--scale",
+            repr(self.scale),
+            "--tilt",
+            repr(self.tilt),
+            "--resolution",
+            f"{self.resolution[0]}x{self.resolution[1]}",
+            "--density",
+            repr(self.density),
+        ]
         if self.objects is not None:
             args += ["--objects", ",".join(self.objects)]
         if not self.poses:
@@ -61,8 +97,9 @@ class SuiteScene:
 def _number(entry: dict, key: str, kind, source: str, what: str, positive: bool = False):
     value = entry[key]
     if isinstance(value, bool) or not isinstance(value, (int, float)) or (kind is int and not isinstance(value, int)):
-        raise InputError(f"{what}: '{key}' is {value!r}; expected {'a whole number' if kind is int else 'a number'}",
-                         source=source)  # fmt: skip
+        raise InputError(
+            f"{what}: '{key}' is {value!r}; expected {'a whole number' if kind is int else 'a number'}", source=source
+        )
     if not math.isfinite(value) or (positive and value <= 0):
         raise InputError(f"{what}: '{key}' is {value!r}; expected a positive finite number", source=source)
     return kind(value)
@@ -93,8 +130,10 @@ def load_suite(path: str | Path) -> tuple[str, list[SuiteScene]]:
             raise InputError(f"{what}: duplicate id", source=source)
         seen.add(entry["id"])
         if entry["preset"] not in PRESETS or entry["capture"] not in CAPTURES:
-            raise InputError(f"{what}: preset {entry['preset']!r} / capture {entry['capture']!r}; expected one of "
-                             f"{PRESETS} / {CAPTURES}", source=source)  # fmt: skip
+            raise InputError(
+                f"{what}: preset {entry['preset']!r} / capture {entry['capture']!r}; expected one of {PRESETS} / {CAPTURES}",
+                source=source,
+            )
         if not isinstance(entry["poses"], bool):
             raise InputError(f"{what}: 'poses' is {entry['poses']!r}; expected true or false", source=source)
         objects = entry.get("objects")
@@ -109,14 +148,23 @@ def load_suite(path: str | Path) -> tuple[str, list[SuiteScene]]:
             resolution = parse_resolution(entry["resolution"])
         except InputError as err:
             raise InputError(f"{what}: {err}", source=source) from None
-        scenes.append(SuiteScene(
-            id=str(entry["id"]), group=str(entry["group"]),
-            seed=_number(entry, "seed", int, source, what), preset=entry["preset"], capture=entry["capture"],
-            objects=objects, views=_number(entry, "views", int, source, what, positive=True),
-            scale=_number(entry, "scale", float, source, what, positive=True), tilt=_number(entry, "tilt", float, source, what),
-            poses=entry["poses"], resolution=resolution, density=_number(entry, "density", float, source, what, positive=True),
-            instructions=_number(entry, "instructions", int, source, what, positive=True),
-        ))  # fmt: skip
+        scenes.append(
+            SuiteScene(
+                id=str(entry["id"]),
+                group=str(entry["group"]),
+                seed=_number(entry, "seed", int, source, what),
+                preset=entry["preset"],
+                capture=entry["capture"],
+                objects=objects,
+                views=_number(entry, "views", int, source, what, positive=True),
+                scale=_number(entry, "scale", float, source, what, positive=True),
+                tilt=_number(entry, "tilt", float, source, what),
+                poses=entry["poses"],
+                resolution=resolution,
+                density=_number(entry, "density", float, source, what, positive=True),
+                instructions=_number(entry, "instructions", int, source, what, positive=True),
+            )
+        )
     return str(data.get("suite", Path(path).stem)), scenes
 
 

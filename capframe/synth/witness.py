@@ -82,8 +82,6 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / np.linalg.norm(v)
 
 
-
-
 def look_at_np(eye: np.ndarray, target: np.ndarray, up: np.ndarray, roll: float = 0.0) -> np.ndarray:
     """NumPy twin of :func:`capframe.geometry.look_at` (same convention, ``roll`` in radians)."""
     forward = _unit(target - eye)
@@ -151,10 +149,17 @@ class WitnessFinder:
             overestimate the extent of elongated objects).
     """
 
-    def __init__(self, centers: np.ndarray, radii: np.ndarray, up: np.ndarray, scale: float,
-                 intrinsics: tuple[np.ndarray, int, int] | None = None,
-                 free_space: tuple[np.ndarray, float] | None = None,
-                 room: Room | None = None, boxes: list[Box | None] | None = None):  # fmt: skip
+    def __init__(
+        self,
+        centers: np.ndarray,
+        radii: np.ndarray,
+        up: np.ndarray,
+        scale: float,
+        intrinsics: tuple[np.ndarray, int, int] | None = None,
+        free_space: tuple[np.ndarray, float] | None = None,
+        room: Room | None = None,
+        boxes: list[Box | None] | None = None,
+    ):
         self.centers = np.asarray(centers, dtype=np.float64)
         self.radii = np.asarray(radii, dtype=np.float64)
         self.up = _unit(np.asarray(up, dtype=np.float64))
@@ -190,8 +195,7 @@ class WitnessFinder:
         """The first camera of :meth:`candidates`, or None."""
         return next(self.candidates(constraints, subjects, fronts), None)
 
-    def candidates(self, constraints: Constraints, subjects: list[int],
-                   fronts: list[np.ndarray | None]) -> Iterator[Camera]:  # fmt: skip
+    def candidates(self, constraints: Constraints, subjects: list[int], fronts: list[np.ndarray | None]) -> Iterator[Camera]:
         """Cameras satisfying ``constraints`` on the proxies, the preferred first.
 
         ``subjects`` are the object indices of ``constraints.subjects`` (same order, primary
@@ -297,7 +301,7 @@ class WitnessFinder:
         if c.roll_deg is not None and abs(T[2, :3] @ up) > math.cos(math.radians(ROLL_MIN_TILT_DEG)):
             return False
         W, H = self.width, self.height
-        for k, (sc, index) in enumerate(zip(c.subjects, subjects)):
+        for sc, index in zip(c.subjects, subjects):
             q = T[:3, :3] @ self.centers[index] + T[:3, 3]
             if q[2] < 1.05 * self.radii[index]:
                 return False  # not entirely in front of the camera
@@ -317,8 +321,11 @@ class WitnessFinder:
                     return False
             if sc.shot is not None:
                 lo, hi = SHOT_SIZES[sc.shot]
-                extent = self._box_extent(T, index) if self.boxes[index] is not None else (
-                    max(np.ptp(inside[:, 0]) / W, np.ptp(inside[:, 1]) / H))  # fmt: skip
+                extent = (
+                    self._box_extent(T, index)
+                    if self.boxes[index] is not None
+                    else (max(np.ptp(inside[:, 0]) / W, np.ptp(inside[:, 1]) / H))
+                )
                 if extent is None:
                     return False
                 if not SHOT_LOW_FACTOR * lo + SHOT_MARGIN <= extent <= hi - SHOT_MARGIN:
@@ -333,4 +340,3 @@ class WitnessFinder:
                 if overlap > MAX_OCCLUDED * math.pi * radius * radius:
                     return False
         return True
-

@@ -113,13 +113,19 @@ def knn_members(points: np.ndarray, means: torch.Tensor, k: int = KNN_NEIGHBOURS
     hit = torch.zeros(len(means64), dtype=torch.bool)
     pts = torch.as_tensor(points, dtype=torch.float64)
     for start in range(0, len(pts), _CHUNK):
-        d, idx = torch.cdist(pts[start:start + _CHUNK], means64).topk(min(k, len(means64)), largest=False)
+        d, idx = torch.cdist(pts[start : start + _CHUNK], means64).topk(min(k, len(means64)), largest=False)
         hit[idx[d <= radius]] = True
     return torch.nonzero(hit)[:, 0].numpy()
 
 
-def ground_by_masks(name: str, masks: list[np.ndarray], depths: list[np.ndarray], cameras: list[Camera], means: torch.Tensor,
-                    front: np.ndarray | None = None) -> Grounding:  # fmt: skip
+def ground_by_masks(
+    name: str,
+    masks: list[np.ndarray],
+    depths: list[np.ndarray],
+    cameras: list[Camera],
+    means: torch.Tensor,
+    front: np.ndarray | None = None,
+) -> Grounding:
     """The subject's Gaussians from its 2D masks in some views: back-projection + KNN.
 
     Args:

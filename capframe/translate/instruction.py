@@ -84,19 +84,29 @@ class ParsedInstruction:
         for subject, out in zip(self.subjects, data["subjects"]):
             region, box, extent = layout_boxes(subject.region, subject.shot)
             out["layout"] = {"region": _listed(region), "box": _listed(box), "extent": _listed(extent)}
-            out["view_offsets_deg"] = {"azimuth": list(VIEW_SIDES[subject.view]) if subject.view and not subject.symmetric else None}
+            out["view_offsets_deg"] = {
+                "azimuth": list(VIEW_SIDES[subject.view]) if subject.view and not subject.symmetric else None
+            }
         data["elevation_range_deg"] = _listed(self.constraints().elevation_range())
         return data
 
     @classmethod
-    def from_dict(cls, data: dict, source: str | None = None) -> "ParsedInstruction":
+    def from_dict(cls, data: dict, source: str | None = None) -> ParsedInstruction:
         """Inverse of :meth:`to_dict` (derived fields are ignored); :class:`InputError` for bad input."""
         try:
             subjects = [ParsedSubject(**{k: s[k] for k in _SUBJECT_KEYS if k in s}) for s in data["subjects"]]
-            return cls(str(data["text"]), subjects, data.get("elevation"), data.get("elevation_deg"), data.get("roll_deg"),
-                       list(data.get("unparsed", [])))
+            return cls(
+                str(data["text"]),
+                subjects,
+                data.get("elevation"),
+                data.get("elevation_deg"),
+                data.get("roll_deg"),
+                list(data.get("unparsed", [])),
+            )
         except (KeyError, TypeError) as err:
-            raise InputError(f"malformed parsed instruction ({err!r}); expected the fields of JSON_SCHEMA", source=source) from None
+            raise InputError(
+                f"malformed parsed instruction ({err!r}); expected the fields of JSON_SCHEMA", source=source
+            ) from None
 
 
 _SUBJECT_KEYS = ("mention", "name", "role", "symmetric", "region", "shot", "view")

@@ -150,8 +150,9 @@ def min_in_frame_share(extent: tuple[float, float] | None) -> float:
     return min_in_frame_fraction("close-up" if close_up else None) + IN_FRAME_MARGIN
 
 
-def labels_from_constraints(constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]],
-                            up: np.ndarray) -> PseudoLabels:
+def labels_from_constraints(
+    constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]], up: np.ndarray
+) -> PseudoLabels:
     """Pseudo labels for parsed constraints.
 
     Args:
@@ -169,21 +170,50 @@ def labels_from_constraints(constraints: Constraints, subjects: dict[str, tuple[
         region, box, extent = layout_boxes(subject.region, subject.shot)
         # The elevation is measured around the primary subject (the first).
         view = view_target(subject.view if front is not None else None, elevation if k == 0 else None)
-        labels.append(SubjectLabel(subject.name, np.asarray(index), np.asarray(centroid, dtype=np.float64),
-                                   None if front is None else np.asarray(front, dtype=np.float64), region, box, extent, view))
+        labels.append(
+            SubjectLabel(
+                subject.name,
+                np.asarray(index),
+                np.asarray(centroid, dtype=np.float64),
+                None if front is None else np.asarray(front, dtype=np.float64),
+                region,
+                box,
+                extent,
+                view,
+            )
+        )
     return PseudoLabels(labels, np.asarray(up, dtype=np.float64), roll_deg=roll, box_angle_deg=roll)
 
 
 def _to_json(labels: PseudoLabels) -> dict:
     def subject(s: SubjectLabel) -> dict:
-        view = None if s.view is None else {"azimuths_deg": list(s.view.azimuths_deg), "azimuth_tolerance_deg": s.view.azimuth_tolerance_deg,
-                                            "elevation_range_deg": None if s.view.elevation_range_deg is None else list(s.view.elevation_range_deg)}
-        return {"name": s.name, "gaussians": s.gaussians.tolist(), "centroid": s.centroid.tolist(),
-                "front": None if s.front is None else s.front.tolist(), "region": None if s.region is None else list(s.region),
-                "box": None if s.box is None else list(s.box), "extent": None if s.extent is None else list(s.extent), "view": view}
+        view = (
+            None
+            if s.view is None
+            else {
+                "azimuths_deg": list(s.view.azimuths_deg),
+                "azimuth_tolerance_deg": s.view.azimuth_tolerance_deg,
+                "elevation_range_deg": None if s.view.elevation_range_deg is None else list(s.view.elevation_range_deg),
+            }
+        )
+        return {
+            "name": s.name,
+            "gaussians": s.gaussians.tolist(),
+            "centroid": s.centroid.tolist(),
+            "front": None if s.front is None else s.front.tolist(),
+            "region": None if s.region is None else list(s.region),
+            "box": None if s.box is None else list(s.box),
+            "extent": None if s.extent is None else list(s.extent),
+            "view": view,
+        }
 
-    return {"format": 1, "up": labels.up.tolist(), "roll_deg": labels.roll_deg, "box_angle_deg": labels.box_angle_deg,
-            "subjects": [subject(s) for s in labels.subjects]}
+    return {
+        "format": 1,
+        "up": labels.up.tolist(),
+        "roll_deg": labels.roll_deg,
+        "box_angle_deg": labels.box_angle_deg,
+        "subjects": [subject(s) for s in labels.subjects],
+    }
 
 
 def write_pseudo_labels(labels: PseudoLabels, path: str | Path) -> None:
@@ -200,14 +230,33 @@ def read_pseudo_labels(path: str | Path) -> PseudoLabels:
         subjects = []
         for s in data["subjects"]:
             v = s.get("view")
-            view = None if v is None else ViewTarget(tuple(v["azimuths_deg"]), float(v["azimuth_tolerance_deg"]),
-                                                     None if v["elevation_range_deg"] is None else tuple(v["elevation_range_deg"]))
-            subjects.append(SubjectLabel(s["name"], np.asarray(s["gaussians"], dtype=np.int64), np.asarray(s["centroid"], dtype=np.float64),
-                                         None if s["front"] is None else np.asarray(s["front"], dtype=np.float64),
-                                         None if s["region"] is None else tuple(s["region"]), None if s["box"] is None else tuple(s["box"]),
-                                         None if s["extent"] is None else tuple(s["extent"]), view))
-        return PseudoLabels(subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"]))
+            view = (
+                None
+                if v is None
+                else ViewTarget(
+                    tuple(v["azimuths_deg"]),
+                    float(v["azimuth_tolerance_deg"]),
+                    None if v["elevation_range_deg"] is None else tuple(v["elevation_range_deg"]),
+                )
+            )
+            subjects.append(
+                SubjectLabel(
+                    s["name"],
+                    np.asarray(s["gaussians"], dtype=np.int64),
+                    np.asarray(s["centroid"], dtype=np.float64),
+                    None if s["front"] is None else np.asarray(s["front"], dtype=np.float64),
+                    None if s["region"] is None else tuple(s["region"]),
+                    None if s["box"] is None else tuple(s["box"]),
+                    None if s["extent"] is None else tuple(s["extent"]),
+                    view,
+                )
+            )
+        return PseudoLabels(
+            subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"])
+        )
     except FileNotFoundError:
         raise InputError("pseudo labels not found", source=source) from None
     except (KeyError, TypeError, ValueError) as err:
-        raise InputError(f"malformed pseudo labels ({err!r}); expected the format of write_pseudo_labels", source=source) from None
+        raise InputError(
+            f"malformed pseudo labels ({err!r}); expected the format of write_pseudo_labels", source=source
+        ) from None

@@ -89,34 +89,57 @@ SHOT_TERMS = {
 }
 SHOT_ADJECTIVES = {
     "close-up": ["tight", "close", "detail", "macro", "extreme close", "very close"],
-    "medium": ["medium", "mid", "medium distance", "mid distance", "mid range", "medium range", "full", "medium full",
-               "medium wide", "medium long", "cowboy", "mid length"],
-    "wide": ["wide", "long", "distant", "extreme wide", "extreme long", "very wide", "wide angle", "establishing",
-             "far"],
-}  # fmt: skip
+    "medium": [
+        "medium",
+        "mid",
+        "medium distance",
+        "mid distance",
+        "mid range",
+        "medium range",
+        "full",
+        "medium full",
+        "medium wide",
+        "medium long",
+        "cowboy",
+        "mid length",
+    ],
+    "wide": ["wide", "long", "distant", "extreme wide", "extreme long", "very wide", "wide angle", "establishing", "far"],
+}
 # Shot sizes said after the subject ("the bear, filling the frame").
 SHOT_CLAUSES = {
     "close-up": [
         "(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?the (whole |entire )?{FRAME}",
-        "(shot|seen|photographed|taken|framed) (up )?close( up)?", "(from )?up close", "(from )?close up",
-        "(framed|cropped) (very )?(tightly|tight)", "(tightly|tight) (framed|cropped)", "(large|big|huge) in (the )?{FRAME}",
-        "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}", "dominating the {FRAME}",
-        "zoomed in( on {obj})?", "(from )?(very )?close (by|to {obj})",
+        "(shot|seen|photographed|taken|framed) (up )?close( up)?",
+        "(from )?up close",
+        "(from )?close up",
+        "(framed|cropped) (very )?(tightly|tight)",
+        "(tightly|tight) (framed|cropped)",
+        "(large|big|huge) in (the )?{FRAME}",
+        "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
+        "dominating the {FRAME}",
+        "zoomed in( on {obj})?",
+        "(from )?(very )?close (by|to {obj})",
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
         "((framed|shot|seen|taken) )?(at|from) (a )?(mid|medium|moderate) (distance|range)",
         "(taking up|occupying|filling) (a )?(moderate|medium) (part|portion|amount|share) of the {FRAME}",
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
-        "(medium|moderately) sized( in (the )?{FRAME})?", "neither (too )?close nor (too )?far",
+        "(medium|moderately) sized( in (the )?{FRAME})?",
+        "neither (too )?close nor (too )?far",
     ],
     "wide": [
-        "(small|tiny) in (the )?{FRAME}", "(from )?(very )?far away", "from afar", "from (a )?(long |great )?distance",
+        "(small|tiny) in (the )?{FRAME}",
+        "(from )?(very )?far away",
+        "from afar",
+        "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
-        "(with )?(lots of|plenty of) (empty |negative )?space", "zoomed out", "pulled (way )?back",
+        "(with )?(lots of|plenty of) (empty |negative )?space",
+        "zoomed out",
+        "pulled (way )?back",
     ],
-}  # fmt: skip
+}
 
 # Regions: "PREPOSITION the AREA [of the FRAME]", never followed by "of" (relations between
 # objects such as "to the left of the vase" are not regions of the frame).
@@ -126,28 +149,37 @@ REGION_AREAS = {
     "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
     "top": ["top", "top half", "upper half", "upper part", "top part", "top edge", "upper side", "top side"],
-    "bottom": ["bottom", "bottom half", "lower half", "lower part", "bottom part", "bottom edge", "lower side",
-               "bottom side"],
+    "bottom": ["bottom", "bottom half", "lower half", "lower part", "bottom part", "bottom edge", "lower side", "bottom side"],
     "left third": ["left third", "leftmost third", "first third", "left third line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right third line", "right hand third"],
     "upper left": ["upper left( corner| quadrant| quarter)?", "top left( corner| quadrant| quarter)?", "left top corner"],
     "upper right": ["upper right( corner| quadrant| quarter)?", "top right( corner| quadrant| quarter)?", "right top corner"],
     "lower left": ["lower left( corner| quadrant| quarter)?", "bottom left( corner| quadrant| quarter)?", "left bottom corner"],
-    "lower right": ["lower right( corner| quadrant| quarter)?", "bottom right( corner| quadrant| quarter)?",
-                    "right bottom corner"],
-}  # fmt: skip
+    "lower right": [
+        "lower right( corner| quadrant| quarter)?",
+        "bottom right( corner| quadrant| quarter)?",
+        "right bottom corner",
+    ],
+}
 REGION_PHRASES = {
     "left": ["(on |at |in )?(the )?{FRAME} left", "left of (the )?{FRAME}"],
     "right": ["(on |at |in )?(the )?{FRAME} right", "right of (the )?{FRAME}"],
-    "center": ["centered( in (the )?{FRAME})?", "centrally( placed| positioned)?( in (the )?{FRAME})?",
-               "center {obj}( in (the )?{FRAME})?",
-               "(at |in )?(the )?{FRAME} center", "center of (the )?{FRAME}", "dead center"],
+    "center": [
+        "centered( in (the )?{FRAME})?",
+        "centrally( placed| positioned)?( in (the )?{FRAME})?",
+        "center {obj}( in (the )?{FRAME})?",
+        "(at |in )?(the )?{FRAME} center",
+        "center of (the )?{FRAME}",
+        "dead center",
+    ],
     "top": ["high (up )?in the {FRAME}"],
     "bottom": ["low (down )?in the {FRAME}"],
-    "upper left": ["(top|upper) left corner"], "upper right": ["(top|upper) right corner"],
-    "lower left": ["(bottom|lower) left corner"], "lower right": ["(bottom|lower) right corner"],
-}  # fmt: skip
+    "upper left": ["(top|upper) left corner"],
+    "upper right": ["(top|upper) right corner"],
+    "lower left": ["(bottom|lower) left corner"],
+    "lower right": ["(bottom|lower) right corner"],
+}
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 VIEW_SIDE_WORDS = {
@@ -155,15 +187,43 @@ VIEW_SIDE_WORDS = {
     "back": ["back", "rear"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
-    "front-left": ["front left", "left front", "front and left", "front left three quarter", "left three quarter",
-                   "left front three quarter"],
-    "front-right": ["front right", "right front", "front and right", "front right three quarter", "right three quarter",
-                    "right front three quarter"],
-    "back-left": ["back left", "rear left", "left rear", "left back", "back and left", "rear and left",
-                  "back left three quarter", "rear left three quarter"],
-    "back-right": ["back right", "rear right", "right rear", "right back", "back and right", "rear and right",
-                   "back right three quarter", "rear right three quarter"],
-}  # fmt: skip
+    "front-left": [
+        "front left",
+        "left front",
+        "front and left",
+        "front left three quarter",
+        "left three quarter",
+        "left front three quarter",
+    ],
+    "front-right": [
+        "front right",
+        "right front",
+        "front and right",
+        "front right three quarter",
+        "right three quarter",
+        "right front three quarter",
+    ],
+    "back-left": [
+        "back left",
+        "rear left",
+        "left rear",
+        "left back",
+        "back and left",
+        "rear and left",
+        "back left three quarter",
+        "rear left three quarter",
+    ],
+    "back-right": [
+        "back right",
+        "rear right",
+        "right rear",
+        "right back",
+        "back and right",
+        "rear and right",
+        "back right three quarter",
+        "rear right three quarter",
+    ],
+}
 VIEW_FRAMES = [
     "((seen|viewed|shot|photographed|captured|taken|filmed) )?from (the|{P}) {SIDE}( side)?( of {obj})?",
     "showing (the|{P}) {SIDE}( side)?( of {obj})?",
@@ -172,72 +232,130 @@ VIEW_FRAMES = [
     "(in |from |as )?(a |the )?{SIDE}( side)? (view|profile|angle|shot)",
 ]
 VIEW_PHRASES = {
-    "front": ["facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)", "facing front", "head on",
-              "face on", "front on", "frontal( view| shot| angle)?", "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
-              "with the camera in front of {obj}", "showing {P} face"],
-    "back": ["((seen|viewed|shot|photographed|captured|taken|filmed) )?from behind( {obj})?",
-             "(facing|turned|looking) away( from the (camera|viewer|lens|us))?", "with the camera behind {obj}",
-             "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)", "{P} back to the (camera|viewer|lens|us)"],
+    "front": [
+        "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
+        "facing front",
+        "head on",
+        "face on",
+        "front on",
+        "frontal( view| shot| angle)?",
+        "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
+        "with the camera in front of {obj}",
+        "showing {P} face",
+    ],
+    "back": [
+        "((seen|viewed|shot|photographed|captured|taken|filmed) )?from behind( {obj})?",
+        "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
+        "with the camera behind {obj}",
+        "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
+        "{P} back to the (camera|viewer|lens|us)",
+    ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
     "front-left": ["three quarters? (view |angle )?from (the|{P}) (front )?left( side)?"],
     "front-right": ["three quarters? (view |angle )?from (the|{P}) (front )?right( side)?"],
-    "back-left": ["((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) left( side)?",
-                  "three quarters? (view |angle )?from (the|{P}) (back|rear) left( side)?"],
-    "back-right": ["((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) right( side)?",
-                   "three quarters? (view |angle )?from (the|{P}) (back|rear) right( side)?"],
-    "three-quarter": ["(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
-                      "(seen )?at three quarters", "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)"],
-}  # fmt: skip
+    "back-left": [
+        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) left( side)?",
+        "three quarters? (view |angle )?from (the|{P}) (back|rear) left( side)?",
+    ],
+    "back-right": [
+        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) right( side)?",
+        "three quarters? (view |angle )?from (the|{P}) (back|rear) right( side)?",
+    ],
+    "three-quarter": [
+        "(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
+        "(seen )?at three quarters",
+        "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
+    ],
+}
 
 # Named elevations; the hints yield to any other elevation in the sentence.
 ELEVATION_PHRASES = {
-    "eye level": ["(at |from )?(the )?eye (level|height)( (shot|view|angle|camera))?",
-                  "with the camera at {P} (height|level|eye level)",
-                  "(shot )?straight on at {P} height", "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
-                  "(at|from) {P} (height|level)", "level with {obj}", "(from |at )?(a )?(neutral|level|straight) (angle|height)"],
-    "slightly above": ["(from |with the camera )?(slightly|a little|a bit|just) above( {obj})?", "slightly from above",
-                       "looking (slightly|a little|a bit) down( at {obj})?",
-                       "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
-                       "slightly elevated( (angle|view|position|viewpoint|camera))?",
-                       "(a )?(slight|gentle|mild|shallow) high angle( shot)?"],
-    "high angle": ["(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?", "(a |an )?high (shot|view)",
-                   "with the camera (well|high|far) above {obj}",
-                   "(from )?(a |an )?(high|elevated|raised) (vantage point|viewpoint|position|perspective)",
-                   "(from )?(well|high|far) above( {obj})?"],
-    "bird's-eye": ["(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
-                   "(from )?(directly|straight|right|vertically) (above|overhead)( {obj})?",
-                   "looking (straight|directly|vertically) down( (at|on) {obj})?",
-                   "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?", "from overhead",
-                   "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?", "(from |in |as )?(a |an )?top view",
-                   "((seen|shot|viewed) )?from the top", "(shot |looking )?straight down( at {obj})?", "(a )?plan view"],
-    "low angle": ["(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?", "(a |an )?low (shot|view)",
-                  "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-                  "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
-                  "looking (slightly|a little|a bit) up( at {obj})?", "(from )?(slightly|a little|a bit|just) below( {obj})?"],
-    "worm's-eye": ["(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
-                   "looking (straight|directly|steeply|vertically) up( at {obj})?",
-                   "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
-                   "(from )?(directly|straight|right) (below|beneath|underneath)( {obj})?", "straight up at {obj}"],
-}  # fmt: skip
+    "eye level": [
+        "(at |from )?(the )?eye (level|height)( (shot|view|angle|camera))?",
+        "with the camera at {P} (height|level|eye level)",
+        "(shot )?straight on at {P} height",
+        "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
+        "(at|from) {P} (height|level)",
+        "level with {obj}",
+        "(from |at )?(a )?(neutral|level|straight) (angle|height)",
+    ],
+    "slightly above": [
+        "(from |with the camera )?(slightly|a little|a bit|just) above( {obj})?",
+        "slightly from above",
+        "looking (slightly|a little|a bit) down( at {obj})?",
+        "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
+        "slightly elevated( (angle|view|position|viewpoint|camera))?",
+        "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
+    ],
+    "high angle": [
+        "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
+        "(a |an )?high (shot|view)",
+        "with the camera (well|high|far) above {obj}",
+        "(from )?(a |an )?(high|elevated|raised) (vantage point|viewpoint|position|perspective)",
+        "(from )?(well|high|far) above( {obj})?",
+    ],
+    "bird's-eye": [
+        "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
+        "(from )?(directly|straight|right|vertically) (above|overhead)( {obj})?",
+        "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
+        "from overhead",
+        "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?",
+        "(from |in |as )?(a |an )?top view",
+        "((seen|shot|viewed) )?from the top",
+        "(shot |looking )?straight down( at {obj})?",
+        "(a )?plan view",
+    ],
+    "low angle": [
+        "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
+        "(a |an )?low (shot|view)",
+        "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
+        "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
+        "looking (slightly|a little|a bit) up( at {obj})?",
+        "(from )?(slightly|a little|a bit|just) below( {obj})?",
+    ],
+    "worm's-eye": [
+        "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
+        "looking (straight|directly|steeply|vertically) up( at {obj})?",
+        "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
+        "(from )?(directly|straight|right) (below|beneath|underneath)( {obj})?",
+        "straight up at {obj}",
+    ],
+}
 ELEVATION_HINTS = {
-    "high angle": ["looking down( (at|on) {obj})?", "((shot|seen|shooting|taken|viewed|photographed) )?from above",
-                   "(shooting|pointing|aimed|angled|tilted|tilting) down( (at|on|towards) {obj})?"],
-    "low angle": ["looking up( at {obj})?", "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath)",
-                  "(shooting|pointing|aimed|angled|tilted|tilting) up( (at|towards) {obj})?"],
-}  # fmt: skip
+    "high angle": [
+        "looking down( (at|on) {obj})?",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from above",
+        "(shooting|pointing|aimed|angled|tilted|tilting) down( (at|on|towards) {obj})?",
+    ],
+    "low angle": [
+        "looking up( at {obj})?",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath)",
+        "(shooting|pointing|aimed|angled|tilted|tilting) up( (at|towards) {obj})?",
+    ],
+}
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
 EXPLICIT_ELEVATION_PHRASES = {
-    1.0: ["(from |at )?{d} above( {obj}| the horizon| the horizontal)?", "with the camera {d} above {obj}",
-          "looking down( at {obj})? from {d} above", "looking down( at {obj})? (at|from|by) (an angle of )?{d}",
-          "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
-          "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)", "elevated (by )?{d}",
-          "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}"],
-    -1.0: ["(from |at )?{d} below( {obj}| the horizon| the horizontal)?", "with the camera {d} below {obj}",
-           "looking up( at {obj})? from {d} below", "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
-           "(at |from |with )?(an |a )?{d} (low angle|upward angle)",
-           "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}"],
-}  # fmt: skip
+    1.0: [
+        "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
+        "with the camera {d} above {obj}",
+        "looking down( at {obj})? from {d} above",
+        "looking down( at {obj})? (at|from|by) (an angle of )?{d}",
+        "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
+        "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)",
+        "elevated (by )?{d}",
+        "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
+    ],
+    -1.0: [
+        "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "with the camera {d} below {obj}",
+        "looking up( at {obj})? from {d} below",
+        "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
+        "(at |from |with )?(an |a )?{d} (low angle|upward angle)",
+        "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
+    ],
+}
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
@@ -246,10 +364,13 @@ ROLL_PHRASES = {
         "(with )?(a |an )?{d}( {dir})? (dutch|canted) (angle|tilt)",
         "(with )?(a |an )?({dir} )?(dutch|canted) (angle|tilt)( of)? {d}( {dir})?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
-        "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}", "(rolled|tilted|rotated|canted|turned) {dir} (by )?{d}",
+        "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
+        "(rolled|tilted|rotated|canted|turned) {dir} (by )?{d}",
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
-        "(with )?(the )?camera (rolled|rotated|canted) {dir}", "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
-        "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}", "(camera )?rolled (by )?{sd}",
+        "(with )?(the )?camera (rolled|rotated|canted) {dir}",
+        "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
+        "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
+        "(camera )?rolled (by )?{sd}",
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
         "(with )?(the )?{side} side (of the (camera|{FRAME}) )?(dipped|lowered|dipping|down)( by)?( {d})?",
         "dipping (to the )?{side}( by {d})?",
@@ -260,34 +381,188 @@ ROLL_PHRASES = {
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
-        "(with )?(a |the )?(level|straight|flat|horizontal) horizon", "(the )?horizon (level|straight|flat|horizontal)",
-        "(with |and )?no (dutch |canted )?(angle|tilt|roll)", "(with )?no camera roll",
+        "(with )?(a |the )?(level|straight|flat|horizontal) horizon",
+        "(the )?horizon (level|straight|flat|horizontal)",
+        "(with |and )?no (dutch |canted )?(angle|tilt|roll)",
+        "(with )?no camera roll",
         "without (any )?((dutch|canted) (angle|tilt)|roll|camera roll|tilt)",
-        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?level", "(a )?level camera",
+        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?level",
+        "(a )?level camera",
     ],
-}  # fmt: skip
+}
 DUTCH_DEFAULT_DEG = 15.0  # a dutch angle without degrees: clockwise, inside the generator's 10..30
-DUTCH_SIZE_DEG = {"slight": 10.0, "subtle": 10.0, "gentle": 10.0, "small": 10.0, "mild": 10.0,
-                  "strong": 30.0, "heavy": 30.0, "extreme": 30.0, "dramatic": 30.0, "steep": 30.0}  # fmt: skip
+DUTCH_SIZE_DEG = {
+    "slight": 10.0,
+    "subtle": 10.0,
+    "gentle": 10.0,
+    "small": 10.0,
+    "mild": 10.0,
+    "strong": 30.0,
+    "heavy": 30.0,
+    "extreme": 30.0,
+    "dramatic": 30.0,
+    "steep": 30.0,
+}
 
 # Words that carry no constraint: left out of ``unparsed`` and never taken as a subject's attribute.
-STOPWORDS = frozenset({
-    "a", "an", "the", "this", "that", "these", "those", "its", "it", "their", "them", "his", "her", "him", "my", "our",
-    "your", "'s", "of", "with", "and", "or", "in", "on", "at", "to", "from", "by", "for", "as", "so", "but", "into",
-    "onto", "about", "around", "near", "towards", "within", "over", "under", "then", "also", "both", "while", "where",
-    "photo", "photograph", "picture", "pic", "image", "shot", "snapshot", "frame", "capture", "take", "get", "make",
-    "shoot", "show", "showing", "film", "compose", "composed", "composition", "view", "camera", "please", "i", "me",
-    "we", "us", "want", "would", "like", "need", "should", "be", "is", "are", "being", "placed", "positioned", "put",
-    "place", "sitting", "standing", "located", "set", "keep", "kept", "appearing", "appear", "visible", "clearly",
-    "nicely", "scene", "subject", "just", "very", "which", "can", "could", "you", "let", "have", "has", "there",
-    "here", "one", "whole", "entire", "framed", "seen", "taken", "shown", "featuring", "render", "rendering",
-    "photographed", "captured", "filmed", "pictured", "shooting", "viewed",
-})  # fmt: skip
+STOPWORDS = frozenset(
+    {
+        "a",
+        "an",
+        "the",
+        "this",
+        "that",
+        "these",
+        "those",
+        "its",
+        "it",
+        "their",
+        "them",
+        "his",
+        "her",
+        "him",
+        "my",
+        "our",
+        "your",
+        "'s",
+        "of",
+        "with",
+        "and",
+        "or",
+        "in",
+        "on",
+        "at",
+        "to",
+        "from",
+        "by",
+        "for",
+        "as",
+        "so",
+        "but",
+        "into",
+        "onto",
+        "about",
+        "around",
+        "near",
+        "towards",
+        "within",
+        "over",
+        "under",
+        "then",
+        "also",
+        "both",
+        "while",
+        "where",
+        "photo",
+        "photograph",
+        "picture",
+        "pic",
+        "image",
+        "shot",
+        "snapshot",
+        "frame",
+        "capture",
+        "take",
+        "get",
+        "make",
+        "shoot",
+        "show",
+        "showing",
+        "film",
+        "compose",
+        "composed",
+        "composition",
+        "view",
+        "camera",
+        "please",
+        "i",
+        "me",
+        "we",
+        "us",
+        "want",
+        "would",
+        "like",
+        "need",
+        "should",
+        "be",
+        "is",
+        "are",
+        "being",
+        "placed",
+        "positioned",
+        "put",
+        "place",
+        "sitting",
+        "standing",
+        "located",
+        "set",
+        "keep",
+        "kept",
+        "appearing",
+        "appear",
+        "visible",
+        "clearly",
+        "nicely",
+        "scene",
+        "subject",
+        "just",
+        "very",
+        "which",
+        "can",
+        "could",
+        "you",
+        "let",
+        "have",
+        "has",
+        "there",
+        "here",
+        "one",
+        "whole",
+        "entire",
+        "framed",
+        "seen",
+        "taken",
+        "shown",
+        "featuring",
+        "render",
+        "rendering",
+        "photographed",
+        "captured",
+        "filmed",
+        "pictured",
+        "shooting",
+        "viewed",
+    }
+)
 # Single words that are photographic vocabulary first: an alias equal to one of them is not
 # spotted in running text (it still matches in a subject's place).
-RESERVED = frozenset({"frame", "picture", "photo", "photograph", "shot", "image", "camera", "view", "horizon", "scene",
-                      "subject", "object", "lens", "ground", "top", "front", "back", "side", "left", "right", "center",
-                      "middle", "bottom"})  # fmt: skip
+RESERVED = frozenset(
+    {
+        "frame",
+        "picture",
+        "photo",
+        "photograph",
+        "shot",
+        "image",
+        "camera",
+        "view",
+        "horizon",
+        "scene",
+        "subject",
+        "object",
+        "lens",
+        "ground",
+        "top",
+        "front",
+        "back",
+        "side",
+        "left",
+        "right",
+        "center",
+        "middle",
+        "bottom",
+    }
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -460,7 +735,7 @@ class RuleParser:
         mentions: list[_Mention] = []
         i = 0
         while i < len(tokens):
-            n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i:i + n]) in forms), 0)
+            n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
             if not n:
                 out.append(tokens[i])
                 i += 1
@@ -470,7 +745,7 @@ class RuleParser:
                 before.insert(0, out.pop())
             if out and out[-1] in MENTION_DETERMINERS:
                 before.insert(0, out.pop())
-            mention = " ".join(before + tokens[i:i + n])
+            mention = " ".join(before + tokens[i : i + n])
             mentions.append(_Mention(len(out), mention, vocabulary.match(mention), len(mentions)))
             out.append(f"@{len(mentions) - 1}")
             i += n
@@ -509,7 +784,7 @@ class RuleParser:
         subject by "and"/"or")."""
         covered = [False] * len(tokens)
         for c in cues:
-            covered[c.start:c.end] = [True] * (c.end - c.start)
+            covered[c.start : c.end] = [True] * (c.end - c.start)
         free = [not covered[k] and tokens[k] not in PUNCTUATION and not tokens[k].startswith("@") for k in range(len(tokens))]
         ends = {c.end: c for c in cues}
         starts = {c.start: c for c in cues}
@@ -527,8 +802,11 @@ class RuleParser:
             if lo == hi:
                 continue
             before, after = ends.get(span[0]), starts.get(span[-1] + 1)
-            slot = ((before is not None and before.forward) or (after is not None and after.field == "region")
-                    or _coordinated(tokens, span))  # fmt: skip
+            slot = (
+                (before is not None and before.forward)
+                or (after is not None and after.field == "region")
+                or _coordinated(tokens, span)
+            )
             runs.append(_Run(span[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
         return runs
 
@@ -536,8 +814,9 @@ class RuleParser:
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
     """Whether the run is joined to a subject by "and"/"or" ("the bear and the giraffe")."""
     first, last = span[0], span[-1]
-    return ((tokens[first] in CONJUNCTIONS and first > 0 and tokens[first - 1].startswith("@"))
-            or (tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")))  # fmt: skip
+    return (tokens[first] in CONJUNCTIONS and first > 0 and tokens[first - 1].startswith("@")) or (
+        tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")
+    )
 
 
 def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
@@ -580,8 +859,9 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], vocabulary: Vocabulary) 
                 break
         else:
             name = _candidates(cue, mentions)[0]
-            raise InputError(f"conflicting {cue.field} for {name!r}: {getattr(subjects[name], cue.field)!r} and "
-                             f"{cue.value!r} ({cue.text!r})")  # fmt: skip
+            raise InputError(
+                f"conflicting {cue.field} for {name!r}: {getattr(subjects[name], cue.field)!r} and {cue.value!r} ({cue.text!r})"
+            )
     return list(subjects.values())
 
 

@@ -39,20 +39,52 @@ from ..errors import InputError
 
 # One spelling per British/US pair (and a few compounds written as one word or two).
 SPELLINGS = {
-    "centre": "center", "centred": "centered", "centring": "centering", "centres": "centers", "colour": "color",
-    "coloured": "colored", "grey": "gray", "greyish": "grayish", "anticlockwise": "counterclockwise",
-    "metre": "meter", "metres": "meters", "closeup": "close up", "closeups": "close ups", "midshot": "mid shot",
-    "birdseye": "bird 's eye", "degree": "degrees", "deg": "degrees", "degs": "degrees", "favourite": "favorite",
+    "centre": "center",
+    "centred": "centered",
+    "centring": "centering",
+    "centres": "centers",
+    "colour": "color",
+    "coloured": "colored",
+    "grey": "gray",
+    "greyish": "grayish",
+    "anticlockwise": "counterclockwise",
+    "metre": "meter",
+    "metres": "meters",
+    "closeup": "close up",
+    "closeups": "close ups",
+    "midshot": "mid shot",
+    "birdseye": "bird 's eye",
+    "degree": "degrees",
+    "deg": "degrees",
+    "degs": "degrees",
+    "favourite": "favorite",
     "toward": "towards",
-}  # fmt: skip
+}
 # Two-word spellings merged into one word.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
 
 UNITS = {
-    "zero": 0, "one": 1, "two": 2, "three": 3, "four": 4, "five": 5, "six": 6, "seven": 7, "eight": 8, "nine": 9,
-    "ten": 10, "eleven": 11, "twelve": 12, "thirteen": 13, "fourteen": 14, "fifteen": 15, "sixteen": 16,
-    "seventeen": 17, "eighteen": 18, "nineteen": 19,
-}  # fmt: skip
+    "zero": 0,
+    "one": 1,
+    "two": 2,
+    "three": 3,
+    "four": 4,
+    "five": 5,
+    "six": 6,
+    "seven": 7,
+    "eight": 8,
+    "nine": 9,
+    "ten": 10,
+    "eleven": 11,
+    "twelve": 12,
+    "thirteen": 13,
+    "fourteen": 14,
+    "fifteen": 15,
+    "sixteen": 16,
+    "seventeen": 17,
+    "eighteen": 18,
+    "nineteen": 19,
+}
 TENS = {"twenty": 20, "thirty": 30, "forty": 40, "fifty": 50, "sixty": 60, "seventy": 70, "eighty": 80, "ninety": 90}
 # A number word before these is not a quantity to convert ("three-quarter view").
 FRACTION_WORDS = {"quarter", "quarters", "third", "thirds"}
@@ -118,8 +150,16 @@ def _numbers(tokens: list[str]) -> list[str]:
     return signed
 
 
-IRREGULAR_PLURALS = {"people": "person", "children": "child", "mice": "mouse", "feet": "foot", "teeth": "tooth",
-                     "geese": "goose", "knives": "knife", "leaves": "leaf"}  # fmt: skip
+IRREGULAR_PLURALS = {
+    "people": "person",
+    "children": "child",
+    "mice": "mouse",
+    "feet": "foot",
+    "teeth": "tooth",
+    "geese": "goose",
+    "knives": "knife",
+    "leaves": "leaf",
+}
 
 
 def singular(word: str) -> str:
@@ -141,14 +181,67 @@ def singular(word: str) -> str:
 # --- matching ---------------------------------------------------------------------------------
 
 DETERMINERS = frozenset({"a", "an", "the", "this", "that", "these", "those", "my", "our", "your", "its", "their"})
-COLORS = frozenset({
-    "red", "blue", "green", "yellow", "orange", "purple", "violet", "pink", "brown", "black", "white", "gray", "silver",
-    "gold", "golden", "beige", "tan", "cream", "mustard", "teal", "navy", "terracotta", "turquoise", "cyan", "magenta",
-    "maroon", "olive", "ivory", "khaki", "lilac", "crimson", "scarlet",
-})  # fmt: skip
+COLORS = frozenset(
+    {
+        "red",
+        "blue",
+        "green",
+        "yellow",
+        "orange",
+        "purple",
+        "violet",
+        "pink",
+        "brown",
+        "black",
+        "white",
+        "gray",
+        "silver",
+        "gold",
+        "golden",
+        "beige",
+        "tan",
+        "cream",
+        "mustard",
+        "teal",
+        "navy",
+        "terracotta",
+        "turquoise",
+        "cyan",
+        "magenta",
+        "maroon",
+        "olive",
+        "ivory",
+        "khaki",
+        "lilac",
+        "crimson",
+        "scarlet",
+    }
+)
 # Words that describe rather than name ("the big red chair"): ignored when matching partially.
-ATTRIBUTES = COLORS | {"big", "small", "large", "little", "tiny", "huge", "tall", "short", "old", "new", "wooden", "metal",
-                       "plastic", "round", "fluffy", "soft", "cute", "nice", "dark", "light", "pale", "bright"}  # fmt: skip
+ATTRIBUTES = COLORS | {
+    "big",
+    "small",
+    "large",
+    "little",
+    "tiny",
+    "huge",
+    "tall",
+    "short",
+    "old",
+    "new",
+    "wooden",
+    "metal",
+    "plastic",
+    "round",
+    "fluffy",
+    "soft",
+    "cute",
+    "nice",
+    "dark",
+    "light",
+    "pale",
+    "bright",
+}
 
 
 @dataclass(frozen=True)
@@ -193,15 +286,16 @@ class Vocabulary:
         self._by_name = {e.name: e for e in entries}
 
     @classmethod
-    def from_semantics(cls, objects) -> "Vocabulary":
+    def from_semantics(cls, objects) -> Vocabulary:
         """From the scene's semantic objects (anything with ``name``, ``aliases``, ``symmetric``)."""
         entries = []
         for o in objects:
             forms = {key(n) for n in (o.name, *o.aliases)} - {()}
             if not forms:
                 raise InputError(f"object name {o.name!r} has no words to match")
-            entries.append(VocabularyEntry(o.name, bool(o.symmetric), tuple(o.aliases),
-                                           tuple(sorted(forms, key=lambda f: (-len(f), f)))))  # fmt: skip
+            entries.append(
+                VocabularyEntry(o.name, bool(o.symmetric), tuple(o.aliases), tuple(sorted(forms, key=lambda f: (-len(f), f))))
+            )
         return cls(entries)
 
     @property
@@ -231,7 +325,9 @@ class Vocabulary:
         if len(found) > 1:
             raise InputError(f"subject {mention!r} is ambiguous in this scene; say which: {found}")
         close = self.closest(mention)
-        raise InputError(f"subject {mention!r} is not in this scene; " + (f"closest: {close}" if close else f"known: {self.names}"))
+        raise InputError(
+            f"subject {mention!r} is not in this scene; " + (f"closest: {close}" if close else f"known: {self.names}")
+        )
 
     def candidates(self, mention: str) -> list[str]:
         """The names ``mention`` matches best (none, one, or several equally well), sorted."""
@@ -281,7 +377,7 @@ class Vocabulary:
 
 def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
     n = len(form)
-    return any(tokens[i:i + n] == form for i in range(len(tokens) - n + 1))
+    return any(tokens[i : i + n] == form for i in range(len(tokens) - n + 1))
 
 
 def _best(scores: dict[str, tuple]) -> list[str]:

@@ -135,8 +135,10 @@ def parsed_instruction(wildcards):
 
     try:  # the sidecar's names read directly: capframe.scene's reader would import torch into every DAG build
         with open(f"results/scenes/{wildcards.scene}/semantics.json") as f:
-            objects = [SimpleNamespace(name=o["name"], aliases=o.get("aliases", []), symmetric=o.get("symmetric", False))
-                       for o in json.load(f)["objects"]]
+            objects = [
+                SimpleNamespace(name=o["name"], aliases=o.get("aliases", []), symmetric=o.get("symmetric", False))
+                for o in json.load(f)["objects"]
+            ]
         return RuleParser().parse(instruction_text(wildcards), Vocabulary.from_semantics(objects))
     except (OSError, KeyError, InputError):
         return None

@@ -59,12 +59,12 @@ rule groups:
     output:
         table=report("results/tables/groups.csv", caption="../report/groups.rst", category="Tables"),
         markdown="results/tables/groups.md",
-    params:
-        groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
     log:
         "results/logs/aggregate/groups.log",
     benchmark:
         "results/benchmarks/tables/groups.tsv"
+    params:
+        groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
     shell:
         "capframe groups {input} --group {params.groups} -o {output.table} > {log} 2>&1"
 
@@ -79,12 +79,12 @@ rule sensitivity:
     output:
         table=report("results/tables/sensitivity.csv", caption="../report/sensitivity.rst", category="Tables"),
         markdown="results/tables/sensitivity.md",
-    params:
-        variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
     log:
         "results/logs/aggregate/sensitivity.log",
     benchmark:
         "results/benchmarks/tables/sensitivity.tsv"
+    params:
+        variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
     shell:
         "capframe sensitivity --reference results/refine/capframe --variant {params.variants} --checks-root results/check "
         "--scenes-root results/scenes -o {output.table} > {log} 2>&1"

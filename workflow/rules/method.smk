@@ -55,7 +55,6 @@ wildcard_constraints:
 
 
 rule coarse:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -64,20 +63,20 @@ rule coarse:
         constraints="results/instructions/{scene}/constraints.json",
     output:
         "results/coarse/{variant}/{scene}/{instruction}.json",
-    params:
-        text=instruction_text,
-        gravity=gravity_option,
     log:
         "results/logs/coarse/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/coarse/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        text=instruction_text,
+        gravity=gravity_option,
     shell:
         "capframe coarse {input.scene} {params.text:q} -o {output} --cache results/views/{wildcards.scene} "
         "{params.gravity} > {log} 2>&1"
 
 
 rule qe:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -85,21 +84,20 @@ rule qe:
         coarse=stage_file("coarse", "results/coarse/{key}/{scene}/{instruction}.json"),
     output:
         "results/retrieve/{variant}/{scene}/{instruction}.json",
-    params:
-        gravity=gravity_option,
-        topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
     log:
         "results/logs/qe/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/qe/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        gravity=gravity_option,
+        topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
     shell:
         "capframe qe {input.scene} --coarse {input.coarse} -o {output} --topk {params.topk} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule retrieved_view:
-    # Retrieve's answer unrefined, checked as method "retrieve" (Retrieve-vs-Refine per group).
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         retrieval="results/retrieve/capframe/{scene}/{instruction}.json",
@@ -109,12 +107,13 @@ rule retrieved_view:
         "results/logs/retrieved/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/retrieved/retrieve/{scene}/{instruction}.tsv"
+    # Retrieve's answer unrefined, checked as method "retrieve" (Retrieve-vs-Refine per group).
+    priority: METHOD_PRIORITY
     shell:
         "capframe retrieved-view {input.scene} --retrieval {input.retrieval} -o {output} > {log} 2>&1"
 
 
 rule segment:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -122,20 +121,20 @@ rule segment:
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
     output:
         "results/segment/{variant}/{scene}/{instruction}.npz",
-    params:
-        gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
     log:
         "results/logs/segment/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/segment/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
     shell:
         "capframe segment {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule associate:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -144,21 +143,21 @@ rule associate:
         masks=masks_input,
     output:
         "results/associate/{variant}/{scene}/{instruction}.json",
-    params:
-        gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
-        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
     log:
         "results/logs/associate/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/associate/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
+        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
     shell:
         "capframe associate {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} "
         "--perception {params.perception} --cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule orient:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
@@ -166,20 +165,20 @@ rule orient:
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
     output:
         "results/orient/{variant}/{scene}/{instruction}.json",
-    params:
-        gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
     log:
         "results/logs/orient/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/orient/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        gravity=gravity_option,
+        perception=lambda wc: perception(wc.variant),
     shell:
         "capframe orient {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule translate:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
@@ -187,6 +186,11 @@ rule translate:
         fronts=fronts_input,
     output:
         "results/translate/{variant}/{scene}/{instruction}.json",
+    log:
+        "results/logs/translate/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/translate/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
     params:
         options=lambda wc: " ".join(
             f"--{flag.replace('_', '-')} {value}"
@@ -194,31 +198,27 @@ rule translate:
             if flag != "perception"
         ),
         fronts=lambda wc, input: f"--fronts {input.fronts}" if input.fronts else "",
-    log:
-        "results/logs/translate/{variant}/{scene}/{instruction}.log",
-    benchmark:
-        "results/benchmarks/translate/{variant}/{scene}/{instruction}.tsv"
     shell:
         "capframe translate {input.scene} --retrieval {input.retrieval} --subjects {input.subjects} {params.fronts} "
         "-o {output} {params.options} > {log} 2>&1"
 
 
 rule refine_method:
-    priority: METHOD_PRIORITY
     input:
         scene=posed_scene,
         labels=stage_file("translate", "results/translate/{key}/{scene}/{instruction}.json"),
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
     output:
         directory("results/refine/{variant}/{scene}/{instruction}"),
-    params:
-        iterations=lambda wc: stage_setting(wc.variant, "refine", "iterations", config["refine"]["iterations"]),
-        long_side=lambda wc: stage_setting(wc.variant, "refine", "long_side", config["refine"]["long_side"]),
-        weights=lambda wc: (f"--weights {w}" if (w := stage_setting(wc.variant, "refine", "weights", "")) else ""),
     log:
         "results/logs/refine/{variant}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/refine/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        iterations=lambda wc: stage_setting(wc.variant, "refine", "iterations", config["refine"]["iterations"]),
+        long_side=lambda wc: stage_setting(wc.variant, "refine", "long_side", config["refine"]["long_side"]),
+        weights=lambda wc: (f"--weights {w}" if (w := stage_setting(wc.variant, "refine", "weights", "")) else ""),
     shell:
         "capframe refine {input.scene} --labels {input.labels} --init {input.retrieval} -o {output} "
         "--iterations {params.iterations} --long-side {params.long_side} {params.weights} > {log} 2>&1"
@@ -232,13 +232,13 @@ rule baseline:
         constraints="results/instructions/{scene}/constraints.json",
     output:
         directory("results/baselines/{baseline}/{scene}/{instruction}"),
-    params:
-        text=instruction_text,
-        gravity=gravity_option,
     log:
         "results/logs/baselines/{baseline}/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/baselines/{baseline}/{scene}/{instruction}.tsv"
+    params:
+        text=instruction_text,
+        gravity=gravity_option,
     shell:
         "capframe baseline {wildcards.baseline} {input.scene} {params.text:q} -o {output} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"

@@ -25,13 +25,13 @@ rule refine_oracle:
         init="results/oracle/{scene}/{instruction}/init.json",
     output:
         directory("results/refine/oracle/{scene}/{instruction}"),
-    params:
-        iterations=config["refine"]["iterations"],
-        long_side=config["refine"]["long_side"],
     log:
         "results/logs/refine/oracle/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/refine/oracle/{scene}/{instruction}.tsv"
+    params:
+        iterations=config["refine"]["iterations"],
+        long_side=config["refine"]["long_side"],
     shell:
         "capframe refine {input.scene} --labels {input.labels} --init {input.init} -o {output} "
         "--iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"

@@ -14,14 +14,14 @@ rule grid:
             category="Renders",
             subcategory="{scene}",
         ),
-    params:
-        text=instruction_text,
-        methods=REPORT_METHODS,
     log:
         "results/logs/grid/{scene}/{instruction}.log",
     benchmark:
         "results/benchmarks/grid/{scene}/{instruction}.tsv"
     priority: EVALUATE_PRIORITY
+    params:
+        text=instruction_text,
+        methods=REPORT_METHODS,
     shell:
         "capframe grid --text {params.text:q} --methods {params.methods} --results {input.results} "
         "--checks {input.checks} -o {output} > {log} 2>&1"

@@ -4,13 +4,13 @@
 rule synth_scene:
     output:
         directory("results/scenes/{scene}"),
-    threads: 1  # renders on one thread (bit-identical images on any machine): two scenes generate at once
-    params:
-        args=synth_args,
     log:
         "results/logs/synth/{scene}.log",
     benchmark:
         "results/benchmarks/synth/{scene}.tsv"
+    threads: 1  # renders on one thread (bit-identical images on any machine): two scenes generate at once
+    params:
+        args=synth_args,
     shell:
         "capframe synth {output} {params.args} > {log} 2>&1"
 
@@ -21,13 +21,13 @@ checkpoint instructions:
     output:
         constraints="results/instructions/{scene}/constraints.json",
         sheet="results/instructions/{scene}/instructions.tsv",
-    params:
-        number=lambda wc: SCENES[wc.scene].instructions,
-        seed=lambda wc: SCENES[wc.scene].seed,
     log:
         "results/logs/instructions/{scene}.log",
     benchmark:
         "results/benchmarks/instructions/{scene}.tsv"
+    params:
+        number=lambda wc: SCENES[wc.scene].instructions,
+        seed=lambda wc: SCENES[wc.scene].seed,
     shell:
         "capframe instructions {input} -o results/instructions/{wildcards.scene} "
         "--count {params.number} --seed {params.seed} > {log} 2>&1"
