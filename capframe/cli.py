@@ -67,9 +67,79 @@ def _cmd_aggregate(args: argparse.Namespace) -> None:
 
 
 def _cmd_refine(args: argparse.Namespace) -> None:
-    from .refine.run import refine_command
+    from .pipeline import StageClock, stages
+    from .pipeline.outputs import write_ground_result, write_refine_result
+    from .scene import load_scene_dir
+    from .translate.labels import read_pseudo_labels
 
-    refine_command(args)
+    options = _ground_options(args)
+    options.check()
+    clock = StageClock(True)
+    scene = load_scene_dir(args.scene)
+    if scene.gaussians is None:
+        raise InputError("has no scene.ply to refine against", source=str(args.scene))
+    labels = read_pseudo_labels(args.labels)
+    if _is_retrieval_file(args.init):
+        from .handoff import Retrieved
+
+        retrieved = Retrieved.read(args.init)
+        if not scene.cameras:
+            raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
+        starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts)]
+        refined = stages.refine(scene, labels, starts, options, clock)
+        write_ground_result(args.output, scene, labels, retrieved, refined, options, clock)
+    else:
+        start = _initial_camera(scene.cameras, args.init)
+        clock.done("load")
+        write_refine_result(
+            args.output, scene, labels, stages.refine(scene, labels, [start], options, clock), options.refine, clock
+        )
+
+
+def _initial_camera(scene_cameras, init: str):
+    """A camera.json path or the name of a training view."""
+    import difflib
+    from pathlib import Path
+
+    from .scene import read_camera_json
+
+    if Path(init).is_file():
+        return read_camera_json(init)
+    for camera in scene_cameras:
+        if camera.name == init:
+            return camera
+    close = difflib.get_close_matches(init, [c.name for c in scene_cameras], n=3)
+    raise InputError(f"--init {init!r} is neither a camera.json nor a training view; closest views: {close}")
+
+
+def _is_retrieval_file(init: str) -> bool:
+    import json
+    from pathlib import Path
+
+    if not init.endswith(".json") or not Path(init).is_file():
+        return False
+    try:
+        return "starts" in json.loads(Path(init).read_text())
+    except ValueError:
+        return False
+
+
+def _refine_config(args: argparse.Namespace):
+    """The optimiser's settings from ``--iterations``, ``--long-side`` and ``--weights``."""
+    import dataclasses
+
+    from .refine.optimize import RefineConfig
+
+    config = RefineConfig(iterations=args.iterations, long_side=args.long_side)
+    if getattr(args, "weights", None):
+        weights = dataclasses.asdict(config.weights)
+        for item in args.weights.split(","):
+            key, _, value = item.partition("=")
+            if key not in weights:
+                raise InputError(f"--weights: unknown term {key!r}; expected one of {sorted(weights)}")
+            weights[key] = float(value)
+        config = dataclasses.replace(config, weights=type(config.weights)(**weights))
+    return config
 
 
 def _cmd_views(args: argparse.Namespace) -> None:
@@ -108,18 +178,150 @@ def _cmd_runtime(args: argparse.Namespace) -> None:
     runtime_command(args.benchmarks, args.output, args.methods_table)
 
 
-def _cmd_ground_stage(args: argparse.Namespace) -> None:
-    """One of the method's per-instruction stages (retrieve = coarse + qe, translate = segment +
-    associate + orient + labels): ``capframe.ground.<verb>_command``."""
-    from . import ground
+def _ground_options(args: argparse.Namespace):
+    """The :class:`~capframe.pipeline.GroundOptions` of a verb's arguments (each verb has some)."""
+    from .backends import ROLES
+    from .pipeline import GroundOptions
 
-    getattr(ground, f"{args.verb}_command")(args)
+    values = {
+        "top_k": getattr(args, "topk", None),
+        "seed": getattr(args, "seed", None),
+        "candidates": getattr(args, "candidates", None),
+        "attempts": getattr(args, "attempts", None),
+        "models": getattr(args, "models", None),
+        "cache_dir": getattr(args, "cache", None),
+        "gravity": getattr(args, "gravity", None),
+        "drop": getattr(args, "drop", None),
+        "box_noise": getattr(args, "box_noise", None),
+        "front_noise_deg": getattr(args, "front_noise", None),
+        "noise_seed": getattr(args, "noise_seed", None),
+    }
+    if hasattr(args, "iterations"):
+        values["refine"] = _refine_config(args)
+    backends = {role: getattr(args, _role_dest(role), None) for role in ROLES}
+    return GroundOptions(backends={k: v for k, v in backends.items() if v}, **{k: v for k, v in values.items() if v is not None})
+
+
+def _role_dest(role: str) -> str:
+    return "backend_" + role.replace("-", "_")
+
+
+def _stage_job(args: argparse.Namespace):
+    """The options, clock and job of a per-instruction stage verb."""
+    from .pipeline import StageClock, open_job
+
+    options = _ground_options(args)
+    return options, StageClock(True), open_job(args.scene, options)
+
+
+def _cmd_parse(args: argparse.Namespace) -> None:
+    from .handoff import write_parsed
+    from .pipeline import stages
+
+    _, clock, job = _stage_job(args)
+    write_parsed(stages.parse(job, args.instruction, clock), args.output)
+
+
+def _cmd_coarse(args: argparse.Namespace) -> None:
+    from .handoff import read_parsed
+    from .pipeline import stages
+
+    if (args.instruction is None) == (args.parsed is None):
+        raise InputError("give the instruction or --parsed parsed.json (one of them)")
+    parsed = read_parsed(args.parsed) if args.parsed else None
+    _, clock, job = _stage_job(args)
+    stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock).write(args.output)
+
+
+def _cmd_qe(args: argparse.Namespace) -> None:
+    from .handoff import Coarse
+    from .pipeline import stages
+    from .scene._io import write_json
+
+    coarse = Coarse.read(args.coarse)
+    options, clock, job = _stage_job(args)
+    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict())
+
+
+def _cmd_retrieve(args: argparse.Namespace) -> None:
+    from .pipeline import stages
+    from .scene._io import write_json
+
+    options, clock, job = _stage_job(args)
+    coarse = stages.coarse(job, stages.parse(job, args.instruction, clock), clock)
+    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict())
+
+
+def _cmd_segment(args: argparse.Namespace) -> None:
+    from .handoff import Retrieved, write_masks
+    from .pipeline import stages
+
+    retrieved = Retrieved.read(args.retrieval)
+    _, clock, job = _stage_job(args)
+    write_masks(stages.segment(job, retrieved, clock), job.view_names, args.output)
+
+
+def _cmd_associate(args: argparse.Namespace) -> None:
+    from .handoff import Retrieved, read_masks, write_groundings
+    from .pipeline import stages
+
+    retrieved = Retrieved.read(args.retrieval)
+    _, clock, job = _stage_job(args)
+    if args.masks:
+        masks = read_masks(args.masks, job.view_names)
+    elif job.backends["associator"].needs_masks:
+        masks = stages.segment(job, retrieved, clock)
+    else:
+        masks = {}
+    write_groundings(stages.associate(job, retrieved, masks, clock), args.output)
+
+
+def _cmd_orient(args: argparse.Namespace) -> None:
+    from .handoff import Retrieved, write_fronts
+    from .pipeline import stages
+
+    retrieved = Retrieved.read(args.retrieval)
+    _, clock, job = _stage_job(args)
+    write_fronts(stages.orient(job, retrieved, clock), args.output)
+
+
+def _cmd_translate(args: argparse.Namespace) -> None:
+    from .handoff import Retrieved, read_fronts, read_groundings
+    from .pipeline import StageClock, stages
+    from .scene import load_scene_dir
+    from .translate.labels import write_pseudo_labels
+
+    retrieved = Retrieved.read(args.retrieval)
+    options = _ground_options(args)
+    clock = StageClock(True)
+    if args.subjects:
+        options.check()
+        scene = load_scene_dir(args.scene)
+        if scene.gaussians is None:
+            raise InputError("has no scene.ply; the subjects' Gaussian indices refer to it", source=str(args.scene))
+        groundings = read_groundings(args.subjects, len(scene.gaussians))
+        fronts = read_fronts(args.fronts) if args.fronts else {}
+        labels = stages.translate(retrieved, groundings, fronts, options, clock)
+    else:
+        labels = stages.perceive(stages.open_job(args.scene, options), retrieved, options, clock)
+    write_pseudo_labels(labels, args.output)
 
 
 def _cmd_retrieved_view(args: argparse.Namespace) -> None:
-    from .ground import retrieved_view_command
+    from .handoff import Retrieved
+    from .pipeline.outputs import write_retrieved_view
+    from .pipeline.stages import view_indices
+    from .scene import load_scene_dir
 
-    retrieved_view_command(args)
+    scene = load_scene_dir(args.scene)
+    if scene.gaussians is None or not scene.cameras:
+        raise InputError("needs scene.ply and training cameras to render a retrieved view", source=str(args.scene))
+    retrieved = Retrieved.read(args.retrieval)
+    if not retrieved.starts:
+        raise InputError("'starts' is empty; expected the retrieved views, best first", source=str(args.retrieval))
+    camera = scene.cameras[view_indices(scene, retrieved.starts[:1])[0]]
+    summary = write_retrieved_view(args.output, scene, retrieved, camera)
+    print(f"{args.output}: retrieved view {summary['init_view']}")
 
 
 def _cmd_grid(args: argparse.Namespace) -> None:
@@ -129,15 +331,30 @@ def _cmd_grid(args: argparse.Namespace) -> None:
 
 
 def _cmd_ground(args: argparse.Namespace) -> None:
-    from .ground import ground_command
+    import json
 
-    ground_command(args)
+    from .pipeline import ground
+
+    result = ground(args.scene, args.instruction, args.output, _ground_options(args), progress=not args.json)
+    if args.json:
+        keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")
+        print(json.dumps({k: result[k] for k in keys}))
+    else:
+        print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s")
 
 
 def _cmd_baseline(args: argparse.Namespace) -> None:
-    from .baselines.run import baseline_command
+    import json
 
-    baseline_command(args)
+    from .baselines.run import BaselineOptions, run_baseline
+
+    options = BaselineOptions(seed=args.seed, stages=_ground_options(argparse.Namespace(**{**vars(args), "seed": None})))
+    result = run_baseline(args.method, args.scene, args.instruction, args.output, options, progress=not args.json)
+    if args.json:
+        keys = ("T_cw", "K", "width", "height", "method", "score", "timings")
+        print(json.dumps({k: result[k] for k in keys}))
+    else:
+        print(f"{args.output}: {args.method} camera, score {result['score']:.1f}, {result['timings']['total_s']:.1f} s")
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
@@ -147,21 +364,29 @@ def _cmd_bench(args: argparse.Namespace) -> None:
 
 
 def _perception_options(p: argparse.ArgumentParser) -> None:
-    """Options shared by the method's stages."""
-    p.add_argument("--parser", default="rules", help="instruction parser backend (rules)")
-    p.add_argument("--perception", default="labels", help="perception backend (labels, label-masks)")
+    """The backend of every perception role (``capframe.backends.ROLES``), the models config,
+    the per-scene cache and the gravity file: options shared by the method's stages."""
+    from .backends import ROLES, backend_names
+
+    for role, spec in ROLES.items():
+        if spec.backends:
+            names = ", ".join(backend_names(role))
+            p.add_argument(
+                spec.option, dest=_role_dest(role), default=None, help=f"{spec.help}: {names} (default {spec.default})"
+            )
+    p.add_argument("--models", default=None, help="models config (weights, endpoints) of model backends, e.g. config/models.yaml")
     p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
     p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
 
 
-def _stage_verb(verbs, name: str, help_text: str, output: str) -> argparse.ArgumentParser:
+def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse.ArgumentParser:
     """A per-instruction stage of the method: ``capframe NAME SCENE ... -o OUTPUT`` with the
-    perception options, run by :func:`_cmd_ground_stage`; the caller adds the stage's own inputs."""
+    perception options; the caller adds the stage's own inputs."""
     p = verbs.add_parser(name, help=f"{help_text}: {output}")
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help=f"{output} to write")
     _perception_options(p)
-    p.set_defaults(func=_cmd_ground_stage)
+    p.set_defaults(func=func)
     return p
 
 
@@ -323,32 +548,40 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
     p.set_defaults(func=_cmd_runtime)
 
-    p = _stage_verb(verbs, "retrieve", "parse an instruction and rank the training views (Retrieve)", "retrieval.json")
+    p = _stage_verb(verbs, "parse", "parse an instruction against the scene's vocabulary", "parsed.json", _cmd_parse)
+    p.add_argument("instruction")
+
+    p = _stage_verb(
+        verbs, "retrieve", "parse an instruction and rank the training views (Retrieve)", "retrieval.json", _cmd_retrieve
+    )
     p.add_argument("instruction")
     p.add_argument("--topk", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
 
-    p = _stage_verb(verbs, "coarse", "Retrieve, step 1: parse an instruction and score every training view", "coarse.json")
-    p.add_argument("instruction")
+    p = _stage_verb(verbs, "coarse", "Retrieve, step 1: score every training view for an instruction", "coarse.json", _cmd_coarse)
+    p.add_argument("instruction", nargs="?", default=None, help="the instruction (or --parsed)")
+    p.add_argument("--parsed", default=None, help="parsed.json written by capframe parse")
 
-    p = _stage_verb(verbs, "qe", "Retrieve, step 2: QE scoring of the views coarse kept", "retrieval.json")
+    p = _stage_verb(verbs, "qe", "Retrieve, step 2: QE scoring of the views coarse kept", "retrieval.json", _cmd_qe)
     p.add_argument("--coarse", required=True, help="coarse.json written by capframe coarse")
     p.add_argument("--topk", type=int, default=2)
     p.add_argument("--seed", type=int, default=0)
 
-    for verb, help_text, output in (
-        ("segment", "Translate, step 1: the subjects' 2D masks in the retrieved views", "masks.npz"),
-        ("associate", "Translate, step 2: each subject's Gaussians", "subjects.json"),
-        ("orient", "Translate, step 3: the front of each asymmetric subject with a view cue", "fronts.json"),
+    for verb, help_text, output, func in (
+        ("segment", "Translate, step 1: the subjects' 2D masks in the retrieved views", "masks.npz", _cmd_segment),
+        ("associate", "Translate, step 2: each subject's Gaussians", "subjects.json", _cmd_associate),
+        ("orient", "Translate, step 3: the front of each asymmetric subject with a view cue", "fronts.json", _cmd_orient),
     ):
-        p = _stage_verb(verbs, verb, help_text, output)
+        p = _stage_verb(verbs, verb, help_text, output, func)
         p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
         if verb == "associate":
             p.add_argument(
-                "--masks", default=None, help="masks.npz of capframe segment (default: segment here if the perception masks)"
+                "--masks",
+                default=None,
+                help="masks.npz of capframe segment (default: segment here when the associator reads masks)",
             )
 
-    p = _stage_verb(verbs, "translate", "pseudo labels from a retrieval.json (Translate)", "labels.json")
+    p = _stage_verb(verbs, "translate", "pseudo labels from a retrieval.json (Translate)", "labels.json", _cmd_translate)
     p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe retrieve")
     p.add_argument("--drop", default=None, choices=["layout", "orientation"], help="ablation: leave these pseudo labels out")
     p.add_argument("--box-noise", type=float, default=0.0, help="shift layout boxes by this frame fraction (sensitivity)")
@@ -372,7 +605,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_grid)
 
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
-    p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for --perception labels)")
+    p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for the oracle backends)")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     p.add_argument("--topk", type=int, default=2, help="retrieved views kept as initialisations")
@@ -393,11 +626,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects) "
         "or splatraj (optimise mask centre, area and uprightness)",
     )
-    p.add_argument("scene", help="scene directory with training cameras and a semantic sidecar")
+    p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for the oracle backends)")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
-    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
-    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+    _perception_options(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the SVS samples")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, score, timings) instead of progress")
     p.set_defaults(func=_cmd_baseline)

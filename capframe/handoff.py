@@ -5,6 +5,8 @@ Each stage is a ``capframe`` verb and a workflow rule (DESIGN §7); these are th
 ============  ===================  ===================================================
 stage         file                 holds
 ============  ===================  ===================================================
+parse         ``parsed.json``      the parsed instruction and the stages it needs
+                                   (the workflow reads ``needs`` to leave stages out)
 coarse        ``coarse.json``      the parsed instruction, every view's coarse score,
                                    the views kept for QE, the world up
 qe            ``retrieval.json``   questions, answers, the retrieved views and the
@@ -25,9 +27,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .backends.protocols import Grounding, SubjectMasks
 from .errors import InputError
 from .scene._io import atomic_write, read_json, write_json
-from .translate.grounding import Grounding, SubjectMasks
 from .translate.instruction import ParsedInstruction
 
 
@@ -36,6 +38,19 @@ def _read_format(path: str | Path, kind: str, writer: str, keys: tuple[str, ...]
     if not isinstance(data, dict) or data.get("format") != 1 or any(k not in data for k in keys):
         raise InputError(f"is not a {kind} file (format 1 with {', '.join(keys)}; written by {writer})", source=str(path))
     return data
+
+
+def write_parsed(parsed: ParsedInstruction, path: str | Path) -> None:
+    """``parsed.json``: the instruction and ``needs``, the optional stages it needs
+    (``orientation``: a subject with a front to be seen from)."""
+    needs = {"orientation": any(s.needs_front for s in parsed.subjects)}
+    write_json(path, {"format": 1, "instruction": parsed.to_dict(), "needs": needs})
+
+
+def read_parsed(path: str | Path) -> ParsedInstruction:
+    """The instruction of a ``parsed.json`` (:func:`write_parsed`)."""
+    data = _read_format(path, "parsed-instruction", "capframe parse", ("instruction", "needs"))
+    return ParsedInstruction.from_dict(data["instruction"], source=str(path))
 
 
 @dataclass

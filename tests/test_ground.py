@@ -10,7 +10,8 @@ from _synth_helpers import build_scene
 
 from capframe.cli import main
 from capframe.evaluate.check import GroundTruthChecker, read_result_camera
-from capframe.ground import GroundOptions, ground, own_report
+from capframe.pipeline import GroundOptions, ground
+from capframe.pipeline.stages import own_report
 from capframe.refine.optimize import RefineConfig
 from capframe.scene import SceneMeta, load_scene_dir, read_camera_json
 from capframe.scene.directory import write_scene_meta
@@ -97,14 +98,15 @@ def test_own_report_matches_ground_truth_checker_with_label_subjects(scene_dir, 
             assert a.measured == pytest.approx(b.measured, abs=3.0)
 
 
-def test_mask_perception_grounds_the_same_subject(scene_dir, tmp_path):
-    options = GroundOptions(cache_dir=tmp_path / "cache", perception="label-masks", refine=RefineConfig(iterations=100))
+def test_mask_associator_grounds_the_same_subject(scene_dir, tmp_path):
+    backends = {"segmenter": "oracle", "associator": "knn"}
+    options = GroundOptions(cache_dir=tmp_path / "cache", backends=backends, refine=RefineConfig(iterations=100))
     result = ground(scene_dir, "the vase in the centre of the frame", tmp_path / "out", options, progress=False)
     labels = read_pseudo_labels(tmp_path / "out" / "labels.json")
     scene = load_scene_dir(scene_dir)
     vase = next(o for o in scene.semantics if o.name == "vase")
     assert (scene.gaussians.labels[labels.subjects[0].gaussians] == vase.id).float().mean() > 0.9
-    assert result["options"]["perception"] == "label-masks"
+    assert result["options"]["backends"]["associator"] == "knn" and result["options"]["backends"]["parser"] == "rules"
 
 
 @pytest.mark.parametrize(
@@ -130,7 +132,7 @@ def test_unknown_subject_names_the_closest_known(scene_dir, tmp_path, capsys):
     assert "teddy bear" in capsys.readouterr().err
 
 
-def test_scene_without_sidecar_is_rejected_under_labels(scene_dir, tmp_path, capsys):
+def test_scene_without_sidecar_is_rejected_by_the_oracle_backends(scene_dir, tmp_path, capsys):
     import shutil
 
     bare = tmp_path / "bare"
@@ -139,7 +141,7 @@ def test_scene_without_sidecar_is_rejected_under_labels(scene_dir, tmp_path, cap
     (bare / "labels.npy").unlink()
     assert main(["ground", str(bare), "the teddy bear on the left", "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "semantic sidecar" in err and "--perception labels" in err
+    assert len(err.strip().splitlines()) == 1 and "semantic sidecar" in err and "--coarse-scorer oracle" in err
     assert not (tmp_path / "o").exists()
 
 
@@ -219,20 +221,22 @@ def test_stage_verbs_reproduce_ground(scene_dir, tmp_path):
     assert staged["retrieval"] == grounded["retrieval"] and staged["report"]["rows"] == grounded["report"]["rows"]
 
 
-@pytest.mark.parametrize("perception", ["labels", "label-masks"])
-def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, perception):
-    """coarse -> qe -> [segment] -> associate -> orient -> translate, one process each (the
-    workflow's rules), write the same retrieval.json and labels.json as retrieve and translate."""
+@pytest.mark.parametrize("associator", ["oracle", "knn"])
+def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, associator):
+    """parse -> coarse -> qe -> [segment] -> associate -> orient -> translate, one process each
+    (the workflow's rules), write the same retrieval.json and labels.json as retrieve and translate."""
     text = "the teddy bear on the right, seen from its front"
-    common = ["--cache", str(tmp_path / "cache"), "--perception", perception]
+    common = ["--cache", str(tmp_path / "cache"), "--associator", associator]
     scene, out = str(scene_dir), lambda name: str(tmp_path / name)
     assert main(["retrieve", scene, text, "-o", out("r.json"), *common]) == 0
     assert main(["translate", scene, "--retrieval", out("r.json"), "-o", out("l.json"), *common]) == 0
-    assert main(["coarse", scene, text, "-o", out("c.json"), *common]) == 0
+    assert main(["parse", scene, text, "-o", out("p.json"), *common]) == 0
+    assert json.loads((tmp_path / "p.json").read_text())["needs"] == {"orientation": True}
+    assert main(["coarse", scene, "--parsed", out("p.json"), "-o", out("c.json"), *common]) == 0
     assert main(["qe", scene, "--coarse", out("c.json"), "-o", out("q.json"), *common]) == 0
     assert json.loads((tmp_path / "q.json").read_text()) == json.loads((tmp_path / "r.json").read_text())
     masks = []
-    if perception == "label-masks":
+    if associator == "knn":
         assert main(["segment", scene, "--retrieval", out("q.json"), "-o", out("m.npz"), *common]) == 0
         masks = ["--masks", out("m.npz")]
     assert main(["associate", scene, "--retrieval", out("q.json"), "-o", out("a.json"), *masks, *common]) == 0
@@ -279,9 +283,12 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
         ]
     )
     assert code == 2 and "capframe orient" in capsys.readouterr().err and not (tmp_path / "l.json").exists()
-    # labels associate by id: there is nothing to segment
-    assert main(["segment", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "m.npz"), *cache]) == 2
-    assert "without masks" in capsys.readouterr().err
+    # an unknown backend for any role is one line naming the available ones, and nothing is written
+    segment = ["segment", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "m.npz"), *cache]
+    for option, available in (("--segmenter", "oracle"), ("--associator", "oracle, knn"), ("--parser", "rules")):
+        assert main([*segment, option, "sam"]) == 2 and not (tmp_path / "m.npz").exists()
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"{option} 'sam' is unknown; available: {available}" in err
     # a retrieval file where a coarse file is expected names the file
     assert main(["qe", str(scene_dir), "--coarse", str(tmp_path / "r.json"), "-o", str(tmp_path / "q.json"), *cache]) == 2
     err = capsys.readouterr().err

@@ -145,6 +145,7 @@ def _fake_method_run(work: Path) -> None:
             f"results/colmap/{scene}/scene.json": "{}",
             f"results/gravity/{scene}.json": "{}",
             f"results/views/{scene}/label_views.npz": "",
+            f"results/parse/capframe/{stem}": json.dumps({"needs": {"orientation": scene == "tabletop-orbit"}}),
             f"results/coarse/capframe/{stem}": "{}",
             f"results/retrieve/capframe/{stem}": "{}",
             f"results/associate/capframe/{stem}": "{}",
@@ -184,15 +185,15 @@ def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
 
 def test_instructions_get_only_the_translate_stages_they_need(tmp_path):
     """Orientation runs only for the instruction with an asymmetric subject and a view cue, and
-    not at all for a variant that drops orientation; segmentation only for a perception that
-    segments (label ids need no masks)."""
+    not at all for a variant that drops orientation (the parse checkpoint's ``needs`` decides);
+    segmentation only for an associator that reads masks (label ids need none)."""
     _fake_generated_suite(tmp_path)
     _fake_method_run(tmp_path)
     for stage in ("orient", "translate"):
         shutil.rmtree(tmp_path / "results" / stage)
     _with_variants(
         tmp_path,
-        {"masks": {"translate": {"perception": "label-masks"}}, "no-orientation": {"translate": {"drop": "orientation"}}},
+        {"masks": {"backends": {"associator": "knn"}}, "no-orientation": {"translate": {"drop": "orientation"}}},
     )
 
     default = planned_outputs(tmp_path, "results/tables/capframe.csv")

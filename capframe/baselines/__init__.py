@@ -9,18 +9,16 @@ another pose search.
   area and uprightness only.
 
 The scorer of IVS and SVS is the paper's text-image similarity (FG-CLIP) in the model tier; the
-embedded tier scores by Question-Evaluation on label renders (:mod:`capframe.baselines.scoring`).
+embedded tier scores by Question-Evaluation on label renders (the oracle image-text scorer).
 """
 
 from .candidates import interpolate_pose, ivs_candidates, svs_candidates
 from .run import METHODS, BaselineOptions, run_baseline
-from .scoring import QEScorer
 from .splatraj import SplaTrajConfig, splatraj_pose
 
 __all__ = [
     "METHODS",
     "BaselineOptions",
-    "QEScorer",
     "SplaTrajConfig",
     "interpolate_pose",
     "ivs_candidates",

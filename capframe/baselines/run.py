@@ -15,24 +15,21 @@ Writes into the output folder, atomically as one folder (nothing is written on a
 from __future__ import annotations
 
 import dataclasses
-import json
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..backends import check_perception
+from ..backends import CameraScorer, Question
 from ..errors import InputError
-from ..ground import GroundOptions, StageClock, load_scene, make_perception, parse_stage, translate
-from ..refine.run import scene_scale, write_camera_result
+from ..pipeline import GroundOptions, StageClock, open_job, stages
+from ..pipeline.outputs import write_camera_result
 from ..render import render
-from ..retrieve.qe import Retrieval, retrieve
-from ..scene import Camera, SceneDir
+from ..scene import Camera, SceneDir, scene_scale
 from ..scene._io import atomic_directory
 from ..translate.labels import PseudoLabels
 from .candidates import ivs_candidates, svs_candidates
-from .scoring import QEScorer, Scorer, best_candidate
+from .scoring import best_candidate
 from .splatraj import SplaTrajConfig, splatraj_pose
 
 METHODS = ("ivs", "svs", "splatraj")
@@ -50,7 +47,7 @@ class BaselineOptions:
         max_views: IVS interpolates between ``L = min(max_views, N)`` retrieved views; SVS
             samples as many poses as IVS interpolates, ``3 L (L - 1) / 2`` (at least one).
         splatraj: settings of the SplaTraj-style optimiser.
-        stages: parser, perception, cache and gravity of the shared stages (as ``capframe ground``).
+        stages: backends, cache and gravity of the shared stages (as ``capframe ground``).
     """
 
     seed: int = 0
@@ -59,15 +56,14 @@ class BaselineOptions:
     stages: GroundOptions = field(default_factory=GroundOptions)
 
 
-def search_ranking(retrieval: Retrieval) -> list[int]:
-    """Every training view, best first: Retrieve's QE ranking of the views it kept, then the
-    others by coarse score (the kept views are the coarse top M, so the top L of this ranking
-    is the coarse top L whenever L >= M)."""
-    ranked = retrieval.ranked()
-    return ranked + [int(v) for v in np.argsort(-retrieval.coarse, kind="stable") if int(v) not in ranked]
+def search_ranking(coarse: list[float], ranked: list[int]) -> list[int]:
+    """Every training view, best first: Retrieve's QE ranking of the views it kept (``ranked``),
+    then the others by ``coarse`` score (the kept views are the coarse top M, so the top L of this
+    ranking is the coarse top L whenever L >= M)."""
+    return ranked + [int(v) for v in np.argsort(-np.asarray(coarse), kind="stable") if int(v) not in ranked]
 
 
-def _select(candidates: list[Camera], scorer: Scorer, clock: StageClock) -> tuple[Camera, float, list[dict]]:
+def _select(candidates: list[Camera], scorer: CameraScorer, clock: StageClock) -> tuple[Camera, float, list[dict]]:
     """The best candidate, its score and the :data:`TOP_CANDIDATES` best with their scores."""
     best, scores = best_candidate(candidates, scorer)
     clock.done("score", f"best {candidates[best].name}: {scores[best]:.1f}")
@@ -77,9 +73,9 @@ def _select(candidates: list[Camera], scorer: Scorer, clock: StageClock) -> tupl
 
 
 def _ivs(
-    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+    scene: SceneDir, ranking: list[int], labels: PseudoLabels, scorer: CameraScorer, options: BaselineOptions, clock: StageClock
 ) -> tuple[Camera, float, dict]:
-    views = search_ranking(retrieval)[: min(options.max_views, len(scene.cameras))]
+    views = ranking[: min(options.max_views, len(scene.cameras))]
     candidates = ivs_candidates([scene.cameras[v] for v in views])
     clock.done("candidates", f"{len(candidates)} poses between the top {len(views)} views")
     camera, score, top = _select(candidates, scorer, clock)
@@ -87,7 +83,7 @@ def _ivs(
 
 
 def _svs(
-    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+    scene: SceneDir, ranking: list[int], labels: PseudoLabels, scorer: CameraScorer, options: BaselineOptions, clock: StageClock
 ) -> tuple[Camera, float, dict]:
     L = min(options.max_views, len(scene.cameras))
     means = scene.gaussians.means.detach().double().numpy()[np.concatenate([s.gaussians for s in labels.subjects])]
@@ -106,9 +102,9 @@ def _svs(
 
 
 def _splatraj(
-    scene: SceneDir, retrieval: Retrieval, labels: PseudoLabels, scorer: Scorer, options: BaselineOptions, clock: StageClock
+    scene: SceneDir, ranking: list[int], labels: PseudoLabels, scorer: CameraScorer, options: BaselineOptions, clock: StageClock
 ) -> tuple[Camera, float, dict]:
-    start = scene.cameras[retrieval.top[0]]
+    start = scene.cameras[ranking[0]]
     result = splatraj_pose(scene.gaussians, start, labels, scene_scale(scene.cameras, scene.gaussians.means), options.splatraj)
     camera = start.with_pose(result.T_cw)
     clock.done(
@@ -149,43 +145,28 @@ def run_baseline(
     if method not in SEARCHES:
         raise InputError(f"baseline {method!r} is unknown; available: {', '.join(METHODS)}")
     options = options or BaselineOptions()
-    check_perception(options.stages.perception)
     if options.max_views < 1:
         raise InputError(f"max_views {options.max_views}: must be at least 1")
     clock = StageClock(progress)
-    scene, up = load_scene(Path(scene_dir), options.stages)
-    parsed = parse_stage(scene, text, options.stages, clock)
-    perception = make_perception(scene, up, options.stages)
-    clock.done("views", f"{len(scene.cameras)} training views measured (cached per scene)")
-    retrieval = retrieve(parsed, perception, perception, options.stages.top_k)
-    clock.done("retrieve", "top: " + ", ".join(scene.cameras[v].name for v in retrieval.top))
-    labels = translate(parsed, perception, retrieval.top, up)
-    clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))
-    # The embedded tier's scorer; the model tier's (FG-CLIP on the colour render) takes its place.
-    scorer = QEScorer(scene, retrieval.questions, labels)
-    camera, score, search = SEARCHES[method](scene, retrieval, labels, scorer, options, clock)
-    image = render(scene.gaussians, camera).rgb
+    job = open_job(scene_dir, options.stages)
+    parsed = stages.parse(job, text, clock)
+    coarse = stages.coarse(job, parsed, clock)
+    retrieved = stages.qe(job, coarse, options.stages, clock)
+    labels = stages.perceive(job, retrieved, options.stages, clock)
+    questions = [Question(**q) for q in retrieved.retrieval["questions"]]
+    scorer = job.backends["scorer"].scorer(parsed, questions, labels)
+    ranking = search_ranking(list(coarse.coarse.values()), job.view_indices([v["view"] for v in retrieved.retrieval["views"]]))
+    camera, score, search = SEARCHES[method](job.scene, ranking, labels, scorer, options, clock)
+    image = render(job.scene.gaussians, camera).rgb
     clock.done("render", f"{camera.width}x{camera.height}")
     fields = {
         "method": method,
         "score": score,
         "search": search,
         "instruction": parsed.to_dict(),
-        "retrieval": {"top": [scene.cameras[v].name for v in retrieval.top]},
-        "up": up.tolist(),
-        "timings": dict(clock.timings, total_s=time.perf_counter() - clock.start),
+        "retrieval": {"top": retrieved.top},
+        "up": job.up.tolist(),
+        "timings": clock.total(),
     }
     with atomic_directory(out_dir) as tmp:
-        summary = write_camera_result(tmp, camera, image, fields)
-    return summary
-
-
-def baseline_command(args) -> None:
-    """The ``capframe baseline`` verb."""
-    options = BaselineOptions(seed=args.seed, stages=GroundOptions(cache_dir=args.cache, gravity=args.gravity))
-    result = run_baseline(args.method, args.scene, args.instruction, args.output, options, progress=not args.json)
-    if args.json:
-        keys = ("T_cw", "K", "width", "height", "method", "score", "timings")
-        print(json.dumps({k: result[k] for k in keys}))
-    else:
-        print(f"{args.output}: {args.method} camera, score {result['score']:.1f}, {result['timings']['total_s']:.1f} s")
+        return write_camera_result(tmp, camera, image, fields)

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ..evaluate.check import GroundTruthChecker, read_result_camera
-from ..ground import GroundOptions, ground
+from ..pipeline import GroundOptions, ground
 from ..scene import load_scene_dir
 from ..scene._io import read_json
 from .refine import DEFAULT_SUITE, suite_cases

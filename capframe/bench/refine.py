@@ -24,8 +24,7 @@ from ..evaluate.ground_truth import read_ground_truth
 from ..evaluate.oracle import initial_view, oracle_labels
 from ..geometry import pose_deviation
 from ..refine import RefineConfig, refine_pose
-from ..refine.run import scene_scale
-from ..scene import load_scene_dir
+from ..scene import load_scene_dir, scene_scale
 from ..scene._io import read_json
 
 DEFAULT_SUITE = Path(__file__).resolve().parents[2] / "config" / "suites" / "default.yaml"

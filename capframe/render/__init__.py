@@ -17,7 +17,7 @@ import torch
 from torch import Tensor
 
 from ..geometry.camera import camera_center
-from ..scene.model import Camera, GaussianScene
+from ..scene.model import Camera, GaussianScene, scene_extent
 from .sh import eval_sh_colors
 
 DEPTH_ALPHA_MIN = 1e-4  # below this accumulated alpha the normalised depth is undefined
@@ -56,15 +56,6 @@ def resolve_backend(backend: str) -> str:
     if backend not in ("torch", "gsplat"):
         raise ValueError(f"unknown render backend {backend!r}; expected 'auto', 'torch' or 'gsplat'")
     return backend
-
-
-def scene_extent(means: Tensor) -> float:
-    """Robust size of a point set: median distance to the coordinate-wise median (> 0)."""
-    if len(means) == 0:
-        return 1.0
-    centre = means.median(0).values
-    extent = float((means - centre).norm(dim=-1).median())
-    return extent if extent > 0 else 1.0
 
 
 @dataclass

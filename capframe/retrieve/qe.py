@@ -13,11 +13,12 @@ miss when no view satisfies a question exactly.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 
 import numpy as np
 import torch
 
+from ..backends.protocols import Question
 from ..constraints import (
     MIN_IN_FRAME_FRACTION,
     REGIONS,
@@ -41,23 +42,6 @@ ROLL_SCALE_DEG = 15.0
 # that clearly dominates is a better start than a weak runner-up.
 ADAPTIVE_CUT_POINTS = 25.0
 MIN_COARSE_KEEP = 6
-
-
-@dataclass
-class Question:
-    """One QE question.
-
-    Attributes:
-        kind: visible | region | shot | view | elevation | roll | overall.
-        text: the question as a person (or an MLLM) would read it.
-        subject: the subject's scene name, or None for camera-wide questions.
-        target: what is asked (a region name, a shot size, a view side, an angle interval...).
-    """
-
-    kind: str
-    text: str
-    subject: str | None = None
-    target: dict = field(default_factory=dict)
 
 
 @dataclass

@@ -10,7 +10,7 @@ from .cameras_json import (
 )
 from .colmap import colmap_image_line, read_colmap, write_colmap
 from .directory import SceneDir, SceneMeta, SemanticObject, import_scene, load_scene_dir
-from .model import Camera, GaussianScene, rgb_to_sh_dc, sh_degree_of
+from .model import Camera, GaussianScene, rgb_to_sh_dc, scene_extent, scene_scale, sh_degree_of
 from .nerfstudio import read_transforms_json
 from .ply import read_ply, write_ply
 
@@ -19,6 +19,8 @@ __all__ = [
     "GaussianScene",
     "rgb_to_sh_dc",
     "sh_degree_of",
+    "scene_extent",
+    "scene_scale",
     "read_ply",
     "write_ply",
     "read_cameras_json",

@@ -239,3 +239,21 @@ class Camera:
 
     def with_pose(self, T_cw: np.ndarray) -> Camera:
         return dataclasses.replace(self, T_cw=np.asarray(T_cw, dtype=np.float64))
+
+
+def scene_extent(means: Tensor) -> float:
+    """Robust size of a point set: median distance to the coordinate-wise median (> 0)."""
+    if len(means) == 0:
+        return 1.0
+    centre = means.median(0).values
+    extent = float((means - centre).norm(dim=-1).median())
+    return extent if extent > 0 else 1.0
+
+
+def scene_scale(cameras: list[Camera], means: Tensor) -> float:
+    """Scene scale ``s`` (DESIGN §3): the median distance from the training cameras to the scene
+    centre (the median of the Gaussian means); the Gaussians' own extent without cameras."""
+    if not cameras:
+        return scene_extent(means.detach())
+    centre = means.detach().median(0).values.double().numpy()
+    return float(np.median([np.linalg.norm(c.center - centre) for c in cameras]))

@@ -14,11 +14,10 @@ front; a subject without one is treated as symmetric (layout only).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 import torch
 
+from ..backends.protocols import Grounding
 from ..errors import InputError
 from ..scene import Camera, SemanticObject
 
@@ -27,36 +26,6 @@ KNN_NEIGHBOURS = 4  # Gaussians taken per back-projected point
 # means: points back-projected onto the background past the subject's silhouette find no member.
 KNN_RADIUS_SPACINGS = 3.0
 _CHUNK = 2048  # back-projected points per distance block (bounds memory at N * 2048 floats)
-
-
-@dataclass
-class Grounding:
-    """A subject found in the scene.
-
-    Attributes:
-        name: the subject's scene name.
-        gaussians: (M,) indices of its Gaussians.
-        centroid: (3,) mean of their means.
-        front: (3,) unit front direction, or None (symmetric or unknown).
-    """
-
-    name: str
-    gaussians: np.ndarray
-    centroid: np.ndarray
-    front: np.ndarray | None
-
-
-@dataclass
-class SubjectMasks:
-    """A subject's 2D masks (a segmenter's output) in some views.
-
-    Attributes:
-        views: indices of the views (training cameras).
-        masks: (len(views), H, W) boolean masks at the perception's measurement resolution.
-    """
-
-    views: list[int]
-    masks: np.ndarray
 
 
 def ground_by_labels(name: str, labels: torch.Tensor, means: torch.Tensor, objects: list[SemanticObject]) -> Grounding:

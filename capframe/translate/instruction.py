@@ -9,6 +9,7 @@ reader of ``result.json`` sees both what was understood and what it became.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import asdict, dataclass, field
 
 from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints, SubjectConstraint
@@ -76,6 +77,19 @@ class ParsedInstruction:
         it has no front to be seen from."""
         subjects = [SubjectConstraint(s.name, s.role, s.region, s.shot, None if s.symmetric else s.view) for s in self.subjects]
         return Constraints(subjects, self.elevation, self.elevation_deg, self.roll_deg)
+
+    def without(self, cues: str | None) -> ParsedInstruction:
+        """The instruction without its ``layout`` (regions, shot sizes) or ``orientation`` (view
+        sides, elevation, roll) cues, the sensitivity study's label removal; itself for None."""
+        if cues is None:
+            return self
+        if cues == "layout":
+            subjects = [dataclasses.replace(s, region=None, shot=None) for s in self.subjects]
+            return dataclasses.replace(self, subjects=subjects)
+        if cues == "orientation":
+            subjects = [dataclasses.replace(s, view=None) for s in self.subjects]
+            return dataclasses.replace(self, subjects=subjects, elevation=None, elevation_deg=None, roll_deg=None)
+        raise InputError(f"cannot drop {cues!r} cues; expected 'layout' or 'orientation'")
 
     def to_dict(self) -> dict:
         """JSON-ready form: the fields of :data:`JSON_SCHEMA` plus, per subject, the derived layout

@@ -20,6 +20,7 @@ the scene appears rotated counter-clockwise by the roll, and so does an upright 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from dataclasses import dataclass
 from pathlib import Path
@@ -183,6 +184,32 @@ def labels_from_constraints(
             )
         )
     return PseudoLabels(labels, np.asarray(up, dtype=np.float64), roll_deg=roll, box_angle_deg=roll)
+
+
+def _shifted(box: tuple | None, dx: float, dy: float) -> tuple | None:
+    return None if box is None else (box[0] + dx, box[1] + dy, box[2] + dx, box[3] + dy)
+
+
+def perturbed(labels: PseudoLabels, box_noise: float, front_noise_deg: float, seed: int) -> PseudoLabels:
+    """Pseudo labels with moderate noise (the sensitivity study): each box and region shifted by
+    ``box_noise`` (frame fraction) in a random direction, each front turned about the up by
+    ``front_noise_deg`` with a random sign; ``seed`` draws both."""
+    from ..geometry import so3_exp
+
+    rng = np.random.default_rng(seed)
+    subjects = []
+    for s in labels.subjects:
+        angle = rng.uniform(0, 2 * np.pi)
+        dx, dy = box_noise * np.cos(angle), box_noise * np.sin(angle)
+        front = s.front
+        if front is not None and front_noise_deg:
+            import torch
+
+            turn = np.radians(front_noise_deg) * rng.choice([-1.0, 1.0])
+            R = so3_exp(torch.as_tensor(labels.up * turn, dtype=torch.float64)).numpy()
+            front = R @ front
+        subjects.append(dataclasses.replace(s, region=_shifted(s.region, dx, dy), box=_shifted(s.box, dx, dy), front=front))
+    return dataclasses.replace(labels, subjects=subjects)
 
 
 def _to_json(labels: PseudoLabels) -> dict:

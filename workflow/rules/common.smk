@@ -1,10 +1,12 @@
 """Shared helpers: the suite's scenes and the instruction ids behind the instructions checkpoint."""
 
 import json
+import os
 import shlex
 
 from snakemake.utils import validate
 
+from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
 from capframe.synth.suite import load_suite
 
 validate(config, "../schemas/config.schema.yaml")
@@ -77,16 +79,22 @@ def instruction_text(wildcards):
 # The method and its variants (ablations, sensitivity): name -> per-stage overrides.
 VARIANTS = {"capframe": {}} | {f"capframe-{name}": v for name, v in config.get("variants", {}).items()}
 # The method's per-instruction stages in pipeline order, each with the variant settings
-# (config section, key) it reads.
+# (config section, key) it reads; a backend choice is ("backends", role).
 METHOD_STAGES = {
-    "coarse": [("retrieve", "paraphrase")],
-    "qe": [("retrieve", "topk")],
-    "segment": [("translate", "perception")],
-    "associate": [("translate", "perception")],
-    "orient": [],
+    "parse": [("retrieve", "paraphrase"), ("backends", "parser")],
+    "coarse": [("backends", "coarse")],
+    "qe": [("retrieve", "topk"), ("backends", "qe")],
+    "segment": [("backends", "segmenter")],
+    "associate": [("backends", "associator")],
+    "orient": [("backends", "orient")],
     "translate": [("translate", key) for key in ("drop", "box_noise", "front_noise", "noise_seed")],
     "refine": [("refine", key) for key in ("weights", "iterations", "long_side")],
 }
+# The roles whose backend each stage runs (their options are passed to its verb).
+STAGE_ROLES = {"parse": ["parser"], "coarse": ["coarse"], "qe": ["qe"], "segment": ["segmenter"], "associate": ["associator"]}
+STAGE_ROLES["orient"] = ["orient"]
+# The baselines run the shared stages and score candidates in one job.
+BASELINE_ROLES = [*ROLES]
 
 
 def stage_key(variant, stage):
@@ -108,50 +116,60 @@ def stage_file(stage, pattern):
     return lambda wc: pattern.format(key=stage_key(wc.variant, stage), scene=wc.scene, instruction=wc.instruction)
 
 
-PERCEPTION_MASKS = ("label-masks",)  # perceptions that segment before associating
+def backends(variant):
+    """Role -> backend name of ``variant``: the registry's defaults, the config's ``backends`` and
+    the variant's own ``backends``, each checked against the registry."""
+    return resolve_choices(config.get("backends", {}) | VARIANTS[variant].get("backends", {}))
 
 
-def perception(variant):
-    return stage_setting(variant, "translate", "perception", "labels")
+def backend_options(variant, roles):
+    """The ``--<role> <backend>`` options of ``roles`` for ``variant`` (and ``--models`` when a
+    models config is set)."""
+    chosen = backends(variant)
+    options = [f"{ROLES[role].option} {chosen[role]}" for role in roles if role in chosen]
+    if config.get("models"):
+        options.append(f"--models {shlex.quote(config['models'])}")
+    return " ".join(options)
 
 
 def masks_input(wildcards):
-    """The segmentation stage's masks, for a perception that has one (labels associate by id)."""
-    if perception(wildcards.variant) not in PERCEPTION_MASKS:
+    """The segmentation stage's masks, for an associator that reads masks (the oracle associates
+    by label id)."""
+    if backends(wildcards.variant)["associator"] not in MASK_ASSOCIATORS:
         return []
     return stage_file("segment", "results/segment/{key}/{scene}/{instruction}.npz")(wildcards)
 
 
-def parsed_instruction(wildcards):
-    """The instruction as the rule parser reads it (exactly what the coarse stage parses), or
-    None when it does not parse: the coarse job then fails with the parser's message. Parsed here,
-    at DAG time, to leave out the orientation stage; a checkpoint per instruction would have to
-    be resolved inside the instructions checkpoint, which Snakemake does not do in one pass."""
-    from types import SimpleNamespace
+def parse_output(wildcards):
+    """The parse checkpoint's file for this instruction and variant (it decides which of the later
+    stages run). Until the parse job has run, the checkpoint defers the decision; once its file
+    exists it is read directly: Snakemake leaves a checkpoint reached only through input functions
+    undecided even when its output is complete (seen with Snakemake 9.27)."""
+    key = stage_key(wildcards.variant, "parse")
+    path = f"results/parse/{key}/{wildcards.scene}/{wildcards.instruction}.json"
+    if not os.path.exists(path):
+        checkpoints.parse.get(variant=key, scene=wildcards.scene, instruction=wildcards.instruction)
+    return path
 
-    from capframe.errors import InputError
-    from capframe.translate.parse import RuleParser
-    from capframe.translate.vocabulary import Vocabulary
 
-    try:  # the sidecar's names read directly: capframe.scene's reader would import torch into every DAG build
-        with open(f"results/scenes/{wildcards.scene}/semantics.json") as f:
-            objects = [
-                SimpleNamespace(name=o["name"], aliases=o.get("aliases", []), symmetric=o.get("symmetric", False))
-                for o in json.load(f)["objects"]
-            ]
-        return RuleParser().parse(instruction_text(wildcards), Vocabulary.from_semantics(objects))
-    except (OSError, KeyError, InputError):
-        return None
+def parse_outputs(method):
+    """Input function: the parse checkpoint's file of every instruction that ``method`` parses
+    (none for a baseline or the oracle). Listed as inputs of the method's table so the checkpoints
+    are in the DAG before fronts_input() asks them: a checkpoint reached only through an input
+    function stays undecided in a dry run."""
+    if method not in VARIANTS:
+        return lambda wildcards: []
+    return per_instruction(f"results/parse/{stage_key(method, 'parse')}/{{scene}}/{{instruction}}.json")
 
 
 def fronts_input(wildcards):
-    """The orientation stage's fronts, only for an instruction with an asymmetric subject and a
-    view cue and a variant that keeps orientation."""
+    """The orientation stage's fronts, only for an instruction whose parse needs one (an
+    asymmetric subject with a view cue) and a variant that keeps orientation."""
     if stage_setting(wildcards.variant, "translate", "drop", None) == "orientation":
         return []
-    parsed = parsed_instruction(wildcards)
-    if parsed is None or not any(s.needs_front for s in parsed.subjects):
-        return []
+    with open(parse_output(wildcards)) as f:
+        if not json.load(f)["needs"]["orientation"]:
+            return []
     return stage_file("orient", "results/orient/{key}/{scene}/{instruction}.json")(wildcards)
 
 

@@ -24,6 +24,8 @@ rule check:
 
 rule aggregate:
     input:
+        # First: the parse checkpoints enter the DAG before the results that depend on them.
+        parsed=lambda wc: parse_outputs(wc.method)(wc),
         checks=lambda wc: per_instruction(f"results/check/{wc.method}/{{scene}}/{{instruction}}.json")(wc),
         results=lambda wc: per_instruction(METHOD_RESULTS[wc.method])(wc),
     output:

@@ -3,8 +3,8 @@ associate, orient, translate; Refine), its variants, and the per-scene stages it
 
 Stages a scene or an instruction does not need are left out of its DAG (DESIGN §7): COLMAP only
 for a scene without poses, gravity only for a scene that is not aligned (posed_scene(),
-gravity_input()); segmentation only for a perception that masks (masks_input()); orientation only
-for an instruction with an asymmetric subject and a view cue (fronts_input()).
+gravity_input()); segmentation only for an associator that reads masks (masks_input()); orientation
+only for an instruction whose parse asks for a front (fronts_input(), read from the parse checkpoint).
 """
 
 
@@ -54,13 +54,34 @@ wildcard_constraints:
     baseline="|".join(BASELINES),
 
 
+checkpoint parse:
+    # A checkpoint: the parsed instruction decides which Translate stages run (fronts_input).
+    input:
+        scene=posed_scene,
+        gravity=gravity_input,
+        # The text param reads the instructions checkpoint's output, so it must be an input.
+        constraints="results/instructions/{scene}/constraints.json",
+    output:
+        "results/parse/{variant}/{scene}/{instruction}.json",
+    log:
+        "results/logs/parse/{variant}/{scene}/{instruction}.log",
+    benchmark:
+        "results/benchmarks/parse/{variant}/{scene}/{instruction}.tsv"
+    priority: METHOD_PRIORITY
+    params:
+        text=instruction_text,
+        gravity=gravity_option,
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["parse"]),
+    shell:
+        "capframe parse {input.scene} {params.text:q} -o {output} {params.backends} {params.gravity} > {log} 2>&1"
+
+
 rule coarse:
     input:
         scene=posed_scene,
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
-        # The text param reads the instructions checkpoint's output, so it must be an input.
-        constraints="results/instructions/{scene}/constraints.json",
+        parsed=stage_file("parse", "results/parse/{key}/{scene}/{instruction}.json"),
     output:
         "results/coarse/{variant}/{scene}/{instruction}.json",
     log:
@@ -69,11 +90,11 @@ rule coarse:
         "results/benchmarks/coarse/{variant}/{scene}/{instruction}.tsv"
     priority: METHOD_PRIORITY
     params:
-        text=instruction_text,
         gravity=gravity_option,
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["coarse"]),
     shell:
-        "capframe coarse {input.scene} {params.text:q} -o {output} --cache results/views/{wildcards.scene} "
-        "{params.gravity} > {log} 2>&1"
+        "capframe coarse {input.scene} --parsed {input.parsed} -o {output} --cache results/views/{wildcards.scene} "
+        "{params.backends} {params.gravity} > {log} 2>&1"
 
 
 rule qe:
@@ -92,9 +113,10 @@ rule qe:
     params:
         gravity=gravity_option,
         topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["qe"]),
     shell:
         "capframe qe {input.scene} --coarse {input.coarse} -o {output} --topk {params.topk} "
-        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "--cache results/views/{wildcards.scene} {params.backends} {params.gravity} > {log} 2>&1"
 
 
 rule retrieved_view:
@@ -128,9 +150,9 @@ rule segment:
     priority: METHOD_PRIORITY
     params:
         gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["segment"]),
     shell:
-        "capframe segment {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
+        "capframe segment {input.scene} --retrieval {input.retrieval} -o {output} {params.backends} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
@@ -150,11 +172,11 @@ rule associate:
     priority: METHOD_PRIORITY
     params:
         gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["associate"]),
         masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
     shell:
         "capframe associate {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} "
-        "--perception {params.perception} --cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "{params.backends} --cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
 rule orient:
@@ -172,9 +194,9 @@ rule orient:
     priority: METHOD_PRIORITY
     params:
         gravity=gravity_option,
-        perception=lambda wc: perception(wc.variant),
+        backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["orient"]),
     shell:
-        "capframe orient {input.scene} --retrieval {input.retrieval} -o {output} --perception {params.perception} "
+        "capframe orient {input.scene} --retrieval {input.retrieval} -o {output} {params.backends} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
@@ -193,9 +215,7 @@ rule translate:
     priority: METHOD_PRIORITY
     params:
         options=lambda wc: " ".join(
-            f"--{flag.replace('_', '-')} {value}"
-            for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
-            if flag != "perception"
+            f"--{flag.replace('_', '-')} {value}" for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
         ),
         fronts=lambda wc, input: f"--fronts {input.fronts}" if input.fronts else "",
     shell:
@@ -239,6 +259,7 @@ rule baseline:
     params:
         text=instruction_text,
         gravity=gravity_option,
+        backends=lambda wc: backend_options("capframe", BASELINE_ROLES),
     shell:
         "capframe baseline {wildcards.baseline} {input.scene} {params.text:q} -o {output} "
-        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "--cache results/views/{wildcards.scene} {params.backends} {params.gravity} > {log} 2>&1"

@@ -1,0 +1,96 @@
+"""The models config: where each model backend finds its weights or server, and how it runs.
+
+A YAML file (``config/models.yaml``, ``--models``) mapping a backend name to its settings::
+
+    fg-clip:
+      weights: /models/fg-clip-base      # a local weights directory or file
+      device: cuda
+      dtype: float16
+      batch_size: 32
+    qwen3-vl:
+      endpoint: http://localhost:8000/v1  # an OpenAI-compatible server
+      model: Qwen/Qwen3-VL-8B-Instruct
+      api_key_env: OPENAI_API_KEY        # the key is read from this variable, never stored
+
+Backends that need no model (the oracle tier, the rule parser) have no entry.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+from ..errors import InputError
+
+DTYPES = ("float32", "float16", "bfloat16")
+
+
+@dataclass(frozen=True)
+class ModelSettings:
+    """One backend's entry of the models config."""
+
+    weights: str | None = None
+    endpoint: str | None = None
+    model: str | None = None
+    api_key_env: str | None = None
+    device: str = "cpu"
+    dtype: str = "float32"
+    batch_size: int = 8
+    timeout_s: float = 60.0
+
+
+@dataclass(frozen=True)
+class ModelsConfig:
+    """Backend name -> :class:`ModelSettings`; ``source`` names the file for messages."""
+
+    entries: dict[str, ModelSettings] = field(default_factory=dict)
+    source: str | None = None
+
+    def settings(self, backend: str) -> ModelSettings:
+        """The settings of ``backend``; :class:`InputError` when the config has none."""
+        if backend not in self.entries:
+            where = self.source or "no models config given (--models)"
+            raise InputError(f"backend {backend!r} needs an entry in the models config; {where} has {sorted(self.entries)}")
+        return self.entries[backend]
+
+
+def _settings(name: str, entry: object, source: str) -> ModelSettings:
+    """One entry checked field by field: known keys, types, a dtype and a positive batch size."""
+    if not isinstance(entry, dict):
+        raise InputError(f"entry {name!r} must be a mapping of settings, got {type(entry).__name__}", source=source)
+    known = {f.name: f for f in fields(ModelSettings)}
+    unknown = sorted(set(entry) - set(known))
+    if unknown:
+        raise InputError(f"entry {name!r}: unknown keys {unknown}; expected some of {sorted(known)}", source=source)
+    for key, value in entry.items():
+        expected = {"batch_size": int, "timeout_s": (int, float)}.get(key, str)
+        if not isinstance(value, expected) or isinstance(value, bool):
+            raise InputError(
+                f"entry {name!r}: {key} = {value!r} is not a {getattr(expected, '__name__', 'number')}", source=source
+            )
+    settings = ModelSettings(**entry)
+    if settings.dtype not in DTYPES:
+        raise InputError(f"entry {name!r}: dtype {settings.dtype!r}; expected one of {list(DTYPES)}", source=source)
+    if settings.batch_size < 1 or settings.timeout_s <= 0:
+        raise InputError(f"entry {name!r}: batch_size and timeout_s must be positive", source=source)
+    if settings.weights is None and settings.endpoint is None:
+        raise InputError(f"entry {name!r}: give weights (a local path) or endpoint (a server URL)", source=source)
+    return settings
+
+
+def read_models_config(path: str | Path | None) -> ModelsConfig:
+    """The models config at ``path`` (an empty one for None), validated entry by entry."""
+    if path is None:
+        return ModelsConfig()
+    import yaml
+
+    source = str(path)
+    try:
+        data = yaml.safe_load(Path(path).read_text()) or {}
+    except OSError as err:
+        raise InputError(f"cannot read the models config ({err.strerror})", source=source) from None
+    except yaml.YAMLError as err:
+        raise InputError(f"is not valid YAML ({str(err).splitlines()[0]})", source=source) from None
+    if not isinstance(data, dict):
+        raise InputError("must map backend names to their settings", source=source)
+    return ModelsConfig({str(name): _settings(str(name), entry, source) for name, entry in data.items()}, source)

@@ -1,0 +1,140 @@
+"""One name for every role and backend: the CLI's options, the workflow config's schema and the
+workflow's stage selection all read :data:`ROLES` (a test checks the schema agrees).
+
+A backend is built once per job from a :class:`BackendContext` (the scene, its world up, the
+per-scene cache and the models config) and reused for every call in that job
+(:class:`Backends`). Every role is chosen on its own; any mix of backends is valid.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InputError
+from .models import ModelsConfig
+
+
+@dataclass
+class BackendContext:
+    """What a backend may be built from.
+
+    Attributes:
+        scene: the loaded scene directory (:class:`~capframe.scene.SceneDir`).
+        up: (3,) unit world up.
+        cache_dir: the scene's cache folder (per-scene work such as view measurements).
+        models: weights, endpoints and devices of the model backends.
+    """
+
+    scene: Any
+    up: np.ndarray
+    cache_dir: Path
+    models: ModelsConfig = field(default_factory=ModelsConfig)
+    _shared: dict = field(default_factory=dict, repr=False)
+
+    def shared(self, key: str, make: Callable[[], Any]) -> Any:
+        """``make()``, computed once per context: state several backends read (label renders)."""
+        if key not in self._shared:
+            self._shared[key] = make()
+        return self._shared[key]
+
+
+Factory = Callable[[BackendContext], Any]
+
+
+def _rules(context: BackendContext):
+    from ..translate.parse import RuleParser
+
+    return RuleParser()
+
+
+def _oracle(kind: str) -> Factory:
+    def build(context: BackendContext):
+        from . import oracle
+
+        return getattr(oracle, kind)(context)
+
+    build.__name__ = f"oracle_{kind}"
+    return build
+
+
+@dataclass(frozen=True)
+class Role:
+    """A perception role: its option, what it does, its backends (name -> factory) and default."""
+
+    option: str
+    help: str
+    backends: dict[str, Factory]
+    default: str | None
+
+
+ROLES: dict[str, Role] = {
+    "parser": Role("--parser", "instruction parser", {"rules": _rules}, "rules"),
+    "coarse": Role("--coarse-scorer", "coarse scorer of the training views", {"oracle": _oracle("OracleCoarse")}, "oracle"),
+    "qe": Role("--qe", "Question-Evaluation of the kept views", {"oracle": _oracle("OracleQE")}, "oracle"),
+    "segmenter": Role("--segmenter", "subject segmenter (2D masks)", {"oracle": _oracle("OracleSegmenter")}, "oracle"),
+    "associator": Role(
+        "--associator",
+        "subject -> Gaussians (knn: from the segmenter's masks)",
+        {"oracle": _oracle("OracleAssociator"), "knn": _oracle("MaskAssociator")},
+        "oracle",
+    ),
+    "orient": Role("--orient", "subject orientation estimator", {"oracle": _oracle("OracleOrientation")}, "oracle"),
+    "scorer": Role(
+        "--scorer", "image-text scorer of candidate cameras (baselines)", {"oracle": _oracle("OracleScorer")}, "oracle"
+    ),
+    "diff-scorer": Role("--diff-scorer", "differentiable image-text scorer (ChatCam-style)", {}, None),
+    "judge": Role("--judge", "MLLM judge (benchmark)", {}, None),
+}
+
+# Associators that read the segmenter's masks (the workflow runs segmentation only for these).
+MASK_ASSOCIATORS = ("knn",)
+
+
+def backend_names(role: str) -> list[str]:
+    """The backends of ``role``, in registry order."""
+    return list(ROLES[role].backends)
+
+
+def check_choice(role: str, name: str) -> None:
+    """:class:`InputError` naming the available backends when ``name`` is not one of ``role``."""
+    if role not in ROLES:
+        raise InputError(f"role {role!r} is unknown; roles: {', '.join(ROLES)}")
+    if name not in ROLES[role].backends:
+        available = ", ".join(backend_names(role)) or "none yet (the model tier adds them)"
+        raise InputError(f"{ROLES[role].option} {name!r} is unknown; available: {available}")
+
+
+def resolve_choices(choices: dict[str, str | None] | None = None) -> dict[str, str]:
+    """Every role with a backend: the defaults updated by ``choices`` (None keeps the default),
+    each checked. Roles without any backend are left out unless chosen."""
+    chosen = {role: r.default for role, r in ROLES.items() if r.default is not None}
+    chosen |= {role: name for role, name in (choices or {}).items() if name is not None}
+    for role, name in chosen.items():
+        check_choice(role, name)
+    return chosen
+
+
+class Backends:
+    """The backends of one job: each built on first use from ``context``, then reused.
+
+    Args:
+        choices: role -> backend name (see :func:`resolve_choices`).
+        context: what the backends are built from.
+    """
+
+    def __init__(self, choices: dict[str, str], context: BackendContext):
+        self.choices = resolve_choices(choices)
+        self.context = context
+        self._built: dict[str, Any] = {}
+
+    def __getitem__(self, role: str) -> Any:
+        if role not in self._built:
+            if role not in self.choices:
+                raise InputError(f"no backend chosen for the {ROLES[role].help} ({ROLES[role].option})")
+            self._built[role] = ROLES[role].backends[self.choices[role]](self.context)
+        return self._built[role]

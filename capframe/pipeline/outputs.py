@@ -1,0 +1,198 @@
+"""Every result folder the method and the baselines write, in one place.
+
+A method's result folder holds what ``capframe check`` and the image grid read
+(:func:`write_camera_result`): ``result.json`` (the camera's ``T_cw`` 4x4, ``K``, ``width``,
+``height`` and the method's fields), ``camera.json`` and ``render.png`` (the frame at full
+resolution). Refine adds (:func:`write_refine_outputs`):
+
+* in ``result.json``: iterations, stop reason, loss terms at the final pose, per-stage wall times
+  and the device;
+* ``trajectory.npz``: pose per iteration (``poses``), total loss (``loss``) and each loss term;
+* ``losses.csv``: the loss curves;
+* ``path.png``: top view of the camera path (along the world up) with the subjects.
+
+``capframe ground`` adds (:func:`write_ground_result`) the parsed instruction, the retrieval
+(questions and per-view answers), the chosen initial view, the per-clause report and the
+candidates to ``result.json``, and ``labels.json`` (the pseudo labels), ``camera_path.json``
+(nerfstudio), ``colmap_image.txt`` (one ``images.txt`` line) and, with several candidates,
+``candidates/<rank>/`` with each one's ``camera.json`` and ``render.png``.
+
+Folders are written atomically, as one folder: nothing is written on an error.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import platform
+import sys
+from pathlib import Path
+
+import numpy as np
+import torch
+from PIL import Image, ImageDraw
+
+from ..evaluate.check import format_report
+from ..handoff import Retrieved
+from ..refine.optimize import RefineConfig, RefineResult
+from ..render import render
+from ..render.image import save_png
+from ..scene import Camera, SceneDir, colmap_image_line, write_camera_json, write_camera_path_json
+from ..scene._io import atomic_directory, write_json
+from ..translate.labels import PseudoLabels, write_pseudo_labels
+from .stages import GroundOptions, Refined, StageClock, own_report
+
+
+def write_camera_result(out: Path, camera: Camera, image: torch.Tensor, fields: dict) -> dict:
+    """``result.json`` (the camera's ``T_cw``, ``K``, ``width``, ``height``, then ``fields``),
+    ``camera.json`` and ``render.png`` (``image``: (H, W, 3) in [0, 1]) in ``out``. Returns
+    ``result.json``'s content."""
+    summary = {"T_cw": camera.T_cw.tolist(), "K": camera.K.tolist(), "width": camera.width, "height": camera.height, **fields}
+    write_json(out / "result.json", summary)
+    write_camera_json(camera, out / "camera.json")
+    save_png(image, out / "render.png")
+    return summary
+
+
+def write_refine_outputs(
+    out: Path,
+    camera: Camera,
+    result: RefineResult,
+    labels: PseudoLabels,
+    config: RefineConfig,
+    timings: dict,
+    image: torch.Tensor,
+    extra: dict | None = None,
+) -> None:
+    """A refinement's files (see the module docstring) in ``out``; ``extra`` adds fields to
+    ``result.json``."""
+    fields = {
+        "iterations": result.iterations,
+        "stop_reason": result.stop_reason,
+        "loss_terms": result.terms,
+        "loss": float(result.losses.min()),
+        "timings": timings,
+        "device": platform.processor() or platform.machine(),
+        "threads": config.threads,
+        "config": dataclasses.asdict(config),
+        "subjects": [s.name for s in labels.subjects],
+        **(extra or {}),
+    }
+    write_camera_result(out, camera, image, fields)
+    np.savez_compressed(out / "trajectory.npz", poses=result.trajectory, loss=result.losses, **result.history)
+    names = list(result.history)
+    rows = ["iteration,loss," + ",".join(names)]
+    rows += [
+        f"{i},{result.losses[i]:.6g}," + ",".join(f"{result.history[n][i]:.6g}" for n in names) for i in range(len(result.losses))
+    ]
+    (out / "losses.csv").write_text("\n".join(rows) + "\n")
+    path_plot(result.trajectory, labels).save(out / "path.png")
+
+
+def path_plot(trajectory: np.ndarray, labels: PseudoLabels, size: int = 480) -> Image.Image:
+    """Top view along the world up: the camera path (grey), start (blue) and end (red) frustums,
+    and the subjects' centroids (green)."""
+    up = labels.up / np.linalg.norm(labels.up)
+    a = np.cross(up, [1.0, 0.0, 0.0] if abs(up[0]) < 0.9 else [0.0, 1.0, 0.0])
+    a /= np.linalg.norm(a)
+    b = np.cross(up, a)
+    centres = -np.einsum("nji,nj->ni", trajectory[:, :3, :3], trajectory[:, :3, 3])
+    forwards = trajectory[:, 2, :3]
+    subjects = np.stack([s.centroid for s in labels.subjects])
+    points = np.concatenate([centres, subjects])
+    xy = np.stack([points @ a, points @ b], 1)
+    lo, hi = xy.min(0), xy.max(0)
+    span = max(float((hi - lo).max()), 1e-9) * 1.3
+    mid = (lo + hi) / 2
+
+    def to_px(p):
+        q = (np.array([p @ a, p @ b]) - mid) / span * (size - 20) + size / 2
+        return float(q[0]), float(size - q[1])
+
+    img = Image.new("RGB", (size, size), "white")
+    draw = ImageDraw.Draw(img)
+    draw.line([to_px(c) for c in centres], fill=(150, 150, 150), width=2)
+    for k, colour in ((0, (40, 90, 220)), (len(centres) - 1, (220, 40, 40))):
+        tip = centres[k] + forwards[k] * span * 0.08
+        draw.line([to_px(centres[k]), to_px(tip)], fill=colour, width=3)
+        x, y = to_px(centres[k])
+        draw.ellipse([x - 4, y - 4, x + 4, y + 4], fill=colour)
+    for s in subjects:
+        x, y = to_px(s)
+        draw.ellipse([x - 6, y - 6, x + 6, y + 6], fill=(40, 170, 60))
+    return img
+
+
+def write_ground_result(
+    out_dir: str | Path,
+    scene: SceneDir,
+    labels: PseudoLabels,
+    retrieved: Retrieved,
+    refined: Refined,
+    options: GroundOptions,
+    clock: StageClock,
+) -> dict:
+    """Report on Refine's poses with the method's own pseudo labels, render the best (every
+    candidate when ranking several) and write the folder. Returns ``result.json``'s content."""
+    cameras = refined.cameras
+    reports = [own_report(scene, labels, retrieved.parsed, c) for c in cameras]
+    images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
+    clock.done("report", "own labels: " + ("all clauses hold" if reports[0].all_satisfied else "some clauses fail"))
+    timings = clock.total()
+    extra = {
+        "instruction": retrieved.parsed.to_dict(),
+        "retrieval": retrieved.retrieval,
+        "init_view": refined.runs[0][0].name,
+        "report": reports[0].to_dict(),
+        "candidates": [
+            {
+                "rank": k,
+                "init_view": start.name,
+                "loss": float(r.losses.min()),
+                "T_cw": r.T_cw.tolist(),
+                "own_all_satisfied": rep.all_satisfied,
+            }
+            for k, ((start, r), rep) in enumerate(zip(refined.runs, reports))
+        ],
+        "options": options.record(),
+        "up": retrieved.up.tolist(),
+    }
+    with atomic_directory(out_dir) as tmp:
+        write_refine_outputs(tmp, cameras[0], refined.runs[0][1], labels, options.refine, timings, images[0], extra)
+        write_pseudo_labels(labels, tmp / "labels.json")
+        write_camera_path_json([cameras[0]], tmp / "camera_path.json")
+        (tmp / "colmap_image.txt").write_text(colmap_image_line(cameras[0], 1) + "\n")
+        if len(cameras) > 1:
+            for k, (camera, image) in enumerate(zip(cameras, images)):
+                write_camera_json(camera, tmp / "candidates" / str(k) / "camera.json")
+                save_png(image, tmp / "candidates" / str(k) / "render.png")
+    if clock.enabled:
+        print(format_report(reports[0]), file=sys.stderr)
+    return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def write_refine_result(
+    out_dir: str | Path, scene: SceneDir, labels: PseudoLabels, refined: Refined, config: RefineConfig, clock: StageClock
+) -> dict:
+    """Refine alone (``capframe refine --init CAMERA``): the best pose rendered at full resolution
+    and written with its refinement files. Returns ``result.json``'s content."""
+    camera = refined.cameras[0]
+    image = render(scene.gaussians, camera, backend="auto").rgb
+    clock.done("final_render", f"{camera.width}x{camera.height}")
+    with atomic_directory(out_dir) as tmp:
+        write_refine_outputs(tmp, camera, refined.runs[0][1], labels, config, clock.total(), image)
+    return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def write_retrieved_view(out_dir: str | Path, scene: SceneDir, retrieved: Retrieved, camera: Camera) -> dict:
+    """Retrieve's answer on its own, ``camera`` (the view Refine starts from), written like a
+    method's result so the benchmark checks the pose before refinement beside the pose after it.
+
+    ``result.json`` has no ``timings``: the view was chosen by the coarse and QE jobs, whose
+    benchmark files carry the cost (``capframe runtime``). Returns its content.
+    """
+    image = render(scene.gaussians, camera).rgb
+    with atomic_directory(out_dir) as tmp:
+        return write_camera_result(
+            tmp, camera, image, {"method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict()}
+        )
