@@ -402,8 +402,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--long-side", type=int, default=None, help="resize so the longer side has this many pixels")
     p.set_defaults(func=_cmd_render)
 
-    p = verbs.add_parser("import", help="import an Inria 3DGS output or a COLMAP dataset as a scene directory")
-    p.add_argument("src")
+    p = verbs.add_parser(
+        "import",
+        help="import an Inria 3DGS output, a COLMAP or nerfstudio dataset, or a 3DGS file (.ply, .compressed.ply, "
+        ".splat, .spz) as a scene directory",
+    )
+    p.add_argument("src", help="a folder, or a single 3DGS file (then the scene has no cameras)")
     p.add_argument("dst")
     p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
     p.set_defaults(func=_cmd_import)

@@ -211,4 +211,4 @@ def test_cli_import(tmp_path, capsys):
     assert main(["import", str(tmp_path / "output"), str(tmp_path / "scene")]) == 0
     assert (tmp_path / "scene" / "cameras.json").is_file()
     assert main(["import", str(tmp_path / "nowhere"), str(tmp_path / "x")]) == 2
-    assert "nowhere: source folder not found" in capsys.readouterr().err
+    assert "nowhere: source folder or file not found" in capsys.readouterr().err

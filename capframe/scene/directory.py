@@ -12,8 +12,9 @@
     gravity.json       optional, written by the gravity stage
     ground_truth.json  synthetic scenes only; evaluation only, never read by the method (nor here)
 
-:func:`import_scene` turns an Inria 3DGS output, a COLMAP dataset or a nerfstudio dataset into
-this layout; :func:`load_scene_dir` reads it.
+:func:`import_scene` turns an Inria 3DGS output, a COLMAP dataset, a nerfstudio dataset or a single
+3DGS file (``.ply``, ``.compressed.ply``, ``.splat``, ``.spz``) into this layout; :func:`load_scene_dir`
+reads it.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ from ..errors import InputError
 from ._io import as_array, atomic_directory, atomic_write, read_json, require_keys, write_json
 from .cameras_json import read_cameras_json, write_cameras_json
 from .colmap import read_colmap
+from .formats import read_gaussians
 from .model import Camera, GaussianScene
 from .nerfstudio import read_transforms_json
 from .ply import read_ply, write_ply
@@ -241,7 +243,8 @@ def load_scene_dir(path: str | Path, load_gaussians: bool = True) -> SceneDir:
 _LAYOUTS = (
     "an Inria 3DGS output (point_cloud/iteration_<N>/point_cloud.ply + cameras.json), "
     "a COLMAP dataset (sparse/0/ or sparse/ with cameras, images, points3D .bin/.txt; images/), "
-    "or a nerfstudio dataset (transforms.json)"
+    "a nerfstudio dataset (transforms.json), "
+    "or a 3DGS file (.ply, .compressed.ply, .splat, .spz)"
 )
 
 
@@ -304,18 +307,26 @@ def import_scene(src: str | Path, dst: str | Path, copy_images: bool = False, pl
     PLY, ``cameras.json``, and the images found through ``cfg_args``'s ``source_path`` if that
     resolves; (b) a COLMAP dataset folder (``sparse/0`` or ``sparse``, ``images/``; the model is
     copied to ``sparse/0``); (c) a nerfstudio dataset folder (``transforms.json``, poses returned to
-    the COLMAP world). ``ply`` gives the 3DGS PLY for (b) and (c), or overrides (a)'s; it must be
-    in the same world as the cameras. Without a PLY only the cameras are imported.
+    the COLMAP world); (d) a single 3DGS file in any format :func:`read_gaussians` reads (no
+    cameras: an object to frame from cameras of one's own). ``ply`` gives the 3DGS file (any of
+    those formats) for (b) and (c), or overrides (a)'s; it must be in the same world as the
+    cameras. Without one only the cameras are imported.
 
-    The PLY is read and rewritten (so it is validated), cameras are written as ``cameras.json``,
+    The Gaussians are read and rewritten as an Inria PLY (so they are validated), cameras are written as ``cameras.json``,
     images are symlinked (or copied) as ``images/<name><ext>``, and ``scene.json`` records
     ``up = null``, ``aligned = false``. ``dst`` is written whole or not at all and must not
     already hold files. Raises :class:`InputError` when ``src`` matches no layout (listing them).
     """
     src, dst = Path(src), Path(dst)
     source = str(src)
+    if src.is_file():
+        gaussians = read_gaussians(src)
+        with atomic_directory(dst) as tmp:
+            write_ply(gaussians, tmp / "scene.ply")
+            write_scene_meta(SceneMeta(), tmp / "scene.json")
+        return dst
     if not src.is_dir():
-        raise InputError("source folder not found", source=source)
+        raise InputError("source folder or file not found", source=source)
     sparse_dir = None
     images_dir = src / "images" if (src / "images").is_dir() else None
     if (src / "point_cloud").is_dir():
@@ -336,7 +347,7 @@ def import_scene(src: str | Path, dst: str | Path, copy_images: bool = False, pl
         raise InputError(f"matches no importable layout; looked for {_LAYOUTS}", source=source)
     if not cameras and ply is None:
         raise InputError("has no posed cameras and no PLY was given; nothing to import", source=source)
-    gaussians = read_ply(ply) if ply is not None else None
+    gaussians = read_gaussians(ply) if ply is not None else None
     with atomic_directory(dst) as tmp:
         if gaussians is not None:
             write_ply(gaussians, tmp / "scene.ply")

@@ -76,19 +76,17 @@ class GaussianScene:
         """Build from activated values: positive scales (N, 3), opacities in (0, 1) (N,), and
         either RGB colours in [0, 1] (N, 3) or SH coefficients (N, K, 3).
 
-        Opacities are clipped to ``[1e-6, 1 - 1e-6]`` so their logits stay finite.
+        Opacities are clipped to ``[1e-6, 1 - 1e-6]`` so their logits stay finite (:func:`opacity_logit`).
         """
         if colors_or_sh.ndim == 2:
             sh = rgb_to_sh_dc(colors_or_sh)[:, None, :]
         else:
             sh = colors_or_sh
-        eps = 1e-6
-        p = opacities.clamp(eps, 1.0 - eps)
         return cls(
             means=means,
             quats=quats,
             log_scales=torch.log(scales),
-            opacity_logits=torch.log(p) - torch.log1p(-p),
+            opacity_logits=opacity_logit(opacities),
             sh=sh,
             labels=labels,
         )
@@ -144,6 +142,13 @@ class GaussianScene:
 
 
 SH_C0 = 0.28209479177387814  # Y_0^0 = 1 / (2 sqrt(pi))
+
+
+def opacity_logit(opacities: Tensor, eps: float = 1e-6) -> Tensor:
+    """Logits of opacities (any shape), clipped to ``[eps, 1 - eps]`` first so they stay finite
+    (quantised formats store fully transparent and fully opaque splats as 0 and 1)."""
+    p = opacities.clamp(eps, 1.0 - eps)
+    return torch.log(p) - torch.log1p(-p)
 
 
 def rgb_to_sh_dc(rgb: Tensor) -> Tensor:

@@ -11,7 +11,8 @@ property ``f_rest_{c(K-1)+k}`` holds coefficient ``k+1`` of channel ``c``. The n
 (the reference writes zeros).
 
 :func:`read_ply` accepts any property order, extra properties (nerfstudio/gsplat exports add
-some), other scalar types and ASCII files. Values are kept raw in float32, so reading an Inria
+some), files without normals (gsplat's export), uchar ``red green blue`` in place of ``f_dc_*``
+(nerfstudio's export of a degree-0 model), other scalar types and ASCII files. Values are kept raw in float32, so reading an Inria
 file and writing it back reproduces it byte for byte, and writing then reading a float32
 :class:`GaussianScene` gives bit-identical tensors.
 """
@@ -28,7 +29,7 @@ import torch
 
 from ..errors import InputError
 from ._io import atomic_write
-from .model import GaussianScene
+from .model import GaussianScene, rgb_to_sh_dc
 
 # PLY scalar type names (both spellings of the spec) -> numpy type codes.
 _PLY_TYPES = {
@@ -66,6 +67,7 @@ _REQUIRED = (
     "rot_2",
     "rot_3",
 )
+_RGB = {"f_dc_0": "red", "f_dc_1": "green", "f_dc_2": "blue"}
 _F_REST = re.compile(r"f_rest_(\d+)")
 _MAX_HEADER_LINES = 10_000  # a real header has < 100 lines; stop early on a binary non-PLY
 
@@ -128,6 +130,8 @@ def _read_vertex(path: Path, source: str) -> tuple[list[str], Callable[[list[str
             raise InputError(f"PLY has no 'vertex' element (elements: {names})", source=source)
         index = names.index("vertex")
         vertex = elements[index]
+        if vertex.count == 0:
+            raise InputError("holds no Gaussians ('element vertex 0'); expected at least one", source=source)
         if vertex.has_list:
             raise InputError("the 'vertex' element has list properties; expected scalars only", source=source)
         props = [name for name, _ in vertex.properties]
@@ -169,6 +173,35 @@ def _read_vertex(path: Path, source: str) -> tuple[list[str], Callable[[list[str
         return props, lambda wanted: np.stack([records[w] for w in wanted], axis=1).astype(np.float32, copy=False)
 
 
+def ply_element_names(path: str | Path) -> list[str]:
+    """The names of a PLY file's elements, in file order (only the header is read)."""
+    with open(path, "rb") as f:
+        return [e.name for e in _parse_header(f, str(path))[1]]
+
+
+def read_binary_elements(path: str | Path) -> dict[str, np.ndarray]:
+    """Every element of a binary PLY file as a structured array (count,) of its scalar properties.
+
+    For formats that spread a scene over several elements (PlayCanvas's ``chunk``, ``vertex`` and
+    ``sh``). Raises :class:`InputError` naming the file for ASCII data, list properties and
+    truncated data.
+    """
+    path, source = Path(path), str(path)
+    with open(path, "rb") as f:
+        fmt, elements = _parse_header(f, source)
+        if fmt == "ascii":
+            raise InputError("ASCII PLY; this layout is only written as binary", source=source)
+        listed = [e.name for e in elements if e.has_list]
+        if listed:
+            raise InputError(f"elements {listed} have list properties; expected scalars only", source=source)
+        dtypes = [np.dtype([(p, _FORMATS[fmt] + t) for p, t in e.properties]) for e in elements]
+        need = f.tell() + sum(e.count * d.itemsize for e, d in zip(elements, dtypes))
+        size = path.stat().st_size
+        if size < need:
+            raise InputError(f"truncated data: the header declares {need} bytes in all but the file has {size}", source=source)
+        return {e.name: np.fromfile(f, dtype=d, count=e.count) for e, d in zip(elements, dtypes)}
+
+
 def _sh_rest_count(props: list[str], source: str) -> int:
     """Number M of ``f_rest_*`` properties, checked to be 0..M-1 with M = 3((d+1)^2 - 1), d <= 3."""
     indices = sorted(int(m.group(1)) for p in props if (m := _F_REST.fullmatch(p)))
@@ -196,7 +229,11 @@ def read_ply(path: str | Path) -> GaussianScene:
     if not path.is_file():
         raise InputError("file not found", source=source)
     props, gather = _read_vertex(path, source)
-    missing = [p for p in _REQUIRED if p not in props]
+    # nerfstudio's export of a degree-0 model (or in its "rgb" colour mode) stores uchar red, green,
+    # blue instead of f_dc_*; they become the DC coefficients that evaluate to that colour.
+    rgb_instead = not {"f_dc_0", "f_dc_1", "f_dc_2"} & set(props) and {"red", "green", "blue"} <= set(props)
+    columns = [_RGB.get(p, p) for p in _REQUIRED] if rgb_instead else list(_REQUIRED)
+    missing = [p for p in columns if p not in props]
     if missing:
         raise InputError(
             f"missing required properties {', '.join(missing)}; expected the Inria 3DGS layout "
@@ -204,7 +241,9 @@ def read_ply(path: str | Path) -> GaussianScene:
             source=source,
         )
     rest_count = _sh_rest_count(props, source)
-    table = torch.from_numpy(gather(list(_REQUIRED) + [f"f_rest_{i}" for i in range(rest_count)]))
+    table = torch.from_numpy(gather(columns + [f"f_rest_{i}" for i in range(rest_count)]))
+    if rgb_instead:
+        table[:, 3:6] = rgb_to_sh_dc(table[:, 3:6] / 255.0)
     n, k = table.shape[0], rest_count // 3  # k: SH coefficients per channel beyond DC
     # Column slices below follow the order of _REQUIRED.
     rest = table[:, len(_REQUIRED) :].reshape(n, 3, k).transpose(1, 2)  # f_rest is channel-major
