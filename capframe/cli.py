@@ -27,7 +27,12 @@ def _cmd_import(args: argparse.Namespace) -> None:
 def _cmd_colmap(args: argparse.Namespace) -> None:
     from .scene.sfm import colmap_command
 
-    colmap_command(args.scene, args.output, align_ground_truth=args.align_ground_truth, matcher=args.matcher)
+    if args.align_ground_truth:
+        from .evaluate.alignment import ALIGNED_SCENE_FILES, align_to_ground_truth
+
+        colmap_command(args.scene, args.output, align_to_ground_truth, ALIGNED_SCENE_FILES, matcher=args.matcher)
+    else:
+        colmap_command(args.scene, args.output, matcher=args.matcher)
 
 
 def _cmd_gravity(args: argparse.Namespace) -> None:

@@ -13,7 +13,7 @@ from capframe.cli import main
 from capframe.constraints import Constraints, SubjectConstraint
 from capframe.errors import InputError
 from capframe.evaluate import GroundTruthChecker, check_camera, check_command
-from capframe.evaluate import check as check_module
+from capframe import measure as check_module
 from capframe.scene import write_camera_json
 from capframe.synth.instructions import generate_instructions
 

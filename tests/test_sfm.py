@@ -12,6 +12,7 @@ from PIL import Image
 
 from capframe.cli import main
 from capframe.errors import InputError
+from capframe.evaluate.alignment import ALIGNED_SCENE_FILES, align_to_ground_truth
 from capframe.evaluate.oracle import ground_truth_cameras
 from capframe.scene import load_scene_dir
 from capframe.scene.sfm import align_cameras, colmap_command, reconstruct, umeyama_sim3
@@ -100,7 +101,7 @@ def unposed_scene(tmp_path_factory):
 
 
 def test_colmap_recovers_and_aligns_a_synthetic_scene(unposed_scene, tmp_path):
-    record = colmap_command(unposed_scene, tmp_path / "out", align_ground_truth=True)
+    record = colmap_command(unposed_scene, tmp_path / "out", align_to_ground_truth, ALIGNED_SCENE_FILES)
     assert record["images_registered"] == record["images_total"] == 14
     assert record["rotation_error_deg"]["max"] < 2.0
     assert record["position_error_rel"]["max"] < 0.02
@@ -162,7 +163,7 @@ def test_colmap_says_how_few_views_registered(tmp_path, capsys):
 def test_colmap_align_needs_ground_truth(unposed_scene, tmp_path):
     os.symlink(unposed_scene / "images", tmp_path / "images")
     with pytest.raises(InputError, match="needs a synthetic scene's .*ground_truth.json"):
-        colmap_command(tmp_path, tmp_path / "out", align_ground_truth=True)
+        colmap_command(tmp_path, tmp_path / "out", align_to_ground_truth, ALIGNED_SCENE_FILES)
 
 
 def test_colmap_refuses_a_non_empty_output(unposed_scene, tmp_path):

@@ -21,8 +21,7 @@ from ..scene import Camera
 from ..translate.grounding import ground_by_labels, ground_by_masks
 from ..translate.instruction import ParsedInstruction, ParsedSubject
 from ..translate.labels import PseudoLabels
-from .protocols import Grounding, Question, SubjectMasks
-from .registry import BackendContext
+from .protocols import BackendContext, Grounding, Question, SubjectMasks
 
 
 class SceneLabels:

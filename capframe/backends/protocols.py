@@ -27,9 +27,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Protocol
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
+
+from .models import ModelsConfig
 
 if TYPE_CHECKING:
     import torch
@@ -85,6 +88,30 @@ class Grounding:
     gaussians: np.ndarray
     centroid: np.ndarray
     front: np.ndarray | None
+
+
+@dataclass
+class BackendContext:
+    """What a backend may be built from.
+
+    Attributes:
+        scene: the loaded scene directory (:class:`~capframe.scene.SceneDir`).
+        up: (3,) unit world up.
+        cache_dir: the scene's cache folder (per-scene work such as view measurements).
+        models: weights, endpoints and devices of the model backends.
+    """
+
+    scene: Any
+    up: np.ndarray
+    cache_dir: Path
+    models: ModelsConfig = field(default_factory=ModelsConfig)
+    _shared: dict = field(default_factory=dict, repr=False)
+
+    def shared(self, key: str, make: Callable[[], Any]) -> Any:
+        """``make()``, computed once per context: state several backends read (label renders)."""
+        if key not in self._shared:
+            self._shared[key] = make()
+        return self._shared[key]
 
 
 # Scores candidate cameras for one instruction: N cameras in, (N,) scores out (higher is better).

@@ -9,39 +9,11 @@ per-scene cache and the models config) and reused for every call in that job
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from pathlib import Path
+from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from ..errors import InputError
-from .models import ModelsConfig
-
-
-@dataclass
-class BackendContext:
-    """What a backend may be built from.
-
-    Attributes:
-        scene: the loaded scene directory (:class:`~capframe.scene.SceneDir`).
-        up: (3,) unit world up.
-        cache_dir: the scene's cache folder (per-scene work such as view measurements).
-        models: weights, endpoints and devices of the model backends.
-    """
-
-    scene: Any
-    up: np.ndarray
-    cache_dir: Path
-    models: ModelsConfig = field(default_factory=ModelsConfig)
-    _shared: dict = field(default_factory=dict, repr=False)
-
-    def shared(self, key: str, make: Callable[[], Any]) -> Any:
-        """``make()``, computed once per context: state several backends read (label renders)."""
-        if key not in self._shared:
-            self._shared[key] = make()
-        return self._shared[key]
-
+from .protocols import BackendContext
 
 Factory = Callable[[BackendContext], Any]
 

@@ -32,8 +32,8 @@ import numpy as np
 import torch
 from PIL import Image, ImageDraw
 
-from ..evaluate.check import format_report
 from ..handoff import Retrieved
+from ..measure import format_report
 from ..refine.optimize import RefineConfig, RefineResult
 from ..render import render
 from ..render.image import save_png

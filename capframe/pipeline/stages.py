@@ -25,11 +25,10 @@ import torch
 from ..backends import BackendContext, Backends, Grounding, SubjectMasks, read_models_config
 from ..backends.registry import ROLES, resolve_choices
 from ..errors import InputError
-from ..evaluate.check import CheckReport, ConstraintChecker
-from ..evaluate.ground_truth import GTObject
 from ..geometry import pose_deviation
 from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
+from ..measure import CheckReport, ConstraintChecker, Subject
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
 from ..retrieve.qe import coarse_keep, rank_kept
 from ..scene import Camera, SceneDir, load_scene_dir, scene_scale
@@ -324,7 +323,7 @@ def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction,
     means = scene.gaussians.means.detach().double().numpy()
     for k, s in enumerate(labels.subjects):
         radius = float(np.sqrt(((means[s.gaussians] - s.centroid) ** 2).sum(1).mean()))
-        objects[s.name] = GTObject(k, s.name, s.centroid, radius, -1, s.front)
+        objects[s.name] = Subject(k, s.name, s.centroid, radius, s.front)
         member = torch.zeros(len(means), dtype=torch.bool)
         member[torch.as_tensor(s.gaussians)] = True
         members[k] = member

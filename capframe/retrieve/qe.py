@@ -29,6 +29,7 @@ from ..constraints import (
     min_in_frame_fraction,
 )
 from ..geometry import any_horizontal, camera_roll, view_angles
+from ..measure import box_distance, interval_distance, wrap_deg
 from ..translate.instruction import ParsedInstruction
 from .views import ViewMeasurements
 
@@ -85,18 +86,6 @@ def _falloff(distance: float, scale: float) -> float:
     return 100.0 * math.exp(-((distance / scale) ** 2))
 
 
-def _interval_distance(value: float, lo: float, hi: float) -> float:
-    return max(lo - value, 0.0, value - hi)
-
-
-def _box_distance(x: float, y: float, box: tuple[float, ...]) -> float:
-    return math.hypot(_interval_distance(x, box[0], box[2]), _interval_distance(y, box[1], box[3]))
-
-
-def _wrap_deg(angle: float) -> float:
-    return (angle + 180.0) % 360.0 - 180.0
-
-
 class GeometricQE:
     """Answers QE questions from label-render measurements and scene geometry (embedded tier).
 
@@ -142,13 +131,13 @@ class GeometricQE:
         x, y = self.views.centroid[v, self._o(q)]
         if math.isnan(x):
             return 0.0
-        return _falloff(_box_distance(x, y, REGIONS[q.target["region"]]), REGION_SCALE)
+        return _falloff(box_distance(x, y, REGIONS[q.target["region"]]), REGION_SCALE)
 
     def _shot(self, v: int, q: Question) -> float:
         o = self._o(q)
         if self.views.pixels[v, o] == 0:
             return 0.0
-        return _falloff(_interval_distance(self.views.extent[v, o], *SHOT_SIZES[q.target["shot"]]), SHOT_SCALE)
+        return _falloff(interval_distance(self.views.extent[v, o], *SHOT_SIZES[q.target["shot"]]), SHOT_SCALE)
 
     def _angles(self, v: int, name: str) -> tuple[float, float]:
         g = self.geometry[name]
@@ -164,17 +153,17 @@ class GeometricQE:
 
     def _view(self, v: int, q: Question) -> float:
         azimuth, _ = self._angles(v, q.subject)
-        deviation = min(abs(_wrap_deg(azimuth - a)) for a in VIEW_SIDES[q.target["view"]])
+        deviation = min(abs(wrap_deg(azimuth - a)) for a in VIEW_SIDES[q.target["view"]])
         return _falloff(max(0.0, deviation - VIEW_TOLERANCE_DEG), VIEW_SCALE_DEG)
 
     def _elevation(self, v: int, q: Question) -> float:
         _, elevation = self._angles(v, q.subject)
-        return _falloff(_interval_distance(elevation, *q.target["range_deg"]), ELEVATION_SCALE_DEG)
+        return _falloff(interval_distance(elevation, *q.target["range_deg"]), ELEVATION_SCALE_DEG)
 
     def _roll(self, v: int, q: Question) -> float:
         T = torch.as_tensor(self.views.cameras[v].T_cw)
         roll = math.degrees(float(camera_roll(T, torch.as_tensor(self.up))))
-        excess = max(0.0, abs(_wrap_deg(roll - q.target["roll_deg"])) - ROLL_TOLERANCE_DEG)
+        excess = max(0.0, abs(wrap_deg(roll - q.target["roll_deg"])) - ROLL_TOLERANCE_DEG)
         return _falloff(excess, ROLL_SCALE_DEG)
 
 

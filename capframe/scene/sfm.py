@@ -20,7 +20,7 @@ import platform
 import shutil
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,7 +49,6 @@ SEQUENTIAL_OVERLAP = 10
 MIN_REGISTERED = 3
 # Files copied (hard-linked where possible) into an aligned synthetic scene: they live in the
 # ground-truth world, which the aligned cameras now share.
-_ALIGNED_SCENE_FILES = ("scene.ply", "semantics.json", "labels.npy", "ground_truth.json")
 _IMAGE_SUFFIXES = {s.lower() for s in IMAGE_SUFFIXES}
 
 
@@ -353,42 +352,6 @@ def pose_errors(cameras: list[Camera], reference: list[Camera], scale: float) ->
     return {**summary, "per_view": per_view}
 
 
-def align_to_ground_truth(cameras: list[Camera], scene_dir: str | Path) -> tuple[list[Camera], tuple, dict]:
-    """Map recovered cameras into a synthetic scene's ground-truth world (evaluation only).
-
-    The similarity is :func:`umeyama_sim3` from the recovered camera centres to the true centres
-    of the same-named views in ``scene_dir/ground_truth.json``. Returns the aligned cameras,
-    ``(s, R, t)``, and the record for ``colmap.json``: the alignment and :func:`pose_errors`
-    against the truth, positions relative to the ground truth's scene scale.
-    """
-    # Imported here: the method's own path never touches the ground truth.
-    from ..evaluate.ground_truth import read_ground_truth
-    from ..evaluate.oracle import ground_truth_cameras
-
-    source = str(Path(scene_dir) / "ground_truth.json")
-    scale = read_ground_truth(scene_dir).scale
-    truth = {c.name: c for c in ground_truth_cameras(scene_dir)}
-    matched = [c for c in cameras if c.name in truth]
-    if len(matched) < MIN_REGISTERED:
-        raise InputError(
-            f"only {len(matched)} registered views have a ground-truth camera (need at least "
-            f"{MIN_REGISTERED}); the names must match the images'",
-            source=source,
-        )
-    s, R, t = umeyama_sim3(np.array([c.center for c in matched]), np.array([truth[c.name].center for c in matched]))
-    aligned = align_cameras(cameras, s, R, t)
-    errors = pose_errors([c for c in aligned if c.name in truth], list(truth.values()), scale)
-    record = {
-        "alignment": {"scale": s, "R": R.tolist(), "t": t.tolist(), "views": len(matched)},
-        "ground_truth_scale": scale,
-        **errors,
-    }
-    return aligned, (s, R, t), record
-
-
-# --- the `capframe colmap` verb ---------------------------------------------------------------------
-
-
 def _link_or_copy(src: Path, dst: Path) -> None:
     """Hard-link ``src`` to ``dst`` (no copy of a large PLY), copying across file systems."""
     try:
@@ -397,36 +360,43 @@ def _link_or_copy(src: Path, dst: Path) -> None:
         shutil.copy2(src, dst)
 
 
+# Maps recovered cameras into another world: (cameras, scene_dir) -> (cameras, (s, R, t), record).
+Alignment = Callable[[list[Camera], Path], tuple[list[Camera], tuple, dict]]
+
+
 def colmap_command(
-    scene_dir: str | Path, out_dir: str | Path, align_ground_truth: bool = False, matcher: str = "auto", num_threads: int = 1
+    scene_dir: str | Path,
+    out_dir: str | Path,
+    align: Alignment | None = None,
+    align_files: tuple[str, ...] = (),
+    matcher: str = "auto",
+    num_threads: int = 1,
 ) -> dict:
     """``capframe colmap``: recover the poses of ``scene_dir/images`` and write a scene directory.
 
     ``out_dir`` gets ``cameras.json`` (registered views), ``sparse/0`` (the COLMAP model),
     ``images/`` (symlinks to the source images of the registered views), ``scene.json``
     (``up: null, aligned: false``) and ``colmap.json`` (:meth:`SfmResult.stats`, device). Without
-    ``align_ground_truth`` the cameras are in COLMAP's world and a 3DGS must be trained on them
-    before any stage renders. With it (synthetic scenes only, evaluation machinery), cameras and
-    model are mapped into the ground-truth world (:func:`align_to_ground_truth`), and
-    ``scene.ply``, ``semantics.json``, ``labels.npy`` and ``ground_truth.json`` are hard-linked
-    (or copied), so ``out_dir`` is a complete posed scene; ``colmap.json`` then also holds the
-    alignment and the pose errors after it.
+    ``align`` the cameras are in COLMAP's world and a 3DGS must be trained on them before any stage
+    renders. With it (the evaluation's ground-truth alignment of synthetic scenes,
+    :func:`capframe.evaluate.alignment.align_to_ground_truth`), cameras and model are mapped into
+    that world and ``align_files`` of ``scene_dir`` are hard-linked (or copied), so ``out_dir`` is
+    a complete posed scene; ``colmap.json`` then also holds ``align``'s record.
 
     ``out_dir`` is written whole or not at all and must not already hold files. Prints a summary
     and returns the ``colmap.json`` record. Raises :class:`InputError` for a scene without
-    images, fewer than 3 registered views, ``align_ground_truth`` without ``ground_truth.json``,
-    or an ``out_dir`` that holds files.
+    images, fewer than 3 registered views, a missing ``align_files`` entry, or an ``out_dir`` that
+    holds files.
     """
     scene_dir, out_dir = Path(scene_dir), Path(out_dir)
     if not scene_dir.is_dir():
         raise InputError("scene directory not found", source=str(scene_dir))
-    if align_ground_truth:
-        missing = [name for name in _ALIGNED_SCENE_FILES if not (scene_dir / name).is_file()]
-        if missing:
-            raise InputError(
-                f"--align-ground-truth needs a synthetic scene's {', '.join(missing)}; only synthetic scenes can be aligned",
-                source=str(scene_dir),
-            )
+    missing = [name for name in align_files if not (scene_dir / name).is_file()]
+    if missing:
+        raise InputError(
+            f"--align-ground-truth needs a synthetic scene's {', '.join(missing)}; only synthetic scenes can be aligned",
+            source=str(scene_dir),
+        )
     with atomic_directory(out_dir) as tmp, tempfile.TemporaryDirectory(prefix=f".{out_dir.name}.colmap-", dir=tmp.parent) as work:
         result = reconstruct(scene_dir / "images", work, matcher=matcher, num_threads=num_threads)
         cameras, reconstruction = result.cameras, result.reconstruction
@@ -435,13 +405,13 @@ def colmap_command(
             **result.stats(),
             "device": platform.processor() or platform.machine(),
             "threads": num_threads,
-            "aligned_to_ground_truth": align_ground_truth,
+            "aligned_to_ground_truth": align is not None,
         }
-        if align_ground_truth:
-            cameras, (s, R, t), alignment = align_to_ground_truth(cameras, scene_dir)
+        if align is not None:
+            cameras, (s, R, t), alignment = align(cameras, scene_dir)
             reconstruction.transform(pycolmap.Sim3d(s, pycolmap.Rotation3d(R), t))
             record.update(alignment)
-            for name in _ALIGNED_SCENE_FILES:
+            for name in align_files:
                 _link_or_copy(scene_dir / name, tmp / name)
         write_cameras_json(cameras, tmp / "cameras.json")
         (tmp / "sparse" / "0").mkdir(parents=True)
@@ -476,7 +446,6 @@ __all__ = [
     "umeyama_sim3",
     "align_cameras",
     "pose_errors",
-    "align_to_ground_truth",
     "colmap_command",
     "MATCHERS",
 ]
