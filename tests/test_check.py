@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 from _synth_helpers import aim_camera, build_scene, obj, point_camera
 
+from capframe import measure as check_module
 from capframe.cli import main
 from capframe.constraints import Constraints, SubjectConstraint
 from capframe.errors import InputError
 from capframe.evaluate import GroundTruthChecker, check_camera, check_command
-from capframe import measure as check_module
 from capframe.scene import write_camera_json
 from capframe.synth.instructions import generate_instructions
 
