@@ -21,11 +21,12 @@ $(STAMP): pyproject.toml
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
 
-# ruff (lint + format check), snakefmt,.
+# ruff (lint + format check), snakefmt, and the import layers of pyproject.toml (import-linter).
 lint: $(STAMP)
 	$(BIN)/ruff check capframe tests
 	$(BIN)/ruff format --check capframe tests
 	$(BIN)/snakefmt --check Snakefile workflow
+	$(BIN)/lint-imports
 
 run: $(STAMP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default

@@ -27,12 +27,13 @@ def _cmd_import(args: argparse.Namespace) -> None:
 def _cmd_colmap(args: argparse.Namespace) -> None:
     from .scene.sfm import colmap_command
 
-    if args.align_ground_truth:
-        from .evaluate.alignment import ALIGNED_SCENE_FILES, align_to_ground_truth
+    colmap_command(args.scene, args.output, matcher=args.matcher)
 
-        colmap_command(args.scene, args.output, align_to_ground_truth, ALIGNED_SCENE_FILES, matcher=args.matcher)
-    else:
-        colmap_command(args.scene, args.output, matcher=args.matcher)
+
+def _cmd_align_truth(args: argparse.Namespace) -> None:
+    from .evaluate.alignment import align_truth_command
+
+    align_truth_command(args.recovered, args.truth, args.output)
 
 
 def _cmd_gravity(args: argparse.Namespace) -> None:
@@ -421,17 +422,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene directory with images/")
     p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
     p.add_argument(
-        "--align-ground-truth",
-        action="store_true",
-        help="synthetic scenes (evaluation only): map the poses into the ground-truth world and add the Gaussians",
-    )
-    p.add_argument(
         "--matcher",
         default="auto",
         choices=["auto", "exhaustive", "sequential"],
         help="auto: exhaustive up to 60 images, else sequential in name order",
     )
     p.set_defaults(func=_cmd_colmap)
+
+    p = verbs.add_parser(
+        "align-truth",
+        help="evaluation: map capframe colmap's poses into a synthetic scene's ground-truth world and add its Gaussians",
+    )
+    p.add_argument("recovered", help="output directory of capframe colmap")
+    p.add_argument("--truth", required=True, help="the synthetic scene the images came from")
+    p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
+    p.set_defaults(func=_cmd_align_truth)
 
     p = verbs.add_parser("gravity", help="estimate the world up of a scene from its cameras and straight edges")
     p.add_argument("scene", help="scene directory with training cameras")

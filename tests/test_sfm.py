@@ -12,9 +12,9 @@ from PIL import Image
 
 from capframe.cli import main
 from capframe.errors import InputError
-from capframe.evaluate.alignment import ALIGNED_SCENE_FILES, align_to_ground_truth
 from capframe.evaluate.oracle import ground_truth_cameras
 from capframe.scene import load_scene_dir
+from capframe.scene.colmap import read_colmap
 from capframe.scene.sfm import align_cameras, colmap_command, reconstruct, umeyama_sim3
 from capframe.synth.generator import generate_scene
 
@@ -100,13 +100,31 @@ def unposed_scene(tmp_path_factory):
     )
 
 
-def test_colmap_recovers_and_aligns_a_synthetic_scene(unposed_scene, tmp_path):
-    record = colmap_command(unposed_scene, tmp_path / "out", align_to_ground_truth, ALIGNED_SCENE_FILES)
-    assert record["images_registered"] == record["images_total"] == 14
+@pytest.fixture(scope="module")
+def recovered(unposed_scene, tmp_path_factory):
+    """``capframe colmap``'s output for the unposed scene (COLMAP's world, no Gaussians)."""
+    out = tmp_path_factory.mktemp("recovered") / "out"
+    assert main(["colmap", str(unposed_scene), "-o", str(out)]) == 0
+    return out
+
+
+def test_colmap_writes_cameras_only(recovered, capsys):
+    assert sorted(p.name for p in recovered.iterdir()) == ["cameras.json", "colmap.json", "images", "scene.json", "sparse"]
+    scene = load_scene_dir(recovered)
+    assert len(scene.cameras) == 14 and scene.gaussians is None
+    assert not list(recovered.parent.glob(".*"))  # no work folder left beside the output
+    assert "aligned_to_ground_truth" not in json.loads((recovered / "colmap.json").read_text())
+
+
+def test_align_truth_maps_recovered_poses_into_the_synthetic_world(unposed_scene, recovered, tmp_path, capsys):
+    out = tmp_path / "aligned"
+    assert main(["align-truth", str(recovered), "--truth", str(unposed_scene), "-o", str(out)]) == 0
+    assert "rotation error mean" in capsys.readouterr().out
+    record = json.loads((out / "colmap.json").read_text())
+    assert record["aligned_to_ground_truth"] and record["images_registered"] == record["images_total"] == 14
     assert record["rotation_error_deg"]["max"] < 2.0
     assert record["position_error_rel"]["max"] < 0.02
-    assert record == json.loads((tmp_path / "out" / "colmap.json").read_text())
-    scene = load_scene_dir(tmp_path / "out")  # a complete posed scene: Gaussians, labels, cameras, images
+    scene = load_scene_dir(out)  # a complete posed scene: Gaussians, labels, cameras, images
     assert scene.gaussians is not None and scene.gaussians.labels is not None
     assert scene.metadata.up is None and not scene.metadata.aligned
     assert all(os.path.islink(c.image_path) for c in scene.cameras)
@@ -114,22 +132,10 @@ def test_colmap_recovers_and_aligns_a_synthetic_scene(unposed_scene, tmp_path):
     assert sorted(truth) == [c.name for c in scene.cameras]
     # Intrinsics are recovered too (one shared focal length, principal point at the centre).
     np.testing.assert_allclose(scene.cameras[0].K, truth[scene.cameras[0].name].K, rtol=0.02)
-    assert (tmp_path / "out" / "ground_truth.json").read_bytes() == (unposed_scene / "ground_truth.json").read_bytes()
-
-
-def test_colmap_without_alignment_writes_cameras_only(unposed_scene, tmp_path, capsys):
-    assert main(["colmap", str(unposed_scene), "-o", str(tmp_path / "out")]) == 0
-    assert "train a 3DGS on these poses" in capsys.readouterr().out
-    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
-        "cameras.json",
-        "colmap.json",
-        "images",
-        "scene.json",
-        "sparse",
-    ]
-    scene = load_scene_dir(tmp_path / "out")
-    assert len(scene.cameras) == 14 and scene.gaussians is None
-    assert not list(tmp_path.glob(".*"))  # no work folder left beside the output
+    assert (out / "ground_truth.json").read_bytes() == (unposed_scene / "ground_truth.json").read_bytes()
+    # The model is moved by the same similarity as cameras.json: their cameras agree.
+    for from_model, listed in zip(read_colmap(out / "sparse" / "0"), scene.cameras, strict=True):
+        np.testing.assert_allclose(from_model.T_cw, listed.T_cw, atol=1e-9)
 
 
 def test_reconstruct_is_repeatable(unposed_scene, tmp_path):
@@ -160,10 +166,17 @@ def test_colmap_says_how_few_views_registered(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
-def test_colmap_align_needs_ground_truth(unposed_scene, tmp_path):
-    os.symlink(unposed_scene / "images", tmp_path / "images")
-    with pytest.raises(InputError, match="needs a synthetic scene's .*ground_truth.json"):
-        colmap_command(tmp_path, tmp_path / "out", align_to_ground_truth, ALIGNED_SCENE_FILES)
+def test_align_truth_needs_a_synthetic_scene(recovered, tmp_path, capsys):
+    (tmp_path / "plain").mkdir()
+    assert main(["align-truth", str(recovered), "--truth", str(tmp_path / "plain"), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "only a synthetic scene has a ground truth" in err and err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_align_truth_needs_colmap_output(unposed_scene, tmp_path, capsys):
+    assert main(["align-truth", str(unposed_scene), "--truth", str(unposed_scene), "-o", str(tmp_path / "out")]) == 2
+    assert "expected the output directory of capframe colmap" in capsys.readouterr().err
 
 
 def test_colmap_refuses_a_non_empty_output(unposed_scene, tmp_path):

@@ -35,14 +35,17 @@ def prepare_scene(scene_dir: Path, root: Path) -> tuple[Path, Path | None]:
 
 
 def _prepare(scene_dir: Path, scene, root: Path) -> tuple[Path, Path | None]:
-    from ..evaluate.alignment import ALIGNED_SCENE_FILES, align_to_ground_truth
+    from ..evaluate.alignment import align_truth_command
     from ..geometry.gravity import gravity_command
     from ..scene.sfm import colmap_command
 
     if not scene.cameras:
         posed = root / "posed" / scene_dir.name
         if not posed.is_dir():
-            colmap_command(scene_dir, posed, align_to_ground_truth, ALIGNED_SCENE_FILES)
+            recovered = root / "sfm" / scene_dir.name
+            if not recovered.is_dir():
+                colmap_command(scene_dir, recovered)
+            align_truth_command(recovered, scene_dir, posed)
         scene_dir, scene = posed, load_scene_dir(posed, load_gaussians=False)
     if scene.metadata.up is not None:
         return scene_dir, None

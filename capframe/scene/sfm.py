@@ -4,10 +4,9 @@
 pipeline (SIFT on the CPU, exhaustive or sequential matching, incremental mapping, one shared
 pinhole camera). :func:`colmap_command` (``capframe colmap``) turns a scene directory without
 poses into a posed one. A real 3DGS is trained on the recovered poses afterwards, so its Gaussians
-live in COLMAP's world. A synthetic scene's Gaussians live in the generator's world instead; for
-them ``--align-ground-truth`` maps the recovered cameras into that world by the similarity that
-best fits the recovered camera centres to the true ones. That option reads ``ground_truth.json``
-and is evaluation machinery: no stage of the method may use it (DESIGN §4).
+live in COLMAP's world. A synthetic scene's Gaussians live in the generator's world instead; the
+evaluation verb ``capframe align-truth`` (:mod:`capframe.evaluate.alignment`) maps the recovered
+cameras into that world; no stage of the method reads the ground truth (DESIGN §4).
 
 :func:`umeyama_sim3` and :func:`align_cameras` are the general tools: fit ``X' = s R X + t`` to
 point pairs, and move cameras into the new world so that every point projects where it did.
@@ -15,12 +14,11 @@ point pairs, and move cameras into the new world so that every point projects wh
 
 from __future__ import annotations
 
-import os
 import platform
 import shutil
 import tempfile
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -352,91 +350,51 @@ def pose_errors(cameras: list[Camera], reference: list[Camera], scale: float) ->
     return {**summary, "per_view": per_view}
 
 
-def _link_or_copy(src: Path, dst: Path) -> None:
-    """Hard-link ``src`` to ``dst`` (no copy of a large PLY), copying across file systems."""
-    try:
-        os.link(src, dst)
-    except OSError:
-        shutil.copy2(src, dst)
-
-
-# Maps recovered cameras into another world: (cameras, scene_dir) -> (cameras, (s, R, t), record).
-Alignment = Callable[[list[Camera], Path], tuple[list[Camera], tuple, dict]]
-
-
-def colmap_command(
-    scene_dir: str | Path,
-    out_dir: str | Path,
-    align: Alignment | None = None,
-    align_files: tuple[str, ...] = (),
-    matcher: str = "auto",
-    num_threads: int = 1,
-) -> dict:
+def colmap_command(scene_dir: str | Path, out_dir: str | Path, matcher: str = "auto", num_threads: int = 1) -> dict:
     """``capframe colmap``: recover the poses of ``scene_dir/images`` and write a scene directory.
 
     ``out_dir`` gets ``cameras.json`` (registered views), ``sparse/0`` (the COLMAP model),
     ``images/`` (symlinks to the source images of the registered views), ``scene.json``
-    (``up: null, aligned: false``) and ``colmap.json`` (:meth:`SfmResult.stats`, device). Without
-    ``align`` the cameras are in COLMAP's world and a 3DGS must be trained on them before any stage
-    renders. With it (the evaluation's ground-truth alignment of synthetic scenes,
-    :func:`capframe.evaluate.alignment.align_to_ground_truth`), cameras and model are mapped into
-    that world and ``align_files`` of ``scene_dir`` are hard-linked (or copied), so ``out_dir`` is
-    a complete posed scene; ``colmap.json`` then also holds ``align``'s record.
+    (``up: null, aligned: false``) and ``colmap.json`` (:meth:`SfmResult.stats`, device). The
+    cameras are in COLMAP's world: a 3DGS must be trained on them before any stage renders (the
+    benchmark's synthetic scenes are instead mapped into their ground-truth world by the
+    evaluation verb ``capframe align-truth``).
 
     ``out_dir`` is written whole or not at all and must not already hold files. Prints a summary
     and returns the ``colmap.json`` record. Raises :class:`InputError` for a scene without
-    images, fewer than 3 registered views, a missing ``align_files`` entry, or an ``out_dir`` that
-    holds files.
+    images, fewer than 3 registered views, or an ``out_dir`` that holds files.
     """
     scene_dir, out_dir = Path(scene_dir), Path(out_dir)
     if not scene_dir.is_dir():
         raise InputError("scene directory not found", source=str(scene_dir))
-    missing = [name for name in align_files if not (scene_dir / name).is_file()]
-    if missing:
-        raise InputError(
-            f"--align-ground-truth needs a synthetic scene's {', '.join(missing)}; only synthetic scenes can be aligned",
-            source=str(scene_dir),
-        )
     with atomic_directory(out_dir) as tmp, tempfile.TemporaryDirectory(prefix=f".{out_dir.name}.colmap-", dir=tmp.parent) as work:
         result = reconstruct(scene_dir / "images", work, matcher=matcher, num_threads=num_threads)
-        cameras, reconstruction = result.cameras, result.reconstruction
         record = {
             "format": 1,
             **result.stats(),
             "device": platform.processor() or platform.machine(),
             "threads": num_threads,
-            "aligned_to_ground_truth": align is not None,
         }
-        if align is not None:
-            cameras, (s, R, t), alignment = align(cameras, scene_dir)
-            reconstruction.transform(pycolmap.Sim3d(s, pycolmap.Rotation3d(R), t))
-            record.update(alignment)
-            for name in align_files:
-                _link_or_copy(scene_dir / name, tmp / name)
-        write_cameras_json(cameras, tmp / "cameras.json")
-        (tmp / "sparse" / "0").mkdir(parents=True)
-        reconstruction.write_binary(str(tmp / "sparse" / "0"))
-        _place_images(cameras, tmp / "images", copy=False, source=str(scene_dir))
-        write_scene_meta(SceneMeta(), tmp / "scene.json")
+        write_posed_scene(tmp, result.cameras, result.reconstruction, str(scene_dir))
         write_json(tmp / "colmap.json", record)
-    _print_summary(out_dir, record)
-    return record
-
-
-def _print_summary(out_dir: Path, record: dict) -> None:
     print(
         f"{out_dir}: {record['images_registered']}/{record['images_total']} views registered, "
         f"{record['num_points3D']} points, reprojection error {record['mean_reprojection_error_px']:.2f} px "
         f"({record['timings']['total_s']:.1f} s)"
     )
-    if record["aligned_to_ground_truth"]:
-        rot, pos = record["rotation_error_deg"], record["position_error_rel"]
-        print(
-            f"aligned to the ground truth: rotation error mean {rot['mean']:.3f} deg, max {rot['max']:.3f} deg; "
-            f"position error mean {100 * pos['mean']:.3f} %, max {100 * pos['max']:.3f} % of the scene scale"
-        )
-    else:
-        print("no scene.ply: train a 3DGS on these poses (cameras.json, sparse/0, images/) before rendering")
+    print("no scene.ply: train a 3DGS on these poses (cameras.json, sparse/0, images/) before rendering")
+    return record
+
+
+def write_posed_scene(out_dir: Path, cameras: list[Camera], reconstruction: pycolmap.Reconstruction, source: str) -> None:
+    """Write a scene directory's poses into ``out_dir`` (which must exist): ``cameras.json``,
+    ``sparse/0`` (binary), ``images/`` symlinked to each camera's ``image_path``, and a
+    ``scene.json`` with no up and not aligned."""
+    write_cameras_json(cameras, out_dir / "cameras.json")
+    (out_dir / "sparse" / "0").mkdir(parents=True)
+    reconstruction.write_binary(str(out_dir / "sparse" / "0"))
+    _place_images(cameras, out_dir / "images", copy=False, source=source)
+    write_scene_meta(SceneMeta(), out_dir / "scene.json")
 
 
 __all__ = [
@@ -447,5 +405,6 @@ __all__ = [
     "align_cameras",
     "pose_errors",
     "colmap_command",
+    "write_posed_scene",
     "MATCHERS",
 ]

@@ -12,15 +12,27 @@ rule colmap:
     input:
         "results/scenes/{scene}",
     output:
-        directory("results/colmap/{scene}"),
+        directory("results/sfm/{scene}"),
     log:
         "results/logs/colmap/{scene}.log",
     benchmark:
         "results/benchmarks/colmap/{scene}.tsv"
     shell:
-        # Synthetic scenes: the recovered cameras are mapped into the generator's world, where
-        # the Gaussians live (a real 3DGS would be trained on the COLMAP poses instead).
-        "capframe colmap {input} -o {output} --align-ground-truth > {log} 2>&1"
+        "capframe colmap {input} -o {output} > {log} 2>&1"
+
+
+# Evaluation of synthetic scenes: the recovered cameras are mapped into the generator's world,
+# where the Gaussians live (a real 3DGS would be trained on the COLMAP poses instead).
+rule align_truth:
+    input:
+        recovered="results/sfm/{scene}",
+        truth="results/scenes/{scene}",
+    output:
+        directory("results/colmap/{scene}"),
+    log:
+        "results/logs/align_truth/{scene}.log",
+    shell:
+        "capframe align-truth {input.recovered} --truth {input.truth} -o {output} > {log} 2>&1"
 
 
 rule gravity:
