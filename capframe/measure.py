@@ -281,7 +281,7 @@ class ConstraintChecker:
             p = camera.K @ (camera.T_cw[:3, :3] @ obj.center + camera.T_cw[:3, 3])
             x, y = p[0] / p[2] / camera.width, p[1] / p[2] / camera.height
             source = "projected centre"
-            note = "mask empty: projected ground-truth centre used"
+            note = "mask empty: projected centre used"
         else:
             return CheckRow(
                 "region",
