@@ -110,7 +110,14 @@ def test_models_config_is_read_and_checked(tmp_path):
     assert config.settings("fg-clip").batch_size == 32 and config.settings("fg-clip").dtype == "float16"
     with pytest.raises(InputError, match="backend 'sam' needs an entry in the models config"):
         config.settings("sam")
+    path.write_text("orient-anything: {weights: oa/w.pt, config: /abs/dinov2, onnx: oa.onnx, threads: 2, min_confidence: 0.6}\n")
+    settings = read_models_config(path).settings("orient-anything")
+    assert settings.weights == str(tmp_path / "oa" / "w.pt") and settings.config == "/abs/dinov2"  # relative to the file
+    assert settings.onnx == str(tmp_path / "oa.onnx") and settings.threads == 2 and settings.min_confidence == 0.6
     for text, message in (
+        ("fg-clip: {weights: w, threads: 0}\n", "must be positive"),
+        ("fg-clip: {weights: w, threads: two}\n", "threads = 'two' is not a int"),
+        ("fg-clip: {weights: w, min_confidence: 1.5}\n", "min_confidence 1.5 is not in \\[0, 1\\]"),
         ("fg-clip: {weights: w, dtyp: float16}\n", "unknown keys \\['dtyp'\\]"),
         ("fg-clip: {weights: w, dtype: int8}\n", "dtype 'int8'"),
         ("fg-clip: {weights: w, batch_size: 0}\n", "must be positive"),
