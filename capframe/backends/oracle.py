@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..retrieve.qe import GeometricQE, SubjectGeometry, coarse_scores
+from ..retrieve.qe import GeometricQE, SubjectGeometry, coarse_keep, coarse_scores
 from ..retrieve.views import VIEWS_LONG_SIDE, cached_view_measurements, measure_views
 from ..scene import Camera
 from ..translate.grounding import ground_by_labels, ground_by_masks
@@ -59,6 +59,9 @@ class OracleCoarse:
 
     def coarse(self, parsed: ParsedInstruction) -> np.ndarray:
         return coarse_scores(self.labels.views, [s.name for s in parsed.subjects])
+
+    def keep(self, scores: np.ndarray) -> list[int]:
+        return coarse_keep(scores)
 
 
 class OracleQE:

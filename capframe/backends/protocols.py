@@ -8,14 +8,17 @@ referred to by their index in the scene's training cameras.
 role        protocol                     embedded backends (offline, CPU)
 ==========  ===========================  ============================================
 parser      :class:`InstructionParser`   ``rules`` (a photographic grammar)
-coarse      :class:`CoarseScorer`        ``oracle`` (subject visibility from labels)
+coarse      :class:`CoarseScorer`        ``oracle`` (subject visibility from labels);
+                                         model tier: ``clip``, ``siglip``, ``fg-clip``,
+                                         ``fg-clip2`` (image-text similarity)
 qe          :class:`QuestionEvaluator`   ``oracle`` (answers from label renders)
 segmenter   :class:`Segmenter`           ``oracle`` (label maps as 2D masks)
 associator  :class:`Associator`          ``oracle`` (label ids), ``knn`` (masks
                                          back-projected, nearest Gaussian means)
 orient      :class:`OrientationEstimator` ``oracle`` (annotated fronts)
-scorer      :class:`ImageTextScorer`     ``oracle`` (QE answers of a label render)
-diff-scorer :class:`DifferentiableScorer` none yet (model tier)
+scorer      :class:`ImageTextScorer`     ``oracle`` (QE answers of a label render); model
+                                         tier: the image-text models of ``coarse``
+diff-scorer :class:`DifferentiableScorer` model tier only: the image-text models
 judge       :class:`Judge`               none yet (model tier)
 ==========  ===========================  ============================================
 
@@ -130,6 +133,11 @@ class CoarseScorer(Protocol):
 
     def coarse(self, parsed: ParsedInstruction) -> np.ndarray:
         """(V,) scores, higher is more relevant."""
+        ...
+
+    def keep(self, scores: np.ndarray) -> list[int]:
+        """The views Question-Evaluation reads, best first: how many depends on how much the
+        score can be trusted."""
         ...
 
 

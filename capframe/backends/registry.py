@@ -34,6 +34,26 @@ def _oracle(kind: str) -> Factory:
     return build
 
 
+# Image-text models (capframe.backends.image_text): each serves the coarse, scorer and diff-scorer roles.
+IMAGE_TEXT = ("clip", "siglip", "fg-clip", "fg-clip2")
+
+
+def _image_text(kind: str) -> dict[str, Factory]:
+    """The image-text model backends of one role (``scorers.kind(context, name)``), imported only
+    when built: the model libraries stay off the embedded tier's path."""
+
+    def factory(name: str) -> Factory:
+        def build(context: BackendContext):
+            from . import scorers
+
+            return getattr(scorers, kind)(context, name)
+
+        build.__name__ = f"{kind}_{name}"
+        return build
+
+    return {name: factory(name) for name in IMAGE_TEXT}
+
+
 @dataclass(frozen=True)
 class Role:
     """A perception role: its option, what it does, its backends (name -> factory) and default."""
@@ -62,6 +82,11 @@ ROLES: dict[str, Role] = {
     "diff-scorer": Role("--diff-scorer", "differentiable image-text scorer (ChatCam-style)", {}, None),
     "judge": Role("--judge", "MLLM judge (benchmark)", {}, None),
 }
+
+# Model-tier backends, appended to their roles.
+ROLES["coarse"].backends.update(_image_text("ModelCoarse"))
+ROLES["scorer"].backends.update(_image_text("ModelScorer"))
+ROLES["diff-scorer"].backends.update(_image_text("ModelDiffScorer"))
 
 # Associators that read the segmenter's masks (the workflow runs segmentation only for these).
 MASK_ASSOCIATORS = ("knn",)

@@ -30,7 +30,7 @@ from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
 from ..measure import CheckReport, ConstraintChecker, Subject
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
-from ..retrieve.qe import coarse_keep, rank_kept
+from ..retrieve.qe import rank_kept
 from ..scene import Camera, SceneDir, load_scene_dir, scene_scale
 from ..translate.instruction import ParsedInstruction
 from ..translate.labels import PseudoLabels, labels_from_constraints, perturbed
@@ -190,10 +190,12 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
 
 
 def coarse(job: Job, parsed: ParsedInstruction, clock: StageClock) -> Coarse:
-    """Coarse retrieval: every training view scored, the top M kept for QE."""
+    """Coarse retrieval: every training view scored, the top M kept for QE (M as the coarse
+    scorer says: :meth:`~capframe.backends.CoarseScorer.keep`)."""
     names = job.view_names
-    scores = np.asarray(job.backends["coarse"].coarse(parsed), dtype=np.float64)
-    kept = coarse_keep(scores)
+    scorer = job.backends["coarse"]
+    scores = np.asarray(scorer.coarse(parsed), dtype=np.float64)
+    kept = scorer.keep(scores)
     clock.done("coarse", f"{len(kept)} of {len(names)} views kept")
     return Coarse(parsed, dict(zip(names, scores.tolist())), [names[v] for v in kept], job.up)
 

@@ -1,0 +1,159 @@
+"""Tiny random-weight models in the released layouts, built offline: the test fixtures' and
+``capframe bench models``' stand-ins for real checkpoints. Each is written the way its real
+counterpart is distributed (a ``save_pretrained`` folder) and loads through the same code. They
+are about the smallest that run every code path: hidden size 32, 2 layers, patches of 8 (14
+for DINOv2) pixels."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import torch
+
+from .image_text import FGCLIP_EXTRAS, FGCLIP_KEEP_POSITIONS, FGCLIP_LONG_TOKENS, quiet_transformers
+
+WIDTH = 32
+PROJECTION = 16
+TOWER = {"hidden_size": WIDTH, "intermediate_size": 64, "num_hidden_layers": 2, "num_attention_heads": 4}
+
+
+def _byte_vocab(specials: list[str], byte_tokens: bool) -> dict[str, int]:
+    """Specials, then every byte: as ``<0xNN>`` fallback tokens (SentencePiece style) or as
+    GPT-2 byte characters with and without CLIP's ``</w>`` word end. Words then tokenise to
+    characters, so different texts get different ids."""
+    from tokenizers.pre_tokenizers import ByteLevel
+
+    vocab = {s: i for i, s in enumerate(specials)}
+    if byte_tokens:
+        pieces = [f"<0x{b:02X}>" for b in range(256)] + ["▁"] + [chr(c) for c in range(ord("a"), ord("z") + 1)]
+    else:
+        alphabet = sorted(ByteLevel.alphabet())
+        pieces = alphabet + [ch + "</w>" for ch in alphabet]
+    for piece in pieces:
+        vocab.setdefault(piece, len(vocab))
+    return vocab
+
+
+def _clip_tokenizer():
+    from transformers import CLIPTokenizer
+
+    vocab = _byte_vocab(["<|startoftext|>", "<|endoftext|>"], byte_tokens=False)
+    return CLIPTokenizer(vocab=vocab, merges=[]), vocab
+
+
+# The special tokens' ids of the Gemma-style vocabulary below (SigLIP's defaults are CLIP's).
+GEMMA_IDS = {"pad_token_id": 0, "eos_token_id": 1, "bos_token_id": 2}
+
+
+def _gemma_tokenizer(cls):
+    vocab = _byte_vocab(["<pad>", "<eos>", "<bos>", "<unk>", "<mask>"], byte_tokens=True)
+    # SigLIP pools the last position of a right-padded sequence, as real checkpoints pad.
+    return cls(vocab=vocab, merges=[], padding_side="right"), vocab
+
+
+# What tiny_image_text builds: the backend names, and SigLIP 2's NaFlex variant of ``siglip``.
+TINY_IMAGE_TEXT = {"clip": "clip", "siglip": "siglip", "siglip-naflex": "siglip", "fg-clip": "fg-clip", "fg-clip2": "fg-clip2"}
+
+
+def tiny_image_text(directory: str | Path, kind: str, seed: int = 0) -> Path:
+    """Write a tiny random-weight model of ``kind`` (a key of :data:`TINY_IMAGE_TEXT`) into
+    ``directory``: config, weights, tokenizer and image processor. Returns the folder."""
+    directory = Path(directory)
+    torch.manual_seed(seed)
+    model, tokenizer, processor = _tiny_parts(kind)
+    with quiet_transformers():
+        model.save_pretrained(directory)
+        tokenizer.save_pretrained(directory)
+        processor.save_pretrained(directory)
+    if kind == "fg-clip":
+        _add_weights(directory, _fgclip_extras(model))
+    if kind == "fg-clip2":
+        _add_weights(directory, _fgclip2_extras(model))
+        _set_model_type(directory, "fgclip2")
+    return directory
+
+
+def _tiny_parts(kind: str):
+    """(model, tokenizer, image processor) of a tiny ``kind``."""
+    import transformers as tf
+
+    if kind in ("clip", "fg-clip"):
+        from transformers.models.clip.image_processing_pil_clip import CLIPImageProcessorPil
+
+        tokenizer, vocab = _clip_tokenizer()
+        end, start = vocab["<|endoftext|>"], vocab["<|startoftext|>"]
+        text = TOWER | {"vocab_size": len(vocab), "eos_token_id": end, "bos_token_id": start, "pad_token_id": end}
+        config = tf.CLIPConfig(
+            text_config=text, vision_config=TOWER | {"image_size": 32, "patch_size": 8}, projection_dim=PROJECTION
+        )
+        model = tf.CLIPModel(config)
+        processor = CLIPImageProcessorPil(size={"shortest_edge": 32}, crop_size={"height": 32, "width": 32})
+    elif kind == "siglip":
+        from transformers.models.siglip.image_processing_pil_siglip import SiglipImageProcessorPil
+
+        tokenizer, vocab = _gemma_tokenizer(tf.GemmaTokenizer)
+        config = tf.SiglipConfig(
+            text_config=TOWER | GEMMA_IDS | {"vocab_size": len(vocab), "max_position_embeddings": 64},
+            vision_config=TOWER | {"image_size": 32, "patch_size": 8},
+        )
+        model = tf.SiglipModel(config)
+        processor = SiglipImageProcessorPil(size={"height": 32, "width": 32})
+    elif kind in ("siglip-naflex", "fg-clip2"):
+        from transformers.models.siglip2.image_processing_pil_siglip2 import Siglip2ImageProcessorPil
+
+        tokenizer, vocab = _gemma_tokenizer(tf.Siglip2Tokenizer)
+        config = tf.Siglip2Config(
+            text_config=TOWER | GEMMA_IDS | {"vocab_size": len(vocab), "max_position_embeddings": 64},
+            vision_config=TOWER | {"patch_size": 8, "num_patches": 16},
+        )
+        model = tf.Siglip2Model(config)
+        processor = Siglip2ImageProcessorPil(patch_size=8, max_num_patches=16)
+    else:
+        raise ValueError(f"no tiny model {kind!r}; expected one of {list(TINY_IMAGE_TEXT)}")
+    return model, tokenizer, processor
+
+
+def _fgclip_extras(model) -> dict[str, torch.Tensor]:
+    """FG-CLIP v1's 5 extra weights: the 77 CLIP positions stretched to 248 as FG-CLIP built its
+    long table (the first 20 kept, each later interval split in four), used for both the
+    original and the stretched table; the long projection starts as the short one."""
+    table = model.text_model.embeddings.position_embedding.weight.detach()
+    keep = FGCLIP_KEEP_POSITIONS
+    source = torch.arange(FGCLIP_LONG_TOKENS, dtype=torch.float64)
+    source[keep:] = keep + (source[keep:] - keep) / 4
+    low = source.floor().long().clamp(max=len(table) - 2)
+    frac = (source - low).float()[:, None]  # > 1 past the last row: extrapolates its slope
+    stretched = table[low] * (1 - frac) + table[low + 1] * frac
+    scale = model.logit_scale.detach().clone()
+    return dict(
+        zip(
+            FGCLIP_EXTRAS,
+            (stretched, stretched.clone(), model.text_projection.weight.detach().clone(), scale, scale.clone()),
+        )
+    )
+
+
+def _fgclip2_extras(model) -> dict[str, torch.Tensor]:
+    """Some of FG-CLIP 2's extra heads (the loader must accept and leave them out)."""
+    hidden = model.config.text_config.hidden_size
+    return {
+        "longtext_head.weight": torch.randn(hidden, hidden),
+        "longtext_head.bias": torch.zeros(hidden),
+        "boxtext_head.weight": torch.randn(hidden, hidden),
+        "dense_feature_head.probe": torch.randn(1, 1, hidden),
+        "text_model.embeddings.position_embedding_res.weight": torch.randn(196, hidden),
+    }
+
+
+def _add_weights(directory: Path, extra: dict[str, torch.Tensor]) -> None:
+    """Add tensors to the folder's ``model.safetensors``."""
+    from safetensors.torch import load_file, save_file
+
+    path = directory / "model.safetensors"
+    save_file(load_file(path) | {k: v.contiguous() for k, v in extra.items()}, path, metadata={"format": "pt"})
+
+
+def _set_model_type(directory: Path, model_type: str) -> None:
+    path = directory / "config.json"
+    path.write_text(json.dumps(json.loads(path.read_text()) | {"model_type": model_type}, indent=2))
