@@ -198,29 +198,23 @@ def _check_loading(backend: str, family: Family, info: dict, source: str) -> Non
 
 def read_tensors(directory: Path, names: Sequence[str]) -> dict[str, torch.Tensor]:
     """The named tensors of the checkpoint in ``directory`` (single or sharded, safetensors or
-    PyTorch pickles), reading no more than needed."""
+    PyTorch pickles, as transformers looks for them), reading only the files that hold them."""
     from safetensors import safe_open
 
+    index = next((directory / n for n in WEIGHT_FILES if n.endswith(".index.json") and (directory / n).is_file()), None)
+    if index is not None:
+        weight_map = json.loads(index.read_text())["weight_map"]
+        files = sorted({weight_map[n] for n in names if n in weight_map})
+    else:
+        files = [next(n for n in WEIGHT_FILES if (directory / n).is_file())]
     found: dict[str, torch.Tensor] = {}
-    for index_name, single in (
-        ("model.safetensors.index.json", "model.safetensors"),
-        ("pytorch_model.bin.index.json", "pytorch_model.bin"),
-    ):
-        if (directory / index_name).is_file():
-            weight_map = json.loads((directory / index_name).read_text())["weight_map"]
-            files = sorted({weight_map[n] for n in names if n in weight_map})
-        elif (directory / single).is_file():
-            files = [single]
+    for name in files:
+        if name.endswith(".safetensors"):
+            with safe_open(directory / name, framework="pt") as f:
+                found |= {k: f.get_tensor(k) for k in names if k in f.keys()}
         else:
-            continue
-        for name in files:
-            if name.endswith(".safetensors"):
-                with safe_open(directory / name, framework="pt") as f:
-                    found |= {k: f.get_tensor(k) for k in names if k in f.keys()}
-            else:
-                state = torch.load(directory / name, map_location="cpu", weights_only=True, mmap=True)
-                found |= {k: state[k] for k in names if k in state}
-        break
+            state = torch.load(directory / name, map_location="cpu", weights_only=True, mmap=True)
+            found |= {k: state[k] for k in names if k in state}
     return found
 
 
@@ -273,7 +267,7 @@ class ImageTextModel:
                 raise InputError(f"cannot load the {backend} model ({str(err).splitlines()[0]})", source=source) from None
         _check_loading(backend, self.family, info, source)
         self.model = model.to(self.device).eval().requires_grad_(False)
-        self.naflex = self.model_type != "clip" and self.model_type != "siglip"
+        self.naflex = self.model_type in ("siglip2", "fgclip2")
         self.inputs = NAFLEX_INPUTS if self.naflex else ("pixel_values",)
         self.text_tokens = config.text_config.max_position_embeddings
         self.batch_size = settings.batch_size
@@ -300,10 +294,12 @@ class ImageTextModel:
         reads a text longer than CLIP's 77 tokens with its long-caption path (248 tokens)."""
         texts = [t.lower() for t in texts] if self.family.lowercase else list(texts)
         out = torch.empty(len(texts), self.feature_size, device=self.device)
-        long = self.long is not None and [len(ids) > self.text_tokens for ids in self.tokenizer(texts)["input_ids"]]
-        groups = [(i, bool(long and long[i])) for i in range(len(texts))]
+        if self.long is not None:
+            long = [len(ids) > self.text_tokens for ids in self.tokenizer(texts, verbose=False)["input_ids"]]
+        else:
+            long = [False] * len(texts)
         for is_long in (False, True):
-            rows = [i for i, flag in groups if flag == is_long]
+            rows = [i for i, flag in enumerate(long) if flag == is_long]
             if not rows:
                 continue
             length = FGCLIP_LONG_TOKENS if is_long else self.text_tokens

@@ -114,4 +114,4 @@ class ModelDiffScorer:
         if text not in self._texts:
             self._texts[text] = self.model.embed_texts([text])
         embedding = self.model.differentiable_embeddings(image.permute(2, 0, 1)[None])
-        return self.model.score(embedding, self._texts[text].to(embedding.dtype))[0, 0]
+        return self.model.score(embedding, self._texts[text])[0, 0]

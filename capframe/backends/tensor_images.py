@@ -75,10 +75,15 @@ class TensorPreprocess:
         size = processor.size
         crop = (processor.crop_size["height"], processor.crop_size["width"]) if processor.do_center_crop else None
         if "shortest_edge" in size:
-            if crop is not None and max(crop) > size["shortest_edge"]:
-                raise InputError(f"image processor crops {crop} from a shorter side of {size['shortest_edge']}: it would pad")
-            return cls("crop", int(size["shortest_edge"]), crop, **common)
-        return cls("squash", (int(size["height"]), int(size["width"])), crop, **common)
+            resized = (int(size["shortest_edge"]),) * 2
+            out = cls("crop", resized[0], crop, **common)
+        else:
+            resized = (int(size["height"]), int(size["width"]))
+            out = cls("squash", resized, crop, **common)
+        if crop is not None and (crop[0] > resized[0] or crop[1] > resized[1]):
+            # The processors would pad such an image; no model we load is configured so.
+            raise InputError(f"image processor crops {crop} from an image resized to {size}: it would pad")
+        return out
 
     def __call__(self, images: torch.Tensor, max_patches: int | None = None) -> dict[str, torch.Tensor]:
         """The model inputs of ``images``.

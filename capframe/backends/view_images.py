@@ -53,8 +53,8 @@ def views_fingerprint(scene: SceneDir) -> str:
         h.update(camera.name.encode())
         path = image_file(scene, camera)
         source = path if path is not None else ply
-        stat = source.stat() if source.is_file() else None
-        h.update(f"{source}:{stat and stat.st_size}:{stat and stat.st_mtime_ns}:{camera.width}x{camera.height}".encode())
+        stat = source.stat()
+        h.update(f"{source}:{stat.st_size}:{stat.st_mtime_ns}:{camera.width}x{camera.height}".encode())
         if path is None:
             h.update(np.ascontiguousarray(camera.T_cw).tobytes() + np.ascontiguousarray(camera.K).tobytes())
     return h.hexdigest()[:16]
