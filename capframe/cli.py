@@ -283,12 +283,13 @@ def _cmd_associate(args: argparse.Namespace) -> None:
 
 
 def _cmd_orient(args: argparse.Namespace) -> None:
-    from .handoff import Retrieved, write_fronts
+    from .handoff import Retrieved, read_masks, write_fronts
     from .pipeline import stages
 
     retrieved = Retrieved.read(args.retrieval)
     _, clock, job = _stage_job(args)
-    write_fronts(stages.orient(job, retrieved, clock), args.output)
+    masks = read_masks(args.masks, job.view_names) if args.masks else None
+    write_fronts(stages.orient(job, retrieved, clock, masks), args.output)
 
 
 def _cmd_translate(args: argparse.Namespace) -> None:
@@ -588,11 +589,12 @@ def build_parser() -> argparse.ArgumentParser:
     ):
         p = _stage_verb(verbs, verb, help_text, output, func)
         p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
-        if verb == "associate":
+        if verb in ("associate", "orient"):
             p.add_argument(
                 "--masks",
                 default=None,
-                help="masks.npz of capframe segment (default: segment here when the associator reads masks)",
+                help="masks.npz of capframe segment (default: segment here when the "
+                f"{'associator' if verb == 'associate' else 'orientation estimator'} reads masks)",
             )
 
     p = _stage_verb(verbs, "translate", "pseudo labels from a retrieval.json (Translate)", "labels.json", _cmd_translate)

@@ -93,12 +93,12 @@ def test_mixed_roles_run_end_to_end(scene_dir, tmp_path):
 def test_ground_options_reject_an_unknown_backend_before_any_work(scene_dir, tmp_path, capsys):
     from capframe.pipeline import GroundOptions, ground
 
-    with pytest.raises(InputError, match="--orient 'orient-anything' is unknown; available: oracle"):
+    with pytest.raises(InputError, match="--orient 'orient-anything-v2' is unknown; available: oracle, orient-anything$"):
         ground(
             scene_dir,
             "the teddy bear",
             tmp_path / "o",
-            GroundOptions(backends={"orient": "orient-anything"}, refine=RefineConfig()),
+            GroundOptions(backends={"orient": "orient-anything-v2"}, refine=RefineConfig()),
         )
     assert not (tmp_path / "o").exists()
 

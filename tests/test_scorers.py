@@ -200,16 +200,22 @@ def test_coarse_keeps_an_eighth_of_the_views_as_the_paper(configs, scene_dir, tm
 
 
 def test_ground_runs_with_model_and_oracle_roles(configs, scene_dir, tmp_path):
-    """FG-CLIP coarse retrieval (tiny random weights) with the oracle segmenter, the knn
-    associator, oracle QE and oracle orientation, through the command line."""
+    """FG-CLIP coarse retrieval and Orient Anything orientation (tiny random weights) with the
+    oracle segmenter, the knn associator and oracle QE, through the command line."""
+    root = configs["clip"].parent
+    models = tmp_path / "models.yaml"
+    models.write_text(
+        f"fg-clip: {{weights: {root / 'fg-clip'}}}\n"
+        f"orient-anything: {{weights: {root / 'oa902' / 'dino_weight.pt'}, config: {root / 'oa902' / 'dinov2'}}}\n"
+    )
     out = tmp_path / "out"
     args = ["ground", str(scene_dir), "the teddy bear on the right, seen from its front", "-o", str(out)]
-    args += ["--coarse-scorer", "fg-clip", "--segmenter", "oracle", "--associator", "knn"]
-    args += ["--models", str(configs["fg-clip"]), "--cache", str(tmp_path / "cache"), "--iterations", "150", "--json"]
+    args += ["--coarse-scorer", "fg-clip", "--segmenter", "oracle", "--associator", "knn", "--orient", "orient-anything"]
+    args += ["--models", str(models), "--cache", str(tmp_path / "cache"), "--iterations", "150", "--json"]
     assert main(args) == 0
     result = json.loads((out / "result.json").read_text())
     backends = result["options"]["backends"]
-    assert backends["coarse"] == "fg-clip" and backends["orient"] == "oracle" and backends["qe"] == "oracle"
+    assert backends["coarse"] == "fg-clip" and backends["orient"] == "orient-anything" and backends["qe"] == "oracle"
     assert {"segment_s", "orient_s"} <= set(result["timings"]) and np.isfinite(np.asarray(result["T_cw"])).all()
     assert len(result["retrieval"]["views"]) == 1  # max(1, 6 // 8) views go on to QE
 

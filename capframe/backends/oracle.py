@@ -128,10 +128,12 @@ class MaskAssociator:
 class OracleOrientation:
     """The front annotated in the semantic sidecar (None for a symmetric subject)."""
 
+    needs_masks = False
+
     def __init__(self, context: BackendContext):
         self.labels = scene_labels(context)
 
-    def front(self, subject: ParsedSubject, view_indices: list[int]) -> np.ndarray | None:
+    def front(self, subject: ParsedSubject, view_indices: list[int], masks: SubjectMasks | None) -> np.ndarray | None:
         return self.labels.by_label[subject.name].front
 
 

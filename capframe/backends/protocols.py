@@ -15,7 +15,8 @@ qe          :class:`QuestionEvaluator`   ``oracle`` (answers from label renders)
 segmenter   :class:`Segmenter`           ``oracle`` (label maps as 2D masks)
 associator  :class:`Associator`          ``oracle`` (label ids), ``knn`` (masks
                                          back-projected, nearest Gaussian means)
-orient      :class:`OrientationEstimator` ``oracle`` (annotated fronts)
+orient      :class:`OrientationEstimator` ``oracle`` (annotated fronts); model tier:
+                                         ``orient-anything`` (from the segmenter's masks)
 scorer      :class:`ImageTextScorer`     ``oracle`` (QE answers of a label render); model
                                          tier: the image-text models of ``coarse``
 diff-scorer :class:`DifferentiableScorer` model tier only: the image-text models
@@ -166,9 +167,12 @@ class Associator(Protocol):
 
 
 class OrientationEstimator(Protocol):
-    """A subject's front direction in world coordinates, or None when it has none."""
+    """A subject's front direction in world coordinates, or None when it has none; from the
+    segmenter's masks of the subject in the retrieved views when :attr:`needs_masks`."""
 
-    def front(self, subject: ParsedSubject, view_indices: list[int]) -> np.ndarray | None: ...
+    needs_masks: bool
+
+    def front(self, subject: ParsedSubject, view_indices: list[int], masks: SubjectMasks | None) -> np.ndarray | None: ...
 
 
 class ImageTextScorer(Protocol):

@@ -54,6 +54,12 @@ def _image_text(kind: str) -> dict[str, Factory]:
     return {name: factory(name) for name in IMAGE_TEXT}
 
 
+def _orient_anything(context: BackendContext):
+    from .orient_anything import OrientAnythingOrientation
+
+    return OrientAnythingOrientation(context)
+
+
 @dataclass(frozen=True)
 class Role:
     """A perception role: its option, what it does, its backends (name -> factory) and default."""
@@ -87,9 +93,12 @@ ROLES: dict[str, Role] = {
 ROLES["coarse"].backends.update(_image_text("ModelCoarse"))
 ROLES["scorer"].backends.update(_image_text("ModelScorer"))
 ROLES["diff-scorer"].backends.update(_image_text("ModelDiffScorer"))
+ROLES["orient"].backends["orient-anything"] = _orient_anything
 
 # Associators that read the segmenter's masks (the workflow runs segmentation only for these).
 MASK_ASSOCIATORS = ("knn",)
+# Orientation estimators that read the segmenter's masks (the workflow passes them the masks).
+MASK_ORIENTERS = ("orient-anything",)
 
 
 def backend_names(role: str) -> list[str]:

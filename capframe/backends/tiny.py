@@ -1,8 +1,9 @@
 """Tiny random-weight models in the released layouts, built offline: the test fixtures' and
 ``capframe bench models``' stand-ins for real checkpoints. Each is written the way its real
-counterpart is distributed (a ``save_pretrained`` folder) and loads through the same code. They
-are about the smallest that run every code path: hidden size 32, 2 layers, patches of 8 (14
-for DINOv2) pixels."""
+counterpart is distributed (a ``save_pretrained`` folder; for Orient Anything a ``.pt`` state
+dict with transformers-4 key names beside a DINOv2 config folder) and loads through the same
+code. They are about the smallest that run every code path: hidden size 32, 2 layers, patches
+of 8 (14 for DINOv2) pixels."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from .image_text import FGCLIP_EXTRAS, FGCLIP_KEEP_POSITIONS, FGCLIP_LONG_TOKENS
 WIDTH = 32
 PROJECTION = 16
 TOWER = {"hidden_size": WIDTH, "intermediate_size": 64, "num_hidden_layers": 2, "num_attention_heads": 4}
+IMAGENET_MEAN, IMAGENET_STD = [0.485, 0.456, 0.406], [0.229, 0.224, 0.225]
 
 
 def _byte_vocab(specials: list[str], byte_tokens: bool) -> dict[str, int]:
@@ -157,3 +159,45 @@ def _add_weights(directory: Path, extra: dict[str, torch.Tensor]) -> None:
 def _set_model_type(directory: Path, model_type: str) -> None:
     path = directory / "config.json"
     path.write_text(json.dumps(json.loads(path.read_text()) | {"model_type": model_type}, indent=2))
+
+
+# transformers 4 names of DINOv2's attention weights, as the released Orient Anything .pt files have them.
+V4_NAMES = {
+    "attention.q_proj": "attention.attention.query",
+    "attention.k_proj": "attention.attention.key",
+    "attention.v_proj": "attention.attention.value",
+    "attention.o_proj": "attention.output.dense",
+}
+
+
+def tiny_orient_anything(directory: str | Path, outputs: int = 902, seed: int = 0) -> tuple[Path, Path]:
+    """A tiny Orient Anything: a DINOv2 config folder (hidden 32, 2 layers, 56 px, patch 14, with
+    its Bit image processor) and a ``.pt`` state dict with ``outputs`` (722 or 902) head
+    outputs, random BatchNorm statistics and transformers-4 key names. Returns (weights, config)."""
+    from transformers import Dinov2Config
+    from transformers.models.bit.image_processing_pil_bit import BitImageProcessorPil
+
+    from .orient_anything import OrientAnythingNet
+
+    directory = Path(directory)
+    config_dir = directory / "dinov2"
+    torch.manual_seed(seed)
+    config = Dinov2Config(hidden_size=WIDTH, num_hidden_layers=2, num_attention_heads=4, image_size=56, patch_size=14)
+    processor = BitImageProcessorPil(
+        size={"shortest_edge": 64}, crop_size={"height": 56, "width": 56}, image_mean=IMAGENET_MEAN, image_std=IMAGENET_STD
+    )
+    with quiet_transformers():
+        config.save_pretrained(config_dir)
+        processor.save_pretrained(config_dir)
+    net = OrientAnythingNet(config, outputs)
+    for norm in (net.down_sampler.net1[1], net.down_sampler.net2[1]):
+        norm.running_mean.normal_()
+        norm.running_var.uniform_(0.5, 2.0)
+    state = {}
+    for key, value in net.state_dict().items():
+        for new, old in V4_NAMES.items():
+            key = key.replace(new, old)
+        state[key] = value
+    weights = directory / "dino_weight.pt"
+    torch.save(state, weights)
+    return weights, config_dir

@@ -234,10 +234,17 @@ def associate(job: Job, retrieved: Retrieved, masks: dict[str, SubjectMasks], cl
     return groundings
 
 
-def orient(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, np.ndarray | None]:
-    """Orientation: the front of each subject that needs one (:attr:`ParsedSubject.needs_front`)."""
+def orient(
+    job: Job, retrieved: Retrieved, clock: StageClock, masks: dict[str, SubjectMasks] | None = None
+) -> dict[str, np.ndarray | None]:
+    """Orientation: the front of each subject that needs one (:attr:`ParsedSubject.needs_front`).
+    An estimator that reads masks gets ``masks``, or the segmenter's, computed here."""
     views = job.view_indices(retrieved.top)
-    fronts = {s.name: job.backends["orient"].front(s, views) for s in retrieved.parsed.subjects if s.needs_front}
+    subjects = [s for s in retrieved.parsed.subjects if s.needs_front]
+    estimator = job.backends["orient"] if subjects else None
+    if estimator is not None and estimator.needs_masks and masks is None:
+        masks = segment(job, retrieved, clock)
+    fronts = {s.name: estimator.front(s, views, (masks or {}).get(s.name)) for s in subjects}
     clock.done("orient", ", ".join(fronts) or "no subject needs a front")
     return fronts
 
@@ -269,14 +276,16 @@ def translate(
 
 
 def perceive(job: Job, retrieved: Retrieved, options: GroundOptions, clock: StageClock) -> PseudoLabels:
-    """Translate in one call: segment (only for an associator that reads masks), associate and
-    orient, on the instruction as ablated; then the pseudo labels."""
+    """Translate in one call: segment (only for an associator or an orientation estimator that
+    reads masks), associate and orient, on the instruction as ablated; then the pseudo labels."""
     ablated = Retrieved(
         retrieved.parsed.without(options.drop), retrieved.retrieval, retrieved.top, retrieved.starts, retrieved.up
     )
-    masks = segment(job, ablated, clock) if job.backends["associator"].needs_masks else {}
-    groundings = associate(job, ablated, masks, clock)
-    return translate(retrieved, groundings, orient(job, ablated, clock), options, clock)
+    needs_front = any(s.needs_front for s in ablated.parsed.subjects)
+    reads_masks = job.backends["associator"].needs_masks or (needs_front and job.backends["orient"].needs_masks)
+    masks = segment(job, ablated, clock) if reads_masks else None
+    groundings = associate(job, ablated, masks or {}, clock)
+    return translate(retrieved, groundings, orient(job, ablated, clock, masks), options, clock)
 
 
 @dataclass

@@ -7,6 +7,7 @@ import shlex
 from snakemake.utils import validate
 
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
+from capframe.backends.registry import MASK_ORIENTERS
 from capframe.synth.suite import load_suite
 
 validate(config, "../schemas/config.schema.yaml")
@@ -92,6 +93,7 @@ METHOD_STAGES = {
 }
 # The roles whose backend each stage runs (their options are passed to its verb).
 STAGE_ROLES = {"parse": ["parser"], "coarse": ["coarse"], "qe": ["qe"], "segment": ["segmenter"], "associate": ["associator"]}
+# An orientation estimator that reads masks gets them from the segment stage (masks_input).
 STAGE_ROLES["orient"] = ["orient"]
 # The baselines run the shared stages and score candidates in one job.
 BASELINE_ROLES = [*ROLES]
@@ -132,12 +134,17 @@ def backend_options(variant, roles):
     return " ".join(options)
 
 
-def masks_input(wildcards):
-    """The segmentation stage's masks, for an associator that reads masks (the oracle associates
-    by label id)."""
-    if backends(wildcards.variant)["associator"] not in MASK_ASSOCIATORS:
-        return []
-    return stage_file("segment", "results/segment/{key}/{scene}/{instruction}.npz")(wildcards)
+def masks_input(role="associator"):
+    """Input function: the segmentation stage's masks, for an associator or an orientation
+    estimator that reads masks (the oracles read labels and annotated fronts)."""
+    readers = {"associator": MASK_ASSOCIATORS, "orient": MASK_ORIENTERS}[role]
+
+    def masks(wildcards):
+        if backends(wildcards.variant)[role] not in readers:
+            return []
+        return stage_file("segment", "results/segment/{key}/{scene}/{instruction}.npz")(wildcards)
+
+    return masks
 
 
 def parse_output(wildcards):

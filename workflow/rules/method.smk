@@ -3,8 +3,9 @@ associate, orient, translate; Refine), its variants, and the per-scene stages it
 
 Stages a scene or an instruction does not need are left out of its DAG (DESIGN §7): COLMAP only
 for a scene without poses, gravity only for a scene that is not aligned (posed_scene(),
-gravity_input()); segmentation only for an associator that reads masks (masks_input()); orientation
-only for an instruction whose parse asks for a front (fronts_input(), read from the parse checkpoint).
+gravity_input()); segmentation only for an associator or an orientation estimator that reads
+masks (masks_input()); orientation only for an instruction whose parse asks for a front
+(fronts_input(), read from the parse checkpoint).
 """
 
 
@@ -174,7 +175,7 @@ rule associate:
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
-        masks=masks_input,
+        masks=masks_input("associator"),
     output:
         "results/associate/{variant}/{scene}/{instruction}.json",
     log:
@@ -197,6 +198,7 @@ rule orient:
         views="results/views/{scene}/label_views.npz",
         gravity=gravity_input,
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        masks=masks_input("orient"),
     output:
         "results/orient/{variant}/{scene}/{instruction}.json",
     log:
@@ -207,8 +209,9 @@ rule orient:
     params:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["orient"]),
+        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
     shell:
-        "capframe orient {input.scene} --retrieval {input.retrieval} -o {output} {params.backends} "
+        "capframe orient {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} {params.backends} "
         "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
 
 
