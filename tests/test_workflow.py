@@ -186,14 +186,19 @@ def test_a_variant_reruns_only_the_stages_it_changes(tmp_path):
 def test_instructions_get_only_the_translate_stages_they_need(tmp_path):
     """Orientation runs only for the instruction with an asymmetric subject and a view cue, and
     not at all for a variant that drops orientation (the parse checkpoint's ``needs`` decides);
-    segmentation only for an associator that reads masks (label ids need none)."""
+    segmentation only for an associator or an orientation estimator that reads masks (label ids
+    and annotated fronts need none)."""
     _fake_generated_suite(tmp_path)
     _fake_method_run(tmp_path)
     for stage in ("orient", "translate"):
         shutil.rmtree(tmp_path / "results" / stage)
     _with_variants(
         tmp_path,
-        {"masks": {"backends": {"associator": "knn"}}, "no-orientation": {"translate": {"drop": "orientation"}}},
+        {
+            "masks": {"backends": {"associator": "knn"}},
+            "no-orientation": {"translate": {"drop": "orientation"}},
+            "oa": {"backends": {"orient": "orient-anything"}},
+        },
     )
 
     default = planned_outputs(tmp_path, "results/tables/capframe.csv")
@@ -201,6 +206,10 @@ def test_instructions_get_only_the_translate_stages_they_need(tmp_path):
     assert "segment" not in _jobs(default)
     masks = _jobs(planned_outputs(tmp_path, "results/tables/capframe-masks.csv"))
     assert masks["segment"] == masks["associate"] == 4 and masks["orient"] == 1 and "coarse" not in masks and "qe" not in masks
+    oa = planned_outputs(tmp_path, "results/tables/capframe-oa.csv")
+    assert _jobs(oa)["segment"] == _jobs(oa)["orient"] == 1  # masks for the one instruction that orients
+    [orient_inputs] = [inputs for inputs, outputs in _planned_jobs(oa) if any("results/orient/" in o for o in outputs)]
+    assert any(i.startswith("results/segment/") and i.endswith("tabletop-orbit-000.npz") for i in orient_inputs)
     dropped = _jobs(planned_outputs(tmp_path, "results/tables/capframe-no-orientation.csv"))
     assert "orient" not in dropped and dropped["translate"] == 4 and "associate" not in dropped
 
