@@ -47,6 +47,7 @@ bench: $(STAMP)
 	$(BIN)/capframe bench render
 	$(BIN)/capframe bench refine
 	$(BIN)/capframe bench ground
+	$(BIN)/capframe bench models
 
 clean:
 	rm -rf results/* .snakemake

@@ -367,7 +367,13 @@ def _cmd_baseline(args: argparse.Namespace) -> None:
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
-    run_bench(args.what, as_json=args.json)
+    run_bench(args.what, as_json=args.json, models=args.models)
+
+
+def _cmd_models_export(args: argparse.Namespace) -> None:
+    from .backends.export import export_command
+
+    export_command(args.backend, args.models, args.output)
 
 
 def _perception_options(p: argparse.ArgumentParser) -> None:
@@ -651,9 +657,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground"])
+    p.add_argument("what", choices=["render", "refine", "ground", "models"])
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    p.add_argument("--models", default=None, help="models: also time the image encoders of this models config")
     p.set_defaults(func=_cmd_bench)
+
+    p = verbs.add_parser("models", help="model backends' files")
+    actions = p.add_subparsers(dest="action", required=True)
+    p = actions.add_parser("export", help="write a backend's image encoder as ONNX (for onnxruntime on the CPU)")
+    p.add_argument("backend", help="clip, siglip, fg-clip, fg-clip2 or orient-anything")
+    p.add_argument("--models", required=True, help="models config with the backend's weights")
+    p.add_argument("-o", "--output", required=True, help="ONNX file to write; name it as the entry's onnx field")
+    p.set_defaults(func=_cmd_models_export)
     return parser
 
 

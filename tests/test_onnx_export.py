@@ -1,0 +1,126 @@
+"""Image encoders on ONNX Runtime: the export of every backend's encoder matches PyTorch to 1e-4
+on pictures of several aspect ratios, the backends run onnxruntime (without busy-waiting, with
+the configured threads) when the models config names an ONNX file, a file that does not fit the
+model is a one-line error, and `capframe models export` / `capframe bench models` run."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+from _model_helpers import KINDS, pictures, write_tiny_models
+
+from capframe.backends import read_models_config
+from capframe.backends.export import export_backend
+from capframe.backends.image_text import ImageTextModel
+from capframe.backends.onnx import OnnxEncoder
+from capframe.backends.orient_anything import OrientAnything
+from capframe.backends.tiny import TINY_IMAGE_TEXT
+from capframe.cli import main
+from capframe.errors import InputError
+
+PARITY = 1e-4
+
+
+@pytest.fixture(scope="module")
+def configs(tmp_path_factory):
+    return write_tiny_models(tmp_path_factory.mktemp("models"))
+
+
+def entry(configs, name: str):
+    """(backend, settings) of a tiny model's config (``oa722``/``oa902``: Orient Anything)."""
+    backend = "orient-anything" if name.startswith("oa") else TINY_IMAGE_TEXT[name]
+    return backend, read_models_config(configs[name]).settings(backend)
+
+
+@pytest.fixture(scope="module")
+def exported(configs, tmp_path_factory):
+    """name -> (ONNX file, largest difference from PyTorch on the check pictures)."""
+    folder = tmp_path_factory.mktemp("onnx")
+    out = {}
+    for name in [*KINDS, "oa722", "oa902"]:
+        backend, settings = entry(configs, name)
+        out[name] = (folder / f"{name}.onnx", export_backend(backend, settings, folder / f"{name}.onnx"))
+    return out
+
+
+@pytest.mark.parametrize("name", [*KINDS, "oa722", "oa902"])
+def test_export_matches_pytorch(exported, name):
+    path, difference = exported[name]
+    assert path.is_file() and difference <= PARITY, difference
+
+
+@pytest.mark.parametrize("kind", ["clip", "siglip-naflex", "fg-clip2"])
+def test_image_text_backend_runs_onnxruntime_when_configured(configs, exported, kind, monkeypatch):
+    """Same embeddings as PyTorch, with PyTorch's image tower out of the way; NaFlex batches of
+    other aspect ratios and (FG-CLIP 2) shorter patch budgets than the export's are padded."""
+    backend, settings = entry(configs, kind)
+    images = pictures((64, 48), (40, 72), (160, 120), seed=3)
+    reference = ImageTextModel(backend, settings).embed_images(images)
+    model = ImageTextModel(backend, dataclasses.replace(settings, onnx=str(exported[kind][0]), threads=2))
+    assert model.onnx is not None and model.identity != ImageTextModel(backend, settings).identity
+
+    def no_pytorch(*_):
+        raise AssertionError("PyTorch image tower used")
+
+    monkeypatch.setattr(model, "image_features", no_pytorch)
+    assert np.abs(model.embed_images(images) - reference).max() <= PARITY
+
+
+def test_orient_anything_runs_onnxruntime_without_loading_pytorch_weights(configs, exported):
+    backend, settings = entry(configs, "oa722")
+    crops = pictures((30, 30), (48, 40), seed=5)
+    reference = OrientAnything(settings).estimate(crops)
+    model = OrientAnything(dataclasses.replace(settings, onnx=str(exported["oa722"][0])))
+    assert model.net is None
+    for got, expected in zip(model.estimate(crops), reference):
+        assert (got.azimuth, got.polar, got.rotation) == (expected.azimuth, expected.polar, expected.rotation)
+        assert abs(got.confidence - expected.confidence) <= PARITY
+
+
+def test_sessions_never_spin_and_use_the_configured_threads(exported):
+    encoder = OnnxEncoder(exported["clip"][0], ["pixel_values"], threads=2)
+    options = encoder.session.get_session_options()
+    assert options.intra_op_num_threads == 2 and options.inter_op_num_threads == 1
+    assert options.get_session_config_entry("session.intra_op.allow_spinning") == "0"
+    assert options.get_session_config_entry("session.inter_op.allow_spinning") == "0"
+
+
+def test_onnx_files_that_do_not_fit_are_one_line_errors(configs, exported, tmp_path):
+    cases = [
+        ("clip", str(tmp_path / "absent.onnx"), "ONNX file not found"),
+        ("siglip", str(exported["clip"][0]), "outputs 16 features; the model's image encoder outputs 32"),
+        ("clip", str(exported["siglip-naflex"][0]), "takes inputs \\['pixel_values', 'pixel_attention_mask'"),
+    ]
+    (tmp_path / "garbage.onnx").write_bytes(b"not a model")
+    cases.append(("clip", str(tmp_path / "garbage.onnx"), "onnxruntime cannot load it"))
+    for kind, onnx, match in cases:
+        backend, settings = entry(configs, kind)
+        with pytest.raises(InputError, match=match) as err:
+            ImageTextModel(backend, dataclasses.replace(settings, onnx=onnx))
+        assert "\n" not in str(err.value)
+    backend, settings = entry(configs, "oa902")
+    with pytest.raises(InputError, match="outputs 16 values; Orient Anything's layouts have \\[722, 902\\]"):
+        OrientAnything(dataclasses.replace(settings, onnx=str(exported["clip"][0])))
+
+
+def test_models_export_command(configs, tmp_path, capsys):
+    out = tmp_path / "fg-clip.onnx"
+    assert main(["models", "export", "fg-clip", "--models", str(configs["fg-clip"]), "-o", str(out)]) == 0
+    line = capsys.readouterr().out
+    assert out.is_file() and "max |onnxruntime - PyTorch|" in line
+    assert float(line.split("= ")[1].split()[0]) <= PARITY
+    assert main(["models", "export", "oracle", "--models", str(configs["fg-clip"]), "-o", str(tmp_path / "x.onnx")]) == 2
+    assert (
+        "has no image encoder to export; exportable: clip, siglip, fg-clip, fg-clip2, orient-anything" in capsys.readouterr().err
+    )
+
+
+def test_bench_models_prints_both_runtimes_for_every_tiny_model(capsys):
+    assert main(["bench", "models", "--json"]) == 0
+    figures = json.loads(capsys.readouterr().out)
+    assert set(figures) == {f"{kind} (tiny)" for kind in [*KINDS, "orient-anything"]}
+    for row in figures.values():
+        assert row["PyTorch s/image"] > 0 and row["onnxruntime s/image"] > 0 and row["max |difference|"] <= PARITY
