@@ -16,6 +16,7 @@ import pytest
 import torch
 from _model_helpers import KINDS, pictures, write_tiny_models
 from _synth_helpers import build_scene
+from PIL import Image
 
 from capframe.backends import BackendContext, read_models_config
 from capframe.backends.image_text import FGCLIP_EXTRAS, FGCLIP_KEEP_POSITIONS, ImageTextModel
@@ -228,3 +229,28 @@ def test_baseline_ranks_candidates_with_a_model_scorer(configs, scene_dir, tmp_p
     result = json.loads((out / "result.json").read_text())
     assert 0 < result["score"] < 1  # SigLIP's sigmoid probability
     assert all(0 < c["score"] < 1 for c in result["search"]["best"])
+
+
+def test_tensor_resizing_follows_pil_closer_than_kornia():
+    """Why the differentiable path resizes with interpolate(antialias=True), not kornia: against
+    CLIP's PIL processor (640x480 -> shorter side 224, bicubic, centre crop), on a smooth picture
+    with a sharp edge, kornia's Gaussian antialiasing is several times further off."""
+    import kornia
+    from transformers.models.clip.image_processing_pil_clip import CLIPImageProcessorPil
+
+    from capframe.backends.tensor_images import TensorPreprocess
+
+    processor = CLIPImageProcessorPil()
+    base = np.random.default_rng(0).integers(0, 256, (30, 40, 3), dtype=np.uint8)
+    image = np.array(Image.fromarray(base).resize((640, 480), Image.BICUBIC))
+    image[100:300, 200:210] = 255
+    expected = processor(images=[Image.fromarray(image)], return_tensors="pt")["pixel_values"].double()
+    x = torch.from_numpy(image).permute(2, 0, 1)[None].double() / 255
+    ours = TensorPreprocess.of(processor)(x)["pixel_values"]
+    resized = kornia.geometry.transform.resize(x, 224, interpolation="bicubic", side="short", antialias=True)
+    top, left = (resized.shape[-2] - 224) // 2, (resized.shape[-1] - 224) // 2
+    mean = torch.tensor(processor.image_mean, dtype=x.dtype)[:, None, None]
+    std = torch.tensor(processor.image_std, dtype=x.dtype)[:, None, None]
+    theirs = (resized[..., top : top + 224, left : left + 224] - mean) / std
+    ours_error, kornia_error = (ours - expected).abs().max(), (theirs - expected).abs().max()
+    assert ours_error < 0.1 and kornia_error > 4 * ours_error, (float(ours_error), float(kornia_error))

@@ -12,8 +12,8 @@ processor's settings and repeats its steps with torch operations:
 
 Resizing uses ``torch.nn.functional.interpolate`` with ``antialias=True``, whose downscaling
 filter is PIL's (triangle/cubic kernels widened by the scale factor); kornia's ``resize`` blurs
-with a Gaussian before sampling instead, which departed 6x further from the PIL processors at
-edges when measured (docs/models.md), so kornia is not used here.
+with a Gaussian before sampling instead, which departed 9x further from CLIP's PIL processor
+at an edge (docs/models.md, tests/test_scorers.py), so kornia is not used here.
 """
 
 from __future__ import annotations
@@ -100,9 +100,9 @@ class TensorPreprocess:
         if self.mode == "patches":
             return self._patches(x, max_patches or self.max_patches)
         if self.mode == "crop":
-            x = _resize(x, _shorter_side_size(x.shape[-2], x.shape[-1], self.size), self.resample)
+            x = _resize(x, _shorter_side_size(x.shape[-2], x.shape[-1], self.size), self.resample, self.scale)
         else:
-            x = _resize(x, self.size, self.resample)
+            x = _resize(x, self.size, self.resample, self.scale)
         if self.crop is not None:
             x = _center_crop(x, self.crop)
         return {"pixel_values": self._normalise(x)}
@@ -119,7 +119,7 @@ class TensorPreprocess:
 
         p = self.patch_size
         height, width = get_image_size_for_max_num_patches(x.shape[-2], x.shape[-1], p, max_patches)
-        x = self._normalise(_resize(x, (height, width), self.resample))
+        x = self._normalise(_resize(x, (height, width), self.resample, self.scale))
         b, c, gh, gw = x.shape[0], x.shape[1], height // p, width // p
         patches = x.reshape(b, c, gh, p, gw, p).permute(0, 2, 4, 3, 5, 1).reshape(b, gh * gw, p * p * c)
         padded = F.pad(patches, (0, 0, 0, max_patches - gh * gw))
@@ -137,14 +137,15 @@ def _shorter_side_size(height: int, width: int, shorter: int) -> tuple[int, int]
     return int(shorter * height / width), shorter
 
 
-def _resize(x: torch.Tensor, size: tuple[int, int], mode: str) -> torch.Tensor:
-    """(B, C, H, W) -> (B, C, *size), PIL-like: antialiased when shrinking; the identity at the
-    same size (PIL copies the image then)."""
+def _resize(x: torch.Tensor, size: tuple[int, int], mode: str, top: float) -> torch.Tensor:
+    """(B, C, H, W) -> (B, C, *size), PIL-like: antialiased when shrinking, values kept in
+    [0, top] (a bicubic kernel overshoots at edges; PIL's 8-bit result cannot); the identity at
+    the same size (PIL copies the image then)."""
     if tuple(x.shape[-2:]) == tuple(size):
         return x
     if mode == "nearest-exact":
         return F.interpolate(x, size=size, mode=mode)
-    return F.interpolate(x, size=size, mode=mode, align_corners=False, antialias=True)
+    return F.interpolate(x, size=size, mode=mode, align_corners=False, antialias=True).clamp(0.0, top)
 
 
 def _center_crop(x: torch.Tensor, size: tuple[int, int]) -> torch.Tensor:
