@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import torch
@@ -35,6 +36,9 @@ from .image_text import quiet_transformers, torch_device
 from .models import ModelSettings
 from .protocols import BackendContext, SubjectMasks
 from .view_images import view_image
+
+if TYPE_CHECKING:
+    from ..translate.instruction import ParsedSubject
 
 BACKEND = "orient-anything"
 
@@ -372,7 +376,7 @@ class OrientAnythingOrientation:
             out.append(ViewFront(view, estimate, world_front(estimate.azimuth, direction, self.up) if confident else None))
         return out
 
-    def front(self, subject, view_indices: list[int], masks: SubjectMasks | None) -> np.ndarray | None:
+    def front(self, subject: ParsedSubject, view_indices: list[int], masks: SubjectMasks | None) -> np.ndarray | None:
         if masks is None:
             raise InputError(f"--orient {BACKEND} needs the segmenter's masks of {subject.name!r}")
         readings = [r for r in self.view_fronts(masks) if r.front is not None]

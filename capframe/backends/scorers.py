@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import io
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import torch
@@ -27,6 +28,10 @@ from ..scene._io import atomic_write
 from .image_text import ImageTextModel
 from .protocols import BackendContext, CameraScorer, Question
 from .view_images import render_image, view_image, views_fingerprint
+
+if TYPE_CHECKING:
+    from ..translate.instruction import ParsedInstruction
+    from ..translate.labels import PseudoLabels
 
 
 def image_text_model(context: BackendContext, backend: str) -> ImageTextModel:
@@ -71,7 +76,7 @@ class ModelCoarse:
         self.context = context
         self.model = image_text_model(context, backend)
 
-    def coarse(self, parsed) -> np.ndarray:
+    def coarse(self, parsed: ParsedInstruction) -> np.ndarray:
         """(V,) scores of the training views (the model's convention)."""
         views = torch.from_numpy(view_embeddings(self.model, self.context)).to(self.model.device)
         return self.model.score(views, self.model.embed_texts([parsed.text]))[:, 0].cpu().numpy().astype(np.float64)
@@ -88,7 +93,7 @@ class ModelScorer:
         self.scene = context.scene
         self.model = image_text_model(context, backend)
 
-    def scorer(self, parsed, questions: list[Question], labels) -> CameraScorer:
+    def scorer(self, parsed: ParsedInstruction, questions: list[Question], labels: PseudoLabels) -> CameraScorer:
         text = self.model.embed_texts([parsed.text])
 
         def score(cameras: list[Camera]) -> np.ndarray:
