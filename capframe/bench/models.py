@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from ..backends.export import EXPORTABLE, encoder_of, export_backend
+from ..backends.export import EXPORTABLE, ORIENT_ANYTHING, encoder_of, export_backend
 from ..backends.models import ModelSettings, read_models_config
 from ..backends.onnx import OnnxEncoder
 from ..backends.tiny import TINY_IMAGE_TEXT, tiny_image_text, tiny_orient_anything
@@ -45,7 +45,7 @@ def time_encoder(backend: str, settings: ModelSettings, folder: Path) -> dict:
     model, _, forward, names, _ = encoder_of(backend, settings)
     rng = np.random.default_rng(0)
     pictures = [rng.integers(0, 256, (*PICTURE, 3), dtype=np.uint8) for _ in range(BATCH)]
-    if backend == "orient-anything":
+    if backend == ORIENT_ANYTHING:
         batch = {"pixel_values": model.pixel_values(pictures)}
     else:
         [(_, batch)] = model.model_inputs(pictures)
@@ -75,8 +75,8 @@ def bench_models(models: str | Path | None = None) -> dict:
         cases = []
         for kind, backend in TINY_IMAGE_TEXT.items():
             cases.append((f"{kind} (tiny)", backend, ModelSettings(weights=str(tiny_image_text(folder / kind, kind)))))
-        weights, config = tiny_orient_anything(folder / "orient-anything")
-        cases.append(("orient-anything (tiny)", "orient-anything", ModelSettings(weights=str(weights), config=str(config))))
+        weights, config = tiny_orient_anything(folder / ORIENT_ANYTHING)
+        cases.append((f"{ORIENT_ANYTHING} (tiny)", ORIENT_ANYTHING, ModelSettings(weights=str(weights), config=str(config))))
         configured = read_models_config(models)
         cases += [(name, name, configured.entries[name]) for name in configured.entries if name in EXPORTABLE]
         for label, backend, settings in cases:
