@@ -41,6 +41,9 @@ SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
 # A layer is a floor when it covers this share of the occupied footprint (seen from above).
 FLOOR_COVERAGE = 0.3
+# A camera keeps this many voxels between itself and any surface (the surface is known to about
+# half a voxel).
+MARGIN_VOXELS = 0.5
 
 
 @dataclass
@@ -64,6 +67,11 @@ class Occupancy:
     free: np.ndarray
     floor_top: int
     sdf: np.ndarray
+
+    @property
+    def margin(self) -> float:
+        """The clearance a camera keeps (world units): :data:`MARGIN_VOXELS` voxels."""
+        return MARGIN_VOXELS * self.voxel
 
     def grid_coordinates(self, points: Tensor) -> Tensor:
         """(..., 3) world points -> (..., 3) continuous voxel coordinates (voxel centres at integers)."""
@@ -276,15 +284,16 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str) -> None:
     atomic_write(path, buffer.getvalue())
 
 
-def load_occupancy(path: str | Path, fingerprint: str) -> Occupancy | None:
-    """The occupancy in ``path``; None when absent or stale, :class:`InputError` when unreadable."""
+def load_occupancy(path: str | Path, fingerprint: str | None = None) -> Occupancy | None:
+    """The occupancy in ``path``; None when absent or stale (another ``fingerprint``; None
+    accepts any), :class:`InputError` when unreadable."""
     path = Path(path)
     if not path.is_file():
         return None
     try:
         with np.load(path) as data:
             meta = json.loads(str(data["meta"]))
-            if meta.get("format") != FORMAT or meta.get("fingerprint") != fingerprint:
+            if meta.get("format") != FORMAT or fingerprint not in (None, meta.get("fingerprint")):
                 return None
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
     except (OSError, ValueError, KeyError) as err:
