@@ -24,7 +24,7 @@ documented in ``docs/models.md``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 from ..errors import InputError
@@ -36,7 +36,7 @@ DTYPES = ("float32", "float16", "bfloat16")
 class ModelSettings:
     """One backend's entry of the models config."""
 
-    weights: str | None = None
+    weights: str | None = None  # a relative path is relative to the config file
     endpoint: str | None = None
     model: str | None = None
     api_key_env: str | None = None
@@ -106,4 +106,10 @@ def read_models_config(path: str | Path | None) -> ModelsConfig:
         raise InputError(f"is not valid YAML ({str(err).splitlines()[0]})", source=source) from None
     if not isinstance(data, dict):
         raise InputError("must map backend names to their settings", source=source)
-    return ModelsConfig({str(name): _settings(str(name), entry, source) for name, entry in data.items()}, source)
+    entries = {str(name): _settings(str(name), entry, source) for name, entry in data.items()}
+    # A relative weights path is relative to the config file, so a config and its weights move together.
+    here = Path(path).parent
+    entries = {
+        name: replace(e, weights=str(here / Path(e.weights).expanduser())) if e.weights else e for name, e in entries.items()
+    }
+    return ModelsConfig(entries, source)
