@@ -332,6 +332,18 @@ def test_detector_segmenter_masks_by_grabcut_and_associates_the_right_gaussians(
     assert bear[found].mean() >= 0.9 and bear[found].sum() >= 0.2 * bear.sum()
 
 
+def test_detector_segmenter_masks_by_sam_when_the_models_config_has_it(scene_dir, weights, tmp_path):
+    table = np.array([[10.0, 20.0, 40.0, 44.0, 0.8, 77.0]])
+    detector = save_onnx_detector(tmp_path / "d.onnx", table)
+    models = write_models(tmp_path / "models.yaml", {"detector": {"weights": detector}, "sam": {"weights": weights["sam"]}})
+    scene = load_scene_dir(scene_dir)
+    context = BackendContext(scene, np.asarray(scene.metadata.up), tmp_path / "cache", read_models_config(models))
+    segmenter = Backends({"segmenter": "detector"}, context)["segmenter"]
+    assert segmenter.sam is not None
+    masks = segmenter.segment(ParsedSubject("teddy bear", "teddy bear"), [0, 1])
+    assert masks.views == [0, 1] and masks.masks.shape == (2, 120, 160) and masks.masks.all()  # the whole-image SAM
+
+
 # --- grounded-sam through the models config, the CLI and the pipeline ------------------------------------
 
 
@@ -458,7 +470,7 @@ def test_a_segmenter_without_its_models_config_entry_is_one_line(scene_dir, retr
     assert not (tmp_path / "m.npz").exists()
 
 
-def test_models_config_checks_threshold_and_threads(tmp_path):
+def test_models_config_checks_threshold_and_threads_and_resolves_relative_weights(tmp_path):
     path = tmp_path / "models.yaml"
     for text, message in (
         ("detector: {weights: d.onnx, threshold: 1.5}\n", r"threshold 1.5 must lie in \(0, 1\)"),
@@ -468,9 +480,12 @@ def test_models_config_checks_threshold_and_threads(tmp_path):
         path.write_text(text)
         with pytest.raises(InputError, match=message):
             read_models_config(path)
-    path.write_text("detector: {weights: d.onnx, threshold: 0.25, threads: 1}\n")
-    settings = read_models_config(path).settings("detector")
+    path.write_text("detector: {weights: d.onnx, threshold: 0.25, threads: 1}\nsam: {weights: /models/sam}\n")
+    config = read_models_config(path)
+    settings = config.settings("detector")
     assert (settings.threshold, settings.threads) == (0.25, 1)
+    assert settings.weights == str(tmp_path / "d.onnx")  # relative to the config file
+    assert config.settings("sam").weights == "/models/sam"
 
 
 # --- real weights: the COCO CenterNet on a synthetic television and teddy bear -------------------------------
@@ -511,3 +526,12 @@ def test_real_coco_detector_with_grabcut_associates_the_right_object(tv_and_bear
         precision = float((labels[found] == ids[name]).mean())
         assert precision >= 0.8, (name, precision)
         assert (labels[found] == ids[name]).sum() >= 0.1 * (labels == ids[name]).sum(), name
+
+
+def test_bench_segment_runs_only_what_the_segmenter_can_name_and_needs_a_models_config(capsys):
+    from capframe.bench.segment import can_name
+
+    assert can_name("detector", ["television", "mug"]) and not can_name("detector", ["traffic cone", "ball"])
+    assert can_name("grounded-sam", ["traffic cone"])
+    assert main(["bench", "segment"]) == 2
+    assert "capframe bench segment needs --models" in capsys.readouterr().err
