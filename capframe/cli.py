@@ -409,7 +409,9 @@ def _cmd_baseline(args: argparse.Namespace) -> None:
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
-    run_bench(args.what, as_json=args.json)
+    if args.what == "segment" and args.models is None:
+        raise InputError("capframe bench segment needs --models (the models config of the segmenter)")
+    run_bench(args.what, as_json=args.json, models=args.models, segmenter=args.segmenter)
 
 
 def _perception_options(p: argparse.ArgumentParser) -> None:
@@ -721,8 +723,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment"])
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
+    p.add_argument("--models", default=None, help="segment: the models config of the segmenter's weights")
     p.set_defaults(func=_cmd_bench)
     return parser
 

@@ -11,13 +11,20 @@ A YAML file (``config/models.yaml``, ``--models``) mapping a backend name to its
       endpoint: http://localhost:8000/v1  # an OpenAI-compatible server
       model: Qwen/Qwen3-VL-8B-Instruct
       api_key_env: OPENAI_API_KEY        # the key is read from this variable, never stored
+    detector:
+      weights: /models/centernet_coco.onnx  # an ONNX file
+      threshold: 0.3                      # detection score threshold
+      threads: 1                          # onnxruntime intra-op threads
 
-Backends that need no model (the oracle tier, the rule parser) have no entry.
+An entry is named after a backend or after a model a backend is built from (``grounded-sam``
+reads ``grounding-dino`` and ``sam``; ``detector`` reads ``detector`` and, when present, ``sam``).
+Backends that need no model (the oracle tier, the rule parser) have no entry. The fields are
+documented in ``docs/models.md``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 
 from ..errors import InputError
@@ -29,7 +36,7 @@ DTYPES = ("float32", "float16", "bfloat16")
 class ModelSettings:
     """One backend's entry of the models config."""
 
-    weights: str | None = None
+    weights: str | None = None  # a relative path is relative to the config file
     endpoint: str | None = None
     model: str | None = None
     api_key_env: str | None = None
@@ -37,6 +44,8 @@ class ModelSettings:
     dtype: str = "float32"
     batch_size: int = 8
     timeout_s: float = 60.0
+    threshold: float | None = None  # a detector's score threshold (None: the backend's default)
+    threads: int | None = None  # CPU threads of an onnxruntime session (None: the library's default)
 
 
 @dataclass(frozen=True)
@@ -63,7 +72,7 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
     if unknown:
         raise InputError(f"entry {name!r}: unknown keys {unknown}; expected some of {sorted(known)}", source=source)
     for key, value in entry.items():
-        expected = {"batch_size": int, "timeout_s": (int, float)}.get(key, str)
+        expected = {"batch_size": int, "timeout_s": (int, float), "threshold": (int, float), "threads": int}.get(key, str)
         if not isinstance(value, expected) or isinstance(value, bool):
             raise InputError(
                 f"entry {name!r}: {key} = {value!r} is not a {getattr(expected, '__name__', 'number')}", source=source
@@ -73,6 +82,10 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
         raise InputError(f"entry {name!r}: dtype {settings.dtype!r}; expected one of {list(DTYPES)}", source=source)
     if settings.batch_size < 1 or settings.timeout_s <= 0:
         raise InputError(f"entry {name!r}: batch_size and timeout_s must be positive", source=source)
+    if settings.threshold is not None and not 0 < settings.threshold < 1:
+        raise InputError(f"entry {name!r}: threshold {settings.threshold} must lie in (0, 1)", source=source)
+    if settings.threads is not None and settings.threads < 1:
+        raise InputError(f"entry {name!r}: threads {settings.threads} must be at least 1", source=source)
     if settings.weights is None and settings.endpoint is None:
         raise InputError(f"entry {name!r}: give weights (a local path) or endpoint (a server URL)", source=source)
     return settings
@@ -93,4 +106,10 @@ def read_models_config(path: str | Path | None) -> ModelsConfig:
         raise InputError(f"is not valid YAML ({str(err).splitlines()[0]})", source=source) from None
     if not isinstance(data, dict):
         raise InputError("must map backend names to their settings", source=source)
-    return ModelsConfig({str(name): _settings(str(name), entry, source) for name, entry in data.items()}, source)
+    entries = {str(name): _settings(str(name), entry, source) for name, entry in data.items()}
+    # A relative weights path is relative to the config file, so a config and its weights move together.
+    here = Path(path).parent
+    entries = {
+        name: replace(e, weights=str(here / Path(e.weights).expanduser())) if e.weights else e for name, e in entries.items()
+    }
+    return ModelsConfig(entries, source)

@@ -19,6 +19,9 @@ diff-scorer :class:`DifferentiableScorer` none yet (model tier)
 judge       :class:`Judge`               none yet (model tier)
 ==========  ===========================  ============================================
 
+Model-tier segmenters (user-supplied weights named in the models config): ``grounded-sam``
+(GroundingDINO + SAM) and ``detector`` (a COCO detector on ONNX Runtime, masks by SAM or GrabCut).
+
 "oracle" backends read the scene's semantic labels: perception with perfect labels, whose results
 measure the rest of the method and are reported as such.
 """

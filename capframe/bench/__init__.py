@@ -6,7 +6,9 @@ from __future__ import annotations
 import json
 
 
-def run_bench(what: str, *, as_json: bool = False) -> dict:
+def run_bench(what: str, *, as_json: bool = False, models: str | None = None, segmenter: str = "detector") -> dict:
+    """Run benchmark ``what`` and print its figures; ``segment`` reads ``models`` (the models
+    config) for ``segmenter``."""
     if what == "render":
         from .render import bench_render
 
@@ -19,6 +21,10 @@ def run_bench(what: str, *, as_json: bool = False) -> dict:
         from .ground import bench_ground
 
         figures = bench_ground()
+    elif what == "segment":
+        from .segment import bench_segment
+
+        figures = bench_segment(models, segmenter)
     else:
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:
