@@ -57,7 +57,15 @@ def _cmd_instructions(args: argparse.Namespace) -> None:
 def _cmd_check(args: argparse.Namespace) -> None:
     from .evaluate.check import check_command
 
-    check_command(args.scene, args.result, args.constraints, instruction_id=args.id, as_json=args.json, output=args.output)
+    check_command(
+        args.scene,
+        args.result,
+        args.constraints,
+        instruction_id=args.id,
+        as_json=args.json,
+        output=args.output,
+        cache_dir=args.cache,
+    )
 
 
 def _cmd_oracle(args: argparse.Namespace) -> None:
@@ -91,15 +99,48 @@ def _cmd_refine(args: argparse.Namespace) -> None:
         retrieved = Retrieved.read(args.init)
         if not scene.cameras:
             raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
+        occupancy = _occupancy(args, scene, labels, options, clock)
         starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts)]
-        refined = stages.refine(scene, labels, starts, options, clock)
-        write_ground_result(args.output, scene, labels, retrieved, refined, options, clock)
+        refined = stages.refine(scene, labels, starts, options, clock, occupancy)
+        write_ground_result(args.output, scene, labels, retrieved, refined, options, clock, occupancy)
     else:
         start = _initial_camera(scene.cameras, args.init)
         clock.done("load")
-        write_refine_result(
-            args.output, scene, labels, stages.refine(scene, labels, [start], options, clock), options.refine, clock
+        occupancy = _occupancy(args, scene, labels, options, clock)
+        refined = stages.refine(scene, labels, [start], options, clock, occupancy, solve=False)
+        write_refine_result(args.output, scene, labels, refined, options.refine, clock)
+
+
+def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
+    """The occupancy of ``capframe refine``: its --occupancy file, else the cached one (None with
+    --no-free-space)."""
+    from .pipeline import stages
+    from .scene.occupancy import load_occupancy
+
+    if not options.free_space:
+        return None
+    if args.occupancy is None:
+        return stages.free_space(scene, labels.up, options, clock)
+    occupancy = load_occupancy(args.occupancy)
+    if occupancy is None:
+        raise InputError(
+            "not found or not an occupancy of this version; rebuild it with capframe occupancy", source=args.occupancy
         )
+    return occupancy
+
+
+def _cmd_occupancy(args: argparse.Namespace) -> None:
+    from .geometry.gravity import world_up
+    from .scene import load_scene_dir
+    from .scene.occupancy import build_occupancy, occupancy_fingerprint, save_occupancy
+
+    scene = load_scene_dir(args.scene)
+    if scene.gaussians is None:
+        raise InputError("has no scene.ply to build free space from", source=str(args.scene))
+    up = world_up(args.scene, args.gravity)
+    grid = build_occupancy(scene.gaussians, up, scene.cameras)
+    save_occupancy(grid, args.output, occupancy_fingerprint(scene.gaussians, up, scene.cameras))
+    print(f"{args.output}: {grid.occupied.shape} voxels of {grid.voxel:.4g}, {int(grid.free.sum())} free")
 
 
 def _initial_camera(scene_cameras, init: str):
@@ -201,6 +242,8 @@ def _ground_options(args: argparse.Namespace):
         "box_noise": getattr(args, "box_noise", None),
         "front_noise_deg": getattr(args, "front_noise", None),
         "noise_seed": getattr(args, "noise_seed", None),
+        "solve": getattr(args, "solve", None),
+        "free_space": getattr(args, "free_space", None),
     }
     if hasattr(args, "iterations"):
         values["refine"] = _refine_config(args)
@@ -367,7 +410,9 @@ def _cmd_baseline(args: argparse.Namespace) -> None:
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
-    run_bench(args.what, as_json=args.json, models=args.models)
+    if args.what == "segment" and args.models is None:
+        raise InputError("capframe bench segment needs --models (the models config of the segmenter)")
+    run_bench(args.what, as_json=args.json, models=args.models, segmenter=args.segmenter)
 
 
 def _cmd_models_export(args: argparse.Namespace) -> None:
@@ -390,6 +435,22 @@ def _perception_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--models", default=None, help="models config (weights, endpoints) of model backends, e.g. config/models.yaml")
     p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
     p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+
+
+def _placement_options(p: argparse.ArgumentParser) -> None:
+    """Refine's starts and free space (``GroundOptions.solve`` / ``free_space``)."""
+    p.add_argument(
+        "--solve",
+        type=int,
+        default=3,
+        help="also start from up to this many cameras solved in closed form from the pseudo labels (0: retrieved views only)",
+    )
+    p.add_argument(
+        "--no-free-space",
+        dest="free_space",
+        action="store_false",
+        help="ignore the scene's occupancy: cameras may end inside geometry (needs --solve 0)",
+    )
 
 
 def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse.ArgumentParser:
@@ -487,6 +548,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--id", default=None, help="instruction id (default: the result's instruction_id)")
     p.add_argument("--json", action="store_true")
     p.add_argument("-o", "--output", default=None, help="also write the report as JSON to this file")
+    p.add_argument("--cache", default=None, help="folder caching the scene's occupancy (clearance verdict); default: none")
     p.set_defaults(func=_cmd_check)
 
     p = verbs.add_parser("oracle", help="oracle pseudo labels and a seeded initial view from a synthetic scene's ground truth")
@@ -519,7 +581,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
+    _placement_options(p)
+    p.add_argument(
+        "--occupancy", default=None, help="the scene's occupancy.npz (capframe occupancy); default: built in the --cache folder"
+    )
+    p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
     p.set_defaults(func=_cmd_refine)
+
+    p = verbs.add_parser("occupancy", help="the free space of a scene (where a camera can be), once per scene")
+    p.add_argument("scene", help="scene directory with scene.ply")
+    p.add_argument("-o", "--output", required=True, help="occupancy.npz to write")
+    p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
+    p.set_defaults(func=_cmd_occupancy)
 
     p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
     p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
@@ -637,6 +710,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--attempts", type=int, default=3, help="with one candidate: retry from the next retrieved view while a clause fails"
     )
     _perception_options(p)
+    _placement_options(p)
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
@@ -657,9 +731,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline)
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "models"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models"])
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
-    p.add_argument("--models", default=None, help="models: also time the image encoders of this models config")
+    p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
+    p.add_argument(
+        "--models", default=None, help="segment: the models config of the segmenter's weights; models: also time its encoders"
+    )
     p.set_defaults(func=_cmd_bench)
 
     p = verbs.add_parser("models", help="model backends' files")

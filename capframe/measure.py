@@ -16,6 +16,8 @@ view        azimuth of the camera centre around the subject (DESIGN §3)   withi
                                                                           of one VIEW_SIDES entry
 elevation   asin(p . up) around the primary subject's centre              in elevation_range()
 roll        geometry.camera_roll                                          within ROLL_TOLERANCE_DEG
+clearance   signed distance of the camera centre to geometry (walls,      >= 0 (not inside)
+            floor, objects): scene.occupancy, when one is given
 ==========  ===========================================================  ======================
 
 ``error`` is the distance outside the accepted set for region (normalised units), shot and
@@ -48,6 +50,7 @@ from .geometry import any_horizontal, camera_roll, view_angles
 from .render import NEAR_FRACTION, resolve_backend, scene_extent
 from .render.masks import SubjectMask, subject_masks
 from .scene import Camera, GaussianScene
+from .scene.occupancy import Occupancy
 
 
 @dataclass
@@ -179,6 +182,7 @@ class ConstraintChecker:
         up: (3,) unit world up.
         long_side: render size of the masks (longer side, pixels; default :data:`CHECK_LONG_SIDE`).
         backend: render backend (``auto``: gsplat on CUDA, else the torch reference).
+        occupancy: the scene's free space; with it every check has a ``clearance`` row.
     """
 
     def __init__(
@@ -190,8 +194,10 @@ class ConstraintChecker:
         *,
         long_side: int | None = None,
         backend: str = "auto",
+        occupancy: Occupancy | None = None,
     ):
         self.backend = resolve_backend(backend)
+        self.occupancy = occupancy
         device = "cuda" if self.backend == "gsplat" else "cpu"
         self.gaussians = gaussians.to(device=device)
         self.objects = objects
@@ -233,6 +239,8 @@ class ConstraintChecker:
             rows.append(self._elevation(name, constraints, elevation_range, centre, primary, up))
         if constraints.roll_deg is not None:
             rows.append(self._roll(constraints.roll_deg, T, up))
+        if self.occupancy is not None:
+            rows.append(self._clearance(centre))
         return CheckReport(rows)
 
     # --- measurements -------------------------------------------------------------------------
@@ -336,6 +344,13 @@ class ConstraintChecker:
         error = interval_distance(angles[1], *rng)
         return CheckRow("elevation", name, error == 0.0, angles[1], target, error, "deg")
 
+    def _clearance(self, centre: np.ndarray) -> CheckRow:
+        clearance = float(self.occupancy.clearance(torch.as_tensor(centre, dtype=torch.float64)))
+        note = "" if clearance >= 0 else "camera inside geometry (an object, a wall or below the floor)"
+        return CheckRow(
+            "clearance", None, clearance >= 0, clearance, {"clearance": ">= 0"}, max(-clearance, 0.0), "scene units", note
+        )
+
     def _roll(self, roll_deg: float, T: np.ndarray, up: np.ndarray) -> CheckRow:
         target = {"roll_deg": roll_deg, "tolerance_deg": ROLL_TOLERANCE_DEG}
         forward_up = float(T[2, :3] @ up)
@@ -379,6 +394,8 @@ def _format_target(row: CheckRow) -> str:
     if row.constraint == "elevation":
         name = t.get("elevation") or f"{t['elevation_deg']:+.0f}°"
         return f"{name} [{t['range_deg'][0]:+.0f}°, {t['range_deg'][1]:+.0f}°]"
+    if row.constraint == "clearance":
+        return ">= 0 (outside geometry)"
     return f"{t['roll_deg']:+.0f}° ±{t['tolerance_deg']:.0f}°"
 
 

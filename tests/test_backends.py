@@ -115,7 +115,7 @@ def test_models_config_is_read_and_checked(tmp_path):
     assert settings.weights == str(tmp_path / "oa" / "w.pt") and settings.config == "/abs/dinov2"  # relative to the file
     assert settings.onnx == str(tmp_path / "oa.onnx") and settings.threads == 2 and settings.min_confidence == 0.6
     for text, message in (
-        ("fg-clip: {weights: w, threads: 0}\n", "must be positive"),
+        ("fg-clip: {weights: w, threads: 0}\n", "threads 0 must be at least 1"),
         ("fg-clip: {weights: w, threads: two}\n", "threads = 'two' is not a int"),
         ("fg-clip: {weights: w, min_confidence: 1.5}\n", "min_confidence 1.5 is not in \\[0, 1\\]"),
         ("fg-clip: {weights: w, dtyp: float16}\n", "unknown keys \\['dtyp'\\]"),

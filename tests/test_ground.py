@@ -285,7 +285,11 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
     assert code == 2 and "capframe orient" in capsys.readouterr().err and not (tmp_path / "l.json").exists()
     # an unknown backend for any role is one line naming the available ones, and nothing is written
     segment = ["segment", str(scene_dir), "--retrieval", str(tmp_path / "r.json"), "-o", str(tmp_path / "m.npz"), *cache]
-    for option, available in (("--segmenter", "oracle"), ("--associator", "oracle, knn"), ("--parser", "rules")):
+    for option, available in (
+        ("--segmenter", "oracle, grounded-sam, detector"),
+        ("--associator", "oracle, knn"),
+        ("--parser", "rules"),
+    ):
         assert main([*segment, option, "sam"]) == 2 and not (tmp_path / "m.npz").exists()
         err = capsys.readouterr().err.strip()
         assert len(err.splitlines()) == 1 and f"{option} 'sam' is unknown; available: {available}" in err

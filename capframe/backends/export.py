@@ -51,7 +51,7 @@ def example_inputs(model, names: list[str], batch: dict[str, torch.Tensor]) -> d
     return example
 
 
-def export_backend(backend: str, settings: ModelSettings, output: str | Path, threads: int = 1) -> float:
+def export_backend(backend: str, settings: ModelSettings, output: str | Path, threads: int | None = None) -> float:
     """Write ``backend``'s image encoder to ``output`` and return the largest difference between
     onnxruntime's and PyTorch's outputs on the check images."""
     model, module, forward, names, batches = encoder_of(backend, settings)

@@ -11,15 +11,20 @@ A YAML file (``config/models.yaml``, ``--models``) mapping a backend name to its
       endpoint: http://localhost:8000/v1  # an OpenAI-compatible server
       model: Qwen/Qwen3-VL-8B-Instruct
       api_key_env: OPENAI_API_KEY        # the key is read from this variable, never stored
+    detector:
+      weights: /models/centernet_coco.onnx  # an ONNX file
+      threshold: 0.3                      # detection score threshold
+      threads: 1                          # onnxruntime intra-op threads
     orient-anything:
       weights: /models/orient-anything/ronormsigma1/dino_weight.pt
       config: /models/dinov2-large       # the DINOv2 config and image processor
       onnx: /models/orient-anything.onnx # from `capframe models export`: images run on onnxruntime
-      threads: 2                         # onnxruntime intra-op threads
       min_confidence: 0.5
 
-Backends that need no model (the oracle tier, the rule parser) have no entry. Every field is
-described in docs/models.md.
+An entry is named after a backend or after a model a backend is built from (``grounded-sam``
+reads ``grounding-dino`` and ``sam``; ``detector`` reads ``detector`` and, when present, ``sam``).
+Backends that need no model (the oracle tier, the rule parser) have no entry. The fields are
+documented in ``docs/models.md``.
 """
 
 from __future__ import annotations
@@ -30,7 +35,8 @@ from pathlib import Path
 from ..errors import InputError
 
 DTYPES = ("float32", "float16", "bfloat16")
-# Fields that name local files: relative to the models config's folder.
+# Fields that name local files: a relative path is relative to the config file, so a config and
+# its weights move together.
 PATH_FIELDS = ("weights", "config", "onnx")
 
 
@@ -39,13 +45,12 @@ class ModelSettings:
     """One backend's entry of the models config (docs/models.md has every field).
 
     Attributes:
-        weights: a local weights directory or checkpoint file (relative paths are read from the
-            models config's folder, as are ``config`` and ``onnx``).
+        weights: a local weights directory or file (relative paths are read from the models
+            config's folder, as are ``config`` and ``onnx``).
         config: a model config directory, when ``weights`` is a bare checkpoint file (Orient
             Anything: the DINOv2 directory with ``config.json`` and ``preprocessor_config.json``).
         onnx: an ONNX file of the model's image encoder (``capframe models export``); images are
             then encoded by onnxruntime on the CPU.
-        threads: onnxruntime's intra-op threads.
         min_confidence: Orient Anything: views whose estimate is less confident are ignored.
     """
 
@@ -57,9 +62,10 @@ class ModelSettings:
     dtype: str = "float32"
     batch_size: int = 8
     timeout_s: float = 60.0
+    threshold: float | None = None  # a detector's score threshold (None: the backend's default)
+    threads: int | None = None  # CPU threads of an onnxruntime session (None: the library's default)
     config: str | None = None
     onnx: str | None = None
-    threads: int = 1
     min_confidence: float = 0.5
 
 
@@ -87,7 +93,13 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
     if unknown:
         raise InputError(f"entry {name!r}: unknown keys {unknown}; expected some of {sorted(known)}", source=source)
     for key, value in entry.items():
-        expected = {"batch_size": int, "timeout_s": (int, float), "threads": int, "min_confidence": (int, float)}.get(key, str)
+        expected = {
+            "batch_size": int,
+            "timeout_s": (int, float),
+            "threshold": (int, float),
+            "threads": int,
+            "min_confidence": (int, float),
+        }.get(key, str)
         if not isinstance(value, expected) or isinstance(value, bool):
             raise InputError(
                 f"entry {name!r}: {key} = {value!r} is not a {getattr(expected, '__name__', 'number')}", source=source
@@ -97,8 +109,12 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
     settings = ModelSettings(**(entry | paths))
     if settings.dtype not in DTYPES:
         raise InputError(f"entry {name!r}: dtype {settings.dtype!r}; expected one of {list(DTYPES)}", source=source)
-    if settings.batch_size < 1 or settings.timeout_s <= 0 or settings.threads < 1:
-        raise InputError(f"entry {name!r}: batch_size, timeout_s and threads must be positive", source=source)
+    if settings.batch_size < 1 or settings.timeout_s <= 0:
+        raise InputError(f"entry {name!r}: batch_size and timeout_s must be positive", source=source)
+    if settings.threshold is not None and not 0 < settings.threshold < 1:
+        raise InputError(f"entry {name!r}: threshold {settings.threshold} must lie in (0, 1)", source=source)
+    if settings.threads is not None and settings.threads < 1:
+        raise InputError(f"entry {name!r}: threads {settings.threads} must be at least 1", source=source)
     if not 0 <= settings.min_confidence <= 1:
         raise InputError(f"entry {name!r}: min_confidence {settings.min_confidence} is not in [0, 1]", source=source)
     if settings.weights is None and settings.endpoint is None:
@@ -121,4 +137,5 @@ def read_models_config(path: str | Path | None) -> ModelsConfig:
         raise InputError(f"is not valid YAML ({str(err).splitlines()[0]})", source=source) from None
     if not isinstance(data, dict):
         raise InputError("must map backend names to their settings", source=source)
-    return ModelsConfig({str(name): _settings(str(name), entry, source) for name, entry in data.items()}, source)
+    entries = {str(name): _settings(str(name), entry, source) for name, entry in data.items()}
+    return ModelsConfig(entries, source)

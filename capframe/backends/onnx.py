@@ -29,17 +29,19 @@ OPSET = 17
 OUTPUT = "features"
 
 
-def session(path: str | Path, threads: int = 1):
-    """An onnxruntime CPU session of the file at ``path``; :class:`InputError` when it is missing
-    or not a model onnxruntime can load."""
+def session(path: str | Path, threads: int | None = None):
+    """An onnxruntime CPU session of the file at ``path`` with ``threads`` intra-op threads (None:
+    the library's default); :class:`InputError` when it is missing or not a model onnxruntime can
+    load."""
     import onnxruntime as ort
 
     path = Path(path)
     if not path.is_file():
         raise InputError("ONNX file not found (write it with `capframe models export`)", source=str(path))
     options = ort.SessionOptions()
-    options.intra_op_num_threads = threads
-    options.inter_op_num_threads = 1
+    if threads is not None:
+        options.intra_op_num_threads = threads
+        options.inter_op_num_threads = 1
     options.add_session_config_entry("session.intra_op.allow_spinning", "0")
     options.add_session_config_entry("session.inter_op.allow_spinning", "0")
     options.log_severity_level = 3  # errors only: its warnings name graph internals
@@ -55,11 +57,11 @@ class OnnxEncoder:
     Args:
         path: the ONNX file.
         inputs: the input names the model takes, in order (checked against the file).
-        threads: intra-op threads.
+        threads: intra-op threads (None: the library's default).
         features: the expected feature size D (checked against the file when it is static).
     """
 
-    def __init__(self, path: str | Path, inputs: Sequence[str], threads: int = 1, features: int | None = None):
+    def __init__(self, path: str | Path, inputs: Sequence[str], threads: int | None = None, features: int | None = None):
         self.path = Path(path)
         self.session = session(path, threads)
         names = [i.name for i in self.session.get_inputs()]

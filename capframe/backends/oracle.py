@@ -3,8 +3,8 @@
 Every role but the parser has one here. They read the per-scene label renders of the training
 views (:mod:`capframe.retrieve.views`, cached per scene), the per-Gaussian label ids and the
 sidecar's annotated fronts; the state is built once per job and shared by the roles. The ``knn``
-associator goes the model tier's way: a segmenter's 2D masks back-projected with the views'
-rendered depth and matched to Gaussian means.
+associator goes the model tier's way and reads no labels: a segmenter's 2D masks back-projected
+with the views' rendered depth and matched to Gaussian means.
 
 This is perception with perfect labels (DESIGN §4): results obtained with it measure the rest of
 the method, and are reported as such.
@@ -22,6 +22,7 @@ from ..translate.grounding import ground_by_labels, ground_by_masks
 from ..translate.instruction import ParsedInstruction, ParsedSubject
 from ..translate.labels import PseudoLabels
 from .protocols import BackendContext, Grounding, Question, SubjectMasks
+from .views import view_camera, view_depth
 
 
 class SceneLabels:
@@ -104,24 +105,24 @@ class OracleAssociator:
 
 class MaskAssociator:
     """The subject's Gaussians from its masks: each mask back-projected with its view's rendered
-    depth, the nearest Gaussian means of those points (the paper's association step)."""
+    depth, the nearest Gaussian means of those points (the paper's association step). It reads
+    no labels: any segmenter's masks, at any resolution, on any scene."""
 
     needs_masks = True
 
     def __init__(self, context: BackendContext):
-        # The views' depth renders at the masks' resolution come with the label renders.
-        self.labels = scene_labels(context)
+        self.context = context
 
     def associate(self, subject: ParsedSubject, masks: SubjectMasks | None) -> Grounding:
         if masks is None:
             raise InputError(f"--associator knn needs the segmenter's masks of {subject.name!r}; run capframe segment first")
-        views = self.labels.views
+        _, H, W = masks.masks.shape
         return ground_by_masks(
             subject.name,
             list(masks.masks),
-            [views.depth[v] for v in masks.views],
-            [views.cameras[v] for v in masks.views],
-            self.labels.scene.gaussians.means.detach(),
+            [view_depth(self.context, v, H, W) for v in masks.views],
+            [view_camera(self.context, v, H, W) for v in masks.views],
+            self.context.scene.gaussians.means.detach(),
         )
 
 

@@ -23,6 +23,9 @@ diff-scorer :class:`DifferentiableScorer` model tier only: the image-text models
 judge       :class:`Judge`               none yet (model tier)
 ==========  ===========================  ============================================
 
+Model-tier segmenters (user-supplied weights named in the models config): ``grounded-sam``
+(GroundingDINO + SAM) and ``detector`` (a COCO detector on ONNX Runtime, masks by SAM or GrabCut).
+
 "oracle" backends read the scene's semantic labels: perception with perfect labels, whose results
 measure the rest of the method and are reported as such.
 """

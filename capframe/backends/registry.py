@@ -34,6 +34,18 @@ def _oracle(kind: str) -> Factory:
     return build
 
 
+def _grounded_sam(context: BackendContext):
+    from .grounded_sam import GroundedSamSegmenter
+
+    return GroundedSamSegmenter(context)
+
+
+def _detector(context: BackendContext):
+    from .detector import DetectorSegmenter
+
+    return DetectorSegmenter(context)
+
+
 # Image-text models (capframe.backends.image_text): each serves the coarse, scorer and diff-scorer roles.
 IMAGE_TEXT = ("clip", "siglip", "fg-clip", "fg-clip2")
 
@@ -74,7 +86,12 @@ ROLES: dict[str, Role] = {
     "parser": Role("--parser", "instruction parser", {"rules": _rules}, "rules"),
     "coarse": Role("--coarse-scorer", "coarse scorer of the training views", {"oracle": _oracle("OracleCoarse")}, "oracle"),
     "qe": Role("--qe", "Question-Evaluation of the kept views", {"oracle": _oracle("OracleQE")}, "oracle"),
-    "segmenter": Role("--segmenter", "subject segmenter (2D masks)", {"oracle": _oracle("OracleSegmenter")}, "oracle"),
+    "segmenter": Role(
+        "--segmenter",
+        "subject segmenter (2D masks)",
+        {"oracle": _oracle("OracleSegmenter"), "grounded-sam": _grounded_sam, "detector": _detector},
+        "oracle",
+    ),
     "associator": Role(
         "--associator",
         "subject -> Gaussians (knn: from the segmenter's masks)",

@@ -6,9 +6,9 @@ from __future__ import annotations
 import json
 
 
-def run_bench(what: str, *, as_json: bool = False, models: str | None = None) -> dict:
-    """Run the benchmark ``what`` and print its figures (``models``: a models config, read by the
-    ``models`` benchmark)."""
+def run_bench(what: str, *, as_json: bool = False, models: str | None = None, segmenter: str = "detector") -> dict:
+    """Run benchmark ``what`` and print its figures; ``segment`` reads ``models`` (the models
+    config) for ``segmenter``, ``models`` also times the image encoders of ``models``."""
     if what == "render":
         from .render import bench_render
 
@@ -21,6 +21,10 @@ def run_bench(what: str, *, as_json: bool = False, models: str | None = None) ->
         from .ground import bench_ground
 
         figures = bench_ground()
+    elif what == "segment":
+        from .segment import bench_segment
+
+        figures = bench_segment(models, segmenter)
     elif what == "models":
         from .models import bench_models
 

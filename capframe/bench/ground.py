@@ -55,6 +55,27 @@ def _prepare(scene_dir: Path, scene, root: Path) -> tuple[Path, Path | None]:
     return scene_dir, gravity
 
 
+def ground_and_check(
+    ground_dir: Path, text: str, out: Path, options: GroundOptions, checker: GroundTruthChecker, constraints
+) -> tuple[bool, int, int, float]:
+    """``ground`` one instruction with warm caches, timed, and its camera checked.
+
+    Returns:
+        (every constraint satisfied, constraints satisfied, constraints applicable, seconds).
+    """
+    shutil.rmtree(out, ignore_errors=True)
+    if not (Path(options.cache_dir) / "label_views.npz").is_file():  # warm the cache, untimed
+        ground(ground_dir, text, out, options, progress=False)
+        shutil.rmtree(out)
+    start = time.perf_counter()
+    ground(ground_dir, text, out, options, progress=False)
+    seconds = time.perf_counter() - start
+    camera, _ = read_result_camera(out / "result.json")
+    report = checker.check(camera, constraints)
+    applicable = [r for r in report.rows if r.satisfied is not None]
+    return report.all_satisfied, sum(bool(r.satisfied) for r in applicable), len(applicable), seconds
+
+
 def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite") -> dict:
     root = Path(root)
     cases = suite_cases(suite, root)
@@ -67,21 +88,9 @@ def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
             checkers[ground_dir] = GroundTruthChecker(ground_dir)
         text = read_json(root / "instructions" / scene_dir.name / "constraints.json")[key]["text"]
         options = GroundOptions(cache_dir=root / "cache" / ground_dir.name, gravity=gravity)
-        out = root / "ground" / key
-        shutil.rmtree(out, ignore_errors=True)
-        if not (root / "cache" / ground_dir.name / "label_views.npz").is_file():  # warm the cache, untimed
-            ground(ground_dir, text, out, options, progress=False)
-            shutil.rmtree(out)
-        start = time.perf_counter()
-        ground(ground_dir, text, out, options, progress=False)
-        seconds = time.perf_counter() - start
-        camera, _ = read_result_camera(out / "result.json")
-        report = checkers[ground_dir].check(camera, constraints)
-        applicable = [r for r in report.rows if r.satisfied is not None]
-        rows.append((key, report.all_satisfied, sum(bool(r.satisfied) for r in applicable), len(applicable), seconds))
+        rows.append((key, *ground_and_check(ground_dir, text, root / "ground" / key, options, checkers[ground_dir], constraints)))
         print(
-            f"{key}: {'ok  ' if report.all_satisfied else 'FAIL'} {rows[-1][2]}/{rows[-1][3]} constraints, "
-            f"{seconds:.1f} s  {text}",
+            f"{key}: {'ok  ' if rows[-1][1] else 'FAIL'} {rows[-1][2]}/{rows[-1][3]} constraints, {rows[-1][4]:.1f} s  {text}",
             file=sys.stderr,
             flush=True,
         )

@@ -39,9 +39,10 @@ def _best_seconds(run, repeats: int = REPEATS) -> float:
 
 
 def time_encoder(backend: str, settings: ModelSettings, folder: Path) -> dict:
-    """PyTorch and onnxruntime seconds per image of ``backend``'s image encoder, and their
-    largest difference on the export's check images."""
-    difference = export_backend(backend, settings, folder / f"{backend}.onnx", settings.threads)
+    """PyTorch and onnxruntime seconds per image of ``backend``'s image encoder on the entry's
+    ``threads`` (1 when unset), and their largest difference on the export's check images."""
+    threads = settings.threads or 1
+    difference = export_backend(backend, settings, folder / f"{backend}.onnx", threads)
     model, _, forward, names, _ = encoder_of(backend, settings)
     rng = np.random.default_rng(0)
     pictures = [rng.integers(0, 256, (*PICTURE, 3), dtype=np.uint8) for _ in range(BATCH)]
@@ -49,17 +50,17 @@ def time_encoder(backend: str, settings: ModelSettings, folder: Path) -> dict:
         batch = {"pixel_values": model.pixel_values(pictures)}
     else:
         [(_, batch)] = model.model_inputs(pictures)
-    encoder = OnnxEncoder(folder / f"{backend}.onnx", names, settings.threads)
-    threads = torch.get_num_threads()
-    torch.set_num_threads(settings.threads)
+    encoder = OnnxEncoder(folder / f"{backend}.onnx", names, threads)
+    default = torch.get_num_threads()
+    torch.set_num_threads(threads)
     try:
         with torch.no_grad():
             pytorch = _best_seconds(lambda: forward(*[batch[n] for n in names])) / BATCH
         onnx = _best_seconds(lambda: encoder(batch)) / BATCH
     finally:
-        torch.set_num_threads(threads)
+        torch.set_num_threads(default)
     return {
-        "threads": settings.threads,
+        "threads": threads,
         "PyTorch s/image": pytorch,
         "onnxruntime s/image": onnx,
         "speed-up": pytorch / onnx,

@@ -11,8 +11,17 @@ import pandas as pd
 from ..scene._io import atomic_write, read_json
 
 # Constraint kinds in table order, and the unit of each kind's checker error: the deviation from
-# the target for view and roll, the distance to the accepted interval (0 inside) for the others.
-KIND_UNITS = {"visibility": "fraction", "region": "frame", "shot": "frame", "view": "deg", "elevation": "deg", "roll": "deg"}
+# the target for view and roll, the distance to the accepted interval (0 inside) for the others;
+# clearance (every camera has it) is the depth inside geometry.
+KIND_UNITS = {
+    "visibility": "fraction",
+    "region": "frame",
+    "shot": "frame",
+    "view": "deg",
+    "elevation": "deg",
+    "roll": "deg",
+    "clearance": "scene",
+}
 
 
 def instruction_rows(method: str, checks: list[Path], results: list[Path]) -> pd.DataFrame:

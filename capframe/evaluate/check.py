@@ -1,7 +1,8 @@
 """Ground-truth check of a result camera against an instruction's constraints (synthetic scenes):
 the measurements of :mod:`capframe.measure`, with each subject's Gaussians, centre and front read
-from the scene's ``ground_truth.json``, ``scene.ply`` and ``labels.npy``. Evaluation only: no
-stage of the method reads the ground truth.
+from the scene's ``ground_truth.json``, ``scene.ply`` and ``labels.npy``, and the camera's
+clearance from the free space of the Gaussians under the true up. Evaluation only: no stage of the
+method reads the ground truth.
 """
 
 from __future__ import annotations
@@ -16,7 +17,9 @@ from ..errors import InputError
 from ..measure import CheckReport, CheckRow, ConstraintChecker, format_report
 from ..scene import Camera, load_scene_dir, read_camera_json
 from ..scene._io import read_json
+from ..scene.occupancy import build_occupancy, cached_occupancy
 from .ground_truth import GroundTruth, GTObject, read_ground_truth
+from .oracle import ground_truth_cameras
 
 __all__ = ["CheckReport", "CheckRow", "GroundTruthChecker", "check_camera", "check_command", "format_report"]
 
@@ -28,9 +31,13 @@ class GroundTruthChecker(ConstraintChecker):
         scene_dir: scene directory with ``ground_truth.json``, ``scene.ply``, ``semantics.json`` and
             ``labels.npy``.
         long_side, backend: as for :class:`ConstraintChecker`.
+        cache_dir: where the ground truth's occupancy (for the clearance verdict: built from the
+            Gaussians, the true up and the true training cameras) is cached; None builds it.
     """
 
-    def __init__(self, scene_dir: str | Path, *, long_side: int | None = None, backend: str = "auto"):
+    def __init__(
+        self, scene_dir: str | Path, *, long_side: int | None = None, backend: str = "auto", cache_dir: str | Path | None = None
+    ):
         self.scene_dir = Path(scene_dir)
         self.ground_truth: GroundTruth = read_ground_truth(scene_dir)
         scene = load_scene_dir(scene_dir)
@@ -44,7 +51,13 @@ class GroundTruthChecker(ConstraintChecker):
         labels = scene.gaussians.labels
         objects = {o.name: o for o in self.ground_truth.objects}
         members = {o.id: labels == o.label for o in self.ground_truth.objects}
-        super().__init__(scene.gaussians, objects, members, self.ground_truth.up, long_side=long_side, backend=backend)
+        up, cameras = self.ground_truth.up, ground_truth_cameras(scene_dir)
+        occupancy = (
+            cached_occupancy(scene.gaussians, up, cameras, cache_dir)
+            if cache_dir
+            else build_occupancy(scene.gaussians, up, cameras)
+        )
+        super().__init__(scene.gaussians, objects, members, up, long_side=long_side, backend=backend, occupancy=occupancy)
 
     def resolve(self, name: str) -> GTObject:
         return self.ground_truth.resolve(name)
@@ -119,13 +132,15 @@ def check_command(
     instruction_id: str | None = None,
     as_json: bool = False,
     output: str | Path | None = None,
+    cache_dir: str | Path | None = None,
 ) -> CheckReport:
     """``capframe check``: check a result camera against one instruction's constraints and print a
     table (or, with ``as_json``, one JSON object); ``output`` also writes the JSON object to a
-    file, atomically. The instruction id defaults to the result's ``instruction_id``."""
+    file, atomically. The instruction id defaults to the result's ``instruction_id``; ``cache_dir``
+    caches the scene's occupancy."""
     camera, result_id = read_result_camera(result)
     instruction_id, entry, cons = load_constraints(constraints, instruction_id or result_id)
-    report = check_camera(scene, camera, cons)
+    report = check_camera(scene, camera, cons, cache_dir=cache_dir)
     report.instruction_id = instruction_id
     report.text = entry.get("text")
     print(json.dumps(report.to_dict()) if as_json else format_report(report))

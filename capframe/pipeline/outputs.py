@@ -12,10 +12,12 @@ resolution). Refine adds (:func:`write_refine_outputs`):
 * ``path.png``: top view of the camera path (along the world up) with the subjects.
 
 ``capframe ground`` adds (:func:`write_ground_result`) the parsed instruction, the retrieval
-(questions and per-view answers), the chosen initial view, the per-clause report and the
-candidates to ``result.json``, and ``labels.json`` (the pseudo labels), ``camera_path.json``
-(nerfstudio), ``colmap_image.txt`` (one ``images.txt`` line) and, with several candidates,
-``candidates/<rank>/`` with each one's ``camera.json`` and ``render.png``.
+(questions and per-view answers), the chosen initial view, the per-clause report (with the
+camera's clearance), the refined candidates, the closed-form starts with why each was kept or
+dropped (``solved``) and the :func:`feasibility` verdict to ``result.json``, and ``labels.json``
+(the pseudo labels), ``camera_path.json`` (nerfstudio), ``colmap_image.txt`` (one ``images.txt``
+line) and, with several candidates, ``candidates/<rank>/`` with each one's ``camera.json`` and
+``render.png``.
 
 Folders are written atomically, as one folder: nothing is written on an error.
 """
@@ -33,12 +35,14 @@ import torch
 from PIL import Image, ImageDraw
 
 from ..handoff import Retrieved
-from ..measure import format_report
+from ..measure import CheckReport, format_report
+from ..refine.candidates import Candidate
 from ..refine.optimize import RefineConfig, RefineResult
 from ..render import render
 from ..render.image import save_png
 from ..scene import Camera, SceneDir, colmap_image_line, write_camera_json, write_camera_path_json
 from ..scene._io import atomic_directory, write_json
+from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, write_pseudo_labels
 from .stages import GroundOptions, Refined, StageClock, own_report
 
@@ -131,11 +135,13 @@ def write_ground_result(
     refined: Refined,
     options: GroundOptions,
     clock: StageClock,
+    occupancy: Occupancy | None = None,
 ) -> dict:
-    """Report on Refine's poses with the method's own pseudo labels, render the best (every
-    candidate when ranking several) and write the folder. Returns ``result.json``'s content."""
+    """Report on Refine's poses with the method's own pseudo labels (and their clearance with
+    ``occupancy``), render the best (every candidate when ranking several) and write the folder.
+    Returns ``result.json``'s content."""
     cameras = refined.cameras
-    reports = [own_report(scene, labels, retrieved.parsed, c) for c in cameras]
+    reports = [own_report(scene, labels, retrieved.parsed, c, occupancy) for c in cameras]
     images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
     clock.done("report", "own labels: " + ("all clauses hold" if reports[0].all_satisfied else "some clauses fail"))
     timings = clock.total()
@@ -154,6 +160,8 @@ def write_ground_result(
             }
             for k, ((start, r), rep) in enumerate(zip(refined.runs, reports))
         ],
+        "solved": [c.to_dict() for c in refined.solved],
+        "feasibility": feasibility(reports[0], refined.solved),
         "options": options.record(),
         "up": retrieved.up.tolist(),
     }
@@ -169,6 +177,22 @@ def write_ground_result(
     if clock.enabled:
         print(format_report(reports[0]), file=sys.stderr)
     return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def feasibility(report: CheckReport, solved: list[Candidate]) -> dict:
+    """Which clauses the returned camera fails by its own measure, and why the instruction may be
+    infeasible: every closed-form camera inside geometry (no free space at the asked view) or
+    occluded (something stands between every asked view and the subject). ``feasible`` is False
+    only when a clause fails and the solve found no free, unoccluded camera."""
+    failing = [{"constraint": r.constraint, "subject": r.subject, "note": r.note} for r in report.rows if r.satisfied is False]
+    reasons = sorted({c.status for c in solved if c.status != "kept"})
+    blocked = bool(solved) and all(c.status != "kept" for c in solved)
+    why = {"inside geometry": "no free space at the asked view", "occluded": "the subject is occluded from every asked view"}
+    return {
+        "feasible": not (failing and blocked),
+        "failing": failing,
+        "reasons": [why[r] for r in reasons] if blocked else [],
+    }
 
 
 def write_refine_result(

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import itertools
 import os
 import random
 import sys
@@ -25,13 +26,15 @@ import torch
 from ..backends import BackendContext, Backends, Grounding, SubjectMasks, read_models_config
 from ..backends.registry import ROLES, resolve_choices
 from ..errors import InputError
-from ..geometry import pose_deviation
+from ..geometry import camera_center, pose_deviation
 from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
 from ..measure import CheckReport, ConstraintChecker, Subject
+from ..refine.candidates import Candidate, solve_candidates
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
 from ..retrieve.qe import rank_kept
 from ..scene import Camera, SceneDir, load_scene_dir, scene_scale
+from ..scene.occupancy import Occupancy, cached_occupancy
 from ..translate.instruction import ParsedInstruction
 from ..translate.labels import PseudoLabels, labels_from_constraints, perturbed
 from ..translate.vocabulary import Vocabulary
@@ -60,6 +63,11 @@ class GroundOptions:
         box_noise: perturb each layout box by this fraction of the frame, in a random direction.
         front_noise_deg: rotate each subject's front about the up by this angle, random sign.
         noise_seed: seed of both perturbations.
+        solve: Refine also starts from up to this many cameras solved in closed form from the
+            pseudo labels (:mod:`capframe.refine.candidates`), alternating with the retrieved
+            views, the solved first; 0 starts from the retrieved views only (the paper).
+        free_space: keep cameras out of geometry with the scene's occupancy
+            (:mod:`capframe.scene.occupancy`); also needed by ``solve``.
         refine: the optimiser's settings.
     """
 
@@ -75,6 +83,8 @@ class GroundOptions:
     box_noise: float = 0.0
     front_noise_deg: float = 0.0
     noise_seed: int = 0
+    solve: int = 3
+    free_space: bool = True
     refine: RefineConfig = dataclasses.field(default_factory=RefineConfig)
 
     def check(self) -> None:
@@ -86,6 +96,10 @@ class GroundOptions:
             raise InputError(
                 f"--topk {self.top_k}, --candidates {self.candidates}, --attempts {self.attempts}: each must be at least 1"
             )
+        if self.solve < 0:
+            raise InputError(f"--solve {self.solve}; expected 0 (retrieved views only) or more")
+        if self.solve and not self.free_space:
+            raise InputError("--solve needs the free space (drop --no-free-space, or pass --solve 0)")
 
     def record(self) -> dict:
         """The options that chose the camera, as ``result.json`` records them."""
@@ -94,8 +108,15 @@ class GroundOptions:
             "seed": self.seed,
             "candidates": self.candidates,
             "attempts": self.attempts,
+            "solve": self.solve,
+            "free_space": self.free_space,
             "backends": resolve_choices(self.backends),
         }
+
+
+def cache_dir(scene: SceneDir, options: GroundOptions) -> Path:
+    """The per-scene cache: ``options.cache_dir`` or :func:`default_cache_dir`."""
+    return Path(options.cache_dir) if options.cache_dir else default_cache_dir(scene.root)
 
 
 def default_cache_dir(scene_dir: Path) -> Path:
@@ -172,8 +193,7 @@ def open_job(scene_dir: str | Path, options: GroundOptions) -> Job:
             source=str(scene_dir),
         )
     up = world_up(scene_dir, options.gravity)
-    cache = Path(options.cache_dir) if options.cache_dir else default_cache_dir(scene.root)
-    context = BackendContext(scene, up, cache, read_models_config(options.models))
+    context = BackendContext(scene, up, cache_dir(scene, options), read_models_config(options.models))
     return Job(scene, up, Backends(options.backends, context))
 
 
@@ -290,9 +310,11 @@ def perceive(job: Job, retrieved: Retrieved, options: GroundOptions, clock: Stag
 
 @dataclass
 class Refined:
-    """Refine's distinct poses, best first: each start camera with its :class:`RefineResult`."""
+    """Refine's distinct poses, best first: each start camera with its :class:`RefineResult`,
+    and the closed-form starts that were considered (kept or dropped, with why)."""
 
     runs: list[tuple[Camera, RefineResult]]
+    solved: list[Candidate] = dataclasses.field(default_factory=list)
 
     @property
     def cameras(self) -> list[Camera]:
@@ -304,32 +326,62 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     return angle < DISTINCT_ROTATION_DEG and distance < DISTINCT_TRANSLATION
 
 
-def refine(scene: SceneDir, labels: PseudoLabels, starts: list[Camera], options: GroundOptions, clock: StageClock) -> Refined:
-    """Refine from ``starts`` in order: up to ``attempts`` of them, stopping at the first whose
-    pseudo-label clauses all hold, or the first ``candidates`` when ranking several. Runs whose
-    clauses all held rank first, then by loss; poses within :data:`DISTINCT_ROTATION_DEG` /
-    :data:`DISTINCT_TRANSLATION` of a better one are dropped."""
+def free_space(scene: SceneDir, up: np.ndarray, options: GroundOptions, clock: StageClock) -> Occupancy | None:
+    """The scene's occupancy from the per-scene cache (built once), None without ``free_space``."""
+    if not options.free_space:
+        return None
+    occupancy = cached_occupancy(scene.gaussians, up, scene.cameras, cache_dir(scene, options))
+    clock.done("space", f"{int(occupancy.free.sum())} free voxels of {occupancy.voxel:.3g}")
+    return occupancy
+
+
+def refine(
+    scene: SceneDir,
+    labels: PseudoLabels,
+    starts: list[Camera],
+    options: GroundOptions,
+    clock: StageClock,
+    occupancy: Occupancy | None = None,
+    solve: bool = True,
+) -> Refined:
+    """Refine from the closed-form starts (with ``solve``, ``options.solve`` of them, which need
+    ``occupancy``) alternating with ``starts``: up to ``attempts`` of them, stopping at the first
+    whose pseudo-label clauses all hold, or the first ``candidates`` when ranking several. Runs
+    whose clauses all held rank first, then by loss, a camera inside geometry last; poses within
+    :data:`DISTINCT_ROTATION_DEG` / :data:`DISTINCT_TRANSLATION` of a better one are dropped."""
     scale = scene_scale(scene.cameras, scene.gaussians.means)
+    solved = []
+    if solve and options.solve and occupancy is not None and starts:
+        solved = solve_candidates(scene.gaussians, labels, starts[0], occupancy, keep=options.solve)
+        kept = [c.camera for c in solved if c.status == "kept"]
+        clock.done("solve", f"{len(kept)} of {len(solved)} closed-form cameras free and unoccluded")
+        starts = [camera for pair in itertools.zip_longest(kept, starts) for camera in pair if camera is not None]
     runs: list[tuple[Camera, RefineResult]] = []
     for start in starts[: max(options.candidates, options.attempts)]:
-        result = refine_pose(scene.gaussians, start, labels, scale, options.refine)
+        result = refine_pose(scene.gaussians, start, labels, scale, options.refine, occupancy=occupancy)
         runs.append((start, result))
         clock.done(
             "refine", f"from {start.name}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})"
         )
         if options.candidates == 1 and result.stop_reason == "satisfied":
             break
-    runs.sort(key=lambda run: (run[1].stop_reason != "satisfied", float(run[1].losses.min())))
+
+    def inside(result: RefineResult) -> bool:
+        return occupancy is not None and float(occupancy.clearance(camera_center(torch.as_tensor(result.T_cw)))) < 0
+
+    runs.sort(key=lambda run: (inside(run[1]), run[1].stop_reason != "satisfied", float(run[1].losses.min())))
     distinct: list[tuple[Camera, RefineResult]] = []
     for run in runs:
         if not any(_same_pose(run[1].T_cw, kept[1].T_cw, scale) for kept in distinct):
             distinct.append(run)
-    return Refined(distinct)
+    return Refined(distinct, solved)
 
 
-def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, camera: Camera) -> CheckReport:
+def own_report(
+    scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, camera: Camera, occupancy: Occupancy | None = None
+) -> CheckReport:
     """The per-clause report of ``camera``, measured with the method's own pseudo labels (what it
-    believes it achieved, not a ground-truth verdict)."""
+    believes it achieved, not a ground-truth verdict), with its clearance when ``occupancy`` is given."""
     objects, members = {}, {}
     means = scene.gaussians.means.detach().double().numpy()
     for k, s in enumerate(labels.subjects):
@@ -338,7 +390,7 @@ def own_report(scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction,
         member = torch.zeros(len(means), dtype=torch.bool)
         member[torch.as_tensor(s.gaussians)] = True
         members[k] = member
-    checker = ConstraintChecker(scene.gaussians, objects, members, labels.up)
+    checker = ConstraintChecker(scene.gaussians, objects, members, labels.up, occupancy=occupancy)
     report = checker.check(camera, parsed.constraints())
     report.text = parsed.text
     return report

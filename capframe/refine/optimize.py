@@ -24,9 +24,11 @@ import numpy as np
 import torch
 from torch import Tensor
 
+from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
 from ..render import prepare, render, scene_extent
 from ..scene.model import Camera, GaussianScene
+from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, min_in_frame_share
 from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_terms, target_ray, upright_loss, view_loss
 
@@ -38,7 +40,8 @@ class LossWeights:
 
     ``occlusion`` applies only in the occlusion phase (see :class:`RefineConfig`).
     ``clearance`` pushes the camera out of a subject it starts inside, where the saturated mask
-    gives the layout terms no gradient. ``hidden`` is the penalty of a subject out of view; it
+    gives the layout terms no gradient. ``free_space`` keeps the camera out of any geometry (walls,
+    floors, objects; with a scene occupancy). ``hidden`` is the penalty of a subject out of view; it
     must exceed the layout loss of a subject that just entered the view (about ``center +
     inside + outside``), or the blend between the two would be a barrier at the edge of the view."""
 
@@ -52,6 +55,7 @@ class LossWeights:
     look_at: float = 2.0
     hidden: float = 12.0
     clearance: float = 10.0
+    free_space: float = 10.0
     occlusion: float = 6.0
 
 
@@ -133,8 +137,16 @@ class RefineResult:
 class _Objective:
     """The total loss as a function of the pose, with everything pose-independent precomputed."""
 
-    def __init__(self, scene: GaussianScene, camera: Camera, labels: PseudoLabels, config: RefineConfig, dtype: torch.dtype):
-        self.config, self.labels, self.dtype = config, labels, dtype
+    def __init__(
+        self,
+        scene: GaussianScene,
+        camera: Camera,
+        labels: PseudoLabels,
+        config: RefineConfig,
+        dtype: torch.dtype,
+        occupancy: Occupancy | None = None,
+    ):
+        self.config, self.labels, self.dtype, self.occupancy = config, labels, dtype, occupancy
         w, h = camera.width, camera.height
         gx, gy = round(config.guard * w), round(config.guard * h)
         self.camera = camera.padded(gx, gy)  # the canvas
@@ -179,6 +191,7 @@ class _Objective:
         return (
             float(terms["hidden"]) == 0.0
             and float(terms["clearance"]) == 0.0
+            and float(terms.get("free_space", 0.0)) == 0.0
             and float(terms.get("occlusion", 0.0)) == 0.0
             and float(terms["center"]) < 1e-5
             and float(terms["size"]) < 1e-6
@@ -232,6 +245,8 @@ class _Objective:
                     ),
                 )
         add("upright", wts.upright, upright_loss(T_cw, self.up, self.roll))
+        if self.occupancy is not None:
+            add("free_space", wts.free_space, free_space_loss(T_cw, self.occupancy))
         if self.penalise_occlusion:
             visible = self._visible(T_cw, masks)
             add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
@@ -258,6 +273,13 @@ class _Objective:
                 self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch"
             )
             return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
+
+
+def free_space_loss(T_cw: Tensor, occupancy: Occupancy) -> Tensor:
+    """``max(0, 1 - clearance / margin)`` of the camera centre: zero with at least the margin
+    of free space around the camera, growing linearly (in margins) into walls, floors and objects. ()"""
+    clearance = occupancy.clearance(camera_center(T_cw).unsqueeze(0))[0]
+    return (1.0 - clearance / occupancy.margin).clamp_min(0.0)
 
 
 def _yaw_scan(objective: _Objective, T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:
@@ -291,6 +313,7 @@ def refine_pose(
     scale: float,
     config: RefineConfig | None = None,
     dtype: torch.dtype = torch.float32,
+    occupancy: Occupancy | None = None,
 ) -> RefineResult:
     """Optimise ``camera``'s pose so the subjects satisfy their pseudo labels.
 
@@ -299,21 +322,28 @@ def refine_pose(
         camera: the initial camera (its image size and intrinsics are kept).
         labels: pseudo labels from Translate.
         scale: the scene scale (translation steps are relative to it).
+        occupancy: the scene's free space; with it the camera is kept out of geometry.
     """
     config = config or RefineConfig()
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
-        return _refine(scene, camera, labels, scale, config, dtype)
+        return _refine(scene, camera, labels, scale, config, dtype, occupancy)
     finally:
         torch.set_num_threads(threads)
 
 
 def _refine(
-    scene: GaussianScene, camera: Camera, labels: PseudoLabels, scale: float, config: RefineConfig, dtype: torch.dtype
+    scene: GaussianScene,
+    camera: Camera,
+    labels: PseudoLabels,
+    scale: float,
+    config: RefineConfig,
+    dtype: torch.dtype,
+    occupancy: Occupancy | None,
 ) -> RefineResult:
     start = time.perf_counter()
-    objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype)
+    objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype, occupancy)
     run = PoseDescent(objective, scale, config)
     T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene

@@ -19,7 +19,7 @@ rule check:
     priority: EVALUATE_PRIORITY
     shell:
         "capframe check {input.scene} {input.result}/result.json --constraints {input.constraints} "
-        "--id {wildcards.instruction} -o {output} > {log} 2>&1"
+        "--id {wildcards.instruction} --cache results/truth/{wildcards.scene} -o {output} > {log} 2>&1"
 
 
 rule aggregate:

@@ -62,6 +62,22 @@ rule label_views:
         "capframe views {input} -o {output} > {log} 2>&1"
 
 
+rule occupancy:
+    input:
+        scene=posed_scene,
+        gravity=gravity_input,
+    output:
+        "results/views/{scene}/occupancy.npz",
+    log:
+        "results/logs/occupancy/{scene}.log",
+    benchmark:
+        "results/benchmarks/occupancy/{scene}.tsv"
+    params:
+        gravity=gravity_option,
+    shell:
+        "capframe occupancy {input.scene} -o {output} {params.gravity} > {log} 2>&1"
+
+
 wildcard_constraints:
     variant="|".join(VARIANTS),
     baseline="|".join(BASELINES),
@@ -243,6 +259,7 @@ rule refine_method:
         scene=posed_scene,
         labels=stage_file("translate", "results/translate/{key}/{scene}/{instruction}.json"),
         retrieval=stage_file("qe", "results/retrieve/{key}/{scene}/{instruction}.json"),
+        occupancy="results/views/{scene}/occupancy.npz",
     output:
         directory("results/refine/{variant}/{scene}/{instruction}"),
     log:
@@ -256,7 +273,8 @@ rule refine_method:
         weights=lambda wc: (f"--weights {w}" if (w := stage_setting(wc.variant, "refine", "weights", "")) else ""),
     shell:
         "capframe refine {input.scene} --labels {input.labels} --init {input.retrieval} -o {output} "
-        "--iterations {params.iterations} --long-side {params.long_side} {params.weights} > {log} 2>&1"
+        "--occupancy {input.occupancy} --iterations {params.iterations} --long-side {params.long_side} {params.weights} "
+        "> {log} 2>&1"
 
 
 rule baseline:

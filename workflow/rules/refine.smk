@@ -23,6 +23,7 @@ rule refine_oracle:
         scene="results/scenes/{scene}",
         labels="results/oracle/{scene}/{instruction}/labels.json",
         init="results/oracle/{scene}/{instruction}/init.json",
+        occupancy="results/views/{scene}/occupancy.npz",
     output:
         directory("results/refine/oracle/{scene}/{instruction}"),
     log:
@@ -34,4 +35,4 @@ rule refine_oracle:
         long_side=config["refine"]["long_side"],
     shell:
         "capframe refine {input.scene} --labels {input.labels} --init {input.init} -o {output} "
-        "--iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"
+        "--occupancy {input.occupancy} --iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"

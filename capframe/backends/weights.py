@@ -1,0 +1,141 @@
+"""Loading user-supplied model weights, checked before use.
+
+Two kinds of weights: a transformers directory (``config.json``, the weights as safetensors or a
+PyTorch ``.bin``, the processor's files) and an ONNX file. Every problem a user can cause is one
+:class:`~capframe.errors.InputError` line naming the models-config entry and the file: a missing
+path, the wrong kind of checkpoint (a SAM directory given for GroundingDINO), weights that lack
+tensors or whose shapes disagree with ``config.json``. transformers itself would only warn about
+missing tensors and initialise them at random, so the loading report is checked here.
+
+Nothing is downloaded: weights are read with ``local_files_only``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+from pathlib import Path
+from typing import Any
+
+from ..errors import InputError
+from .models import ModelSettings
+
+# File names a transformers checkpoint directory keeps its weights in (one of them).
+WEIGHT_FILES = ("model.safetensors", "model.safetensors.index.json", "pytorch_model.bin", "pytorch_model.bin.index.json")
+
+
+def torch_device_dtype(entry: str, settings: ModelSettings):
+    """The ``(torch.device, torch.dtype)`` of an entry; :class:`InputError` for a CUDA device on a
+    machine without one."""
+    import torch
+
+    try:
+        device = torch.device(settings.device)
+    except RuntimeError:
+        raise InputError(f"models config entry {entry!r}: device {settings.device!r} is not a torch device") from None
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise InputError(f"models config entry {entry!r}: device {settings.device!r}, but torch sees no CUDA device here")
+    return device, getattr(torch, settings.dtype)
+
+
+@contextlib.contextmanager
+def _quiet_transformers():
+    """transformers' loading report is a page-long table and its progress bar a stderr line per
+    model; our own message is one line."""
+    from transformers.utils import logging
+
+    level, bars = logging.get_verbosity(), logging.is_progress_bar_enabled()
+    logging.set_verbosity_error()
+    logging.disable_progress_bar()
+    try:
+        yield
+    finally:
+        logging.set_verbosity(level)
+        if bars:
+            logging.enable_progress_bar()
+
+
+def _checkpoint_dir(entry: str, settings: ModelSettings, model_type: str) -> Path:
+    """The entry's weights directory, checked for a ``config.json`` of ``model_type`` and a
+    weights file."""
+    if settings.weights is None:
+        raise InputError(f"models config entry {entry!r} needs weights: a local transformers directory")
+    root = Path(settings.weights)
+    if not root.is_dir():
+        raise InputError(f"models config entry {entry!r}: weights {root} is not a directory (a transformers checkpoint)")
+    config = root / "config.json"
+    try:
+        found = json.loads(config.read_text()).get("model_type")
+    except OSError:
+        raise InputError(
+            f"has no config.json; expected a transformers {model_type} checkpoint ({entry!r})", source=str(root)
+        ) from None
+    except (json.JSONDecodeError, AttributeError):
+        raise InputError(f"is not a JSON object of model settings ({entry!r})", source=str(config)) from None
+    if found != model_type:
+        raise InputError(
+            f"is a {found!r} checkpoint; models config entry {entry!r} needs a {model_type!r} one", source=str(config)
+        )
+    if not any((root / name).is_file() for name in WEIGHT_FILES):
+        raise InputError(f"has no weights file; expected one of {', '.join(WEIGHT_FILES)} ({entry!r})", source=str(root))
+    return root
+
+
+def load_transformers(entry: str, settings: ModelSettings, model_type: str, model_class: type) -> tuple[Any, Any]:
+    """``(model, processor)`` of a transformers checkpoint directory, in eval mode on the entry's
+    device and dtype.
+
+    Args:
+        entry: the models-config entry (named in messages).
+        settings: its settings (``weights`` is the directory).
+        model_type: the ``config.json`` ``model_type`` required (``"sam"``, ``"grounding-dino"``).
+        model_class: the transformers class to instantiate (``SamModel``...).
+    """
+    from transformers import AutoProcessor
+
+    root = _checkpoint_dir(entry, settings, model_type)
+    device, dtype = torch_device_dtype(entry, settings)
+    with _quiet_transformers():
+        try:
+            processor = AutoProcessor.from_pretrained(root, local_files_only=True)
+        except (OSError, ValueError, TypeError, KeyError) as err:
+            message = str(err).splitlines()[0] if str(err) else type(err).__name__
+            raise InputError(f"has no readable processor files (preprocessor/tokenizer): {message}", source=str(root)) from None
+        try:
+            model, info = model_class.from_pretrained(root, local_files_only=True, output_loading_info=True, dtype=dtype)
+        except (OSError, RuntimeError, ValueError) as err:
+            mismatch = "size mismatch" in str(err) or "ignore_mismatched_sizes" in str(err)
+            why = "the weights' shapes disagree with config.json" if mismatch else str(err).splitlines()[0]
+            raise InputError(f"cannot be loaded as {model_class.__name__}: {why}", source=str(root)) from None
+    missing = sorted(info["missing_keys"]) + sorted(k for k, *_ in info["mismatched_keys"])
+    if missing:
+        raise InputError(
+            f"the weights lack or misshape {len(missing)} of the model's tensors (e.g. {missing[0]}); "
+            f"config.json and the weights disagree",
+            source=str(root),
+        )
+    return model.to(device).eval(), processor
+
+
+def onnx_session(entry: str, settings: ModelSettings):
+    """An onnxruntime CPU session of the entry's ONNX file: ``threads`` intra-op threads, no
+    busy-waiting (spinning threads doubled latency on a shared 2-core machine)."""
+    import onnxruntime as ort
+
+    if settings.weights is None:
+        raise InputError(f"models config entry {entry!r} needs weights: an ONNX file")
+    path = Path(settings.weights)
+    if not path.is_file():
+        raise InputError(f"models config entry {entry!r}: weights {path} is not a file (an ONNX model)")
+    options = ort.SessionOptions()
+    options.add_session_config_entry("session.intra_op.allow_spinning", "0")
+    options.add_session_config_entry("session.inter_op.allow_spinning", "0")
+    if settings.threads is not None:
+        options.intra_op_num_threads = settings.threads
+        options.inter_op_num_threads = 1
+    options.log_severity_level = 3  # errors only: initializer warnings are not the user's problem
+    try:
+        return ort.InferenceSession(str(path), options, providers=["CPUExecutionProvider"])
+    except Exception as err:  # onnxruntime raises its own exception types for a bad file
+        message = str(err).splitlines()[0] if str(err) else type(err).__name__
+        raise InputError(f"is not a loadable ONNX model ({message})", source=str(path)) from None

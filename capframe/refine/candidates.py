@@ -1,0 +1,272 @@
+"""A constraint-solving start: cameras computed in closed form from the pseudo labels.
+
+The pseudo labels nearly define the wanted camera. For the primary subject (centroid ``c``,
+radius ``r``, front ``f``, world up ``u``):
+
+* **distance** from the asked extent ``e`` (share of the frame): a sphere of radius ``r`` at
+  distance ``d`` spans ``2 k r / sqrt(d^2 - r^2)`` of the frame with ``k = max(fx / W, fy / H)``,
+  so ``d = sqrt((2 k r / e)^2 + r^2)``; without a shot size, the distance of the reference view;
+* **position** on the subject's view sphere, ``C = c + d v(azimuth, elevation)``
+  (:func:`~capframe.geometry.view_direction`), at angles spread over the accepted ranges, or
+  around the subject and at the reference view's elevation when none is asked;
+* **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
+  of its region (or layout box).
+
+Each candidate is then checked against the scene's free space (:mod:`capframe.scene.occupancy`):
+a centre inside geometry slides towards the subject until it is free, or the candidate is dropped;
+a line of sight to the subject through other geometry drops it as occluded. The kept ones are
+ranked by how far the other subjects' projected centroids land from their regions (the closed form
+places only the primary), then by how central their angles are in the accepted ranges.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import torch
+
+from ..geometry import look_at, view_angles, view_direction
+from ..scene.model import Camera, GaussianScene
+from ..scene.occupancy import Occupancy
+from ..translate.labels import PseudoLabels, SubjectLabel
+
+# The candidate grid: azimuths at these shares of the accepted tolerance around each asked
+# azimuth, elevations at these shares of the accepted interval.
+AZIMUTH_SPREAD = (0.0, -0.6, 0.6)
+ELEVATION_SPREAD = (0.5, 0.2, 0.8)
+# Without an asked view side: azimuths around the subject, from the reference view's side.
+AROUND_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
+# Without an asked elevation, the reference view's, within these bounds (degrees).
+NATURAL_ELEVATION_DEG = (5.0, 35.0)
+# A centre inside geometry slides towards the subject by these shares of its distance.
+SLIDES = (1.0, 0.8, 0.65, 0.5)
+# A line of sight with more than this share of its samples in other geometry is occluded.
+MAX_BLOCKED = 0.02
+
+
+@dataclass
+class Candidate:
+    """One closed-form camera and its verdict.
+
+    Attributes:
+        camera: the camera (the template's intrinsics and size).
+        azimuth_deg: its azimuth around the primary subject (around the reference view's side
+            when the subject has no front).
+        elevation_deg: its elevation around the primary subject.
+        distance: camera-to-centroid distance (world units).
+        clearance: signed clearance of the camera centre (world units; < 0 inside geometry).
+        blocked: share of the line of sight to the subject inside other geometry.
+        layout_error: summed distance (frame fractions) of the other subjects' projected
+            centroids outside their regions (1 for one behind the camera).
+        status: ``kept``, ``inside geometry`` (no free position along its ray) or ``occluded``.
+    """
+
+    camera: Camera
+    azimuth_deg: float
+    elevation_deg: float
+    distance: float
+    clearance: float
+    blocked: float
+    layout_error: float
+    status: str
+
+    def to_dict(self) -> dict:
+        return {
+            "azimuth_deg": round(self.azimuth_deg, 3),
+            "elevation_deg": round(self.elevation_deg, 3),
+            "distance": self.distance,
+            "clearance": self.clearance,
+            "blocked": round(self.blocked, 4),
+            "layout_error": round(self.layout_error, 4),
+            "status": self.status,
+        }
+
+
+def subject_radius(gaussians: GaussianScene, subject: SubjectLabel) -> float:
+    """90th percentile of the subject's Gaussians' distances to its centroid (> 0)."""
+    means = gaussians.means.detach()[torch.as_tensor(subject.gaussians, dtype=torch.long)].double()
+    radius = float((means - torch.as_tensor(subject.centroid)).norm(dim=-1).quantile(0.9)) if len(means) else 0.0
+    return max(radius, 1e-9)
+
+
+def shot_distance(radius: float, extent: float, camera: Camera) -> float:
+    """Distance at which a sphere of ``radius`` spans ``extent`` of ``camera``'s frame (its
+    larger share of width or height)."""
+    k = max(camera.K[0, 0] / camera.width, camera.K[1, 1] / camera.height)
+    return math.sqrt((2.0 * k * radius / extent) ** 2 + radius**2)
+
+
+def aimed_pose(
+    centre: np.ndarray, target: np.ndarray, point: tuple[float, float], camera: Camera, up: np.ndarray, roll_deg: float
+):
+    """(4, 4) pose at ``centre`` looking at ``target`` with roll ``roll_deg``, turned so
+    ``target`` images at the normalised ``point`` of ``camera``'s frame."""
+    f64 = dict(dtype=torch.float64)
+    T = look_at(torch.tensor(centre, **f64), torch.tensor(target, **f64), torch.tensor(up, **f64), math.radians(roll_deg)).numpy()
+    ray = np.linalg.solve(camera.K, [point[0] * camera.width, point[1] * camera.height, 1.0])
+    ray /= np.linalg.norm(ray)
+    # The smallest rotation taking the optical axis onto the ray: the target moves from the
+    # image centre to ``point``.
+    z = np.array([0.0, 0.0, 1.0])
+    axis = np.cross(z, ray)
+    s, c = np.linalg.norm(axis), float(z @ ray)
+    if s > 1e-12:
+        k = axis / s
+        K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+        Q = np.eye(3) + s * K + (1 - c) * K @ K
+        T[:3, :3] = Q @ T[:3, :3]
+        T[:3, 3] = -T[:3, :3] @ centre
+    return T
+
+
+def _aim_point(subject: SubjectLabel) -> tuple[float, float]:
+    box = subject.region or subject.box
+    return ((box[0] + box[2]) / 2, (box[1] + box[3]) / 2) if box is not None else (0.5, 0.5)
+
+
+def _angles_to_try(subject: SubjectLabel, reference_elevation: float) -> tuple[list[float], list[float]]:
+    """Azimuths (degrees, about the subject's front) and elevations to place candidates at."""
+    view = subject.view
+    if view is not None and view.azimuths_deg:
+        azimuths = [a + share * view.azimuth_tolerance_deg for a in view.azimuths_deg for share in AZIMUTH_SPREAD]
+    else:
+        azimuths = list(AROUND_DEG)
+    if view is not None and view.elevation_range_deg is not None:
+        lo, hi = view.elevation_range_deg
+        elevations = [lo + share * (hi - lo) for share in ELEVATION_SPREAD]
+    else:
+        elevations = [min(max(reference_elevation, NATURAL_ELEVATION_DEG[0]), NATURAL_ELEVATION_DEG[1])]
+    return azimuths, elevations
+
+
+def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
+    flat = vector - (vector @ up) * up
+    norm = np.linalg.norm(flat)
+    if norm < 1e-9:  # straight above or below: any horizontal direction
+        flat = np.cross(up, np.eye(3)[int(np.argmin(np.abs(up)))])
+        norm = np.linalg.norm(flat)
+    return flat / norm
+
+
+def solve_candidates(
+    gaussians: GaussianScene, labels: PseudoLabels, reference: Camera, occupancy: Occupancy, keep: int = 3
+) -> list[Candidate]:
+    """Closed-form cameras for the primary subject of ``labels`` (see the module docstring), best
+    first: up to ``keep`` kept ones, then the dropped ones with their reason.
+
+    Args:
+        gaussians: the scene.
+        labels: the pseudo labels (primary subject first).
+        reference: the best retrieved view: its intrinsics and size are the candidates', and it
+            sets the distance without a shot size, the elevation without an asked one, and the
+            azimuth origin of a subject without a front.
+        occupancy: the scene's free space.
+    """
+    subject, up = labels.subjects[0], labels.up
+    centroid = subject.centroid
+    radius = subject_radius(gaussians, subject)
+    to_reference = reference.center - centroid
+    front = subject.front if subject.front is not None else _horizontal(to_reference, up)
+    f64 = dict(dtype=torch.float64)
+    _, reference_elevation = view_angles(
+        torch.tensor(reference.center, **f64), torch.tensor(centroid, **f64), torch.tensor(front, **f64), torch.tensor(up, **f64)
+    )
+    if subject.extent is not None:
+        distance = shot_distance(radius, (subject.box[2] - subject.box[0]), reference)
+    else:
+        distance = max(float(np.linalg.norm(to_reference)), shot_distance(radius, 0.9, reference))
+    azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
+    margin = occupancy.margin
+    ignore = _dilated(occupancy.voxelize(gaussians.subset(torch.as_tensor(subject.gaussians, dtype=torch.long))))
+    point = _aim_point(subject)
+    out = []
+    for rank, (elevation, azimuth) in enumerate((e, a) for e in elevations for a in azimuths):
+        direction = view_direction(
+            torch.tensor(math.radians(azimuth), **f64),
+            torch.tensor(math.radians(elevation), **f64),
+            torch.tensor(front, **f64),
+            torch.tensor(up, **f64),
+        ).numpy()
+        along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
+        centre, clearance = _free_position(occupancy, centroid, direction, along, radius, margin)
+        blocked = occupancy.segment_blocked(centre, centroid + radius * direction, ignore)
+        status = "inside geometry" if clearance < margin else "occluded" if blocked > MAX_BLOCKED else "kept"
+        pose = aimed_pose(centre, centroid, point, reference, up, labels.roll_deg)
+        camera = reference.with_pose(pose)
+        camera.name = f"solved-{rank}"
+        distance_out = float(np.linalg.norm(centre - centroid))
+        layout = _layout_error(camera, labels.subjects[1:])
+        out.append(Candidate(camera, azimuth, elevation, distance_out, clearance, blocked, layout, status))
+    # A stable sort: the grid order (central angles first) breaks ties.
+    kept = sorted((c for c in out if c.status == "kept"), key=lambda c: round(c.layout_error, 2))
+    return kept[:keep] + [c for c in out if c.status != "kept"]
+
+
+def _spread_distance(
+    labels: PseudoLabels, direction: np.ndarray, distance: float, point: tuple[float, float], reference: Camera
+) -> float:
+    """The distance along ``direction`` at which the second subject's projected offset from the
+    primary matches the offset of their regions' centres horizontally (offsets of points at a
+    similar depth scale as one over the distance); ``distance`` when there is no second subject
+    with a region, or it lands on the wrong side (the ranking then demotes the candidate)."""
+    if len(labels.subjects) < 2 or labels.subjects[1].region is None:
+        return distance
+    primary, second = labels.subjects[0], labels.subjects[1]
+    camera = reference.with_pose(
+        aimed_pose(primary.centroid + distance * direction, primary.centroid, point, reference, labels.up, labels.roll_deg)
+    )
+    p = camera.T_cw[:3, :3] @ second.centroid + camera.T_cw[:3, 3]
+    if p[2] <= 0:
+        return distance
+    offset = (camera.K[0] @ (p / p[2])) / camera.width - point[0]
+    wanted = (second.region[0] + second.region[2]) / 2 - point[0]
+    if offset * wanted <= 0 or abs(offset) < 0.02:
+        return distance
+    return distance * min(max(offset / wanted, 0.25), 4.0)
+
+
+def _layout_error(camera: Camera, others: list[SubjectLabel]) -> float:
+    """Summed distance (frame fractions) of the projected centroids of ``others`` outside their
+    regions; 1 for each one behind the camera."""
+    from ..measure import box_distance
+
+    error = 0.0
+    for subject in others:
+        box = subject.region or subject.box
+        if box is None:
+            continue
+        p = camera.T_cw[:3, :3] @ subject.centroid + camera.T_cw[:3, 3]
+        if p[2] <= 0:
+            error += 1.0
+            continue
+        u, v, _ = camera.K @ (p / p[2])
+        error += box_distance(u / camera.width, v / camera.height, box)
+    return error
+
+
+def _free_position(
+    occupancy: Occupancy, centroid: np.ndarray, direction: np.ndarray, distance: float, radius: float, margin: float
+) -> tuple[np.ndarray, float]:
+    """The first centre along ``direction`` from ``centroid`` at the :data:`SLIDES` shares of
+    ``distance`` (never inside the subject's radius) with at least ``margin`` clearance, or the
+    one farthest out when none has; with its clearance."""
+    best = None
+    for share in SLIDES:
+        centre = centroid + max(share * distance, 1.2 * radius) * direction
+        clearance = float(occupancy.clearance(torch.as_tensor(centre)))
+        if clearance >= margin:
+            return centre, clearance
+        best = best or (centre, clearance)
+    return best
+
+
+def _dilated(mask: np.ndarray) -> np.ndarray:
+    """``mask`` grown by one voxel (6-neighbourhood): the subject's own surface voxels and those
+    around it do not count as occluders."""
+    out = mask.copy()
+    for axis in range(3):
+        for shift in (1, -1):
+            out |= np.roll(mask, shift, axis=axis)
+    return out

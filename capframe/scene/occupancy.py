@@ -1,0 +1,312 @@
+"""Free space of a scene: where a camera can physically be.
+
+An :class:`Occupancy` is a voxel grid aligned with the world up, built once per scene from its
+Gaussians (:func:`build_occupancy`, cached by :func:`cached_occupancy`):
+
+* **occupied**: a voxel holding a solid Gaussian (opacity >= :data:`SOLID_OPACITY`) or one of the
+  six points one standard deviation from its centre along its axes, so large flat Gaussians (walls,
+  floors) leave no holes between their centres;
+* **floor**: the lowest large horizontal layer of occupied voxels, when the scene has one (a room
+  floor, the ground of an outdoor scene); everything below its top is solid ground;
+* **free**: empty voxels above the floor that connect (6-neighbourhood) to a training camera, or
+  to the top of the grid for a scene without cameras. The inside of a closed object or of a room's
+  wall is not free, even where no Gaussian sits (Gaussians only cover surfaces).
+
+:meth:`Occupancy.clearance` is a signed distance in world units, trilinearly interpolated (and
+differentiable with respect to the point): positive in free space (distance to the nearest voxel
+that is not free), negative elsewhere (distance to the nearest free voxel). The zero level lies
+half a voxel from the centres of the boundary voxels.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch import Tensor
+
+from ..errors import InputError
+from ._io import atomic_write
+from .model import Camera, GaussianScene
+
+FORMAT = 1
+VOXELS = 96  # cells along the longest side of the grid
+SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
+PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
+# A layer is a floor when it covers this share of the occupied footprint (seen from above).
+FLOOR_COVERAGE = 0.3
+# A camera keeps this many voxels between itself and any surface (the surface is known to about
+# half a voxel).
+MARGIN_VOXELS = 0.5
+
+
+@dataclass
+class Occupancy:
+    """A scene's voxel grid. X x Y x Z voxels; the grid frame's third axis is the world up.
+
+    Attributes:
+        rotation: (3, 3) world -> grid frame rotation (rows: two horizontal axes, then up).
+        origin: (3,) grid-frame coordinates of the corner of voxel (0, 0, 0).
+        voxel: edge length of a voxel (world units).
+        occupied: (X, Y, Z) bool, a solid Gaussian there.
+        free: (X, Y, Z) bool, where a camera can be.
+        floor_top: index of the floor's highest layer, or -1 without a floor.
+        sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module).
+    """
+
+    rotation: np.ndarray
+    origin: np.ndarray
+    voxel: float
+    occupied: np.ndarray
+    free: np.ndarray
+    floor_top: int
+    sdf: np.ndarray
+
+    @property
+    def margin(self) -> float:
+        """The clearance a camera keeps (world units): :data:`MARGIN_VOXELS` voxels."""
+        return MARGIN_VOXELS * self.voxel
+
+    def grid_coordinates(self, points: Tensor) -> Tensor:
+        """(..., 3) world points -> (..., 3) continuous voxel coordinates (voxel centres at integers)."""
+        rotation = torch.as_tensor(self.rotation, dtype=points.dtype)
+        origin = torch.as_tensor(self.origin, dtype=points.dtype)
+        return (points @ rotation.T - origin) / self.voxel - 0.5
+
+    def clearance(self, points: Tensor | np.ndarray) -> Tensor:
+        """Signed clearance (world units) of (..., 3) points: trilinear in the voxel values,
+        differentiable. Beyond the grid it grows with the distance outside it, with the sign of
+        the nearest border voxel (the grid's padding is free except below the floor)."""
+        points = torch.as_tensor(points)
+        dtype = points.dtype if points.is_floating_point() else torch.float64
+        g = self.grid_coordinates(points.to(dtype))
+        shape = torch.tensor(self.sdf.shape, dtype=dtype)
+        inside = torch.minimum(torch.maximum(g, torch.zeros_like(g)), shape - 1)
+        outside = (g - inside).norm(dim=-1) * self.voxel
+        value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
+        return value + torch.where(value >= 0, outside, -outside)
+
+    def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
+        """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
+        fall in occupied voxels, not counting those where ``ignore`` ((X, Y, Z) bool) is set."""
+        t = np.linspace(0.0, 1.0, samples)[:, None]
+        points = torch.as_tensor(start + t * (end - start), dtype=torch.float64)
+        index = self.grid_coordinates(points).round().long().numpy()
+        valid = ((index >= 0) & (index < np.array(self.occupied.shape))).all(1)
+        i, j, k = index[valid].T
+        hit = self.occupied[i, j, k]
+        if ignore is not None:
+            hit &= ~ignore[i, j, k]
+        return float(hit.sum()) / samples
+
+    def voxelize(self, gaussians: GaussianScene) -> np.ndarray:
+        """(X, Y, Z) bool: the voxels the solid Gaussians of ``gaussians`` occupy (e.g. one subject's)."""
+        return _occupied(self, _solid_samples(gaussians) @ torch.as_tensor(self.rotation).T)
+
+
+def _trilinear(values: Tensor, coords: Tensor) -> Tensor:
+    """``values`` (X, Y, Z) interpolated at (..., 3) voxel coordinates inside the grid."""
+    upper = torch.tensor(values.shape, dtype=torch.long) - 1
+    low = coords.detach().floor().long()
+    low = torch.minimum(low, (upper - 1).clamp_min(0))
+    frac = coords - low.to(coords.dtype)
+    out = torch.zeros(coords.shape[:-1], dtype=values.dtype)
+    for corner in range(8):
+        offset = torch.tensor([(corner >> a) & 1 for a in range(3)])
+        index = torch.minimum(low + offset, upper)
+        weight = torch.ones_like(out)
+        for a in range(3):
+            weight = weight * (frac[..., a] if offset[a] else 1.0 - frac[..., a])
+        out = out + weight * values[index[..., 0], index[..., 1], index[..., 2]]
+    return out
+
+
+def up_frame(up: np.ndarray) -> np.ndarray:
+    """(3, 3) rotation whose third row is the unit ``up`` and first two rows are horizontal."""
+    up = np.asarray(up, dtype=np.float64)
+    up = up / np.linalg.norm(up)
+    helper = np.eye(3)[int(np.argmin(np.abs(up)))]
+    x = np.cross(helper, up)
+    x /= np.linalg.norm(x)
+    return np.stack([x, np.cross(up, x), up])
+
+
+def _solid_samples(gaussians: GaussianScene) -> Tensor:
+    """(7 S, 3) float64 world points: the centre of each solid Gaussian and the six points one
+    standard deviation from it along its axes (S solid Gaussians)."""
+    from ..geometry.quaternion import quat_to_rotmat
+
+    solid = torch.sigmoid(gaussians.opacity_logits.detach()) >= SOLID_OPACITY
+    means = gaussians.means.detach()[solid].double()
+    axes = quat_to_rotmat(gaussians.quats.detach()[solid].double())  # (S, 3, 3), columns are the axes
+    sigma = gaussians.log_scales.detach()[solid].double().exp()  # (S, 3)
+    offsets = axes * sigma[:, None, :]  # (S, 3, 3): column a is sigma_a times axis a
+    points = [means] + [means + sign * offsets[:, :, a] for a in range(3) for sign in (1.0, -1.0)]
+    return torch.cat(points)
+
+
+def _occupied(grid: Occupancy, points: Tensor) -> np.ndarray:
+    """(X, Y, Z) bool: the voxels holding any of the (P, 3) grid-frame ``points``."""
+    index = ((points - torch.as_tensor(grid.origin)) / grid.voxel).floor().long()
+    shape = torch.tensor(grid.occupied.shape)
+    index = index[((index >= 0) & (index < shape)).all(1)]
+    out = np.zeros(grid.occupied.shape, dtype=bool)
+    out[tuple(index.T.numpy())] = True
+    return out
+
+
+def _floor_top(occupied: np.ndarray) -> int:
+    """Index of the top layer of the floor: the fullest layer in the lower half of the occupied
+    heights, if it covers :data:`FLOOR_COVERAGE` of the footprint, and the layers just above it
+    that are at least half as full (a floor a few voxels thick); -1 when there is none."""
+    per_layer = occupied.sum((0, 1))
+    footprint = occupied.any(2).sum()
+    heights = np.flatnonzero(per_layer)
+    if footprint == 0:
+        return -1
+    lower = heights[heights <= (heights[0] + heights[-1]) / 2]
+    floor = int(lower[np.argmax(per_layer[lower])])
+    if per_layer[floor] < FLOOR_COVERAGE * footprint:
+        return -1
+    top = floor
+    while top + 1 < len(per_layer) and per_layer[top + 1] >= 0.5 * per_layer[floor]:
+        top += 1
+    return top
+
+
+def _flood(empty: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+    """(X, Y, Z) bool: the voxels of ``empty`` connected to ``seeds`` through 6-neighbours."""
+    reached = seeds & empty
+    while True:
+        grown = reached.copy()
+        for axis in range(3):
+            for shift in (1, -1):
+                source = [slice(None)] * 3
+                target = [slice(None)] * 3
+                source[axis] = slice(None, -1) if shift == 1 else slice(1, None)
+                target[axis] = slice(1, None) if shift == 1 else slice(None, -1)
+                grown[tuple(target)] |= reached[tuple(source)]
+        grown &= empty
+        if grown.sum() == reached.sum():
+            return reached
+        reached = grown
+
+
+def _distance_to(mask: np.ndarray, chunk: int = 4096) -> np.ndarray:
+    """(X, Y, Z) float32 Euclidean distance (voxels) from every voxel centre to the nearest voxel
+    of ``mask``; exact, by three separable passes of ``min_j f(j) + (i - j)^2`` along lines."""
+    big = float(sum(s * s for s in mask.shape)) * 4.0
+    field = torch.where(torch.as_tensor(mask), 0.0, big)
+    for axis in range(3):
+        moved = field.movedim(axis, -1)
+        lines = moved.reshape(-1, moved.shape[-1])
+        n = lines.shape[-1]
+        steps = torch.arange(n, dtype=torch.float32)
+        square = (steps[:, None] - steps[None, :]) ** 2  # (i, j)
+        out = torch.empty_like(lines)
+        for start in range(0, len(lines), chunk):
+            out[start : start + chunk] = (lines[start : start + chunk, None, :] + square).min(-1).values
+        field = out.reshape(moved.shape).movedim(-1, axis)
+    return field.clamp_max(big).sqrt().numpy()
+
+
+def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera] = ()) -> Occupancy:
+    """The occupancy of a scene (see the module docstring) in a grid of :data:`VOXELS` cells
+    along its longest side, around the solid Gaussians and the training camera centres."""
+    rotation = up_frame(up)
+    samples = _solid_samples(gaussians)
+    if len(samples) == 0:
+        raise InputError(f"no Gaussian has an opacity of {SOLID_OPACITY} or more: nothing to build free space from")
+    points = samples @ torch.as_tensor(rotation).T
+    centres = np.array([c.center for c in cameras]).reshape(-1, 3) @ rotation.T
+    # Robust bounds: stray far Gaussians (background shells, floaters) do not set the grid size.
+    lo = np.minimum(np.quantile(points.numpy(), 0.005, axis=0), centres.min(0, initial=np.inf))
+    hi = np.maximum(np.quantile(points.numpy(), 0.995, axis=0), centres.max(0, initial=-np.inf))
+    size = float((hi - lo).max())
+    voxel = size * (1 + 2 * PADDING) / VOXELS
+    lo, hi = lo - PADDING * size, hi + PADDING * size
+    shape = tuple(int(math.ceil(s)) for s in (hi - lo) / voxel)
+    grid = Occupancy(rotation, lo, voxel, np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), -1, np.zeros(shape))
+    grid.occupied = _occupied(grid, points)
+    grid.floor_top = _floor_top(grid.occupied)
+    empty = ~grid.occupied
+    empty[:, :, : grid.floor_top + 1] = False
+    seeds = np.zeros(shape, dtype=bool)
+    if len(cameras):
+        index = np.floor((centres - lo) / voxel).astype(int)
+        index = index[((index >= 0) & (index < np.array(shape))).all(1)]
+        seeds[tuple(index.T)] = True
+    if not (seeds & empty).any():  # no camera in free space: the sky is outside everything
+        seeds[:, :, -1] = True
+    grid.free = _flood(empty, seeds)
+    if grid.free.any():
+        outside = _distance_to(~grid.free) - 0.5
+        inside = _distance_to(grid.free) - 0.5
+        grid.sdf = (np.where(grid.free, outside, -inside) * voxel).astype(np.float32)
+    else:
+        grid.sdf = np.full(shape, -voxel, dtype=np.float32)
+    return grid
+
+
+# --- cache ----------------------------------------------------------------------------------------
+
+
+def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
+    """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
+    h = hashlib.sha256(f"{FORMAT}:{VOXELS}:{SOLID_OPACITY}:{PADDING}:{FLOOR_COVERAGE}".encode())
+    for tensor in (gaussians.means, gaussians.log_scales, gaussians.quats, gaussians.opacity_logits):
+        h.update(tensor.detach().cpu().contiguous().numpy().tobytes())
+    h.update(np.asarray(up, dtype=np.float64).tobytes())
+    for c in cameras:
+        h.update(np.ascontiguousarray(c.center).tobytes())
+    return h.hexdigest()[:16]
+
+
+def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str) -> None:
+    """Write ``grid`` as one ``.npz``, atomically."""
+    meta = {"format": FORMAT, "fingerprint": fingerprint, "voxel": grid.voxel, "floor_top": grid.floor_top}
+    buffer = io.BytesIO()
+    np.savez_compressed(
+        buffer,
+        meta=np.array(json.dumps(meta)),
+        rotation=grid.rotation,
+        origin=grid.origin,
+        occupied=grid.occupied,
+        free=grid.free,
+        sdf=grid.sdf,
+    )
+    atomic_write(path, buffer.getvalue())
+
+
+def load_occupancy(path: str | Path, fingerprint: str | None = None) -> Occupancy | None:
+    """The occupancy in ``path``; None when absent or stale (another ``fingerprint``; None
+    accepts any), :class:`InputError` when unreadable."""
+    path = Path(path)
+    if not path.is_file():
+        return None
+    try:
+        with np.load(path) as data:
+            meta = json.loads(str(data["meta"]))
+            if meta.get("format") != FORMAT or fingerprint not in (None, meta.get("fingerprint")):
+                return None
+            arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
+    except (OSError, ValueError, KeyError) as err:
+        raise InputError(f"unreadable occupancy ({err}); delete the file to rebuild it", source=str(path)) from None
+    return Occupancy(voxel=float(meta["voxel"]), floor_top=int(meta["floor_top"]), **arrays)
+
+
+def cached_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera], cache_dir: str | Path) -> Occupancy:
+    """The scene's occupancy from ``cache_dir/occupancy.npz``, built and written when absent or stale."""
+    fingerprint = occupancy_fingerprint(gaussians, up, cameras)
+    path = Path(cache_dir) / "occupancy.npz"
+    grid = load_occupancy(path, fingerprint)
+    if grid is None:
+        grid = build_occupancy(gaussians, up, cameras)
+        save_occupancy(grid, path, fingerprint)
+    return grid

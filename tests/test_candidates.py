@@ -1,0 +1,157 @@
+"""The constraint-solving start (capframe.refine.candidates), free space in Refine, and the
+feasibility verdict: closed-form cameras checked by the ground-truth checker in a tilted, scaled
+world; a subject whose asked side faces a wall; a start inside a solid block."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import torch
+from _synth_helpers import build_scene
+from conftest import make_camera
+
+from capframe.constraints import Constraints, SubjectConstraint
+from capframe.evaluate import GroundTruthChecker
+from capframe.measure import CheckReport, CheckRow
+from capframe.pipeline.outputs import feasibility
+from capframe.refine.candidates import aimed_pose, shot_distance, solve_candidates
+from capframe.refine.optimize import RefineConfig, free_space_loss, refine_pose
+from capframe.scene import GaussianScene, load_scene_dir
+from capframe.scene.occupancy import build_occupancy
+from capframe.translate.labels import labels_from_constraints
+
+
+@pytest.fixture(scope="module")
+def world(tmp_path_factory):
+    root = tmp_path_factory.mktemp("candidates")
+    gt = build_scene(root)
+    scene = load_scene_dir(root)
+    checker = GroundTruthChecker(root, long_side=128)
+    return root, gt, scene, checker
+
+
+def pseudo_labels(scene, gt, constraints: Constraints):
+    """Oracle pseudo labels: each subject's labelled Gaussians, their mean, its true front."""
+    subjects = {}
+    labels = scene.gaussians.labels.numpy()
+    for s in constraints.subjects:
+        obj = next(o for o in gt["objects"] if o["name"] == s.name)
+        index = np.flatnonzero(labels == obj["label"])
+        centroid = scene.gaussians.means.detach().double().numpy()[index].mean(0)
+        subjects[s.name] = (index, centroid, None if obj["front"] is None else np.asarray(obj["front"]))
+    return labels_from_constraints(constraints, subjects, np.asarray(gt["up"]))
+
+
+@pytest.mark.parametrize(
+    "subject, elevation",
+    [
+        (SubjectConstraint("teddy bear", view="left", shot="close-up"), None),
+        (SubjectConstraint("teddy bear", view="back-right", shot="medium", region="right"), "high angle"),
+        (SubjectConstraint("teddy bear", view="front", shot="wide", region="lower left"), "eye level"),
+        (SubjectConstraint("vase", shot="medium", region="upper left"), "slightly above"),
+    ],
+)
+def test_the_first_closed_form_camera_satisfies_the_clauses_as_solved(world, subject, elevation):
+    """No refinement: the closed form alone puts a single subject where asked (region, shot size,
+    view side, elevation), checked by the ground-truth checker, clearance included."""
+    root, gt, scene, checker = world
+    constraints = Constraints(subjects=[subject], elevation=elevation)
+    labels = pseudo_labels(scene, gt, constraints)
+    occupancy = build_occupancy(scene.gaussians, labels.up, scene.cameras)
+    solved = solve_candidates(scene.gaussians, labels, scene.cameras[0], occupancy)
+    assert solved[0].status == "kept"
+    report = checker.check(solved[0].camera, constraints)
+    assert report.all_satisfied, [r.to_dict() for r in report.rows if r.satisfied is False]
+
+
+def test_shot_distance_inverts_the_projected_size():
+    camera = make_camera(width=200, height=100, focal=150.0)
+    d = shot_distance(0.5, 0.4, camera)
+    # A sphere of radius 0.5 at distance d: its silhouette's half-angle is asin(r / d).
+    projected = 2 * 150.0 * math.tan(math.asin(0.5 / d)) / 100
+    assert projected == pytest.approx(0.4, rel=1e-12)
+
+
+def test_aimed_pose_images_the_target_at_the_point():
+    camera = make_camera(width=160, height=120, focal=140.0)
+    target = np.array([0.3, -0.2, 1.0])
+    T = aimed_pose(np.array([4.0, 1.0, 2.0]), target, (0.2, 0.8), camera, np.array([0.0, 0.0, 1.0]), 0.0)
+    p = T[:3, :3] @ target + T[:3, 3]
+    u, v, _ = camera.K @ (p / p[2])
+    assert p[2] > 0 and (u / 160, v / 120) == pytest.approx((0.2, 0.8), abs=1e-9)
+    np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-12)
+
+
+def walled_scene() -> tuple[GaussianScene, np.ndarray, np.ndarray]:
+    """A ball (the subject, front -y) in front of a wall at y = 0.6 (x in [-3, 3], z in [0, 3]) on
+    a floor; returns the Gaussians, the subject's indices and the up."""
+    g = torch.Generator().manual_seed(0)
+    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
+    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 0.4], dtype=torch.float64)
+    s = torch.arange(-3.0, 3.0 + 1e-9, 0.1, dtype=torch.float64)
+    a, b = torch.meshgrid(s, s, indexing="ij")
+    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
+    wall = torch.stack([a.reshape(-1), torch.full((a.numel(),), 0.6, dtype=torch.float64), (b.reshape(-1) + 3) / 2], 1)
+    means = torch.cat([ball, floor, wall])
+    n = len(means)
+    gaussians = GaussianScene.from_activated(
+        means.float(),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.06),
+        torch.full((n,), 0.9),
+        torch.rand(n, 3, generator=g),
+    )
+    return gaussians, np.arange(400), np.array([0.0, 0.0, 1.0])
+
+
+def test_a_view_facing_a_wall_is_reported_infeasible():
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (index, centroid, np.array([0.0, -1.0, 0.0]))}
+    cameras = [make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))]
+    occupancy = build_occupancy(gaussians, up, cameras)
+    behind = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball", view="back")]), subjects, up)
+    solved = solve_candidates(gaussians, behind, cameras[0], occupancy)
+    assert solved and all(c.status in ("occluded", "inside geometry") for c in solved)
+    failing = CheckReport([CheckRow("view", "ball", False, 10.0, {}, 170.0)])
+    verdict = feasibility(failing, solved)
+    assert not verdict["feasible"] and verdict["failing"][0]["constraint"] == "view"
+    assert verdict["reasons"] and all("occluded" in r or "free space" in r for r in verdict["reasons"])
+    # The front is open: solved, and feasible even if a clause failed elsewhere.
+    front = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball", view="front")]), subjects, up)
+    solved = solve_candidates(gaussians, front, cameras[0], occupancy)
+    assert solved[0].status == "kept" and feasibility(failing, solved)["feasible"]
+
+
+def test_refine_leaves_a_start_inside_a_wall():
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(
+        Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
+    )
+    start = make_camera(eye=(0.0, 0.6, 0.8), target=(0.0, -3.0, 0.8), up=(0.0, 0.0, -1.0))  # in the wall, facing away
+    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))])
+    assert float(occupancy.clearance(torch.as_tensor(start.center))) < 0
+    result = refine_pose(gaussians, start, labels, 4.0, RefineConfig(iterations=400), occupancy=occupancy)
+    end = -result.T_cw[:3, :3].T @ result.T_cw[:3, 3]
+    assert float(occupancy.clearance(torch.as_tensor(end))) >= 0
+
+
+def test_free_space_loss_gradient_matches_finite_differences():
+    gaussians, _, up = walled_scene()
+    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))])
+    T = torch.as_tensor(make_camera(eye=(0.4, 0.63, 1.1), target=(0.0, -3.0, 0.8), up=(0.0, 0.0, -1.0)).T_cw)
+    t = T[:3, 3].clone().requires_grad_(True)
+
+    def loss(translation):
+        pose = torch.cat([torch.cat([T[:3, :3], translation[:, None]], 1), T[3:]])
+        return free_space_loss(pose, occupancy)
+
+    value = loss(t)
+    assert value > 0
+    value.backward()
+    h = 1e-5
+    numeric = [(loss(t.detach() + h * e) - loss(t.detach() - h * e)).item() / (2 * h) for e in torch.eye(3, dtype=torch.float64)]
+    np.testing.assert_allclose(t.grad.numpy(), numeric, rtol=1e-4, atol=1e-6)

@@ -1,0 +1,134 @@
+"""Free space (capframe.scene.occupancy): a floor, a closed box and a camera, built by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from conftest import make_camera
+
+from capframe.errors import InputError
+from capframe.scene import GaussianScene
+from capframe.scene.occupancy import build_occupancy, cached_occupancy, up_frame
+
+IDENTITY = torch.tensor([1.0, 0.0, 0.0, 0.0])
+
+
+def plane(centre, u, v, half: float, step: float) -> torch.Tensor:
+    """(P, 3) points of a square of half-size ``half`` spanned by unit ``u``, ``v`` around ``centre``."""
+    s = torch.arange(-half, half + 1e-9, step, dtype=torch.float64)
+    a, b = torch.meshgrid(s, s, indexing="ij")
+    u, v, centre = (torch.as_tensor(x, dtype=torch.float64) for x in (u, v, centre))
+    return centre + a.reshape(-1, 1) * u + b.reshape(-1, 1) * v
+
+
+def world(transform=lambda p: p, scale: float = 1.0) -> tuple[GaussianScene, np.ndarray]:
+    """A floor (z = 0, half-size 10) and a closed box of side 2 centred at (0, 0, 2), z up, as
+    small round opaque Gaussians spaced 0.1 apart; ``transform`` moves the points (a rigid motion)."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 10.0, 0.1)
+    box = [plane((0, 0, 2 + s), (1, 0, 0), (0, 1, 0), 1.0, 0.1) for s in (-1, 1)]
+    box += [plane((s, 0, 2), (0, 1, 0), (0, 0, 1), 1.0, 0.1) for s in (-1, 1)]
+    box += [plane((0, s, 2), (1, 0, 0), (0, 0, 1), 1.0, 0.1) for s in (-1, 1)]
+    means = transform(torch.cat([floor, *box])) * scale
+    n = len(means)
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), torch.full((n, 3), 0.06 * scale), torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    return gaussians, np.array([0.0, 0.0, 1.0])
+
+
+def camera_at(centre) -> object:
+    return make_camera(eye=tuple(centre), target=(0.0, 0.0, 2.0), up=(0.0, 0.0, -1.0))
+
+
+@pytest.fixture(scope="module")
+def grid():
+    gaussians, up = world()
+    return build_occupancy(gaussians, up, [camera_at((6.0, 0.0, 3.0))])
+
+
+def test_floor_box_and_free_space(grid):
+    assert grid.floor_top >= 0
+    clearance = grid.clearance(torch.tensor([[6.0, 0.0, 3.0], [0.0, 0.0, 2.0], [6.0, 0.0, -2.0], [0.0, 0.0, 0.0]]))
+    above, inside_box, below_floor, under_box = clearance.tolist()
+    assert above > 2.0  # the camera: 3 above the floor, 5 from the box
+    assert inside_box < 0  # the hollow box's inside is not reachable: not free
+    assert below_floor < 0 and under_box < 0
+
+
+def test_clearance_is_the_distance_to_the_nearest_surface(grid):
+    """Away from corners the signed distance is exact up to a voxel (the surface sits within
+    the Gaussians' spread of their plane)."""
+    for point, distance in [((6.0, 0.0, 3.0), 3.0), ((4.0, 0.0, 2.0), 2.0), ((0.0, 0.0, 4.5), 1.5), ((-1.6, 0.0, 2.0), 0.6)]:
+        assert grid.clearance(torch.tensor(point)).item() == pytest.approx(distance, abs=1.5 * grid.voxel)
+
+
+def test_clearance_gradient_matches_finite_differences(grid):
+    point = torch.tensor([3.3, 1.7, 2.9], dtype=torch.float64, requires_grad=True)
+    grid.clearance(point).backward()
+    h = 1e-4
+    numeric = [
+        (grid.clearance(point.detach() + h * e) - grid.clearance(point.detach() - h * e)).item() / (2 * h)
+        for e in torch.eye(3, dtype=torch.float64)
+    ]
+    np.testing.assert_allclose(point.grad.numpy(), numeric, atol=1e-6)
+    assert point.grad.norm() > 0.5  # a distance field: gradient norm near 1
+
+
+def test_clearance_scales_with_the_scene_and_follows_a_tilted_world(grid):
+    angle = np.radians(25.0)
+    R = torch.tensor([[1, 0, 0], [0, np.cos(angle), -np.sin(angle)], [0, np.sin(angle), np.cos(angle)]], dtype=torch.float64)
+    offset = torch.tensor([5.0, -3.0, 10.0], dtype=torch.float64)
+    scale = 40.0
+    gaussians, up = world(lambda p: p @ R.T + offset, scale=scale)
+    moved = build_occupancy(
+        gaussians,
+        R.numpy() @ up,
+        [camera_at((scale * (R @ torch.tensor([6.0, 0.0, 3.0], dtype=torch.float64) + offset)).tolist())],
+    )
+    probes = torch.tensor(
+        [[6.0, 0.0, 3.0], [0.0, 0.0, 2.0], [6.0, 0.0, -2.0], [4.0, 0.0, 2.0], [0.0, 0.0, 4.5]], dtype=torch.float64
+    )
+    here = grid.clearance(probes)
+    there = moved.clearance(scale * (probes @ R.T + offset)) / scale
+    np.testing.assert_array_equal(here.sign().numpy(), there.sign().numpy())
+    np.testing.assert_allclose(there, here, atol=2 * grid.voxel)
+
+
+def test_a_scene_without_cameras_is_free_from_above():
+    gaussians, up = world()
+    grid = build_occupancy(gaussians, up)
+    assert grid.clearance(torch.tensor([0.0, 0.0, 6.0])).item() > 0
+    assert grid.clearance(torch.tensor([0.0, 0.0, 2.0])).item() < 0
+
+
+def test_segment_blocked_by_the_box(grid):
+    assert grid.segment_blocked(np.array([6.0, 0.0, 2.0]), np.array([-6.0, 0.0, 2.0])) > 0
+    assert grid.segment_blocked(np.array([6.0, 0.0, 5.0]), np.array([-6.0, 0.0, 5.0])) == 0
+
+
+def test_up_frame_is_a_rotation_with_up_last():
+    for up in ([0, 0, 1], [0, -1, 0], [0.3, -0.2, 0.93]):
+        R = up_frame(np.array(up, dtype=float))
+        np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+        assert np.linalg.det(R) == pytest.approx(1.0)
+        np.testing.assert_allclose(R[2], np.array(up) / np.linalg.norm(up))
+
+
+def test_cache_is_reused_and_rebuilt_when_the_scene_changes(tmp_path):
+    gaussians, up = world()
+    first = cached_occupancy(gaussians, up, [], tmp_path)
+    stamp = (tmp_path / "occupancy.npz").stat().st_mtime_ns
+    again = cached_occupancy(gaussians, up, [], tmp_path)
+    assert (tmp_path / "occupancy.npz").stat().st_mtime_ns == stamp
+    np.testing.assert_array_equal(first.sdf, again.sdf)
+    gaussians.means[:, 2] += 1.0
+    cached_occupancy(gaussians, up, [], tmp_path)
+    assert (tmp_path / "occupancy.npz").stat().st_mtime_ns != stamp
+
+
+def test_a_scene_of_faint_gaussians_is_refused():
+    gaussians, up = world()
+    gaussians.opacity_logits[:] = -5.0
+    with pytest.raises(InputError, match="no Gaussian has an opacity"):
+        build_occupancy(gaussians, up)
