@@ -26,7 +26,6 @@ differentiable path repeats the processor's steps on tensors (:mod:`.tensor_imag
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 from collections.abc import Sequence
@@ -40,6 +39,7 @@ import torch.nn.functional as F
 from ..errors import InputError
 from .models import ModelSettings
 from .tensor_images import TensorPreprocess
+from .weights import WEIGHT_FILES, quiet_transformers, torch_device_dtype
 
 
 @dataclass(frozen=True)
@@ -96,7 +96,6 @@ FGCLIP_LONG_TOKENS = 248
 NAFLEX_INPUTS = ("pixel_values", "pixel_attention_mask", "spatial_shapes")
 # FG-CLIP 2's patch budget of an image with more than this many patches (else 128), from its README.
 FGCLIP2_BUDGETS = ((784, 1024), (576, 784), (256, 576), (128, 256))
-WEIGHT_FILES = ("model.safetensors", "model.safetensors.index.json", "pytorch_model.bin", "pytorch_model.bin.index.json")
 
 
 def _native(model_type: str):
@@ -113,22 +112,6 @@ def _native(model_type: str):
     return tf.Siglip2Config, tf.Siglip2Model, Siglip2ImageProcessorPil
 
 
-@contextlib.contextmanager
-def quiet_transformers():
-    """transformers' progress bars and load reports off: the loaders report problems themselves,
-    in one line."""
-    from transformers.utils import logging
-
-    level = logging.get_verbosity()
-    logging.set_verbosity_error()
-    logging.disable_progress_bar()
-    try:
-        yield
-    finally:
-        logging.set_verbosity(level)
-        logging.enable_progress_bar()
-
-
 def model_directory(backend: str, settings: ModelSettings) -> Path:
     """The weights folder of ``backend``: it must hold ``config.json`` and a weights file."""
     if settings.weights is None:
@@ -141,14 +124,6 @@ def model_directory(backend: str, settings: ModelSettings) -> Path:
     if not any((path / name).is_file() for name in WEIGHT_FILES):
         raise InputError(f"models config entry {backend!r}: no weights file ({', '.join(WEIGHT_FILES)})", source=str(path))
     return path
-
-
-def torch_device(backend: str, settings: ModelSettings) -> torch.device:
-    """The configured device; :class:`InputError` for a CUDA device on a machine without one."""
-    device = torch.device(settings.device)
-    if device.type == "cuda" and not torch.cuda.is_available():
-        raise InputError(f"models config entry {backend!r}: device {settings.device!r}, but CUDA is not available here")
-    return device
 
 
 def fingerprint(*paths: Path | None, extra: str = "") -> str:
@@ -248,8 +223,7 @@ class ImageTextModel:
                 source=source,
             )
         config_class, model_class, processor_class = _native(self.model_type)
-        self.device = torch_device(backend, settings)
-        dtype = getattr(torch, settings.dtype)
+        self.device, dtype = torch_device_dtype(backend, settings)
         with quiet_transformers():
             config = config_class(**_portable(raw))
             try:

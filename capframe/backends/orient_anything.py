@@ -32,10 +32,10 @@ from torch import nn
 
 from ..errors import InputError
 from ..scene import Camera
-from .image_text import quiet_transformers, torch_device
 from .models import ModelSettings
 from .protocols import BackendContext, SubjectMasks
-from .view_images import view_image
+from .views import view_image
+from .weights import quiet_transformers, torch_device_dtype
 
 if TYPE_CHECKING:
     from ..translate.instruction import ParsedSubject
@@ -220,8 +220,8 @@ class OrientAnything:
                     f"outputs {width} values; Orient Anything's layouts have {sorted(LAYOUTS)}", source=settings.onnx
                 )
         else:
-            self.device = torch_device(BACKEND, settings)
-            self.net = load_net(weights, config_dir).to(self.device, getattr(torch, settings.dtype))
+            self.device, dtype = torch_device_dtype(BACKEND, settings)
+            self.net = load_net(weights, config_dir).to(self.device, dtype)
 
     def logits(self, pixel_values: torch.Tensor) -> torch.Tensor:
         """(B, 3, H, W) processor output -> (B, width) logits (PyTorch)."""
@@ -357,19 +357,22 @@ class OrientAnythingOrientation:
         settings = context.models.settings(BACKEND)
         self.model = context.shared(f"model:{BACKEND}", lambda: OrientAnything(settings))
         self.min_confidence = settings.min_confidence
-        self.scene, self.up = context.scene, np.asarray(context.up, dtype=np.float64)
+        self.context, self.scene, self.up = context, context.scene, np.asarray(context.up, dtype=np.float64)
 
     def view_fronts(self, masks: SubjectMasks) -> list[ViewFront]:
-        """Each masked view's estimate and world front (empty masks are skipped)."""
+        """Each masked view's estimate and world front (empty masks are skipped). The view's
+        picture is the job's (:func:`~capframe.backends.views.view_image`, read once for every
+        backend); mask and camera are brought to its size."""
         views, crops, directions = [], [], []
         for view, mask in zip(masks.views, masks.masks):
-            camera = self.scene.cameras[view]
-            full = _resized_mask(mask, camera.width, camera.height)
-            crop = subject_crop(view_image(self.scene, camera), full)
+            image = view_image(self.context, view)
+            height, width = image.shape[:2]
+            full = _resized_mask(mask, width, height)
+            crop = subject_crop(image, full)
             if crop is not None:
                 views.append(view)
                 crops.append(crop)
-                directions.append(subject_direction(camera, full))
+                directions.append(subject_direction(self.scene.cameras[view].resized(width, height), full))
         out = []
         for view, estimate, direction in zip(views, self.model.estimate(crops), directions):
             confident = estimate.confidence >= self.min_confidence

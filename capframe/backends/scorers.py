@@ -27,7 +27,7 @@ from ..scene import Camera
 from ..scene._io import atomic_write
 from .image_text import ImageTextModel
 from .protocols import BackendContext, CameraScorer, Question
-from .view_images import render_image, view_image, views_fingerprint
+from .view_images import render_image, training_picture, views_fingerprint
 
 if TYPE_CHECKING:
     from ..translate.instruction import ParsedInstruction
@@ -56,7 +56,7 @@ def view_embeddings(model: ImageTextModel, context: BackendContext) -> np.ndarra
     chunks = []
     for start in range(0, len(scene.cameras), model.batch_size):
         cameras = scene.cameras[start : start + model.batch_size]
-        chunks.append(model.embed_images([view_image(scene, c) for c in cameras]))
+        chunks.append(model.embed_images([training_picture(scene, c) for c in cameras]))
     embeddings = np.concatenate(chunks) if chunks else np.zeros((0, model.feature_size), np.float32)
     buffer = io.BytesIO()
     np.save(buffer, embeddings)

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import torch
 
-from .image_text import FGCLIP_EXTRAS, FGCLIP_KEEP_POSITIONS, FGCLIP_LONG_TOKENS, quiet_transformers
+from .image_text import FGCLIP_EXTRAS, FGCLIP_KEEP_POSITIONS, FGCLIP_LONG_TOKENS
+from .weights import quiet_transformers
 
 WIDTH = 32
 PROJECTION = 16

@@ -1,5 +1,11 @@
-"""Pictures of a scene for the model backends: a training view's photograph (its render when the
-scene has no images), and renders of candidate cameras."""
+"""Pictures for the image-text backends: every training view streamed once per scene (its
+photograph at the camera's size, its render when the scene has none), with a fingerprint for
+the embedding cache, and renders of candidate cameras.
+
+The segmenters and Orient Anything read a few retrieved views per job through
+:mod:`capframe.backends.views`, which keeps each picture for the job; the coarse scorer reads
+every training view, so it streams them instead of keeping hundreds of photographs in memory.
+"""
 
 from __future__ import annotations
 
@@ -29,7 +35,7 @@ def render_image(scene: SceneDir, camera: Camera) -> np.ndarray:
     return (rgb.clamp(0.0, 1.0).cpu().numpy() * 255.0 + 0.5).astype(np.uint8)
 
 
-def view_image(scene: SceneDir, camera: Camera) -> np.ndarray:
+def training_picture(scene: SceneDir, camera: Camera) -> np.ndarray:
     """(H, W, 3) uint8 picture of a training view at the camera's image size: its photograph
     (resized when stored at another size), else its render."""
     from PIL import Image

@@ -39,7 +39,7 @@ def torch_device_dtype(entry: str, settings: ModelSettings):
 
 
 @contextlib.contextmanager
-def _quiet_transformers():
+def quiet_transformers():
     """transformers' loading report is a page-long table and its progress bar a stderr line per
     model; our own message is one line."""
     from transformers.utils import logging
@@ -95,7 +95,7 @@ def load_transformers(entry: str, settings: ModelSettings, model_type: str, mode
 
     root = _checkpoint_dir(entry, settings, model_type)
     device, dtype = torch_device_dtype(entry, settings)
-    with _quiet_transformers():
+    with quiet_transformers():
         try:
             processor = AutoProcessor.from_pretrained(root, local_files_only=True)
         except (OSError, ValueError, TypeError, KeyError) as err:
