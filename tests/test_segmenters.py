@@ -447,7 +447,7 @@ def test_detector_loader_rejects_a_missing_or_unreadable_file(tmp_path):
         OnnxDetector(_settings(tmp_path / "nothing.onnx"))
     bad = tmp_path / "bad.onnx"
     bad.write_text("not a model")
-    with pytest.raises(InputError, match="is not a loadable ONNX model") as err:
+    with pytest.raises(InputError, match="onnxruntime cannot load it") as err:
         OnnxDetector(_settings(bad))
     assert str(bad) in str(err.value) and "\n" not in str(err.value)
 

@@ -31,8 +31,8 @@ OUTPUT = "features"
 
 def session(path: str | Path, threads: int | None = None):
     """An onnxruntime CPU session of the file at ``path`` with ``threads`` intra-op threads (None:
-    the library's default); :class:`InputError` when it is missing or not a model onnxruntime can
-    load."""
+    the library's default) and no busy-waiting (spinning threads doubled latency on a shared
+    2-core machine); :class:`InputError` when it is missing or not a model onnxruntime can load."""
     import onnxruntime as ort
 
     path = Path(path)

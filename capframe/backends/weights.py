@@ -118,24 +118,13 @@ def load_transformers(entry: str, settings: ModelSettings, model_type: str, mode
 
 
 def onnx_session(entry: str, settings: ModelSettings):
-    """An onnxruntime CPU session of the entry's ONNX file: ``threads`` intra-op threads, no
-    busy-waiting (spinning threads doubled latency on a shared 2-core machine)."""
-    import onnxruntime as ort
+    """An onnxruntime CPU session of the entry's ONNX file (:func:`capframe.backends.onnx.session`:
+    ``threads`` intra-op threads, no busy-waiting)."""
+    from .onnx import session
 
     if settings.weights is None:
         raise InputError(f"models config entry {entry!r} needs weights: an ONNX file")
     path = Path(settings.weights)
     if not path.is_file():
         raise InputError(f"models config entry {entry!r}: weights {path} is not a file (an ONNX model)")
-    options = ort.SessionOptions()
-    options.add_session_config_entry("session.intra_op.allow_spinning", "0")
-    options.add_session_config_entry("session.inter_op.allow_spinning", "0")
-    if settings.threads is not None:
-        options.intra_op_num_threads = settings.threads
-        options.inter_op_num_threads = 1
-    options.log_severity_level = 3  # errors only: initializer warnings are not the user's problem
-    try:
-        return ort.InferenceSession(str(path), options, providers=["CPUExecutionProvider"])
-    except Exception as err:  # onnxruntime raises its own exception types for a bad file
-        message = str(err).splitlines()[0] if str(err) else type(err).__name__
-        raise InputError(f"is not a loadable ONNX model ({message})", source=str(path)) from None
+    return session(path, settings.threads)
