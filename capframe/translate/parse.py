@@ -16,7 +16,9 @@ How a sentence is read:
    names ("the bear's left"); otherwise to the nearest subject before it ("the bear on the left"),
    or after it for a head ending in "of"/"with" ("a close-up of the bear"); when that subject
    already holds a different value, to the nearest one on the other side ("on the left, the bear;
-   on the right, the vase"); a pronoun ("its left") looks back first;
+   on the right, the vase"); a pronoun ("its left") looks back first. A second view cue that
+   completes the first one's side (:data:`VIEW_COMBINATIONS`: "a three-quarter view of the bear
+   from its left") joins it, unless it leads straight into another subject;
 5. words no table explains are returned in ``unparsed`` (normalised, stopwords trimmed from the
    ends of each run), except in a subject's place (right after
    a head such as "a photo of", right before a region, or joined to a subject by "and"): there
@@ -34,14 +36,33 @@ Mappings that are choices (the phrase tables are the full list):
   A subject *facing left in the frame* shows its left side: with the camera at azimuth -90° it
   looks along the subject's right axis ``r`` (z = r, y = -u), so image right is
   x = y × z = -u × r = -f and the subject's front points to image left; "facing right" is view
-  ``right``. "Three-quarter"
-  alone is either front three-quarter; "left three-quarter" is front-left. "In profile" and
-  "side view" do not say which side and stay unparsed;
+  ``right``. A side word in a noun phrase is a view side of the subject it belongs to, never a
+  subject: "the sofa's left side", "the back of the chair", "its rear", "the bear's face" (front);
+  after a preposition of place ("the vase on its left", "to the left of the bear") it is a
+  relation between objects and stays unparsed, as does "with its back to the wall".
+  "Three-quarter" alone is either front three-quarter, "rear three-quarter" either back one;
+  with a side it is that diagonal ("a three-quarter view from the left" is front-left, "rear
+  three-quarter from the right" back-right), and "three-quarter ... from behind" is the rear
+  three-quarter. "In profile", "side view", "from the side" are ``side``, either profile.
+  Two ends together are the diagonal between them: "behind and to the left (of it)", "from
+  behind, on its right", "from the front, from its left". Degree words: a slight one ("slightly",
+  "a bit", "a little", "somewhat", ...) before a lone left/right is the slight side between the
+  front and the diagonal ("slightly from the left", "a bit to its left": ``front-slight-left``,
+  -20° ± 15°), or between the back and the diagonal with "behind" ("behind and slightly to the
+  left"); before a front, back or diagonal it is not understood and stays unparsed ("slightly
+  from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
+  "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
+  "from directly behind" the back. "Slightly to the left" that names no subject stays a region;
 * elevation: "from above"/"looking down" alone is a high angle, "from below"/"looking up" a low
   angle; both yield to any more specific elevation in the same sentence ("from slightly above,
   looking down at it" is slightly above). "From the ground looking up" is a worm's-eye view.
-  A named elevation and explicit degrees together keep the degrees when they fall in the named
-  range, else the instruction contradicts itself (an error);
+  Slight degree words give slightly above / slightly below ("a bit from below": -30° to -8°);
+  "steeply"/"strongly from above" is bird's-eye (60° to 90°); "straight down", "directly above",
+  "top-down", "plan view" are top-down (80° to 90°). Of two named elevations one inside the other
+  the narrower is kept ("from overhead, looking straight down" is top-down); two that only
+  overlap contradict each other (an error). A named elevation and explicit degrees together keep
+  the degrees when they fall in the named range, else the instruction contradicts itself (an
+  error);
 * roll (> 0 clockwise as the photographer sees it, the camera's right side dipping): a dutch angle
   without degrees is :data:`DUTCH_DEFAULT_DEG` clockwise ("slight" and "strong" change the
   magnitude); "rolled 10 degrees" without a direction is clockwise; "tilted" is a roll only with
@@ -68,6 +89,7 @@ from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singul
 #   {obj}  an object: it / them / a subject
 #   {d}    a number with optional "degrees"; {sd} the same, possibly negative
 #   {dir}  clockwise | counterclockwise;  {side} left | right (of the camera);  {mod} a dutch-angle size word
+#   {WEAK} a slight degree word ("slightly", "a bit", ...); {STRONG} an insisting one ("directly", "straight", ...)
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
@@ -183,26 +205,13 @@ REGION_PHRASES = {
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 VIEW_SIDE_WORDS = {
-    "front": ["front"],
+    "front": ["front", "face"],
     "back": ["back", "rear"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
-    "front-left": [
-        "front left",
-        "left front",
-        "front and left",
-        "front left three quarter",
-        "left three quarter",
-        "left front three quarter",
-    ],
-    "front-right": [
-        "front right",
-        "right front",
-        "front and right",
-        "front right three quarter",
-        "right three quarter",
-        "right front three quarter",
-    ],
+    "side": ["side", "profile"],
+    "front-left": ["front left", "left front", "front and left", "front left three quarter", "left three quarter"],
+    "front-right": ["front right", "right front", "front and right", "front right three quarter", "right three quarter"],
     "back-left": [
         "back left",
         "rear left",
@@ -212,6 +221,7 @@ VIEW_SIDE_WORDS = {
         "rear and left",
         "back left three quarter",
         "rear left three quarter",
+        "left rear three quarter",
     ],
     "back-right": [
         "back right",
@@ -222,14 +232,23 @@ VIEW_SIDE_WORDS = {
         "rear and right",
         "back right three quarter",
         "rear right three quarter",
+        "right rear three quarter",
     ],
 }
+# A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
+# after a preposition of place ("the vase on its left", "to the left of the bear": a relation
+# between objects, not understood) or before words that turn it away from the camera ("with its
+# back to the wall").
+NOT_A_RELATION = "(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
+NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
-    "((seen|viewed|shot|photographed|captured|taken|filmed) )?from (the|{P}) {SIDE}( side)?( of {obj})?",
+    "((seen|viewed|shot|photographed|captured|taken|filmed) )?({STRONG} )?from (the|{P}) {SIDE}( side)?( of {obj})?",
     "showing (the|{P}) {SIDE}( side)?( of {obj})?",
-    "with the camera (at|on|to|by) (the|{P}) {SIDE}( side)?( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? (towards|to|facing|turned towards|turned to) the (camera|viewer|lens)",
-    "(in |from |as )?(a |the )?{SIDE}( side)? (view|profile|angle|shot)",
+    "with the camera ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side)?( of {obj})?",
+    "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
+    NOT_A_RELATION + "(the|a) {SIDE}( side)? of {obj}",
+    NOT_A_RELATION + "{P} {SIDE}( side)?" + NOT_TURNED_AWAY,
 ]
 VIEW_PHRASES = {
     "front": [
@@ -238,13 +257,14 @@ VIEW_PHRASES = {
         "head on",
         "face on",
         "front on",
+        "(a |in )?straight on( (view|shot|angle))?",
         "frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         "with the camera in front of {obj}",
-        "showing {P} face",
+        "((seen|viewed|shot|photographed|taken) )?from ({STRONG} |right )?in front( of {obj})?",
     ],
     "back": [
-        "((seen|viewed|shot|photographed|captured|taken|filmed) )?from behind( {obj})?",
+        "((seen|viewed|shot|photographed|captured|taken|filmed) )?({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         "with the camera behind {obj}",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
@@ -252,21 +272,73 @@ VIEW_PHRASES = {
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "front-left": ["three quarters? (view |angle )?from (the|{P}) (front )?left( side)?"],
-    "front-right": ["three quarters? (view |angle )?from (the|{P}) (front )?right( side)?"],
-    "back-left": [
-        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) left( side)?",
-        "three quarters? (view |angle )?from (the|{P}) (back|rear) left( side)?",
-    ],
-    "back-right": [
-        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) right( side)?",
-        "three quarters? (view |angle )?from (the|{P}) (back|rear) right( side)?",
-    ],
+    "side": ["in profile", "(seen )?side on", "from (either|one|a) side"],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
+    "back-three-quarter": [
+        "(in |at |from |as )?(a |an )?(back|rear) three quarters?( (view|angle|profile|shot|position))?",
+        "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
+    ],
+}
+# A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
+# of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
+# where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
+# names the subject, is a side.
+LATERAL = "(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
+LATERAL_OWN = "(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
+# Where the camera is along the subject's front-back axis, in phrases that combine with a side.
+LONGITUDINAL = {
+    "front": "((seen|viewed|shot|photographed|taken) )?(from (the|{P}) front|(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": "((seen|viewed|shot|photographed|taken) )?(from (the|{P}) (back|rear)|(from )?({STRONG} |right )?behind( {obj})?)",
+}
+# "behind and to the left", "to its left, from behind": the diagonal; with a slight degree word
+# ("in front and slightly to the right") the slight side of that end.
+COMBINED_VIEW_FRAMES = [
+    ("", "{LON} and {LATERAL}"),
+    ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
+    ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
+    ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
+]
+# A slight side alone is off the front: "slightly from the left", "a bit to its left".
+SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
+SLIGHT_VIEW_FRAMES = [
+    SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
+    SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
+    "{WEAK} " + LATERAL_OWN,
+    "(with )?the camera {WEAK} " + LATERAL,
+    "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+]
+# View cues for one subject that together name one side ("a three-quarter view ... from its
+# left" is the front-left); any other two different sides contradict each other.
+VIEW_COMBINATIONS = {
+    frozenset(pair): side
+    for lat in ("left", "right")
+    for pair, side in [
+        (("three-quarter", lat), f"front-{lat}"),
+        (("three-quarter", f"front-{lat}"), f"front-{lat}"),
+        (("three-quarter", f"back-{lat}"), f"back-{lat}"),
+        (("back-three-quarter", lat), f"back-{lat}"),
+        (("back-three-quarter", f"back-{lat}"), f"back-{lat}"),
+        (("front", lat), f"front-{lat}"),
+        (("back", lat), f"back-{lat}"),
+        (("front", f"front-{lat}"), f"front-{lat}"),
+        (("back", f"back-{lat}"), f"back-{lat}"),
+        ((lat, f"front-{lat}"), f"front-{lat}"),
+        ((lat, f"back-{lat}"), f"back-{lat}"),
+        (("side", lat), lat),
+        (("front", f"front-slight-{lat}"), f"front-slight-{lat}"),
+        (("back", f"front-slight-{lat}"), f"back-slight-{lat}"),
+        (("back", f"back-slight-{lat}"), f"back-slight-{lat}"),
+    ]
+} | {
+    frozenset(("three-quarter", "front")): "three-quarter",
+    frozenset(("three-quarter", "back")): "back-three-quarter",
+    frozenset(("three-quarter", "back-three-quarter")): "back-three-quarter",
+    frozenset(("back-three-quarter", "back")): "back-three-quarter",
 }
 
 # Named elevations; the hints yield to any other elevation in the sentence.
@@ -281,9 +353,9 @@ ELEVATION_PHRASES = {
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
     ],
     "slightly above": [
-        "(from |with the camera )?(slightly|a little|a bit|just) above( {obj})?",
-        "slightly from above",
-        "looking (slightly|a little|a bit) down( at {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
+        "{WEAK} from above",
+        "looking {WEAK} down( (at|on) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
@@ -297,29 +369,40 @@ ELEVATION_PHRASES = {
     ],
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
-        "(from )?(directly|straight|right|vertically) (above|overhead)( {obj})?",
-        "looking (straight|directly|vertically) down( (at|on) {obj})?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
-        "from overhead",
-        "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?",
+        "((seen|shot|viewed) )?from overhead",
         "(from |in |as )?(a |an )?top view",
         "((seen|shot|viewed) )?from the top",
-        "(shot |looking )?straight down( at {obj})?",
-        "(a )?plan view",
+        "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
+        "(from |in |with )?(a )?steep high angle( (shot|view))?",
+    ],
+    "top-down": [
+        "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
+        "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?",
+        "(shot |looking )?straight down( (at|on) {obj})?",
+        "(a )?(plan view|flat lay)",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
-        "looking (slightly|a little|a bit) up( at {obj})?",
-        "(from )?(slightly|a little|a bit|just) below( {obj})?",
+    ],
+    "slightly below": [
+        "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
+        "{WEAK} from (below|beneath)",
+        "looking {WEAK} up( at {obj})?",
+        "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
+        "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
         "looking (straight|directly|steeply|vertically) up( at {obj})?",
         "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
         "(from )?(directly|straight|right) (below|beneath|underneath)( {obj})?",
+        "(steeply|strongly|sharply) from (below|beneath)",
         "straight up at {obj}",
     ],
 }
@@ -577,6 +660,8 @@ _MACROS = {
     "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
+    "{WEAK}": "(?:slightly|somewhat|marginally|a little bit|a bit|a little|a tad|a touch)",
+    "{STRONG}": "(?:directly|straight|squarely|square|fully|strongly|exactly|dead|completely|perfectly|purely)",
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     "{obj}": r"(?P<ref>it|him|her|them|@\d+)",
@@ -633,6 +718,13 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
+    for lat in ("left", "right"):
+        rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        for lon, phrase in LONGITUDINAL.items():
+            for degree, frame in COMBINED_VIEW_FRAMES:
+                t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
+                t = t.replace("{LON}", phrase).replace("{LAT}", lat)
+                rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
@@ -721,7 +813,7 @@ class RuleParser:
             hint = f" (not understood: {unparsed_text})" if unparsed else ""
             raise InputError(f"no subject in {text.strip()!r}{hint}; name one of the scene's objects: {vocabulary.names}")
         mentions.sort(key=lambda m: m.at)
-        subjects = _attach(cues, mentions, vocabulary)
+        subjects = _attach(cues, mentions, tokens, vocabulary)
         elevation, elevation_deg = _elevation(cues)
         return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text)
 
@@ -842,7 +934,7 @@ def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
     return multiplier * sign * DUTCH_SIZE_DEG.get(groups.get("mod") or "", DUTCH_DEFAULT_DEG), True
 
 
-def _attach(cues: list[_Cue], mentions: list[_Mention], vocabulary: Vocabulary) -> list[ParsedSubject]:
+def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocabulary: Vocabulary) -> list[ParsedSubject]:
     """Subjects in order of first mention, with the region/shot/view cues given to them."""
     subjects: dict[str, ParsedSubject] = {}
     for m in mentions:
@@ -852,17 +944,26 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], vocabulary: Vocabulary) 
     for cue in cues:
         if cue.field not in SUBJECT_FIELDS:
             continue
-        for name in _candidates(cue, mentions):
-            held = getattr(subjects[name], cue.field)
-            if held is None or held == cue.value:
-                setattr(subjects[name], cue.field, cue.value)
-                break
+        names = _candidates(cue, mentions)
+        free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
+        held = getattr(subjects[names[0]], cue.field)
+        combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
+        # A second view cue completes the first one's side ("three-quarter" + "from its left"),
+        # unless it leads straight into another subject ("from the front, the bear; from the
+        # left, the chair"), which then takes it.
+        if free and (free[0] == names[0] or combined is None or _leads_into(cue, free[0], mentions, tokens)):
+            setattr(subjects[free[0]], cue.field, cue.value)
+        elif combined is not None:
+            setattr(subjects[names[0]], cue.field, combined)
         else:
-            name = _candidates(cue, mentions)[0]
-            raise InputError(
-                f"conflicting {cue.field} for {name!r}: {getattr(subjects[name], cue.field)!r} and {cue.value!r} ({cue.text!r})"
-            )
+            raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
     return list(subjects.values())
+
+
+def _leads_into(cue: _Cue, name: str, mentions: list[_Mention], tokens: list[str]) -> bool:
+    """Whether the next word after ``cue``, punctuation aside, starts a mention of ``name``."""
+    following = next((k for k in range(cue.end, len(tokens)) if tokens[k] not in PUNCTUATION), None)
+    return any(m.at == following and m.name == name for m in mentions)
 
 
 def _candidates(cue: _Cue, mentions: list[_Mention]) -> list[str]:
@@ -880,7 +981,7 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     """The named elevation or explicit degrees asked (hints yield to any other elevation cue)."""
     found = [c for c in cues if c.field in ("elevation", "elevation_deg")]
     found = [c for c in found if not c.weak] or found
-    named = sorted({c.value for c in found if c.field == "elevation"})
+    named = _narrowest({c.value for c in found if c.field == "elevation"})
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
     if len(named) > 1 or len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
@@ -892,6 +993,16 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
             raise InputError(f"conflicting elevations: {named[0]!r} is {lo:g} to {hi:g} degrees, not {degrees[0]:g}")
         named = []
     return (named[0] if named else None), (degrees[0] if degrees else None)
+
+
+def _narrowest(named: set[str]) -> list[str]:
+    """Named elevations less those holding another one's range: "from overhead, looking straight
+    down" is top-down, which lies inside bird's-eye; ranges that only overlap stay (a conflict)."""
+
+    def inside(a: str, b: str) -> bool:
+        return ELEVATIONS[b][0] <= ELEVATIONS[a][0] and ELEVATIONS[a][1] <= ELEVATIONS[b][1]
+
+    return sorted(e for e in named if not any(o != e and inside(o, e) for o in named))
 
 
 def _roll(cues: list[_Cue]) -> float | None:

@@ -1,0 +1,174 @@
+"""The rule parser's wider phrasing (issue #15, item 2): side words in noun phrases, three-quarter
+with a side, degree words, two ends of the subject together. Every row gives the exact structure
+expected; the negative rows keep side and position words out of subjects and contradictions as
+errors."""
+
+from __future__ import annotations
+
+import pytest
+
+from capframe.errors import InputError
+from capframe.scene import SemanticObject
+from capframe.translate.parse import parse_instruction
+from capframe.translate.vocabulary import Vocabulary
+
+# A living room as the synthetic scenes name it: two chairs told apart by colour, symmetric vase.
+SCENE = Vocabulary.from_semantics(
+    [
+        SemanticObject(0, "teddy bear", ["bear", "plush toy"], False),
+        SemanticObject(1, "red armchair", ["chair", "red chair"], False),
+        SemanticObject(2, "blue armchair", ["chair", "blue chair"], False),
+        SemanticObject(3, "vase", ["flower vase"], True),
+        SemanticObject(4, "sofa", ["couch", "settee"], False),
+        SemanticObject(5, "television", ["tv", "tv set"], False),
+        SemanticObject(6, "refrigerator", ["fridge"], False),
+    ]
+)
+
+
+def subject(name: str, region: str | None = None, shot: str | None = None, view: str | None = None) -> dict:
+    return {"name": name, "region": region, "shot": shot, "view": view}
+
+
+def parsed(*subjects: dict, elevation: str | None = None, elevation_deg: float | None = None, unparsed=()) -> dict:
+    return {"subjects": list(subjects), "elevation": elevation, "elevation_deg": elevation_deg, "unparsed": list(unparsed)}
+
+
+def structure(text: str) -> dict:
+    p = parse_instruction(text, SCENE)
+    subjects = [subject(s.name, s.region, s.shot, s.view) for s in p.subjects]
+    return parsed(*subjects, elevation=p.elevation, elevation_deg=p.elevation_deg, unparsed=p.unparsed)
+
+
+def check(rows: list[tuple[str, dict]]) -> list:
+    return [pytest.param(text, want, id=text) for text, want in rows]
+
+
+BEAR, SOFA, TV, FRIDGE, VASE = "teddy bear", "sofa", "television", "refrigerator", "vase"
+RED, BLUE = "red armchair", "blue armchair"
+
+# --- side words in noun phrases: possessives, "the back of the X" --------------------------------
+
+SIDE_NOUNS = [
+    ("A photo of the sofa's left side.", parsed(subject(SOFA, view="left"))),
+    ("The bear's back, from slightly above.", parsed(subject(BEAR, view="back"), elevation="slightly above")),
+    ("Show me the back of the red chair.", parsed(subject(RED, view="back"))),
+    ("A close-up of the front of the TV.", parsed(subject(TV, shot="close-up", view="front"))),
+    ("The left side of the couch, on the right of the frame.", parsed(subject(SOFA, region="right", view="left"))),
+    ("Photograph the fridge's rear.", parsed(subject(FRIDGE, view="back"))),
+    ("The bear, its rear to the camera.", parsed(subject(BEAR, view="back"))),
+    ("The bear, showing its rear.", parsed(subject(BEAR, view="back"))),
+    ("A picture of the teddy bear's face, filling the frame.", parsed(subject(BEAR, shot="close-up", view="front"))),
+    ("The blue chair's right-hand side.", parsed(subject(BLUE, view="right"))),
+    ("The side of the sofa.", parsed(subject(SOFA, view="side"))),
+    ("The bear in profile.", parsed(subject(BEAR, view="side"))),
+    ("A side view of the TV, from the right.", parsed(subject(TV, view="right"))),
+    ("The sofa, its back left.", parsed(subject(SOFA, view="back-left"))),
+]
+
+# A side word after a preposition of place is a relation between objects: not understood, and
+# never a subject; nor is any other position word.
+NOT_SUBJECTS = [
+    ("The vase on its left.", parsed(subject(VASE), unparsed=["left"])),
+    ("The bear with its back to the wall.", parsed(subject(BEAR), unparsed=["back to the wall"])),
+    ("The bear to the left of the vase.", parsed(subject(BEAR), subject(VASE), unparsed=["left"])),
+    ("The vase on the sofa's right.", parsed(subject(VASE), subject(SOFA), unparsed=["right"])),
+]
+
+# --- three-quarter with a side --------------------------------------------------------------------
+
+THREE_QUARTER = [
+    ("A three-quarter view of the bear from the left.", parsed(subject(BEAR, view="front-left"))),
+    ("A three-quarter view from the left of the bear.", parsed(subject(BEAR, view="front-left"))),
+    ("The bear in three-quarter view, seen from its right.", parsed(subject(BEAR, view="front-right"))),
+    ("The sofa from its left, at a three-quarter angle.", parsed(subject(SOFA, view="front-left"))),
+    ("The TV, three-quarter left view.", parsed(subject(TV, view="front-left"))),
+    ("A rear three-quarter view of the sofa from the right.", parsed(subject(SOFA, view="back-right"))),
+    ("The sofa, rear three-quarter, from its left.", parsed(subject(SOFA, view="back-left"))),
+    ("The bear in a rear three-quarter view.", parsed(subject(BEAR, view="back-three-quarter"))),
+    ("The bear in three-quarter view from behind.", parsed(subject(BEAR, view="back-three-quarter"))),
+    ("The bear at three-quarters, from behind on its left.", parsed(subject(BEAR, view="back-left"))),
+    (
+        "A three-quarter view of the bear on the left of the frame, from its left, with the vase on the right.",
+        parsed(subject(BEAR, region="left", view="front-left"), subject(VASE, region="right")),
+    ),
+]
+
+# --- degree words -----------------------------------------------------------------------------------
+
+DEGREES = [
+    ("The bear, slightly from the left.", parsed(subject(BEAR, view="front-slight-left"))),
+    ("The bear, a bit to its left.", parsed(subject(BEAR, view="front-slight-left"))),
+    ("The sofa seen a little from its right.", parsed(subject(SOFA, view="front-slight-right"))),
+    ("The TV from slightly to the right.", parsed(subject(TV, view="front-slight-right"))),
+    ("The fridge, with the camera somewhat to the left of it.", parsed(subject(FRIDGE, view="front-slight-left"))),
+    ("The bear facing slightly left.", parsed(subject(BEAR, view="front-slight-left"))),
+    ("The bear, directly from the left.", parsed(subject(BEAR, view="left"))),
+    ("The sofa, seen squarely from the front.", parsed(subject(SOFA, view="front"))),
+    ("The TV from directly behind.", parsed(subject(TV, view="back"))),
+    ("The red chair in a full right side view.", parsed(subject(RED, view="right"))),
+    ("The bear from straight in front.", parsed(subject(BEAR, view="front"))),
+    # A slight word before a front, back or diagonal is not understood: the side stays, the word is reported.
+    ("The bear, slightly from behind.", parsed(subject(BEAR, view="back"), unparsed=["slightly"])),
+    # "Slightly to the left" naming no subject is where it sits in the frame.
+    ("The bear slightly to the left.", parsed(subject(BEAR, region="left"), unparsed=["slightly"])),
+    # Heights.
+    ("The bear from straight down.", parsed(subject(BEAR), elevation="top-down")),
+    ("The sofa, directly above it.", parsed(subject(SOFA), elevation="top-down")),
+    ("A top-down view of the sofa.", parsed(subject(SOFA), elevation="top-down")),
+    ("The bear, looking vertically down on it.", parsed(subject(BEAR), elevation="top-down")),
+    ("The vase as a flat lay.", parsed(subject(VASE), elevation="top-down")),
+    ("The bear from overhead, looking straight down.", parsed(subject(BEAR), elevation="top-down")),
+    ("The bear, steeply from above.", parsed(subject(BEAR), elevation="bird's-eye")),
+    ("The bear, a bit from above.", parsed(subject(BEAR), elevation="slightly above")),
+    ("The bear with the camera a little higher than it.", parsed(subject(BEAR), elevation="slightly above")),
+    ("The bear, slightly below it.", parsed(subject(BEAR), elevation="slightly below")),
+    ("The bear, looking a bit up at it.", parsed(subject(BEAR), elevation="slightly below")),
+    ("The sofa from a low angle, slightly below it.", parsed(subject(SOFA), elevation="slightly below")),
+    ("The bear, strongly from below.", parsed(subject(BEAR), elevation="worm's-eye")),
+]
+
+# --- two ends together: behind/in front and to one side -------------------------------------------
+
+TWO_ENDS = [
+    ("The sofa from behind and to the left.", parsed(subject(SOFA, view="back-left"))),
+    ("The sofa, behind and to the left of it.", parsed(subject(SOFA, view="back-left"))),
+    ("The sofa from behind, on its right.", parsed(subject(SOFA, view="back-right"))),
+    ("The bear, to its right and from behind.", parsed(subject(BEAR, view="back-right"))),
+    ("The sofa in front and slightly to the right.", parsed(subject(SOFA, view="front-slight-right"))),
+    ("The TV from the front and a little to its left.", parsed(subject(TV, view="front-slight-left"))),
+    ("The bear from behind and slightly to the left.", parsed(subject(BEAR, view="back-slight-left"))),
+    ("The bear from in front, to its left.", parsed(subject(BEAR, view="front-left"))),
+    ("The bear, seen from the front, from its right.", parsed(subject(BEAR, view="front-right"))),
+    # A side after a comma that names no subject is a region of the frame.
+    ("The bear from behind, on the right of the frame.", parsed(subject(BEAR, region="right", view="back"))),
+    ("The sofa on the right, seen from its front.", parsed(subject(SOFA, region="right", view="front"))),
+    # A view cue that leads into the next subject belongs to it.
+    (
+        "Seen from the front, the bear; seen from the left, the sofa.",
+        parsed(subject(BEAR, view="front"), subject(SOFA, view="left")),
+    ),
+]
+
+
+@pytest.mark.parametrize("text, want", check(SIDE_NOUNS + NOT_SUBJECTS + THREE_QUARTER + DEGREES + TWO_ENDS))
+def test_phrasing(text, want):
+    assert structure(text) == want
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("The bear from the front, from behind.", r"conflicting view for 'teddy bear': 'front' and 'back'"),
+        ("The bear from its left and from its right.", r"conflicting view for 'teddy bear': 'left' and 'right'"),
+        ("A three-quarter view of the bear, from the side.", r"conflicting view for 'teddy bear': 'three-quarter' and 'side'"),
+        ("The sofa, slightly to its left, from its right.", r"conflicting view for 'sofa': 'front-slight-left' and 'right'"),
+        ("The bear from a high angle, straight down.", r"conflicting elevations"),
+        ("The bear slightly below it, from a worm's-eye view.", r"conflicting elevations"),
+        ("The bear, directly above, 30 degrees above.", r"conflicting elevations: 'top-down' is 80 to 90 degrees, not 30"),
+    ],
+)
+def test_contradictions_are_still_errors(text, message):
+    with pytest.raises(InputError, match=message) as err:
+        parse_instruction(text, SCENE)
+    assert "\n" not in str(err.value)
