@@ -73,6 +73,11 @@ NOT_SUBJECTS = [
     ("The bear with its back to the wall.", parsed(subject(BEAR), unparsed=["back to the wall"])),
     ("The bear to the left of the vase.", parsed(subject(BEAR), subject(VASE), unparsed=["left"])),
     ("The vase on the sofa's right.", parsed(subject(VASE), subject(SOFA), unparsed=["right"])),
+    ("A photo of the top of the red chair.", parsed(subject(RED), unparsed=["top"])),
+    ("A close-up of the underside of the bear.", parsed(subject(BEAR, shot="close-up"), unparsed=["underside"])),
+    ("A photo of the left, the bear.", parsed(subject(BEAR), unparsed=["left"])),
+    ("Frame the bear and the back.", parsed(subject(BEAR), unparsed=["back"])),
+    ("Frame the left side and the sofa.", parsed(subject(SOFA), unparsed=["left side"])),
 ]
 
 # --- three-quarter with a side --------------------------------------------------------------------
@@ -166,6 +171,10 @@ def test_phrasing(text, want):
         ("The bear from a high angle, straight down.", r"conflicting elevations"),
         ("The bear slightly below it, from a worm's-eye view.", r"conflicting elevations"),
         ("The bear, directly above, 30 degrees above.", r"conflicting elevations: 'top-down' is 80 to 90 degrees, not 30"),
+        # A side or position word is never the subject: without a subject there is nothing to frame.
+        ("A photo of the back, please.", r"no subject in .* \(not understood: \['back'\]\)"),
+        ("A photo of the side.", r"no subject in .* \(not understood: \['side'\]\)"),
+        ("A photo of the back of the giraffe.", r"subject 'giraffe' is not in this scene"),
     ],
 )
 def test_contradictions_are_still_errors(text, message):

@@ -24,7 +24,9 @@ How a sentence is read:
    a head such as "a photo of", right before a region, or joined to a subject by "and"): there
    they are a subject when they (partly) name a scene object ("the teddy"), and after a
    determiner they must ("a photo of the giraffe" is an :class:`~capframe.errors.InputError`
-   naming the closest names). A sentence with no name spotted tries all its unexplained words.
+   naming the closest names). Words naming only a part or position (:data:`POSITION_WORDS`:
+   "the top", "the back") are never a subject; "the top of the X" leaves "X" in the subject's
+   place. A sentence with no name spotted tries all its unexplained words.
 
 Mappings that are choices (the phrase tables are the full list):
 
@@ -646,6 +648,33 @@ RESERVED = frozenset(
         "bottom",
     }
 )
+# Parts of and positions on an object or the frame: a run of these is never a subject.
+POSITION_WORDS = frozenset(
+    {
+        "front",
+        "back",
+        "rear",
+        "side",
+        "left",
+        "right",
+        "hand",
+        "top",
+        "bottom",
+        "underside",
+        "base",
+        "center",
+        "middle",
+        "face",
+        "profile",
+        "edge",
+        "corner",
+        "half",
+        "part",
+        "upper",
+        "lower",
+        "behind",
+    }
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -799,13 +828,13 @@ class RuleParser:
         unparsed = []
         for run in self._leftovers(tokens, cues):
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            if run.slot and (run.determiner or vocabulary.candidates(run.text)):
+            if run.slot and not _positional(run.text) and (run.determiner or vocabulary.candidates(run.text)):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             else:
                 unparsed.append(run)
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
-                if vocabulary.candidates(run.text):
+                if not _positional(run.text) and vocabulary.candidates(run.text):
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed]
@@ -885,22 +914,40 @@ class RuleParser:
             span = list(group)
             if not is_free:
                 continue
-            run = [tokens[k] for k in span]
-            lo, hi = 0, len(run)
-            while lo < hi and run[lo] in STOPWORDS:
-                lo += 1
-            while hi > lo and run[hi - 1] in STOPWORDS:
-                hi -= 1
-            if lo == hi:
-                continue
             before, after = ends.get(span[0]), starts.get(span[-1] + 1)
             slot = (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
             )
-            runs.append(_Run(span[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
+            for part in _position_split(tokens, span):
+                run = [tokens[k] for k in part]
+                lo, hi = 0, len(run)
+                while lo < hi and run[lo] in STOPWORDS:
+                    lo += 1
+                while hi > lo and run[hi - 1] in STOPWORDS:
+                    hi -= 1
+                if lo < hi:
+                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
         return runs
+
+
+def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
+    """``span`` cut after a leading "<position words> of" ("the top of | the giraffe"), so what
+    follows stands in the subject's place on its own; else ``span`` whole."""
+    for k, at in enumerate(span):
+        if tokens[at] == "of":
+            head = [tokens[j] for j in span[:k] if tokens[j] not in STOPWORDS]
+            if head and _positional(" ".join(head)):
+                return [span[:k], span[k + 1 :]]
+            break
+    return [span]
+
+
+def _positional(text: str) -> bool:
+    """Whether ``text`` names only a part or position ("back", "left side", "top"): never a subject."""
+    content = [w for w in text.split() if w not in STOPWORDS]
+    return bool(content) and all(w in POSITION_WORDS for w in content)
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
