@@ -1,7 +1,7 @@
 """The rule parser's wider phrasing (issue #15, item 2): side words in noun phrases, three-quarter
-with a side, degree words, two ends of the subject together. Every row gives the exact structure
-expected; the negative rows keep side and position words out of subjects and contradictions as
-errors."""
+with a side, degree words, two ends of the subject together, zoom and size words, polite forms.
+Every row gives the exact structure expected; the negative rows keep side and position words out
+of subjects and contradictions as errors."""
 
 from __future__ import annotations
 
@@ -156,7 +156,58 @@ TWO_ENDS = [
 ]
 
 
-@pytest.mark.parametrize("text, want", check(SIDE_NOUNS + NOT_SUBJECTS + THREE_QUARTER + DEGREES + TWO_ENDS))
+# --- zoom and size words ------------------------------------------------------------------------------
+
+SIZES = [
+    ("Zoom in on the bear.", parsed(subject(BEAR, shot="close-up"))),
+    ("Zoom in close on the bear, from its left.", parsed(subject(BEAR, shot="close-up", view="left"))),
+    ("The sofa, zoomed all the way in.", parsed(subject(SOFA, shot="close-up"))),
+    ("Fill the frame with the TV.", parsed(subject(TV, shot="close-up"))),
+    ("Let the bear fill the frame.", parsed(subject(BEAR, shot="close-up"))),
+    ("The bear, as big as possible in the frame.", parsed(subject(BEAR, shot="close-up"))),
+    ("The bear, tight.", parsed(subject(BEAR, shot="close-up"))),
+    ("Keep it tight on the fridge.", parsed(subject(FRIDGE, shot="close-up"))),
+    ("A tight crop of the bear.", parsed(subject(BEAR, shot="close-up"))),
+    ("The bear up close.", parsed(subject(BEAR, shot="close-up"))),
+    ("Move in close on the sofa.", parsed(subject(SOFA, shot="close-up"))),
+    ("The bear, not too close.", parsed(subject(BEAR, shot="medium"))),
+    ("The bear zoomed out.", parsed(subject(BEAR, shot="wide"))),
+    ("Zoom out from the sofa.", parsed(subject(SOFA, shot="wide"))),
+    ("The bear, wide, from the left.", parsed(subject(BEAR, shot="wide", view="left"))),
+    ("Go wide on the TV.", parsed(subject(TV, shot="wide"))),
+    ("The bear from far away.", parsed(subject(BEAR, shot="wide"))),
+    ("Step back from the bear.", parsed(subject(BEAR, shot="wide"))),
+    ("The fridge from further back.", parsed(subject(FRIDGE, shot="wide"))),
+    ("The bear, quite small in the frame.", parsed(subject(BEAR, shot="wide"))),
+    ("The vase, only a small part of the frame.", parsed(subject(VASE, shot="wide"))),
+    # A size word as an attribute is not a shot size.
+    ("The wide sofa.", parsed(subject(SOFA), unparsed=["wide"])),
+]
+
+# --- polite and chatty forms --------------------------------------------------------------------------
+
+POLITE = [
+    ("Could you show me the bear from the left?", parsed(subject(BEAR, view="left"))),
+    ("Could you please take a photo of the sofa?", parsed(subject(SOFA))),
+    ("I'd like a picture of the bear.", parsed(subject(BEAR))),
+    ("I would like to see the TV from behind, please.", parsed(subject(TV, view="back"))),
+    ("Can I get a close-up of the bear?", parsed(subject(BEAR, shot="close-up"))),
+    ("Can we have a wide shot of the sofa, please?", parsed(subject(SOFA, shot="wide"))),
+    ("Let's see the bear from the left.", parsed(subject(BEAR, view="left"))),
+    ("Give me a shot of the fridge.", parsed(subject(FRIDGE))),
+    ("I'm looking for a shot of the bear from behind.", parsed(subject(BEAR, view="back"))),
+    ("Show me what the sofa looks like from the left.", parsed(subject(SOFA, view="left"))),
+    ("Would you mind framing the bear on the left?", parsed(subject(BEAR, region="left"))),
+    ("Hey, can you get the bear in the middle? Thanks!", parsed(subject(BEAR, region="center"))),
+    ("Maybe a close-up of the bear?", parsed(subject(BEAR, shot="close-up"))),
+    ("How about the TV from the front?", parsed(subject(TV, view="front"))),
+    ("Take a look at the bear from its left.", parsed(subject(BEAR, view="left"))),
+    # Politeness explains nothing else: what is not understood is still reported.
+    ("Please photograph the bear with a dreamy mood.", parsed(subject(BEAR), unparsed=["dreamy mood"])),
+]
+
+
+@pytest.mark.parametrize("text, want", check(SIDE_NOUNS + NOT_SUBJECTS + THREE_QUARTER + DEGREES + TWO_ENDS + SIZES + POLITE))
 def test_phrasing(text, want):
     assert structure(text) == want
 
@@ -168,6 +219,7 @@ def test_phrasing(text, want):
         ("The bear from its left and from its right.", r"conflicting view for 'teddy bear': 'left' and 'right'"),
         ("A three-quarter view of the bear, from the side.", r"conflicting view for 'teddy bear': 'three-quarter' and 'side'"),
         ("The sofa, slightly to its left, from its right.", r"conflicting view for 'sofa': 'front-slight-left' and 'right'"),
+        ("Zoom in on the bear, from far away.", r"conflicting shot for 'teddy bear': 'close-up' and 'wide'"),
         ("The bear from a high angle, straight down.", r"conflicting elevations"),
         ("The bear slightly below it, from a worm's-eye view.", r"conflicting elevations"),
         ("The bear, directly above, 30 degrees above.", r"conflicting elevations: 'top-down' is 80 to 90 degrees, not 30"),

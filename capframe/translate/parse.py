@@ -31,9 +31,14 @@ How a sentence is read:
 Mappings that are choices (the phrase tables are the full list):
 
 * shot sizes are close-up / medium / wide (:data:`~capframe.constraints.SHOT_SIZES`, the subject's
-  extent in the frame): "extreme close-up", "medium close-up", "tight", "fills the frame" ->
-  close-up (more than half the frame); "mid", "full shot" (the whole subject with little room,
-  uncropped) -> medium; "long", "extreme wide", "establishing", "small in the frame" -> wide;
+  extent in the frame): "extreme close-up", "medium close-up", "tight", "fills the frame",
+  "zoom in on", "up close", "as big as possible" -> close-up (more than half the frame); "mid",
+  "full shot" (the whole subject with little room, uncropped), "not too close" -> medium; "long",
+  "extreme wide", "establishing", "zoomed out", "step back", "from far away", "small in the
+  frame" -> wide. "Tight", "close" and "wide" alone are a size only as a clause of their own
+  ("the bear, tight."), not as an attribute ("the wide sofa");
+* polite and chatty openings ("could you show me", "I'd like", "let's see", "how about") are heads:
+  they introduce the subject and ask nothing; "please", "thanks", "maybe" are stopwords;
 * view sides are the subject's own (DESIGN §3): "from the left" is from the subject's left side.
   A subject *facing left in the frame* shows its left side: with the camera at azimuth -90° it
   looks along the subject's right axis ``r`` (z = r, y = -u), so image right is
@@ -97,7 +102,7 @@ from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singul
 
 FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
-SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture)"
+SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
 HEAD_LINK = "(of|with|showing|featuring)"
 
 # Heads introduce the subject and ask nothing themselves.
@@ -105,6 +110,16 @@ HEADS = [
     "(a |an )?(photo|picture|photograph|shot|image|snapshot|snap|view|portrait|capture|render|rendering) " + HEAD_LINK,
     "(take|get|make|shoot|snap|grab) (a |an )?(photo|picture|photograph|shot|image|snapshot) (of|with)",
     "(frame|capture|photograph|shoot|film|show|picture)",
+    # Requests said politely or in passing ("could you show me", "I'd like", "let's see").
+    "(show|give|get|find|bring) (me|us)",
+    "(i|we) (d|would|should) (really )?(like|love|prefer|want)( to (see|have|get|take))?",
+    "(i|we) (m|am|are) (looking for|after|hoping for)",
+    "(let 's|lets|let me|let us|can i|could i|can we|could we|may i|may we) (see|view|look at|have|get)",
+    "((have|take|get) a )?(look|glance) at",
+    "see",
+    "(would|do) you mind (taking|getting|showing|framing|photographing|capturing|shooting)",
+    "(how|what) about",
+    "what {obj} looks? like",
 ]
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
@@ -130,6 +145,9 @@ SHOT_ADJECTIVES = {
     "wide": ["wide", "long", "distant", "extreme wide", "extreme long", "very wide", "wide angle", "establishing", "far"],
 }
 # Shot sizes said after the subject ("the bear, filling the frame").
+# A size word alone as a clause ("the bear, tight."): between a comma and the clause's end, so an
+# attribute ("the wide sofa") is not read as a shot size.
+ALONE = "(?<=, )(very |really |quite |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 SHOT_CLAUSES = {
     "close-up": [
         "(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?the (whole |entire )?{FRAME}",
@@ -139,10 +157,16 @@ SHOT_CLAUSES = {
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge) in (the )?{FRAME}",
+        "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
-        "zoomed in( on {obj})?",
+        "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        "(move|moving|come|coming|go|going|push|pushing|get|getting) in( close| closer| tight)?( on {obj})?",
+        "(close|closing) in on {obj}",
         "(from )?(very )?close (by|to {obj})",
+        "((keep|keeping) (it |{obj} )?|nice and |really |very )?tight on {obj}",
+        "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
+        ALONE.replace("{WORD}", "(tight|close)"),
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -151,17 +175,23 @@ SHOT_CLAUSES = {
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
         "(medium|moderately) sized( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
+        "not too close( (and |but |or |, )?not too far( away)?)?",
     ],
     "wide": [
-        "(small|tiny) in (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
+        "((as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME})",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        "far (away )?from {obj}",
+        "(from )?(much )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
-        "zoomed out",
-        "pulled (way )?back",
+        "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
+        "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( from {obj})?",
+        "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
+        ALONE.replace("{WORD}", "wide"),
     ],
 }
 
@@ -617,6 +647,19 @@ STOPWORDS = frozenset(
         "pictured",
         "shooting",
         "viewed",
+        # Politeness and hedges carry no constraint either.
+        "kindly",
+        "maybe",
+        "perhaps",
+        "possibly",
+        "hey",
+        "hi",
+        "hello",
+        "thanks",
+        "thank",
+        "cheers",
+        "ok",
+        "okay",
     }
 )
 # Single words that are photographic vocabulary first: an alias equal to one of them is not
