@@ -5,12 +5,15 @@ of subjects and contradictions as errors."""
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from capframe.errors import InputError
 from capframe.scene import SemanticObject
+from capframe.translate.instruction import JSON_SCHEMA, ParsedInstruction
 from capframe.translate.parse import parse_instruction
-from capframe.translate.vocabulary import Vocabulary
+from capframe.translate.vocabulary import Vocabulary, one_edit
 
 # A living room as the synthetic scenes name it: two chairs told apart by colour, symmetric vase.
 SCENE = Vocabulary.from_semantics(
@@ -233,3 +236,94 @@ def test_contradictions_are_still_errors(text, message):
     with pytest.raises(InputError, match=message) as err:
         parse_instruction(text, SCENE)
     assert "\n" not in str(err.value)
+
+
+# --- names one edit away ----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "text, name, said, read",
+    [
+        ("A close-up of the teddy baer.", BEAR, "teddy baer", "teddy bear"),  # swapped letters
+        ("The tedy bear from its left.", BEAR, "tedy bear", "teddy bear"),  # a letter missing
+        ("The teddybear on the right.", BEAR, "teddybear", "teddy bear"),  # the space missing
+        ("The televison on the left.", TV, "televison", "television"),
+        ("Frame the refridgerator.", FRIDGE, "refridgerator", "refrigerator"),  # a letter too many
+        ("The red armchiar from behind.", RED, "red armchiar", "red armchair"),
+        ("The blue armchiars.", BLUE, "blue armchiars", "blue armchair"),  # plural: read singular
+        ("The settea, zoomed out.", SOFA, "settea", "settee"),  # an alias
+    ],
+)
+def test_a_name_one_edit_away_is_read_and_reported(text, name, said, read):
+    p = parse_instruction(text, SCENE)
+    assert [s.name for s in p.subjects] == [name] and p.unparsed == []
+    assert p.corrected == [{"said": said, "read": read}]
+
+
+def test_a_head_noun_one_edit_away_is_read():
+    """ "plnat" misspells "plant", the head noun of "potted plant", which names it alone."""
+    scene = Vocabulary.from_semantics([SemanticObject(0, "potted plant", [], True), SemanticObject(1, "sofa", [], False)])
+    p = parse_instruction("The plnat on the left.", scene)
+    assert p.subjects[0].name == "potted plant" and p.subjects[0].region == "left"
+    assert p.corrected == [{"said": "plnat", "read": "plant"}]
+
+
+@pytest.mark.parametrize(
+    "a, b, near",
+    [
+        ("baer", "bear", True),  # swap
+        ("bear", "bears", True),  # insertion
+        ("teddybear", "teddy bear", True),  # the space is a character
+        ("beer", "bear", True),  # substitution
+        ("bear", "bear", False),  # no edit is not a correction
+        ("abcd", "badc", False),  # two swaps
+        ("telivison", "television", False),  # two edits
+    ],
+)
+def test_one_edit(a, b, near):
+    assert one_edit(a, b) is near and one_edit(b, a) is near
+
+
+def test_correct_names_report_no_correction():
+    assert parse_instruction("The teddy bears and the televisions.", SCENE).corrected == []
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        # Names shorter than five letters are not corrected: "bera" may be anything.
+        ("The bera on the left.", r"subject 'bera' is not in this scene; closest: \['teddy bear'\]"),
+        ("A photo of the sfoa.", r"subject 'sfoa' is not in this scene; closest: \['sofa'\]"),
+        # Two edits away is not a misspelling this reads.
+        ("A photo of the telivison.", r"subject 'telivison' is not in this scene; closest: \['television'\]"),
+        # Corrected, the name is still ambiguous: the error says so rather than guess.
+        ("The armchiar on the left.", r"subject 'the armchair' is ambiguous in this scene; say which"),
+    ],
+)
+def test_misspellings_that_are_not_read(text, message):
+    with pytest.raises(InputError, match=message):
+        parse_instruction(text, SCENE)
+
+
+def test_a_misspelling_of_two_names_is_not_read():
+    """ "sable" is one edit from "table" and from "cable": it is read as neither."""
+    scene = Vocabulary.from_semantics([SemanticObject(0, "table", [], True), SemanticObject(1, "cable", [], True)])
+    with pytest.raises(InputError, match=r"subject 'sable' is not in this scene"):
+        parse_instruction("A photo of the sable.", scene)
+    assert parse_instruction("A photo of the tables.", scene).corrected == []
+
+
+def test_photographic_words_are_never_read_as_names():
+    """ "close" is one edit from "closet", "frame" from "flame": the phrase tables' words stay theirs."""
+    scene = Vocabulary.from_semantics([SemanticObject(0, "closet", [], False), SemanticObject(1, "flame", [], True)])
+    p = parse_instruction("A close shot of the closet, filling the frame.", scene)
+    assert [s.name for s in p.subjects] == ["closet"] and p.subjects[0].shot == "close-up" and p.corrected == []
+
+
+def test_corrections_survive_the_json_form():
+    p = parse_instruction("A close-up of the teddy baer.", SCENE)
+    data = json.loads(json.dumps(p.to_dict()))
+    assert data["corrected"] == [{"said": "teddy baer", "read": "teddy bear"}]
+    assert ParsedInstruction.from_dict(data) == p
+    jsonschema = pytest.importorskip("jsonschema")
+    jsonschema.validate(data, JSON_SCHEMA)

@@ -9,7 +9,11 @@ How a sentence is read:
 1. it is normalised (:func:`capframe.translate.vocabulary.words`: lowercase, hyphens split, number
    words as digits, one spelling of British/US pairs);
 2. the scene's names and aliases are spotted (longest first) together with the attribute words and
-   determiner just before them ("the big red chair") and matched to one scene name each;
+   determiner just before them ("the big red chair") and matched to one scene name each. Where
+   no name is spelt right, a run of words one edit from exactly one name, alias or head noun of
+   five letters or more ("teddy baer", "televison") is read as it
+   (:meth:`~capframe.translate.vocabulary.Vocabulary.correction`; never a word the phrase tables
+   use) and reported in ``corrected``;
 3. the phrase tables below are matched against what is left; where matches overlap the longest
    wins ("seen from behind on its left" over "seen from behind");
 4. a cue that belongs to a subject (region, shot, view) goes to the subject its possessive or object
@@ -866,7 +870,7 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, mentions = self._spot(words(text), vocabulary)
+        tokens, mentions, corrected = self._spot(words(text), vocabulary)
         cues = self._cues(tokens)
         unparsed = []
         for run in self._leftovers(tokens, cues):
@@ -887,19 +891,26 @@ class RuleParser:
         mentions.sort(key=lambda m: m.at)
         subjects = _attach(cues, mentions, tokens, vocabulary)
         elevation, elevation_deg = _elevation(cues)
-        return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text)
+        return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text, corrected)
 
-    def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention]]:
+    def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention], list[dict[str, str]]]:
         """Replace each subject mention by a placeholder ``@k``: the longest name or alias at each
-        position, with the attribute words and determiner before it."""
-        forms = {f for f in vocabulary.forms() if len(f) > 1 or f[0] not in RESERVED}
+        position, with the attribute words and determiner before it. A longer run of words that
+        misspells one name or alias is read as it; each such reading is returned."""
+        forms = {f for f in vocabulary.forms() if _spottable(f)}
         longest = max(map(len, forms), default=0)
         keys = [singular(t) for t in tokens]
         out: list[str] = []
         mentions: list[_Mention] = []
+        corrected: list[dict[str, str]] = []
         i = 0
         while i < len(tokens):
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
+            read = tokens[i : i + n]
+            misspelt = self._misspelt(keys, i, n, longest + 1, vocabulary)
+            if misspelt is not None:
+                n, read = misspelt
+                corrected.append({"said": " ".join(tokens[i : i + n]), "read": " ".join(read)})
             if not n:
                 out.append(tokens[i])
                 i += 1
@@ -909,11 +920,25 @@ class RuleParser:
                 before.insert(0, out.pop())
             if out and out[-1] in MENTION_DETERMINERS:
                 before.insert(0, out.pop())
-            mention = " ".join(before + tokens[i : i + n])
-            mentions.append(_Mention(len(out), mention, vocabulary.match(mention), len(mentions)))
+            name = vocabulary.match(" ".join(before + list(read)))
+            mentions.append(_Mention(len(out), " ".join(before + tokens[i : i + n]), name, len(mentions)))
             out.append(f"@{len(mentions) - 1}")
             i += n
-        return out, mentions
+        return out, mentions, corrected
+
+    def _misspelt(
+        self, keys: list[str], i: int, shorter: int, longest: int, vocabulary: Vocabulary
+    ) -> tuple[int, tuple[str, ...]] | None:
+        """The longest run of more than ``shorter`` words from ``i`` that misspells one name or
+        alias (:meth:`Vocabulary.correction`), as (its length, the words read); words the phrase
+        tables use are never taken for a misspelling ("close" is not "closet")."""
+        for n in range(min(longest, len(keys) - i), shorter, -1):
+            window = tuple(keys[i : i + n])
+            if all(w.isalpha() and w not in self.lexicon for w in window):
+                form = vocabulary.correction(window)
+                if form is not None and _spottable(form):
+                    return n, form
+        return None
 
     def _attribute(self, token: str) -> bool:
         """Whether ``token`` may describe the subject named after it: a known attribute, or a word
@@ -991,6 +1016,11 @@ def _positional(text: str) -> bool:
     """Whether ``text`` names only a part or position ("back", "left side", "top"): never a subject."""
     content = [w for w in text.split() if w not in STOPWORDS]
     return bool(content) and all(w in POSITION_WORDS for w in content)
+
+
+def _spottable(form: tuple[str, ...]) -> bool:
+    """Whether a name or alias is spotted in running text: not one reserved photographic word."""
+    return len(form) > 1 or form[0] not in RESERVED
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
