@@ -183,7 +183,7 @@ SHOT_CLAUSES = {
     ],
     "wide": [
         "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
-        "((as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME})",
+        "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
@@ -240,6 +240,7 @@ REGION_PHRASES = {
 }
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
+SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
 VIEW_SIDE_WORDS = {
     "front": ["front", "face"],
     "back": ["back", "rear"],
@@ -278,13 +279,13 @@ VIEW_SIDE_WORDS = {
 NOT_A_RELATION = "(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
-    "((seen|viewed|shot|photographed|captured|taken|filmed) )?({STRONG} )?from (the|{P}) {SIDE}( side)?( of {obj})?",
+    SEEN + "({STRONG} )?from (the|{P}) {SIDE}( side)?( of {obj})?",
     "showing (the|{P}) {SIDE}( side)?( of {obj})?",
     "with the camera ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side)?( of {obj})?",
     "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
-    NOT_A_RELATION + "(the|a) {SIDE}( side)? of {obj}",
-    NOT_A_RELATION + "{P} {SIDE}( side)?" + NOT_TURNED_AWAY,
+    NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
+    NOT_A_RELATION + "{P} {SIDE}( side| profile)?" + NOT_TURNED_AWAY,
 ]
 VIEW_PHRASES = {
     "front": [
@@ -297,10 +298,10 @@ VIEW_PHRASES = {
         "frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         "with the camera in front of {obj}",
-        "((seen|viewed|shot|photographed|taken) )?from ({STRONG} |right )?in front( of {obj})?",
+        SEEN + "from ({STRONG} |right )?in front( of {obj})?",
     ],
     "back": [
-        "((seen|viewed|shot|photographed|captured|taken|filmed) )?({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
+        SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         "with the camera behind {obj}",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
@@ -327,20 +328,19 @@ LATERAL = "(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of
 LATERAL_OWN = "(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
-    "front": "((seen|viewed|shot|photographed|taken) )?(from (the|{P}) front|(from )?({STRONG} |right )?in front( of {obj})?)",
-    "back": "((seen|viewed|shot|photographed|taken) )?(from (the|{P}) (back|rear)|(from )?({STRONG} |right )?behind( {obj})?)",
+    "front": SEEN + "(from (the|{P}) front|(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": SEEN + "(from (the|{P}) (back|rear)|(from )?({STRONG} |right )?behind( {obj})?)",
 }
-# "behind and to the left", "to its left, from behind": the diagonal; with a slight degree word
-# ("in front and slightly to the right") the slight side of that end.
+# "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
+# with a slight degree word ("in front and slightly to the right") the slight side of that end.
 COMBINED_VIEW_FRAMES = [
-    ("", "{LON} and {LATERAL}"),
+    ("", "{LON} (and )?{LATERAL}"),
     ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
     ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
     ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
     ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
 ]
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
-SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
 SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
