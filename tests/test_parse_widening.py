@@ -151,6 +151,17 @@ TWO_ENDS = [
     ("The bear from behind and slightly to the left.", parsed(subject(BEAR, view="back-slight-left"))),
     ("The bear from in front, to its left.", parsed(subject(BEAR, view="front-left"))),
     ("The bear, seen from the front, from its right.", parsed(subject(BEAR, view="front-right"))),
+    # Where the camera is put.
+    ("Camera positioned to the right of the bear.", parsed(subject(BEAR, view="right"))),
+    ("Put the camera behind the sofa.", parsed(subject(SOFA, view="back"))),
+    ("The bear, camera to its right.", parsed(subject(BEAR, view="right"))),
+    ("The camera slightly to the left of the sofa.", parsed(subject(SOFA, view="front-slight-left"))),
+    ("Put the camera in front of the TV, slightly to its right.", parsed(subject(TV, view="front-slight-right"))),
+    ("The camera should be behind the sofa and to its left.", parsed(subject(SOFA, view="back-left"))),
+    ("Stand behind the bear and shoot.", parsed(subject(BEAR, view="back"))),
+    ("Shoot the bear from the far left.", parsed(subject(BEAR, view="left"))),
+    ("The sofa viewed from its back-right corner.", parsed(subject(SOFA, view="back-right"))),
+    ("The bear, slightly off to the left of it.", parsed(subject(BEAR, view="front-slight-left"))),
     # A side after a comma that names no subject is a region of the frame.
     ("The bear from behind, on the right of the frame.", parsed(subject(BEAR, region="right", view="back"))),
     ("The sofa on the right, seen from its front.", parsed(subject(SOFA, region="right", view="front"))),

@@ -50,7 +50,9 @@ Mappings that are choices (the phrase tables are the full list):
   ``right``. A side word in a noun phrase is a view side of the subject it belongs to, never a
   subject: "the sofa's left side", "the back of the chair", "its rear", "the bear's face" (front);
   after a preposition of place ("the vase on its left", "to the left of the bear") it is a
-  relation between objects and stays unparsed, as does "with its back to the wall".
+  relation between objects and stays unparsed, as does "with its back to the wall"; said of the
+  camera it is the view ("camera positioned to the right of the bear", "put the camera behind
+  the sofa").
   "Three-quarter" alone is either front three-quarter, "rear three-quarter" either back one;
   with a side it is that diagonal ("a three-quarter view from the left" is front-left, "rear
   three-quarter from the right" back-right), and "three-quarter ... from behind" is the rear
@@ -241,6 +243,11 @@ REGION_PHRASES = {
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
+# Where the camera is put: "with the camera", "camera positioned", "place the camera".
+CAMERA = (
+    "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
+    "( (placed|positioned|located|set|standing|put|kept))?"
+)
 VIEW_SIDE_WORDS = {
     "front": ["front", "face"],
     "back": ["back", "rear"],
@@ -279,9 +286,9 @@ VIEW_SIDE_WORDS = {
 NOT_A_RELATION = "(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
-    SEEN + "({STRONG} )?from (the|{P}) {SIDE}( side)?( of {obj})?",
-    "showing (the|{P}) {SIDE}( side)?( of {obj})?",
-    "with the camera ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side)?( of {obj})?",
+    SEEN + "({STRONG} )?from (the|{P}) (far |extreme )?{SIDE}( side| corner)?( of {obj})?",
+    "showing (the|{P}) {SIDE}( side| corner)?( of {obj})?",
+    CAMERA + " ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side| corner)?( of {obj})?",
     "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
@@ -297,13 +304,14 @@ VIEW_PHRASES = {
         "(a |in )?straight on( (view|shot|angle))?",
         "frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
-        "with the camera in front of {obj}",
+        CAMERA + " in front of {obj}",
         SEEN + "from ({STRONG} |right )?in front( of {obj})?",
     ],
     "back": [
         SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
-        "with the camera behind {obj}",
+        CAMERA + " behind {obj}",
+        "(stand|standing|go|get|move|walk) (around )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
     ],
@@ -324,12 +332,12 @@ VIEW_PHRASES = {
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
 # where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
 # names the subject, is a side.
-LATERAL = "(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
-LATERAL_OWN = "(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
+LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
+LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
-    "front": SEEN + "(from (the|{P}) front|(from )?({STRONG} |right )?in front( of {obj})?)",
-    "back": SEEN + "(from (the|{P}) (back|rear)|(from )?({STRONG} |right )?behind( {obj})?)",
+    "front": SEEN + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": SEEN + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
 }
 # "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
@@ -345,7 +353,7 @@ SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
     "{WEAK} " + LATERAL_OWN,
-    "(with )?the camera {WEAK} " + LATERAL,
+    CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
 ]
 # View cues for one subject that together name one side ("a three-quarter view ... from its
