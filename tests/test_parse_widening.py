@@ -135,6 +135,12 @@ DEGREES = [
     ("The bear, looking a bit up at it.", parsed(subject(BEAR), elevation="slightly below")),
     ("The sofa from a low angle, slightly below it.", parsed(subject(SOFA), elevation="slightly below")),
     ("The bear, strongly from below.", parsed(subject(BEAR), elevation="worm's-eye")),
+    ("The bear from the top down.", parsed(subject(BEAR), elevation="top-down")),
+    ("An aerial view of the sofa.", parsed(subject(SOFA), elevation="bird's-eye")),
+    # Hints, as "from above": they yield to anything more specific.
+    ("The bear from up high.", parsed(subject(BEAR), elevation="high angle")),
+    ("The TV from a lower angle.", parsed(subject(TV), elevation="low angle")),
+    ("The TV from a higher angle, slightly above it.", parsed(subject(TV), elevation="slightly above")),
 ]
 
 # --- two ends together: behind/in front and to one side -------------------------------------------
@@ -186,6 +192,9 @@ SIZES = [
     ("Keep it tight on the fridge.", parsed(subject(FRIDGE, shot="close-up"))),
     ("A tight crop of the bear.", parsed(subject(BEAR, shot="close-up"))),
     ("The bear up close.", parsed(subject(BEAR, shot="close-up"))),
+    ("Frame the bear tightly.", parsed(subject(BEAR, shot="close-up"))),
+    ("The bear nearly filling the frame.", parsed(subject(BEAR, shot="close-up"))),
+    ("The sofa from close range.", parsed(subject(SOFA, shot="close-up"))),
     ("Move in close on the sofa.", parsed(subject(SOFA, shot="close-up"))),
     ("The bear, not too close.", parsed(subject(BEAR, shot="medium"))),
     ("The bear zoomed out.", parsed(subject(BEAR, shot="wide"))),

@@ -66,9 +66,10 @@ Mappings that are choices (the phrase tables are the full list):
   from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
   "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
   "from directly behind" the back. "Slightly to the left" that names no subject stays a region;
-* elevation: "from above"/"looking down" alone is a high angle, "from below"/"looking up" a low
-  angle; both yield to any more specific elevation in the same sentence ("from slightly above,
-  looking down at it" is slightly above). "From the ground looking up" is a worm's-eye view.
+* elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
+  "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
+  in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
+  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one.
   Slight degree words give slightly above / slightly below ("a bit from below": -30° to -8°);
   "steeply"/"strongly from above" is bird's-eye (60° to 90°); "straight down", "directly above",
   "top-down", "plan view" are top-down (80° to 90°). Of two named elevations one inside the other
@@ -156,8 +157,11 @@ SHOT_ADJECTIVES = {
 ALONE = "(?<=, )(very |really |quite |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 SHOT_CLAUSES = {
     "close-up": [
-        "(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?the (whole |entire )?{FRAME}",
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
+        "the (whole |entire )?{FRAME}",
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
+        "(from|at) (very |really )?close( range)?",
+        "(very )?tightly",
         "(from )?up close",
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
@@ -414,6 +418,7 @@ ELEVATION_PHRASES = {
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
+        "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from overhead",
         "(from |in |as )?(a |an )?top view",
         "((seen|shot|viewed) )?from the top",
@@ -424,7 +429,7 @@ ELEVATION_PHRASES = {
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking (straight|directly|vertically) down( (at|on) {obj})?",
-        "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?",
+        "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?straight down( (at|on) {obj})?",
         "(a )?(plan view|flat lay)",
     ],
@@ -453,12 +458,15 @@ ELEVATION_PHRASES = {
 ELEVATION_HINTS = {
     "high angle": [
         "looking down( (at|on) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?from above",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
+        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "(shooting|pointing|aimed|angled|tilted|tilting) down( (at|on|towards) {obj})?",
     ],
     "low angle": [
         "looking up( at {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath)",
+        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "(shooting|pointing|aimed|angled|tilted|tilting) up( (at|towards) {obj})?",
     ],
 }
