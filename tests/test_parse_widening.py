@@ -119,8 +119,11 @@ DEGREES = [
     ("The bear from straight in front.", parsed(subject(BEAR, view="front"))),
     # A slight word before a front, back or diagonal is not understood: the side stays, the word is reported.
     ("The bear, slightly from behind.", parsed(subject(BEAR, view="back"), unparsed=["slightly"])),
+    ("The bear seen slightly to the left.", parsed(subject(BEAR, view="front-slight-left"))),
+    ("The bear, shot a bit to the right.", parsed(subject(BEAR, view="front-slight-right"))),
     # "Slightly to the left" naming no subject is where it sits in the frame.
     ("The bear slightly to the left.", parsed(subject(BEAR, region="left"), unparsed=["slightly"])),
+    ("The bear a bit to the right.", parsed(subject(BEAR, region="right"), unparsed=["bit"])),
     # Heights.
     ("The bear from straight down.", parsed(subject(BEAR), elevation="top-down")),
     ("The sofa, directly above it.", parsed(subject(SOFA), elevation="top-down")),

@@ -29,8 +29,8 @@ How a sentence is read:
    they are a subject when they (partly) name a scene object ("the teddy"), and after a
    determiner they must ("a photo of the giraffe" is an :class:`~capframe.errors.InputError`
    naming the closest names). Words naming only a part or position (:data:`POSITION_WORDS`:
-   "the top", "the back") are never a subject; "the top of the X" leaves "X" in the subject's
-   place. A sentence with no name spotted tries all its unexplained words.
+   "the top", "the back") or a degree (:data:`DEGREE_WORDS`: "a bit") are never a subject;
+   "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries all its unexplained words.
 
 Mappings that are choices (the phrase tables are the full list):
 
@@ -65,7 +65,9 @@ Mappings that are choices (the phrase tables are the full list):
   left"); before a front, back or diagonal it is not understood and stays unparsed ("slightly
   from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
   "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
-  "from directly behind" the back. "Slightly to the left" that names no subject stays a region;
+  "from directly behind" the back. "Slightly to the left" that names no subject and follows no
+  seeing verb or camera ("seen slightly to the left", "the camera a bit to the left") stays a
+  region, the degree word unparsed;
 * elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
   "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
   in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
@@ -357,6 +359,7 @@ SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
     "{WEAK} " + LATERAL_OWN,
+    "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
 ]
@@ -738,6 +741,29 @@ POSITION_WORDS = frozenset(
         "behind",
     }
 )
+# Degree words ("a bit", "slightly") left over where no side or height follows them: reported,
+# never a subject ("the bear a bit to the right" names no object "bit").
+DEGREE_WORDS = frozenset(
+    {
+        "slightly",
+        "somewhat",
+        "marginally",
+        "bit",
+        "little",
+        "tad",
+        "touch",
+        "directly",
+        "straight",
+        "squarely",
+        "fully",
+        "strongly",
+        "exactly",
+        "dead",
+        "completely",
+        "perfectly",
+        "purely",
+    }
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -891,13 +917,13 @@ class RuleParser:
         unparsed = []
         for run in self._leftovers(tokens, cues):
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            if run.slot and not _positional(run.text) and (run.determiner or vocabulary.candidates(run.text)):
+            if run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             else:
                 unparsed.append(run)
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
-                if not _positional(run.text) and vocabulary.candidates(run.text):
+                if not _never_a_name(run.text) and vocabulary.candidates(run.text):
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed]
@@ -1022,16 +1048,17 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
     for k, at in enumerate(span):
         if tokens[at] == "of":
             head = [tokens[j] for j in span[:k] if tokens[j] not in STOPWORDS]
-            if head and _positional(" ".join(head)):
+            if head and all(w in POSITION_WORDS for w in head):
                 return [span[:k], span[k + 1 :]]
             break
     return [span]
 
 
-def _positional(text: str) -> bool:
-    """Whether ``text`` names only a part or position ("back", "left side", "top"): never a subject."""
+def _never_a_name(text: str) -> bool:
+    """Whether ``text`` holds only position and degree words ("back", "left side", "a bit"):
+    never a subject."""
     content = [w for w in text.split() if w not in STOPWORDS]
-    return bool(content) and all(w in POSITION_WORDS for w in content)
+    return bool(content) and all(w in POSITION_WORDS or w in DEGREE_WORDS for w in content)
 
 
 def _spottable(form: tuple[str, ...]) -> bool:
