@@ -30,7 +30,8 @@ How a sentence is read:
    determiner they must ("a photo of the giraffe" is an :class:`~capframe.errors.InputError`
    naming the closest names). Words naming only a part or position (:data:`POSITION_WORDS`:
    "the top", "the back") or a degree (:data:`DEGREE_WORDS`: "a bit") are never a subject;
-   "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries all its unexplained words.
+   "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries
+   all its unexplained words.
 
 Mappings that are choices (the phrase tables are the full list):
 
@@ -58,11 +59,11 @@ Mappings that are choices (the phrase tables are the full list):
   three-quarter from the right" back-right), and "three-quarter ... from behind" is the rear
   three-quarter. "In profile", "side view", "from the side" are ``side``, either profile.
   Two ends together are the diagonal between them: "behind and to the left (of it)", "from
-  behind, on its right", "from the front, from its left". Degree words: a slight one ("slightly",
+  behind on the left", "from behind, on its right", "from the front, from its left". Degree words: a slight one ("slightly",
   "a bit", "a little", "somewhat", ...) before a lone left/right is the slight side between the
   front and the diagonal ("slightly from the left", "a bit to its left": ``front-slight-left``,
   -20° ± 15°), or between the back and the diagonal with "behind" ("behind and slightly to the
-  left"); before a front, back or diagonal it is not understood and stays unparsed ("slightly
+  left": ``back-slight-left``, -160° ± 15°); before a front, back or diagonal it is not understood and stays unparsed ("slightly
   from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
   "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
   "from directly behind" the back. "Slightly to the left" that names no subject and follows no
