@@ -36,7 +36,8 @@ SHOT_SIZES: dict[str, tuple[float, float]] = {
     "wide": (0.0, 0.3),
 }
 
-# View side: acceptable azimuths of the camera around the subject (any one of them).
+# View side: acceptable azimuths of the camera around the subject (any one of them), each within
+# view_tolerance_deg(side). "side", "three-quarter" and "back-three-quarter" leave the side open.
 VIEW_SIDES: dict[str, tuple[float, ...]] = {
     "front": (0.0,),
     "back": (180.0,),
@@ -47,8 +48,23 @@ VIEW_SIDES: dict[str, tuple[float, ...]] = {
     "back-left": (-135.0,),
     "back-right": (135.0,),
     "three-quarter": (-45.0, 45.0),
+    "back-three-quarter": (-135.0, 135.0),
+    "side": (-90.0, 90.0),
+    # "slightly from the left": off the front (or back) towards a side, short of the diagonal.
+    "front-slight-left": (-20.0,),
+    "front-slight-right": (20.0,),
+    "back-slight-left": (-160.0,),
+    "back-slight-right": (160.0,),
 }
 VIEW_TOLERANCE_DEG = 30.0
+# The slight sides lie between two sides 45 degrees apart: a narrower tolerance keeps them from
+# accepting the straight front (back) or the full diagonal (-20 +- 15 is -35 to -5).
+VIEW_TOLERANCES_DEG: dict[str, float] = {
+    "front-slight-left": 15.0,
+    "front-slight-right": 15.0,
+    "back-slight-left": 15.0,
+    "back-slight-right": 15.0,
+}
 
 # Elevation of the camera above the subject's horizon, [lo, hi] degrees.
 ELEVATIONS: dict[str, tuple[float, float]] = {
@@ -58,6 +74,8 @@ ELEVATIONS: dict[str, tuple[float, float]] = {
     "bird's-eye": (60.0, 90.0),
     "low angle": (-60.0, -8.0),
     "worm's-eye": (-90.0, -50.0),
+    "top-down": (80.0, 90.0),  # straight down: within 10 degrees of vertical
+    "slightly below": (-30.0, -8.0),
 }
 EXPLICIT_ELEVATION_TOLERANCE_DEG = 10.0
 ROLL_TOLERANCE_DEG = 5.0
@@ -71,6 +89,11 @@ CLOSE_UP_MIN_IN_FRAME_FRACTION = 0.35
 def min_in_frame_fraction(shot: str | None) -> float:
     """Share of a subject's projection that must lie inside the frame for a shot size (or None)."""
     return CLOSE_UP_MIN_IN_FRAME_FRACTION if shot == "close-up" else MIN_IN_FRAME_FRACTION
+
+
+def view_tolerance_deg(view: str) -> float:
+    """Half-width in degrees accepted around each azimuth of the view side ``view``."""
+    return VIEW_TOLERANCES_DEG.get(view, VIEW_TOLERANCE_DEG)
 
 
 def _check_name(value: str | None, table: dict, field_name: str) -> None:

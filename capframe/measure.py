@@ -12,7 +12,7 @@ visibility  share of the subject's own-render alpha that survives in      centre
 region      centroid of the subject's visible (alpha-weighted) mask in     inside REGIONS[region]
             normalised image coordinates (projected centre if empty)
 shot        max(bbox w / W, bbox h / H) of the own-render mask alpha>0.5  inside SHOT_SIZES[shot]
-view        azimuth of the camera centre around the subject (DESIGN §3)   within VIEW_TOLERANCE_DEG
+view        azimuth of the camera centre around the subject (DESIGN §3)   within view_tolerance_deg
                                                                           of one VIEW_SIDES entry
 elevation   asin(p . up) around the primary subject's centre              in elevation_range()
 roll        geometry.camera_roll                                          within ROLL_TOLERANCE_DEG
@@ -41,9 +41,9 @@ from .constraints import (
     ROLL_TOLERANCE_DEG,
     SHOT_SIZES,
     VIEW_SIDES,
-    VIEW_TOLERANCE_DEG,
     Constraints,
     min_in_frame_fraction,
+    view_tolerance_deg,
 )
 from .errors import InputError
 from .geometry import any_horizontal, camera_roll, view_angles
@@ -320,7 +320,7 @@ class ConstraintChecker:
         )
 
     def _view(self, name: str, view: str, centre: np.ndarray, obj: Subject, up: np.ndarray) -> CheckRow:
-        target = {"view": view, "azimuths_deg": list(VIEW_SIDES[view]), "tolerance_deg": VIEW_TOLERANCE_DEG}
+        target = {"view": view, "azimuths_deg": list(VIEW_SIDES[view]), "tolerance_deg": view_tolerance_deg(view)}
         if obj.front is None:
             return CheckRow("view", name, None, None, target, None, "deg", "subject is symmetric: no view side")
         angles = self._angles(centre, obj, up)
@@ -328,7 +328,7 @@ class ConstraintChecker:
             return CheckRow("view", name, False, None, target, None, "deg", "camera at the subject centre")
         azimuth = angles[0]
         deviation = min(abs(wrap_deg(azimuth - a)) for a in VIEW_SIDES[view])
-        return CheckRow("view", name, deviation <= VIEW_TOLERANCE_DEG, azimuth, target, deviation, "deg")
+        return CheckRow("view", name, deviation <= view_tolerance_deg(view), azimuth, target, deviation, "deg")
 
     def _elevation(
         self, name: str, constraints: Constraints, rng: tuple[float, float], centre: np.ndarray, obj: Subject, up: np.ndarray

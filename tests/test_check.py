@@ -88,6 +88,33 @@ def test_view_sides_with_wrapping(world):
     assert not row.satisfied and row.error == pytest.approx(95.0, abs=1e-6)  # -135 vs +130 wraps to 95
 
 
+@pytest.mark.parametrize(
+    "view, azimuth, satisfied, error",
+    [
+        # Slight sides: -20 / +20 (or -160 / +160 from behind) within 15 degrees.
+        ("front-slight-left", -20.0, True, 0.0),
+        ("front-slight-left", -33.0, True, 13.0),
+        ("front-slight-left", 0.0, False, 20.0),  # the straight front is not "slightly from the left"
+        ("front-slight-left", -45.0, False, 25.0),  # nor is the full front-left
+        ("front-slight-right", 8.0, True, 12.0),
+        ("back-slight-left", -170.0, True, 10.0),
+        ("back-slight-left", 180.0, False, 20.0),
+        ("back-slight-right", 150.0, True, 10.0),
+        # Either profile, either rear diagonal: the nearer of -90 / +90 and -135 / +135, within 30.
+        ("side", 100.0, True, 10.0),
+        ("side", -75.0, True, 15.0),
+        ("side", 0.0, False, 90.0),
+        ("back-three-quarter", -120.0, True, 15.0),
+        ("back-three-quarter", 180.0, False, 45.0),
+    ],
+)
+def test_new_view_sides_by_hand(world, view, azimuth, satisfied, error):
+    root, gt, checker = world
+    row = checker.check(bear_camera(gt, azimuth=azimuth), one(view=view)).row("view")
+    assert row.satisfied is satisfied and row.error == pytest.approx(error, abs=1e-6)
+    assert row.target["tolerance_deg"] == (15.0 if "slight" in view else 30.0)
+
+
 def test_view_of_a_symmetric_subject_is_not_applicable(world):
     root, gt, checker = world
     cam = aim_camera(gt, obj(gt, "vase"), azimuth=0.0, elevation=10.0, distance=5.0)
@@ -107,6 +134,19 @@ def test_elevation_named_and_explicit(world):
     assert not row.satisfied and row.error == pytest.approx(5.0, abs=1e-6)
     below = checker.check(bear_camera(gt, elevation=-12.0, distance=3.0), one(elevation="low angle"))
     assert below.all_satisfied
+
+
+def test_top_down_and_slightly_below_by_hand(world):
+    """top-down is 80..90 degrees (bird's-eye 60..90 would take 70), slightly below -30..-8."""
+    root, gt, checker = world
+    row = checker.check(bear_camera(gt, elevation=85.0, distance=4.0), one(elevation="top-down")).row("elevation")
+    assert row.satisfied and row.measured == pytest.approx(85.0, abs=1e-6)
+    row = checker.check(bear_camera(gt, elevation=70.0, distance=4.0), one(elevation="top-down")).row("elevation")
+    assert not row.satisfied and row.error == pytest.approx(10.0, abs=1e-6)
+    row = checker.check(bear_camera(gt, elevation=-10.0, distance=3.0), one(elevation="slightly below")).row("elevation")
+    assert row.satisfied and row.error == 0.0
+    row = checker.check(bear_camera(gt, elevation=-40.0, distance=3.0), one(elevation="slightly below")).row("elevation")
+    assert not row.satisfied and row.error == pytest.approx(10.0, abs=1e-6)
 
 
 def test_roll_sign_tolerance_and_undefined_overhead(world):

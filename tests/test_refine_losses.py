@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import torch
 
+from capframe.constraints import ELEVATIONS
 from capframe.geometry import look_at, se3_exp, view_direction
 from capframe.refine.losses import (
     Box,
@@ -22,7 +23,7 @@ from capframe.refine.losses import (
     view_loss,
 )
 from capframe.refine.optimize import LossWeights, RefineConfig, _Objective
-from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes, min_in_frame_share
+from capframe.translate.labels import PseudoLabels, SubjectLabel, ViewTarget, layout_boxes, min_in_frame_share, view_target
 
 f64 = torch.float64
 
@@ -223,6 +224,15 @@ def blob(n=400, seed=0):
         torch.full((n,), 0.7, dtype=f64),
         torch.rand(n, 3, generator=g, dtype=f64),
     )
+
+
+def test_view_targets_aim_inside_each_sides_tolerance():
+    """The margin is 12 degrees, at most half the tolerance: 30 - 12 = 18 for a side, 15 - 7.5 for
+    a slight side; an elevation range keeps min(4, width / 4) off each end, within +-89."""
+    assert view_target("left", None) == ViewTarget((-90.0,), 18.0, None)
+    assert view_target("front-slight-left", None) == ViewTarget((-20.0,), 7.5, None)
+    assert view_target("side", ELEVATIONS["top-down"]) == ViewTarget((-90.0, 90.0), 18.0, (82.5, 87.5))
+    assert view_target(None, ELEVATIONS["slightly below"]).elevation_range_deg == (-26.0, -12.0)
 
 
 def test_full_objective_pose_gradient_matches_finite_differences():

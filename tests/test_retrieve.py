@@ -121,6 +121,18 @@ def test_answers_are_geometric(scene_dir):
     assert ((answers >= 0) & (answers <= 100)).all()
 
 
+def test_view_answers_read_each_sides_tolerance(scene_dir):
+    """A slight side accepts 15 degrees, not 30: from the front (view 0) "slightly from the left"
+    (-20) is 20 degrees off, 5 beyond; from the left (view 1) it is 70 off, 55 beyond."""
+    root, gt = scene_dir
+    qe = _qe(root, gt)
+    questions = questions_for(_parsed(view="front-slight-left"))
+    view = [q.kind for q in questions].index("view")
+    answers = qe.answer(questions, [0, 1])[:, view]
+    assert answers[0] == pytest.approx(100 * math.exp(-((5 / VIEW_SCALE_DEG) ** 2)), rel=0.05)
+    assert answers[1] == pytest.approx(100 * math.exp(-((55 / VIEW_SCALE_DEG) ** 2)), rel=0.05)
+
+
 def test_elevation_and_roll_answers(scene_dir):
     root, gt = scene_dir
     qe = _qe(root, gt)

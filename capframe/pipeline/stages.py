@@ -204,7 +204,8 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
     clock.done(
         "parse",
         ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
-        + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else ""),
+        + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else "")
+        + "".join(f"; read {c['said']!r} as {c['read']!r}" for c in parsed.corrected),
     )
     return parsed
 

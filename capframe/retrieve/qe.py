@@ -25,8 +25,8 @@ from ..constraints import (
     ROLL_TOLERANCE_DEG,
     SHOT_SIZES,
     VIEW_SIDES,
-    VIEW_TOLERANCE_DEG,
     min_in_frame_fraction,
+    view_tolerance_deg,
 )
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..measure import box_distance, interval_distance, wrap_deg
@@ -154,7 +154,7 @@ class GeometricQE:
     def _view(self, v: int, q: Question) -> float:
         azimuth, _ = self._angles(v, q.subject)
         deviation = min(abs(wrap_deg(azimuth - a)) for a in VIEW_SIDES[q.target["view"]])
-        return _falloff(max(0.0, deviation - VIEW_TOLERANCE_DEG), VIEW_SCALE_DEG)
+        return _falloff(max(0.0, deviation - view_tolerance_deg(q.target["view"])), VIEW_SCALE_DEG)
 
     def _elevation(self, v: int, q: Question) -> float:
         _, elevation = self._angles(v, q.subject)

@@ -28,7 +28,9 @@ two-subject layout; no wide shot from a high, bird's-eye, low or worm's-eye angl
 range starting at 55° or more (bird's-eye) only with left/right/centre or no region; no roll when
 the elevation range reaches beyond ±75° (roll is undefined looking straight down or up); only the
 primary of a two-subject layout carries a view side or shot size; worm's-eye is never generated
-(the ground truth has no floor). Then the witness search must succeed.
+(the ground truth has no floor), nor are the parser's finer entries (top-down, slightly below, the
+slight, side and back-three-quarter view sides: the grammar lists phrases for them, the sampling
+tables leave them out). Then the witness search must succeed.
 
 Grammar (see :func:`grammar_markdown`, rendered into docs/instruction-grammar.md). A sentence is
 
@@ -234,6 +236,13 @@ VIEW_PHRASES = {
         "seen at three-quarters",
         "in a three-quarter front view",
     ],
+    # Never generated (_VIEWS): the parser's wider vocabulary, listed so the grammar covers it.
+    "back-three-quarter": ["in a rear three-quarter view", "at a back three-quarter angle", "seen at three-quarters from behind"],
+    "side": ["seen from the side", "in profile", "in a side view", "showing {P} side"],
+    "front-slight-left": ["seen slightly from {P} left", "from a bit to {P} left", "with the camera slightly to {P} left"],
+    "front-slight-right": ["seen slightly from {P} right", "from a bit to {P} right", "with the camera slightly to {P} right"],
+    "back-slight-left": ["seen from behind and slightly to {P} left", "from behind, a little to {P} left"],
+    "back-slight-right": ["seen from behind and slightly to {P} right", "from behind, a little to {P} right"],
 }
 ELEVATION_PHRASES = {
     "eye level": ["at eye level", "from eye level", "with the camera at {P} height", "shot straight on at {P} height"],
@@ -246,13 +255,20 @@ ELEVATION_PHRASES = {
     "high angle": ["from a high angle", "looking down at {obj}", "in a high-angle shot", "with the camera well above {obj}"],
     "bird's-eye": [
         "from a bird's-eye view",
-        "from directly above",
-        "looking straight down at {obj}",
+        "seen from overhead",
+        "looking steeply down at {obj}",
         "in an overhead shot",
-        "as a top-down view",
+        "as a bird's-eye shot",
     ],
     "low angle": ["from a low angle", "looking up at {obj}", "in a low-angle shot", "with the camera below {obj}, looking up"],
     "worm's-eye": ["from a worm's-eye view", "looking straight up at {obj}", "from the ground looking steeply up"],
+    "top-down": ["from directly above", "looking straight down at {obj}", "as a top-down view", "from straight above"],
+    "slightly below": [
+        "from slightly below",
+        "looking a little up at {obj}",
+        "with the camera slightly below {obj}",
+        "from a little below",
+    ],
 }
 EXPLICIT_ELEVATION_PHRASES = {
     "above": [
@@ -306,11 +322,12 @@ _REGION_WEIGHTS = {
 }
 _CLOSE_UP_REGIONS = ("left", "right", "center", "top", "bottom")
 _BIRDS_EYE_REGIONS = ("left", "right", "center")
-_NAMED_ELEVATIONS = ("eye level", "slightly above", "high angle", "bird's-eye", "low angle")  # worm's-eye: never
+# Worm's-eye, top-down and slightly below are never generated, nor are the view sides after three-quarter.
+_NAMED_ELEVATIONS = ("eye level", "slightly above", "high angle", "bird's-eye", "low angle")
 _EXPLICIT_ABOVE = (15, 20, 30, 40, 45)
 _EXPLICIT_BELOW = (10, 15)
 _ROLL_DEGREES = (10, 15, 20, 25, 30)
-_VIEWS = tuple(VIEW_PHRASES)
+_VIEWS = ("front", "back", "left", "right", "front-left", "front-right", "back-left", "back-right", "three-quarter")
 _PAIR_REGIONS = [
     (("left", "right"), 4),
     (("right", "left"), 4),

@@ -41,7 +41,7 @@ from itertools import product
 
 import numpy as np
 
-from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints
+from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints, view_tolerance_deg
 from ..evaluate.ground_truth import Box, Room
 from ..geometry import any_horizontal
 from ..scene import Camera
@@ -64,6 +64,8 @@ _ELEVATION_CANDIDATES = {
     "bird's-eye": (72.0, 66.0, 80.0),
     "low angle": (-15.0, -11.0, -22.0),
     "worm's-eye": (-65.0, -56.0, -75.0),
+    "top-down": (86.0, 83.0, 89.0),
+    "slightly below": (-15.0, -11.0, -22.0),
 }
 _FREE_ELEVATIONS = (12.0, 0.0, 25.0, 40.0)
 # Candidate projected extents per shot size (fraction of the frame), the preferred first.
@@ -206,7 +208,8 @@ class WitnessFinder:
         S, r = self.centers[p], self.radii[p]
         front = fronts[0] if fronts[0] is not None else any_horizontal(self.up)
         if sc[0].view is not None:
-            azimuths = [a + d for d in _VIEW_OFFSETS for a in VIEW_SIDES[sc[0].view]]
+            view = sc[0].view
+            azimuths = [a + d for d in _VIEW_OFFSETS if abs(d) < view_tolerance_deg(view) for a in VIEW_SIDES[view]]
         elif len(subjects) > 1:
             azimuths = self._pair_azimuths(S, self.centers[subjects[1]], front)
         else:

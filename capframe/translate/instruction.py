@@ -60,6 +60,8 @@ class ParsedInstruction:
         elevation_deg: an explicit elevation in degrees (> 0 above), or None.
         roll_deg: requested roll in degrees (> 0 clockwise as the photographer sees it, 0 level), or None.
         unparsed: fragments of the text the parser did not understand, in order.
+        corrected: names read through a misspelling, ``{"said": "teddy baer", "read": "teddy bear"}``
+            each (normalised words), in order.
     """
 
     text: str
@@ -68,6 +70,7 @@ class ParsedInstruction:
     elevation_deg: float | None = None
     roll_deg: float | None = None
     unparsed: list[str] = field(default_factory=list)
+    corrected: list[dict[str, str]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         self.constraints()  # validates the named cues and the elevation pair
@@ -116,6 +119,7 @@ class ParsedInstruction:
                 data.get("elevation_deg"),
                 data.get("roll_deg"),
                 list(data.get("unparsed", [])),
+                [{"said": str(c["said"]), "read": str(c["read"])} for c in data.get("corrected", [])],
             )
         except (KeyError, TypeError) as err:
             raise InputError(
@@ -164,6 +168,16 @@ JSON_SCHEMA: dict = {
         "elevation_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
         "roll_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
         "unparsed": {"type": "array", "items": {"type": "string"}},
+        "corrected": {
+            "type": "array",
+            "description": "names read through a misspelling",
+            "items": {
+                "type": "object",
+                "required": ["said", "read"],
+                "properties": {"said": {"type": "string"}, "read": {"type": "string"}},
+                "additionalProperties": False,
+            },
+        },
     },
     "additionalProperties": True,
 }

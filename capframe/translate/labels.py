@@ -27,7 +27,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints, min_in_frame_fraction
+from ..constraints import (
+    REGIONS,
+    SHOT_SIZES,
+    VIEW_SIDES,
+    VIEW_TOLERANCE_DEG,
+    Constraints,
+    min_in_frame_fraction,
+    view_tolerance_deg,
+)
 from ..errors import InputError
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
@@ -37,7 +45,8 @@ SHOT_EXTENT = {"close-up": 0.75, "medium": 0.42, "wide": 0.18}
 SHOT_MARGIN = 0.15
 # The centroid is pulled into the region shrunk by this much, so it does not end on the border.
 REGION_MARGIN = 0.04
-# View targets aim this far inside the accepted tolerance for the same reason.
+# View targets aim this far inside the accepted tolerance for the same reason (at most half of a
+# narrow tolerance, so a slight side keeps a band to aim at).
 VIEW_MARGIN_DEG = 12.0
 ELEVATION_MARGIN_DEG = 4.0
 # Refine keeps this much more of a subject in the frame than the checker asks: its canvas sees
@@ -139,7 +148,10 @@ def view_target(view: str | None, elevation_range: tuple[float, float] | None) -
         lo, hi = elevation_range
         m = min(ELEVATION_MARGIN_DEG, (hi - lo) / 4)
         elevation = (max(lo + m, -89.0), min(hi - m, 89.0))
-    return ViewTarget(azimuths_deg=VIEW_SIDES[view] if view else (), elevation_range_deg=elevation)
+    if view is None:
+        return ViewTarget(elevation_range_deg=elevation)
+    tolerance = view_tolerance_deg(view)
+    return ViewTarget(VIEW_SIDES[view], tolerance - min(VIEW_MARGIN_DEG, tolerance / 2), elevation)
 
 
 def min_in_frame_share(extent: tuple[float, float] | None) -> float:

@@ -9,39 +9,77 @@ How a sentence is read:
 1. it is normalised (:func:`capframe.translate.vocabulary.words`: lowercase, hyphens split, number
    words as digits, one spelling of British/US pairs);
 2. the scene's names and aliases are spotted (longest first) together with the attribute words and
-   determiner just before them ("the big red chair") and matched to one scene name each;
+   determiner just before them ("the big red chair") and matched to one scene name each. Where
+   no name is spelt right, a run of words one edit from exactly one name, alias or head noun of
+   five letters or more ("teddy baer", "televison") is read as it
+   (:meth:`~capframe.translate.vocabulary.Vocabulary.correction`; never a word the phrase tables
+   use) and reported in ``corrected``;
 3. the phrase tables below are matched against what is left; where matches overlap the longest
    wins ("seen from behind on its left" over "seen from behind");
 4. a cue that belongs to a subject (region, shot, view) goes to the subject its possessive or object
    names ("the bear's left"); otherwise to the nearest subject before it ("the bear on the left"),
    or after it for a head ending in "of"/"with" ("a close-up of the bear"); when that subject
    already holds a different value, to the nearest one on the other side ("on the left, the bear;
-   on the right, the vase"); a pronoun ("its left") looks back first;
+   on the right, the vase"); a pronoun ("its left") looks back first. A second view cue that
+   completes the first one's side (:data:`VIEW_COMBINATIONS`: "a three-quarter view of the bear
+   from its left") joins it, unless it leads straight into another subject;
 5. words no table explains are returned in ``unparsed`` (normalised, stopwords trimmed from the
    ends of each run), except in a subject's place (right after
    a head such as "a photo of", right before a region, or joined to a subject by "and"): there
    they are a subject when they (partly) name a scene object ("the teddy"), and after a
    determiner they must ("a photo of the giraffe" is an :class:`~capframe.errors.InputError`
-   naming the closest names). A sentence with no name spotted tries all its unexplained words.
+   naming the closest names). Words naming only a part or position (:data:`POSITION_WORDS`:
+   "the top", "the back") or a degree (:data:`DEGREE_WORDS`: "a bit") are never a subject;
+   "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries
+   all its unexplained words.
 
 Mappings that are choices (the phrase tables are the full list):
 
 * shot sizes are close-up / medium / wide (:data:`~capframe.constraints.SHOT_SIZES`, the subject's
-  extent in the frame): "extreme close-up", "medium close-up", "tight", "fills the frame" ->
-  close-up (more than half the frame); "mid", "full shot" (the whole subject with little room,
-  uncropped) -> medium; "long", "extreme wide", "establishing", "small in the frame" -> wide;
+  extent in the frame): "extreme close-up", "medium close-up", "tight", "fills the frame",
+  "zoom in on", "up close", "as big as possible" -> close-up (more than half the frame); "mid",
+  "full shot" (the whole subject with little room, uncropped), "not too close" -> medium; "long",
+  "extreme wide", "establishing", "zoomed out", "step back", "from far away", "small in the
+  frame" -> wide. "Tight", "close" and "wide" alone are a size only as a clause of their own
+  ("the bear, tight."), not as an attribute ("the wide sofa");
+* polite and chatty openings ("could you show me", "I'd like", "let's see", "how about") are heads:
+  they introduce the subject and ask nothing; "please", "thanks", "maybe" are stopwords;
 * view sides are the subject's own (DESIGN §3): "from the left" is from the subject's left side.
   A subject *facing left in the frame* shows its left side: with the camera at azimuth -90° it
   looks along the subject's right axis ``r`` (z = r, y = -u), so image right is
   x = y × z = -u × r = -f and the subject's front points to image left; "facing right" is view
-  ``right``. "Three-quarter"
-  alone is either front three-quarter; "left three-quarter" is front-left. "In profile" and
-  "side view" do not say which side and stay unparsed;
-* elevation: "from above"/"looking down" alone is a high angle, "from below"/"looking up" a low
-  angle; both yield to any more specific elevation in the same sentence ("from slightly above,
-  looking down at it" is slightly above). "From the ground looking up" is a worm's-eye view.
-  A named elevation and explicit degrees together keep the degrees when they fall in the named
-  range, else the instruction contradicts itself (an error);
+  ``right``. A side word in a noun phrase is a view side of the subject it belongs to, never a
+  subject: "the sofa's left side", "the back of the chair", "its rear", "the bear's face" (front);
+  after a preposition of place ("the vase on its left", "to the left of the bear") it is a
+  relation between objects and stays unparsed, as does "with its back to the wall"; said of the
+  camera it is the view ("camera positioned to the right of the bear", "put the camera behind
+  the sofa").
+  "Three-quarter" alone is either front three-quarter, "rear three-quarter" either back one;
+  with a side it is that diagonal ("a three-quarter view from the left" is front-left, "rear
+  three-quarter from the right" back-right), and "three-quarter ... from behind" is the rear
+  three-quarter. "In profile", "side view", "from the side" are ``side``, either profile.
+  Two ends together are the diagonal between them: "behind and to the left (of it)", "from
+  behind on the left", "from behind, on its right", "from the front, from its left". Degree words: a slight one ("slightly",
+  "a bit", "a little", "somewhat", ...) before a lone left/right is the slight side between the
+  front and the diagonal ("slightly from the left", "a bit to its left": ``front-slight-left``,
+  -20° ± 15°), or between the back and the diagonal with "behind" ("behind and slightly to the
+  left": ``back-slight-left``, -160° ± 15°); before a front, back or diagonal it is not understood and stays unparsed ("slightly
+  from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
+  "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
+  "from directly behind" the back. "Slightly to the left" that names no subject and follows no
+  seeing verb or camera ("seen slightly to the left", "the camera a bit to the left") stays a
+  region, the degree word unparsed;
+* elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
+  "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
+  in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
+  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one.
+  Slight degree words give slightly above / slightly below ("a bit from below": -30° to -8°);
+  "steeply"/"strongly from above" is bird's-eye (60° to 90°); "straight down", "directly above",
+  "top-down", "plan view" are top-down (80° to 90°). Of two named elevations one inside the other
+  the narrower is kept ("from overhead, looking straight down" is top-down); two that only
+  overlap contradict each other (an error). A named elevation and explicit degrees together keep
+  the degrees when they fall in the named range, else the instruction contradicts itself (an
+  error);
 * roll (> 0 clockwise as the photographer sees it, the camera's right side dipping): a dutch angle
   without degrees is :data:`DUTCH_DEFAULT_DEG` clockwise ("slight" and "strong" change the
   magnitude); "rolled 10 degrees" without a direction is clockwise; "tilted" is a roll only with
@@ -68,12 +106,13 @@ from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singul
 #   {obj}  an object: it / them / a subject
 #   {d}    a number with optional "degrees"; {sd} the same, possibly negative
 #   {dir}  clockwise | counterclockwise;  {side} left | right (of the camera);  {mod} a dutch-angle size word
+#   {WEAK} a slight degree word ("slightly", "a bit", ...); {STRONG} an insisting one ("directly", "straight", ...)
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
 FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
-SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture)"
+SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
 HEAD_LINK = "(of|with|showing|featuring)"
 
 # Heads introduce the subject and ask nothing themselves.
@@ -81,6 +120,16 @@ HEADS = [
     "(a |an )?(photo|picture|photograph|shot|image|snapshot|snap|view|portrait|capture|render|rendering) " + HEAD_LINK,
     "(take|get|make|shoot|snap|grab) (a |an )?(photo|picture|photograph|shot|image|snapshot) (of|with)",
     "(frame|capture|photograph|shoot|film|show|picture)",
+    # Requests said politely or in passing ("could you show me", "I'd like", "let's see").
+    "(show|give|get|find|bring) (me|us)",
+    "(i|we) (d|would|should) (really )?(like|love|prefer|want)( to (see|have|get|take))?",
+    "(i|we) (m|am|are) (looking for|after|hoping for)",
+    "(let 's|lets|let me|let us|can i|could i|can we|could we|may i|may we) (see|view|look at|have|get)",
+    "((have|take|get) a )?(look|glance) at",
+    "see",
+    "(would|do) you mind (taking|getting|showing|framing|photographing|capturing|shooting)",
+    "(how|what) about",
+    "what {obj} looks? like",
 ]
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
@@ -106,19 +155,31 @@ SHOT_ADJECTIVES = {
     "wide": ["wide", "long", "distant", "extreme wide", "extreme long", "very wide", "wide angle", "establishing", "far"],
 }
 # Shot sizes said after the subject ("the bear, filling the frame").
+# A size word alone as a clause ("the bear, tight."): between a comma and the clause's end, so an
+# attribute ("the wide sofa") is not read as a shot size.
+ALONE = "(?<=, )(very |really |quite |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 SHOT_CLAUSES = {
     "close-up": [
-        "(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?the (whole |entire )?{FRAME}",
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
+        "the (whole |entire )?{FRAME}",
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
+        "(from|at) (very |really )?close( range)?",
+        "(very )?tightly",
         "(from )?up close",
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge) in (the )?{FRAME}",
+        "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
-        "zoomed in( on {obj})?",
+        "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        "(move|moving|come|coming|go|going|push|pushing|get|getting) in( close| closer| tight)?( on {obj})?",
+        "(close|closing) in on {obj}",
         "(from )?(very )?close (by|to {obj})",
+        "((keep|keeping) (it |{obj} )?|nice and |really |very )?tight on {obj}",
+        "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
+        ALONE.replace("{WORD}", "(tight|close)"),
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -127,17 +188,23 @@ SHOT_CLAUSES = {
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
         "(medium|moderately) sized( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
+        "not too close( (and |but |or |, )?not too far( away)?)?",
     ],
     "wide": [
-        "(small|tiny) in (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
+        "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        "far (away )?from {obj}",
+        "(from )?(much )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
-        "zoomed out",
-        "pulled (way )?back",
+        "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
+        "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( from {obj})?",
+        "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
+        ALONE.replace("{WORD}", "wide"),
     ],
 }
 
@@ -182,27 +249,20 @@ REGION_PHRASES = {
 }
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
+SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
+# Where the camera is put: "with the camera", "camera positioned", "place the camera".
+CAMERA = (
+    "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
+    "( (placed|positioned|located|set|standing|put|kept))?"
+)
 VIEW_SIDE_WORDS = {
-    "front": ["front"],
+    "front": ["front", "face"],
     "back": ["back", "rear"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
-    "front-left": [
-        "front left",
-        "left front",
-        "front and left",
-        "front left three quarter",
-        "left three quarter",
-        "left front three quarter",
-    ],
-    "front-right": [
-        "front right",
-        "right front",
-        "front and right",
-        "front right three quarter",
-        "right three quarter",
-        "right front three quarter",
-    ],
+    "side": ["side", "profile"],
+    "front-left": ["front left", "left front", "front and left", "front left three quarter", "left three quarter"],
+    "front-right": ["front right", "right front", "front and right", "front right three quarter", "right three quarter"],
     "back-left": [
         "back left",
         "rear left",
@@ -212,6 +272,7 @@ VIEW_SIDE_WORDS = {
         "rear and left",
         "back left three quarter",
         "rear left three quarter",
+        "left rear three quarter",
     ],
     "back-right": [
         "back right",
@@ -222,14 +283,23 @@ VIEW_SIDE_WORDS = {
         "rear and right",
         "back right three quarter",
         "rear right three quarter",
+        "right rear three quarter",
     ],
 }
+# A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
+# after a preposition of place ("the vase on its left", "to the left of the bear": a relation
+# between objects, not understood) or before words that turn it away from the camera ("with its
+# back to the wall").
+NOT_A_RELATION = "(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
+NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
-    "((seen|viewed|shot|photographed|captured|taken|filmed) )?from (the|{P}) {SIDE}( side)?( of {obj})?",
-    "showing (the|{P}) {SIDE}( side)?( of {obj})?",
-    "with the camera (at|on|to|by) (the|{P}) {SIDE}( side)?( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? (towards|to|facing|turned towards|turned to) the (camera|viewer|lens)",
-    "(in |from |as )?(a |the )?{SIDE}( side)? (view|profile|angle|shot)",
+    SEEN + "({STRONG} )?from (the|{P}) (far |extreme )?{SIDE}( side| corner)?( of {obj})?",
+    "showing (the|{P}) {SIDE}( side| corner)?( of {obj})?",
+    CAMERA + " ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side| corner)?( of {obj})?",
+    "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
+    NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
+    NOT_A_RELATION + "{P} {SIDE}( side| profile)?" + NOT_TURNED_AWAY,
 ]
 VIEW_PHRASES = {
     "front": [
@@ -238,35 +308,89 @@ VIEW_PHRASES = {
         "head on",
         "face on",
         "front on",
+        "(a |in )?straight on( (view|shot|angle))?",
         "frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
-        "with the camera in front of {obj}",
-        "showing {P} face",
+        CAMERA + " in front of {obj}",
+        SEEN + "from ({STRONG} |right )?in front( of {obj})?",
     ],
     "back": [
-        "((seen|viewed|shot|photographed|captured|taken|filmed) )?from behind( {obj})?",
+        SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
-        "with the camera behind {obj}",
+        CAMERA + " behind {obj}",
+        "(stand|standing|go|get|move|walk) (around )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "front-left": ["three quarters? (view |angle )?from (the|{P}) (front )?left( side)?"],
-    "front-right": ["three quarters? (view |angle )?from (the|{P}) (front )?right( side)?"],
-    "back-left": [
-        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) left( side)?",
-        "three quarters? (view |angle )?from (the|{P}) (back|rear) left( side)?",
-    ],
-    "back-right": [
-        "((seen|viewed|shot|photographed|taken) )?from behind (and )?(on|to|at) (the|{P}) right( side)?",
-        "three quarters? (view |angle )?from (the|{P}) (back|rear) right( side)?",
-    ],
+    "side": ["in profile", "(seen )?side on", "from (either|one|a) side"],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
+    "back-three-quarter": [
+        "(in |at |from |as )?(a |an )?(back|rear) three quarters?( (view|angle|profile|shot|position))?",
+        "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
+    ],
+}
+# A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
+# of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
+# where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
+# names the subject, is a side.
+LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
+LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
+# Where the camera is along the subject's front-back axis, in phrases that combine with a side.
+LONGITUDINAL = {
+    "front": SEEN + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": SEEN + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
+}
+# "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
+# with a slight degree word ("in front and slightly to the right") the slight side of that end.
+COMBINED_VIEW_FRAMES = [
+    ("", "{LON} (and )?{LATERAL}"),
+    ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
+    ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
+    ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
+]
+# A slight side alone is off the front: "slightly from the left", "a bit to its left".
+SLIGHT_VIEW_FRAMES = [
+    SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
+    SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
+    "{WEAK} " + LATERAL_OWN,
+    "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
+    CAMERA + " {WEAK} " + LATERAL,
+    "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+]
+# View cues for one subject that together name one side ("a three-quarter view ... from its
+# left" is the front-left); any other two different sides contradict each other.
+VIEW_COMBINATIONS = {
+    frozenset(pair): side
+    for lat in ("left", "right")
+    for pair, side in [
+        (("three-quarter", lat), f"front-{lat}"),
+        (("three-quarter", f"front-{lat}"), f"front-{lat}"),
+        (("three-quarter", f"back-{lat}"), f"back-{lat}"),
+        (("back-three-quarter", lat), f"back-{lat}"),
+        (("back-three-quarter", f"back-{lat}"), f"back-{lat}"),
+        (("front", lat), f"front-{lat}"),
+        (("back", lat), f"back-{lat}"),
+        (("front", f"front-{lat}"), f"front-{lat}"),
+        (("back", f"back-{lat}"), f"back-{lat}"),
+        ((lat, f"front-{lat}"), f"front-{lat}"),
+        ((lat, f"back-{lat}"), f"back-{lat}"),
+        (("side", lat), lat),
+        (("front", f"front-slight-{lat}"), f"front-slight-{lat}"),
+        (("back", f"front-slight-{lat}"), f"back-slight-{lat}"),
+        (("back", f"back-slight-{lat}"), f"back-slight-{lat}"),
+    ]
+} | {
+    frozenset(("three-quarter", "front")): "three-quarter",
+    frozenset(("three-quarter", "back")): "back-three-quarter",
+    frozenset(("three-quarter", "back-three-quarter")): "back-three-quarter",
+    frozenset(("back-three-quarter", "back")): "back-three-quarter",
 }
 
 # Named elevations; the hints yield to any other elevation in the sentence.
@@ -281,9 +405,9 @@ ELEVATION_PHRASES = {
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
     ],
     "slightly above": [
-        "(from |with the camera )?(slightly|a little|a bit|just) above( {obj})?",
-        "slightly from above",
-        "looking (slightly|a little|a bit) down( at {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
+        "{WEAK} from above",
+        "looking {WEAK} down( (at|on) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
@@ -297,41 +421,56 @@ ELEVATION_PHRASES = {
     ],
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
-        "(from )?(directly|straight|right|vertically) (above|overhead)( {obj})?",
-        "looking (straight|directly|vertically) down( (at|on) {obj})?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
-        "from overhead",
-        "(from |in |as )?(a |an )?top down( (view|shot|angle|perspective))?",
+        "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
+        "((seen|shot|viewed) )?from overhead",
         "(from |in |as )?(a |an )?top view",
         "((seen|shot|viewed) )?from the top",
-        "(shot |looking )?straight down( at {obj})?",
-        "(a )?plan view",
+        "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
+        "(from |in |with )?(a )?steep high angle( (shot|view))?",
+    ],
+    "top-down": [
+        "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
+        "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
+        "(shot |looking )?straight down( (at|on) {obj})?",
+        "(a )?(plan view|flat lay)",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
-        "looking (slightly|a little|a bit) up( at {obj})?",
-        "(from )?(slightly|a little|a bit|just) below( {obj})?",
+    ],
+    "slightly below": [
+        "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
+        "{WEAK} from (below|beneath)",
+        "looking {WEAK} up( at {obj})?",
+        "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
+        "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
         "looking (straight|directly|steeply|vertically) up( at {obj})?",
         "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
         "(from )?(directly|straight|right) (below|beneath|underneath)( {obj})?",
+        "(steeply|strongly|sharply) from (below|beneath)",
         "straight up at {obj}",
     ],
 }
 ELEVATION_HINTS = {
     "high angle": [
         "looking down( (at|on) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?from above",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
+        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "(shooting|pointing|aimed|angled|tilted|tilting) down( (at|on|towards) {obj})?",
     ],
     "low angle": [
         "looking up( at {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath)",
+        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "(shooting|pointing|aimed|angled|tilted|tilting) up( (at|towards) {obj})?",
     ],
 }
@@ -532,6 +671,19 @@ STOPWORDS = frozenset(
         "pictured",
         "shooting",
         "viewed",
+        # Politeness and hedges carry no constraint either.
+        "kindly",
+        "maybe",
+        "perhaps",
+        "possibly",
+        "hey",
+        "hi",
+        "hello",
+        "thanks",
+        "thank",
+        "cheers",
+        "ok",
+        "okay",
     }
 )
 # Single words that are photographic vocabulary first: an alias equal to one of them is not
@@ -563,6 +715,56 @@ RESERVED = frozenset(
         "bottom",
     }
 )
+# Parts of and positions on an object or the frame: a run of these is never a subject.
+POSITION_WORDS = frozenset(
+    {
+        "front",
+        "back",
+        "rear",
+        "side",
+        "left",
+        "right",
+        "hand",
+        "top",
+        "bottom",
+        "underside",
+        "base",
+        "center",
+        "middle",
+        "face",
+        "profile",
+        "edge",
+        "corner",
+        "half",
+        "part",
+        "upper",
+        "lower",
+        "behind",
+    }
+)
+# Degree words ("a bit", "slightly") left over where no side or height follows them: reported,
+# never a subject ("the bear a bit to the right" names no object "bit").
+DEGREE_WORDS = frozenset(
+    {
+        "slightly",
+        "somewhat",
+        "marginally",
+        "bit",
+        "little",
+        "tad",
+        "touch",
+        "directly",
+        "straight",
+        "squarely",
+        "fully",
+        "strongly",
+        "exactly",
+        "dead",
+        "completely",
+        "perfectly",
+        "purely",
+    }
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -577,6 +779,8 @@ _MACROS = {
     "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
+    "{WEAK}": "(?:slightly|somewhat|marginally|a little bit|a bit|a little|a tad|a touch)",
+    "{STRONG}": "(?:directly|straight|squarely|square|fully|strongly|exactly|dead|completely|perfectly|purely)",
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     "{obj}": r"(?P<ref>it|him|her|them|@\d+)",
@@ -633,6 +837,13 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
+    for lat in ("left", "right"):
+        rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        for lon, phrase in LONGITUDINAL.items():
+            for degree, frame in COMBINED_VIEW_FRAMES:
+                t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
+                t = t.replace("{LON}", phrase).replace("{LAT}", lat)
+                rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
@@ -702,18 +913,18 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, mentions = self._spot(words(text), vocabulary)
+        tokens, mentions, corrected = self._spot(words(text), vocabulary)
         cues = self._cues(tokens)
         unparsed = []
         for run in self._leftovers(tokens, cues):
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            if run.slot and (run.determiner or vocabulary.candidates(run.text)):
+            if run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             else:
                 unparsed.append(run)
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
-                if vocabulary.candidates(run.text):
+                if not _never_a_name(run.text) and vocabulary.candidates(run.text):
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed]
@@ -721,21 +932,28 @@ class RuleParser:
             hint = f" (not understood: {unparsed_text})" if unparsed else ""
             raise InputError(f"no subject in {text.strip()!r}{hint}; name one of the scene's objects: {vocabulary.names}")
         mentions.sort(key=lambda m: m.at)
-        subjects = _attach(cues, mentions, vocabulary)
+        subjects = _attach(cues, mentions, tokens, vocabulary)
         elevation, elevation_deg = _elevation(cues)
-        return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text)
+        return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text, corrected)
 
-    def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention]]:
+    def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention], list[dict[str, str]]]:
         """Replace each subject mention by a placeholder ``@k``: the longest name or alias at each
-        position, with the attribute words and determiner before it."""
-        forms = {f for f in vocabulary.forms() if len(f) > 1 or f[0] not in RESERVED}
+        position, with the attribute words and determiner before it. A longer run of words that
+        misspells one name or alias is read as it; each such reading is returned."""
+        forms = {f for f in vocabulary.forms() if _spottable(f)}
         longest = max(map(len, forms), default=0)
         keys = [singular(t) for t in tokens]
         out: list[str] = []
         mentions: list[_Mention] = []
+        corrected: list[dict[str, str]] = []
         i = 0
         while i < len(tokens):
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
+            read = tokens[i : i + n]
+            misspelt = self._misspelt(keys, i, n, longest + 1, vocabulary)
+            if misspelt is not None:
+                n, read = misspelt
+                corrected.append({"said": " ".join(tokens[i : i + n]), "read": " ".join(read)})
             if not n:
                 out.append(tokens[i])
                 i += 1
@@ -745,11 +963,25 @@ class RuleParser:
                 before.insert(0, out.pop())
             if out and out[-1] in MENTION_DETERMINERS:
                 before.insert(0, out.pop())
-            mention = " ".join(before + tokens[i : i + n])
-            mentions.append(_Mention(len(out), mention, vocabulary.match(mention), len(mentions)))
+            name = vocabulary.match(" ".join(before + list(read)))
+            mentions.append(_Mention(len(out), " ".join(before + tokens[i : i + n]), name, len(mentions)))
             out.append(f"@{len(mentions) - 1}")
             i += n
-        return out, mentions
+        return out, mentions, corrected
+
+    def _misspelt(
+        self, keys: list[str], i: int, shorter: int, longest: int, vocabulary: Vocabulary
+    ) -> tuple[int, tuple[str, ...]] | None:
+        """The longest run of more than ``shorter`` words from ``i`` that misspells one name or
+        alias (:meth:`Vocabulary.correction`), as (its length, the words read); words the phrase
+        tables use are never taken for a misspelling ("close" is not "closet")."""
+        for n in range(min(longest, len(keys) - i), shorter, -1):
+            window = tuple(keys[i : i + n])
+            if all(w.isalpha() and w not in self.lexicon for w in window):
+                form = vocabulary.correction(window)
+                if form is not None and _spottable(form):
+                    return n, form
+        return None
 
     def _attribute(self, token: str) -> bool:
         """Whether ``token`` may describe the subject named after it: a known attribute, or a word
@@ -793,22 +1025,46 @@ class RuleParser:
             span = list(group)
             if not is_free:
                 continue
-            run = [tokens[k] for k in span]
-            lo, hi = 0, len(run)
-            while lo < hi and run[lo] in STOPWORDS:
-                lo += 1
-            while hi > lo and run[hi - 1] in STOPWORDS:
-                hi -= 1
-            if lo == hi:
-                continue
             before, after = ends.get(span[0]), starts.get(span[-1] + 1)
             slot = (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
             )
-            runs.append(_Run(span[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
+            for part in _position_split(tokens, span):
+                run = [tokens[k] for k in part]
+                lo, hi = 0, len(run)
+                while lo < hi and run[lo] in STOPWORDS:
+                    lo += 1
+                while hi > lo and run[hi - 1] in STOPWORDS:
+                    hi -= 1
+                if lo < hi:
+                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
         return runs
+
+
+def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
+    """``span`` cut after a leading "<position words> of" ("the top of | the giraffe"), so what
+    follows stands in the subject's place on its own; else ``span`` whole."""
+    for k, at in enumerate(span):
+        if tokens[at] == "of":
+            head = [tokens[j] for j in span[:k] if tokens[j] not in STOPWORDS]
+            if head and all(w in POSITION_WORDS for w in head):
+                return [span[:k], span[k + 1 :]]
+            break
+    return [span]
+
+
+def _never_a_name(text: str) -> bool:
+    """Whether ``text`` holds only position and degree words ("back", "left side", "a bit"):
+    never a subject."""
+    content = [w for w in text.split() if w not in STOPWORDS]
+    return bool(content) and all(w in POSITION_WORDS or w in DEGREE_WORDS for w in content)
+
+
+def _spottable(form: tuple[str, ...]) -> bool:
+    """Whether a name or alias is spotted in running text: not one reserved photographic word."""
+    return len(form) > 1 or form[0] not in RESERVED
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
@@ -842,7 +1098,7 @@ def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
     return multiplier * sign * DUTCH_SIZE_DEG.get(groups.get("mod") or "", DUTCH_DEFAULT_DEG), True
 
 
-def _attach(cues: list[_Cue], mentions: list[_Mention], vocabulary: Vocabulary) -> list[ParsedSubject]:
+def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocabulary: Vocabulary) -> list[ParsedSubject]:
     """Subjects in order of first mention, with the region/shot/view cues given to them."""
     subjects: dict[str, ParsedSubject] = {}
     for m in mentions:
@@ -852,17 +1108,26 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], vocabulary: Vocabulary) 
     for cue in cues:
         if cue.field not in SUBJECT_FIELDS:
             continue
-        for name in _candidates(cue, mentions):
-            held = getattr(subjects[name], cue.field)
-            if held is None or held == cue.value:
-                setattr(subjects[name], cue.field, cue.value)
-                break
+        names = _candidates(cue, mentions)
+        free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
+        held = getattr(subjects[names[0]], cue.field)
+        combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
+        # A second view cue completes the first one's side ("three-quarter" + "from its left"),
+        # unless it leads straight into another subject ("from the front, the bear; from the
+        # left, the chair"), which then takes it.
+        if free and (free[0] == names[0] or combined is None or _leads_into(cue, free[0], mentions, tokens)):
+            setattr(subjects[free[0]], cue.field, cue.value)
+        elif combined is not None:
+            setattr(subjects[names[0]], cue.field, combined)
         else:
-            name = _candidates(cue, mentions)[0]
-            raise InputError(
-                f"conflicting {cue.field} for {name!r}: {getattr(subjects[name], cue.field)!r} and {cue.value!r} ({cue.text!r})"
-            )
+            raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
     return list(subjects.values())
+
+
+def _leads_into(cue: _Cue, name: str, mentions: list[_Mention], tokens: list[str]) -> bool:
+    """Whether the next word after ``cue``, punctuation aside, starts a mention of ``name``."""
+    following = next((k for k in range(cue.end, len(tokens)) if tokens[k] not in PUNCTUATION), None)
+    return any(m.at == following and m.name == name for m in mentions)
 
 
 def _candidates(cue: _Cue, mentions: list[_Mention]) -> list[str]:
@@ -880,7 +1145,7 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     """The named elevation or explicit degrees asked (hints yield to any other elevation cue)."""
     found = [c for c in cues if c.field in ("elevation", "elevation_deg")]
     found = [c for c in found if not c.weak] or found
-    named = sorted({c.value for c in found if c.field == "elevation"})
+    named = _narrowest({c.value for c in found if c.field == "elevation"})
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
     if len(named) > 1 or len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
@@ -892,6 +1157,16 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
             raise InputError(f"conflicting elevations: {named[0]!r} is {lo:g} to {hi:g} degrees, not {degrees[0]:g}")
         named = []
     return (named[0] if named else None), (degrees[0] if degrees else None)
+
+
+def _narrowest(named: set[str]) -> list[str]:
+    """Named elevations less those holding another one's range: "from overhead, looking straight
+    down" is top-down, which lies inside bird's-eye; ranges that only overlap stay (a conflict)."""
+
+    def inside(a: str, b: str) -> bool:
+        return ELEVATIONS[b][0] <= ELEVATIONS[a][0] and ELEVATIONS[a][1] <= ELEVATIONS[b][1]
+
+    return sorted(e for e in named if not any(o != e and inside(o, e) for o in named))
 
 
 def _roll(cues: list[_Cue]) -> float | None:

@@ -12,6 +12,11 @@ symmetric). A *mention* such as "the big red chair" is matched to exactly one ob
    noun ("the big bear" -> "teddy bear");
 3. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names.
 
+A misspelt name is read as a name only by the parser, and only when a run of the instruction's
+words is one edit (:func:`one_edit`) from exactly one name or alias, or the head noun of one, of at
+least :data:`MIN_CORRECTED_LETTERS` letters (:meth:`Vocabulary.correction`); the parser reports
+each such reading. :meth:`Vocabulary.match` itself never corrects.
+
 A colour word in the mention that contradicts the colour words of an object's names excludes that
 object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
 any. Two objects that match equally well make the mention ambiguous (an error naming both).
@@ -317,6 +322,15 @@ class Vocabulary:
         """Every name and alias as normalised singular words (the parser spots these in a sentence)."""
         return frozenset(form for e in self.entries for form in e.forms)
 
+    def correction(self, words: tuple[str, ...]) -> tuple[str, ...] | None:
+        """The one name or alias, or head noun of one ("armchair" of "red armchair", which
+        :meth:`match` accepts alone), of at least :data:`MIN_CORRECTED_LETTERS` letters that
+        ``words`` (normalised, singular) misspell by one edit; None when none or several do."""
+        text = " ".join(words)
+        targets = self.forms() | {f[-1:] for f in self.forms()}
+        found = {f for f in targets if sum(map(len, f)) >= MIN_CORRECTED_LETTERS and one_edit(text, " ".join(f))}
+        return found.pop() if len(found) == 1 else None
+
     def match(self, mention: str) -> str:
         """The one object name ``mention`` refers to; :class:`InputError` if none or several."""
         found = self.candidates(mention)
@@ -373,6 +387,23 @@ class Vocabulary:
                 if set(content) <= set(form) or content[-1] == form[-1]:
                     scores[e.name] = max(scores.get(e.name, (0,)), (len(set(tokens) & e.words),))
         return _best(scores)
+
+
+# Shorter names are one edit from too many ordinary words ("bear"/"beer", "mug"/"mud").
+MIN_CORRECTED_LETTERS = 5
+
+
+def one_edit(a: str, b: str) -> bool:
+    """Whether ``a`` becomes ``b`` by exactly one insertion, deletion or substitution of a
+    character, or by swapping two adjacent ones ("baer" -> "bear")."""
+    if a == b or abs(len(a) - len(b)) > 1:
+        return False
+    if len(a) > len(b):
+        a, b = b, a
+    i = next((k for k in range(len(a)) if a[k] != b[k]), len(a))
+    if len(a) < len(b):
+        return a[i:] == b[i + 1 :]
+    return a[i + 1 :] == b[i + 1 :] or (a[i : i + 2] == b[i : i + 2][::-1] and a[i + 2 :] == b[i + 2 :])
 
 
 def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
