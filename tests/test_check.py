@@ -206,12 +206,14 @@ def test_all_constraints_together_and_two_subjects(world):
     cam = bear_camera(gt, azimuth=-80.0, elevation=18.0, distance=5.0, roll=-12.0, point=(0.75, 0.6))
     c = one(region="right", shot="medium", view="left", elevation="slightly above", roll_deg=-12.0)
     report = checker.check(cam, c)
-    assert report.all_satisfied and len(report.rows) == 6, report.to_dict()
+    assert report.all_satisfied and len(report.rows) == 7, report.to_dict()  # six clauses and the clearance
+    assert report.row("clearance").measured > 0
     # Two subjects: the bear on the left and the red armchair on the right from the bear's front-right side.
     for ins in generate_instructions(gt, 12, seed=3, scene="t"):
         if ins.kind == "two-subject":
             two = checker.check(ins.witness, ins.constraints)
-            assert two.all_satisfied and {r.subject for r in two.rows} == {s.name for s in ins.constraints.subjects}
+            subjects = {r.subject for r in two.rows if r.constraint != "clearance"}
+            assert two.all_satisfied and subjects == {s.name for s in ins.constraints.subjects}
             break
     else:
         pytest.fail("no two-subject instruction generated")
@@ -262,12 +264,12 @@ def test_check_camera_and_command_outputs(world, tmp_path, capsys, monkeypatch):
     report = check_command(root, tmp_path / "result.json", tmp_path / "constraints.json", as_json=True)
     printed = json.loads(capsys.readouterr().out)
     assert report.all_satisfied and printed["all_satisfied"] and printed["instruction_id"] == "s-000"
-    assert {r["constraint"] for r in printed["rows"]} == {"visibility", "region", "view"}
+    assert {r["constraint"] for r in printed["rows"]} == {"visibility", "region", "view", "clearance"}
     assert printed["text"].startswith("The teddy bear")
 
     check_command(root, tmp_path / "camera.json", tmp_path / "constraints.json", instruction_id="s-001")
     table = capsys.readouterr().out
-    assert "FAIL" in table and "all satisfied: no (1/2)" in table and "region" in table
+    assert "FAIL" in table and "all satisfied: no (2/3)" in table and "region" in table
     assert check_command(root, tmp_path / "camera.json", tmp_path / "constraints.json", instruction_id="s-000.p1").all_satisfied
     capsys.readouterr()
 
@@ -294,3 +296,16 @@ def test_missing_ground_truth_and_labels(world, tmp_path):
     (unlabelled / "semantics.json").unlink()
     with pytest.raises(InputError, match="semantic sidecar"):
         GroundTruthChecker(unlabelled)
+
+
+def test_a_camera_below_the_floor_fails_its_clearance_whatever_it_sees(world):
+    """Looking up at the bear from under the floor: the floor is behind the camera's near plane,
+    so the bear is visible, but the camera is inside geometry."""
+    root, gt, checker = world
+    below = bear_camera(gt, elevation=-60.0, distance=5.0)
+    report = checker.check(below, one(elevation="worm's-eye"))
+    row = report.row("clearance")
+    assert not row.satisfied and row.measured < 0 and "inside geometry" in row.note
+    assert not report.all_satisfied
+    above = checker.check(bear_camera(gt, elevation=40.0, distance=5.0), one(elevation="high angle"))
+    assert above.row("clearance").satisfied and above.all_satisfied
