@@ -1,0 +1,115 @@
+"""Suites with committed instructions (issue #15): the spec format's
+errors are one line naming file, instruction and field; the judge's range rows and the clearance
+verdicts on a tiny scene."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _synth_helpers import aim_camera, build_scene, obj
+
+from capframe.evaluate import GroundTruthChecker
+from capframe.evaluate.ground_truth import read_ground_truth
+from capframe.evaluate.spec import arc_deviation, clearance, judge, parse_spec, support_level
+from capframe.synth.heldout import load_heldout
+
+
+def _write(tmp_path, instructions: str, count: int = 1) -> Path:
+    suite = tmp_path / "s.yaml"
+    suite.write_text(
+        "suite: s\nspecs: s\nscenes:\n"
+        "  - {id: a, group: g, seed: 1, preset: room, capture: orbit, objects: [sofa, vase],\n"
+        f"     views: 3, scale: 1, tilt: 0, poses: true, resolution: 64x48, density: 1, instructions: {count}}}\n"
+    )
+    (tmp_path / "s").mkdir(exist_ok=True)
+    (tmp_path / "s" / "a.yaml").write_text("scene: a\ninstructions:\n" + instructions)
+    return suite
+
+
+GOOD = "  - {id: a1, text: the sofa from behind, kind: view, feasible: true, subjects: [{name: sofa, view: back}]}\n"
+
+
+@pytest.mark.parametrize(
+    "instructions, count, message",
+    [
+        (GOOD.replace("view: back", "view: behind"), 1, r"a\.yaml: instruction 0 \('a1'\) subject 'sofa': 'view' is 'behind'"),
+        (GOOD.replace("name: sofa", "name: armchair"), 1, r"a\.yaml: instruction 'a1': subject 'armchair' is not an object"),
+        (GOOD.replace("name: sofa", "name: vase"), 1, r"subject 'vase' is symmetric"),
+        (GOOD, 2, r"a\.yaml: holds 1 instructions; the suite's 'instructions' says 2"),
+        (GOOD + GOOD, 2, r"instruction id 'a1' is used twice"),
+        (GOOD.replace("feasible: true", "feasible: false"), 1, r"'reason' is None; an infeasible instruction needs one"),
+        (GOOD.replace("kind: view", "kind: mood"), 1, r"'kind' is 'mood'; expected one of"),
+        (GOOD.replace("view: back", "azimuth: [195, 165]"), 1, r"'azimuth' is \[195, 165\]; expected lo < hi"),
+        (GOOD.replace("subjects:", "elevation: high angle, elevation_deg: 40, subjects:"), 1, r"give at most one of"),
+        (GOOD.replace("text: the sofa from behind, ", ""), 1, r"instruction 0 \('a1'\): missing keys \['text'\]"),
+        (
+            GOOD.replace("feasible: true", "feasible: false, reason: unknown subject, absent: [sofa]"),
+            1,
+            r"'absent' name 'sofa' is an object of scene 'a'",
+        ),
+    ],
+)
+def test_spec_errors_name_the_file_the_instruction_and_the_field(tmp_path, instructions, count, message):
+    from capframe.errors import InputError
+
+    with pytest.raises(InputError, match=message) as err:
+        load_heldout(_write(tmp_path, instructions, count))
+    assert "\n" not in str(err.value)
+
+
+def test_a_valid_spec_file_loads(tmp_path):
+    suite = load_heldout(_write(tmp_path, GOOD))
+    ((scene, spec),) = suite.cases()
+    assert scene.id == "a" and spec.subject_names == ["sofa"] and spec.constraints.subjects[0].role == "primary"
+
+
+def test_arc_deviation_wraps_around():
+    assert arc_deviation(180.0, 165.0, 195.0) == 0.0
+    assert arc_deviation(-170.0, 165.0, 195.0) == 0.0  # -170 is 190
+    assert arc_deviation(150.0, 165.0, 195.0) == pytest.approx(15.0)
+    assert arc_deviation(-150.0, 165.0, 195.0) == pytest.approx(15.0)
+    assert arc_deviation(0.0, -40.0, -10.0) == pytest.approx(10.0)
+    assert arc_deviation(-60.0, -40.0, -10.0) == pytest.approx(20.0)
+
+
+@pytest.fixture(scope="module")
+def world(tmp_path_factory):
+    root = tmp_path_factory.mktemp("scene")
+    gt = build_scene(root)
+    return root, gt, GroundTruthChecker(root, long_side=96)
+
+
+def test_judge_adds_azimuth_and_elevation_range_rows(world):
+    root, gt, checker = world
+    entry = {
+        "id": "x",
+        "text": "directly behind the bear, a little below",
+        "kind": "view",
+        "feasible": True,
+        "subjects": [{"name": "teddy bear", "azimuth": [165, 195]}],
+        "elevation_range": [-30, -8],
+    }
+    spec = parse_spec(entry, "tiny", "t.yaml", 0)
+    behind = judge(checker, aim_camera(gt, obj(gt, "teddy bear"), azimuth=-172.0, elevation=-15.0, distance=5.0), spec)
+    assert behind.row("azimuth").satisfied and behind.row("elevation").satisfied
+    assert behind.row("azimuth").measured == pytest.approx(-172.0, abs=0.5) and behind.instruction_id == "x"
+    aside = judge(checker, aim_camera(gt, obj(gt, "teddy bear"), azimuth=140.0, elevation=5.0, distance=5.0), spec)
+    assert not aside.row("azimuth").satisfied and aside.row("azimuth").error == pytest.approx(25.0, abs=0.5)
+    assert not aside.row("elevation").satisfied and aside.row("elevation").error == pytest.approx(13.0, abs=0.5)
+    assert not aside.all_satisfied
+
+
+def test_clearance_below_the_support(world):
+    root, gt, _ = world
+    truth = read_ground_truth(root)
+    bear = obj(gt, "teddy bear")
+    up = np.asarray(gt["up"])
+    level = support_level(truth)
+    assert level == pytest.approx(min(np.dot(o["center"], up) - o["radius"] for o in gt["objects"]))
+    above = np.asarray(bear["center"]) + 3 * bear["radius"] * up
+    below = np.asarray(bear["center"]) - 3 * bear["radius"] * up
+    assert clearance(truth, [], above) == [] and clearance(truth, [], below) == ["below the support"]
+    assert math.isfinite(level)
