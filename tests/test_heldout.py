@@ -1,4 +1,5 @@
-"""Suites with committed instructions (issue #15): the spec format's
+"""The held-out set (config/suites/heldout.yaml + heldout/<scene>.yaml): its files are valid and
+shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
 verdicts on a tiny scene."""
 
@@ -13,8 +14,28 @@ from _synth_helpers import aim_camera, build_scene, obj
 
 from capframe.evaluate import GroundTruthChecker
 from capframe.evaluate.ground_truth import read_ground_truth
-from capframe.evaluate.spec import arc_deviation, clearance, judge, parse_spec, support_level
-from capframe.synth.heldout import load_heldout
+from capframe.evaluate.spec import KINDS, arc_deviation, clearance, judge, parse_spec, support_level
+from capframe.synth.heldout import has_committed_instructions, load_heldout
+from capframe.synth.suite import load_suite
+
+SUITES = Path(__file__).resolve().parents[1] / "config" / "suites"
+
+
+def test_the_committed_set_is_valid_and_shaped_as_asked():
+    suite = load_heldout(SUITES / "heldout.yaml")  # validates every spec and subject
+    cases = suite.cases()
+    assert suite.name == "heldout" and len(suite.scenes) >= 6 and len(cases) >= 80
+    assert all(len(suite.specs[s.id]) >= 10 for s in suite.scenes)
+    assert {s.preset for s in suite.scenes} == {"tabletop", "room", "outdoor"}
+    assert {s.capture for s in suite.scenes} == {"orbit", "forward", "walkthrough"}
+    assert any(not s.poses for s in suite.scenes) and any(s.tilt != 0 for s in suite.scenes)
+    others = [s for name in ("default", "full") for s in load_suite(SUITES / f"{name}.yaml")[1]]
+    assert not {s.seed for s in suite.scenes} & {s.seed for s in others}, "held-out scenes must be freshly seeded"
+    infeasible = [spec for _, spec in cases if not spec.feasible]
+    assert 0.05 <= len(infeasible) / len(cases) <= 0.2
+    assert {"phrasing", "view", "height", "size"} <= {spec.kind for _, spec in cases} <= set(KINDS)
+    assert len({spec.text.lower() for _, spec in cases}) == len(cases), "every text is different"
+    assert has_committed_instructions(SUITES / "heldout.yaml") and not has_committed_instructions(SUITES / "default.yaml")
 
 
 def _write(tmp_path, instructions: str, count: int = 1) -> Path:
