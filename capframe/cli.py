@@ -366,7 +366,7 @@ def _cmd_baseline(args: argparse.Namespace) -> None:
 def _cmd_bench(args: argparse.Namespace) -> None:
     from .bench import run_bench
 
-    run_bench(args.what, as_json=args.json)
+    run_bench(args.what, as_json=args.json, suite=args.suite)
 
 
 def _perception_options(p: argparse.ArgumentParser) -> None:
@@ -650,6 +650,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render", "refine", "ground"])
+    p.add_argument(
+        "--suite",
+        default=None,
+        help="refine/ground: a suite name in config/suites (default, full, heldout) or a suite file; "
+        "heldout's instructions are committed, its figures are full success and failures per kind",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.set_defaults(func=_cmd_bench)
     return parser

@@ -134,3 +134,66 @@ def test_clearance_below_the_support(world):
     below = np.asarray(bear["center"]) - 3 * bear["radius"] * up
     assert clearance(truth, [], above) == [] and clearance(truth, [], below) == ["below the support"]
     assert math.isfinite(level)
+
+
+def _spec(**entry):
+    base = {"id": "x", "text": "t", "kind": "view", "feasible": True, "subjects": [{"name": "teddy bear"}]}
+    return parse_spec(base | entry, "tiny", "t.yaml", 0)
+
+
+def test_bench_reads_refusals_and_parse_differences():
+    from capframe.bench.heldout import parse_differences, refusal_reason
+
+    assert refusal_reason("subject 'cat' is not in this scene; known: ['mug']") == "refused: unknown subject"
+    assert refusal_reason("conflicting view sides 'left' and 'three-quarter'") == "refused: parse"
+    spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-40, -10], "shot": "close-up"}], elevation="bird's-eye")
+    parsed = {
+        "subjects": [{"name": "teddy bear", "view": "left", "shot": "close-up"}],
+        "elevation": "high angle",
+        "elevation_range_deg": [25.0, 60.0],
+    }
+    assert parse_differences(parsed, spec) == ["elevation", "view"]  # -90 is not in [-40, -10]; 42.5 not in [60, 90]
+    parsed = {"subjects": [{"name": "teddy bear", "view": "front-left", "shot": "close-up"}], "elevation_range_deg": [60, 90]}
+    assert parse_differences(parsed, spec) == ["view"]  # no named side lies in [-40, -10]
+    spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-60, -30], "shot": "close-up"}], elevation="bird's-eye")
+    assert parse_differences(parsed, spec) == []
+    assert parse_differences({"subjects": [{"name": "mug"}]}, _spec(roll_deg=0)) == ["roll", "subjects"]
+
+
+def test_bench_summary_counts_success_infeasible_kinds_reasons_and_clearance():
+    from capframe.bench.heldout import Outcome, format_summary, summarise
+
+    ok = Outcome(_spec(), "ok", own_all_satisfied=True, satisfied=2, applicable=2, seconds=1.0)
+    under = Outcome(
+        _spec(kind="height"), "ok", own_all_satisfied=True, clearance=["below the support"], satisfied=1, applicable=1
+    )
+    side = Outcome(_spec(id="y"), "failed", ["clause failed: view"], own_all_satisfied=True, satisfied=1, applicable=2)
+    refused = Outcome(_spec(kind="phrasing"), "refused", ["refused: parse"], "conflict", seconds=0.2)
+    wall = Outcome(
+        _spec(feasible=False, reason="occluded by wall"), "failed", ["clause failed: visibility"], own_all_satisfied=False
+    )
+    cat = Outcome(
+        _spec(kind="subject", feasible=False, reason="unknown subject", absent=["cat"], subjects=[]),
+        "refused",
+        ["refused: unknown subject"],
+    )
+    f = summarise([ok, under, side, refused, wall, cat])
+    assert (f["feasible"], f["full_success"], f["full_success_free_camera"], f["infeasible_reported"]) == (4, 2, 1, 2)
+    assert f["per_kind"]["view"] == {"feasible": 2, "ok": 1, "infeasible": 1, "reported": 1}
+    assert f["failure_reasons"] == {"clause failed: view": 1, "refused: parse": 1}
+    assert f["own_report_claims_success_on_failures"] == 1 and f["satisfied_but_not_free"] == 1
+    assert f["clearance"] == {"below the support": 1} and f["cameras"] == 4
+    text = format_summary(f)
+    assert "full success (feasible)        2/4 (50.0%)" in text and "infeasible reported            2/2 (100.0%)" in text
+
+
+def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
+    from capframe.bench import resolve_suite
+    from capframe.cli import main
+
+    assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
+    assert main(["bench", "ground", "--suite", "nosuch"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--suite 'nosuch' is neither a file nor a suite name; known: ['default', 'full', 'heldout']" in err and "\n" not in err
+    assert main(["bench", "refine", "--suite", "heldout"]) == 2
+    assert "bench refine needs generated instructions" in capsys.readouterr().err
