@@ -197,3 +197,20 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     assert "--suite 'nosuch' is neither a file nor a suite name; known: ['default', 'full', 'heldout']" in err and "\n" not in err
     assert main(["bench", "refine", "--suite", "heldout"]) == 2
     assert "bench refine needs generated instructions" in capsys.readouterr().err
+
+
+def test_clearance_in_a_room_walls_ceiling_and_objects():
+    from capframe.evaluate.ground_truth import Box, GroundTruth, GTObject, Room
+
+    box = Box(np.array([1.0, 0.0, 0.5]), np.eye(3), np.array([0.3, 0.3, 0.5]))
+    sofa = GTObject(0, "sofa", box.center, 0.6, 0, box=box)
+    # a room 4 x 4 x 2.6, turned 90 degrees about the up: its local +x is the world +y
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    truth = GroundTruth(np.array([0.0, 0.0, 1.0]), 4.0, [sofa], Room(turn, np.array([4.0, 4.0, 2.6])))
+    walls = ["+x", "+y", "-y"]
+    assert clearance(truth, walls, np.array([0.0, 0.0, 1.5])) == []
+    assert clearance(truth, walls, np.array([0.0, 2.5, 1.5])) == ["behind the +x wall"]
+    assert clearance(truth, walls, np.array([0.0, -2.5, 1.5])) == []  # the open side (-x) has no wall
+    assert clearance(truth, walls, np.array([0.0, 0.0, 3.0])) == ["above the walls (a real room's ceiling)"]
+    assert clearance(truth, walls, np.array([1.0, 0.0, -0.1])) == ["below the support"]
+    assert clearance(truth, walls, np.array([1.1, 0.1, 0.6])) == ["inside sofa"]

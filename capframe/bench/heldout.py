@@ -218,8 +218,12 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
 
 
 def _line(o: Outcome) -> str:
-    """One progress line per instruction (stderr)."""
-    tag = "ok  " if o.success else ("INF " if not o.spec.feasible else "FAIL")
+    """One progress line per instruction (stderr): ``ok``/``FAIL`` for a feasible instruction,
+    ``INF reported``/``INF NOT reported`` for an infeasible one."""
+    if o.spec.feasible:
+        tag = "ok  " if o.success else "FAIL"
+    else:
+        tag = "INF reported" if o.reported_infeasible else "INF NOT reported"
     detail = ", ".join(
         o.reasons + [f"camera {c}" for c in o.clearance] + ([f"parse: {'/'.join(o.parse_diffs)}"] if o.parse_diffs else [])
     )

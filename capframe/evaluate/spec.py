@@ -288,7 +288,8 @@ def clearance(truth: GroundTruth, walls: list[str], centre: np.ndarray) -> list[
     """Why a camera centre is physically impossible in a synthetic scene (empty when it is not):
     ``below the support`` (under the floor, ground or table top the objects stand on),
     ``behind the <±x|±y> wall`` (``walls`` lists the room's walls, ground_truth.json
-    ``room.walls``), ``inside <object>`` (inside its oriented box)."""
+    ``room.walls``), ``above the walls`` (a synthetic room has no ceiling, a real one has),
+    ``inside <object>`` (inside its oriented box)."""
     out = []
     if centre @ truth.up < support_level(truth):
         out.append("below the support")
@@ -299,6 +300,8 @@ def clearance(truth: GroundTruth, walls: list[str], centre: np.ndarray) -> list[
             axis, sign = "xy".index(wall[1]), 1.0 if wall[0] == "+" else -1.0
             if sign * local[axis] > half[axis]:
                 out.append(f"behind the {wall} wall")
+        if local[2] > truth.room.size[2]:
+            out.append("above the walls (a real room's ceiling)")
     for o in truth.objects:
         if o.box is not None and o.box.contains(centre):
             out.append(f"inside {truth.reference_name(o)}")
