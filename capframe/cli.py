@@ -412,7 +412,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
 
     if args.what == "segment" and args.models is None:
         raise InputError("capframe bench segment needs --models (the models config of the segmenter)")
-    run_bench(args.what, as_json=args.json, models=args.models, segmenter=args.segmenter)
+    run_bench(args.what, as_json=args.json, suite=args.suite, models=args.models, segmenter=args.segmenter)
 
 
 def _cmd_models_export(args: argparse.Namespace) -> None:
@@ -732,6 +732,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render", "refine", "ground", "segment", "models"])
+    p.add_argument(
+        "--suite",
+        default=None,
+        help="refine/ground: a suite name in config/suites (default, full, heldout) or a suite file; "
+        "heldout's instructions are committed, its figures are full success and failures per kind",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
     p.add_argument(

@@ -1,26 +1,71 @@
 """Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
-JSON object with ``--json``."""
+JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``ground`` (a name in
+``config/suites`` or a path; default: the default suite); ``ground`` on a suite whose
+instructions are committed (the held-out set) is :mod:`capframe.bench.heldout`."""
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
+
+from ..errors import InputError
+
+SUITES = Path(__file__).resolve().parents[2] / "config" / "suites"
 
 
-def run_bench(what: str, *, as_json: bool = False, models: str | None = None, segmenter: str = "detector") -> dict:
-    """Run benchmark ``what`` and print its figures; ``segment`` reads ``models`` (the models
-    config) for ``segmenter``, ``models`` also times the image encoders of ``models``."""
+def resolve_suite(suite: str | Path | None) -> Path:
+    """The suite file named ``suite``: ``config/suites/<name>.yaml``, or a path; the default
+    suite for None. :class:`InputError` naming the known suites otherwise."""
+    if suite is None:
+        return SUITES / "default.yaml"
+    path = Path(suite)
+    if path.is_file():
+        return path
+    named = SUITES / f"{suite}.yaml"
+    if named.is_file():
+        return named
+    known = sorted(p.stem for p in SUITES.glob("*.yaml"))
+    raise InputError(f"--suite {str(suite)!r} is neither a file nor a suite name; known: {known}")
+
+
+def run_bench(
+    what: str,
+    *,
+    as_json: bool = False,
+    suite: str | Path | None = None,
+    models: str | None = None,
+    segmenter: str = "detector",
+) -> dict:
+    """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
+    ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
+    image encoders of ``models``."""
+    if suite is not None and what not in ("refine", "ground"):
+        raise InputError("--suite applies to bench refine and bench ground only")
+    path = resolve_suite(suite)
     if what == "render":
         from .render import bench_render
 
         figures = bench_render()
     elif what == "refine":
+        from ..synth.heldout import has_committed_instructions
         from .refine import bench_refine
 
-        figures = bench_refine()
+        if has_committed_instructions(path):
+            raise InputError(
+                f"bench refine needs generated instructions (oracle labels); {path.name} commits its own", source=str(path)
+            )
+        figures = bench_refine(path)
     elif what == "ground":
-        from .ground import bench_ground
+        from ..synth.heldout import has_committed_instructions
 
-        figures = bench_ground()
+        if has_committed_instructions(path):
+            from .heldout import bench_heldout
+
+            figures = bench_heldout(path)
+        else:
+            from .ground import bench_ground
+
+            figures = bench_ground(path)
     elif what == "segment":
         from .segment import bench_segment
 
@@ -33,6 +78,10 @@ def run_bench(what: str, *, as_json: bool = False, models: str | None = None, se
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:
         print(json.dumps(figures))
+    elif "per_kind" in figures:
+        from .heldout import format_summary
+
+        print(format_summary(figures))
     elif figures and all(isinstance(row, dict) for row in figures.values()):
         print_table(figures)
     else:

@@ -1,0 +1,216 @@
+"""The held-out set (config/suites/heldout.yaml + heldout/<scene>.yaml): its files are valid and
+shaped as issue #15 asks, without generating a scene or running the method; the spec format's
+errors are one line naming file, instruction and field; the judge's range rows and the clearance
+verdicts on a tiny scene."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _synth_helpers import aim_camera, build_scene, obj
+
+from capframe.evaluate import GroundTruthChecker
+from capframe.evaluate.ground_truth import read_ground_truth
+from capframe.evaluate.spec import KINDS, arc_deviation, clearance, judge, parse_spec, support_level
+from capframe.synth.heldout import has_committed_instructions, load_heldout
+from capframe.synth.suite import load_suite
+
+SUITES = Path(__file__).resolve().parents[1] / "config" / "suites"
+
+
+def test_the_committed_set_is_valid_and_shaped_as_asked():
+    suite = load_heldout(SUITES / "heldout.yaml")  # validates every spec and subject
+    cases = suite.cases()
+    assert suite.name == "heldout" and len(suite.scenes) >= 6 and len(cases) >= 80
+    assert all(len(suite.specs[s.id]) >= 10 for s in suite.scenes)
+    assert {s.preset for s in suite.scenes} == {"tabletop", "room", "outdoor"}
+    assert {s.capture for s in suite.scenes} == {"orbit", "forward", "walkthrough"}
+    assert any(not s.poses for s in suite.scenes) and any(s.tilt != 0 for s in suite.scenes)
+    others = [s for name in ("default", "full") for s in load_suite(SUITES / f"{name}.yaml")[1]]
+    assert not {s.seed for s in suite.scenes} & {s.seed for s in others}, "held-out scenes must be freshly seeded"
+    infeasible = [spec for _, spec in cases if not spec.feasible]
+    assert 0.05 <= len(infeasible) / len(cases) <= 0.2
+    assert {"phrasing", "view", "height", "size"} <= {spec.kind for _, spec in cases} <= set(KINDS)
+    assert len({spec.text.lower() for _, spec in cases}) == len(cases), "every text is different"
+    assert has_committed_instructions(SUITES / "heldout.yaml") and not has_committed_instructions(SUITES / "default.yaml")
+
+
+def _write(tmp_path, instructions: str, count: int = 1) -> Path:
+    suite = tmp_path / "s.yaml"
+    suite.write_text(
+        "suite: s\nspecs: s\nscenes:\n"
+        "  - {id: a, group: g, seed: 1, preset: room, capture: orbit, objects: [sofa, vase],\n"
+        f"     views: 3, scale: 1, tilt: 0, poses: true, resolution: 64x48, density: 1, instructions: {count}}}\n"
+    )
+    (tmp_path / "s").mkdir(exist_ok=True)
+    (tmp_path / "s" / "a.yaml").write_text("scene: a\ninstructions:\n" + instructions)
+    return suite
+
+
+GOOD = "  - {id: a1, text: the sofa from behind, kind: view, feasible: true, subjects: [{name: sofa, view: back}]}\n"
+
+
+@pytest.mark.parametrize(
+    "instructions, count, message",
+    [
+        (GOOD.replace("view: back", "view: behind"), 1, r"a\.yaml: instruction 0 \('a1'\) subject 'sofa': 'view' is 'behind'"),
+        (GOOD.replace("name: sofa", "name: armchair"), 1, r"a\.yaml: instruction 'a1': subject 'armchair' is not an object"),
+        (GOOD.replace("name: sofa", "name: vase"), 1, r"subject 'vase' is symmetric"),
+        (GOOD, 2, r"a\.yaml: holds 1 instructions; the suite's 'instructions' says 2"),
+        (GOOD + GOOD, 2, r"instruction id 'a1' is used twice"),
+        (GOOD.replace("feasible: true", "feasible: false"), 1, r"'reason' is None; an infeasible instruction needs one"),
+        (GOOD.replace("kind: view", "kind: mood"), 1, r"'kind' is 'mood'; expected one of"),
+        (GOOD.replace("view: back", "azimuth: [195, 165]"), 1, r"'azimuth' is \[195, 165\]; expected lo < hi"),
+        (GOOD.replace("subjects:", "elevation: high angle, elevation_deg: 40, subjects:"), 1, r"give at most one of"),
+        (GOOD.replace("text: the sofa from behind, ", ""), 1, r"instruction 0 \('a1'\): missing keys \['text'\]"),
+        (
+            GOOD.replace("feasible: true", "feasible: false, reason: unknown subject, absent: [sofa]"),
+            1,
+            r"'absent' name 'sofa' is an object of scene 'a'",
+        ),
+    ],
+)
+def test_spec_errors_name_the_file_the_instruction_and_the_field(tmp_path, instructions, count, message):
+    from capframe.errors import InputError
+
+    with pytest.raises(InputError, match=message) as err:
+        load_heldout(_write(tmp_path, instructions, count))
+    assert "\n" not in str(err.value)
+
+
+def test_a_valid_spec_file_loads(tmp_path):
+    suite = load_heldout(_write(tmp_path, GOOD))
+    ((scene, spec),) = suite.cases()
+    assert scene.id == "a" and spec.subject_names == ["sofa"] and spec.constraints.subjects[0].role == "primary"
+
+
+def test_arc_deviation_wraps_around():
+    assert arc_deviation(180.0, 165.0, 195.0) == 0.0
+    assert arc_deviation(-170.0, 165.0, 195.0) == 0.0  # -170 is 190
+    assert arc_deviation(150.0, 165.0, 195.0) == pytest.approx(15.0)
+    assert arc_deviation(-150.0, 165.0, 195.0) == pytest.approx(15.0)
+    assert arc_deviation(0.0, -40.0, -10.0) == pytest.approx(10.0)
+    assert arc_deviation(-60.0, -40.0, -10.0) == pytest.approx(20.0)
+
+
+@pytest.fixture(scope="module")
+def world(tmp_path_factory):
+    root = tmp_path_factory.mktemp("scene")
+    gt = build_scene(root)
+    return root, gt, GroundTruthChecker(root, long_side=96)
+
+
+def test_judge_adds_azimuth_and_elevation_range_rows(world):
+    root, gt, checker = world
+    entry = {
+        "id": "x",
+        "text": "directly behind the bear, a little below",
+        "kind": "view",
+        "feasible": True,
+        "subjects": [{"name": "teddy bear", "azimuth": [165, 195]}],
+        "elevation_range": [-30, -8],
+    }
+    spec = parse_spec(entry, "tiny", "t.yaml", 0)
+    behind = judge(checker, aim_camera(gt, obj(gt, "teddy bear"), azimuth=-172.0, elevation=-15.0, distance=5.0), spec)
+    assert behind.row("azimuth").satisfied and behind.row("elevation").satisfied
+    assert behind.row("azimuth").measured == pytest.approx(-172.0, abs=0.5) and behind.instruction_id == "x"
+    aside = judge(checker, aim_camera(gt, obj(gt, "teddy bear"), azimuth=140.0, elevation=5.0, distance=5.0), spec)
+    assert not aside.row("azimuth").satisfied and aside.row("azimuth").error == pytest.approx(25.0, abs=0.5)
+    assert not aside.row("elevation").satisfied and aside.row("elevation").error == pytest.approx(13.0, abs=0.5)
+    assert not aside.all_satisfied
+
+
+def test_clearance_below_the_support(world):
+    root, gt, _ = world
+    truth = read_ground_truth(root)
+    bear = obj(gt, "teddy bear")
+    up = np.asarray(gt["up"])
+    level = support_level(truth)
+    assert level == pytest.approx(min(np.dot(o["center"], up) - o["radius"] for o in gt["objects"]))
+    above = np.asarray(bear["center"]) + 3 * bear["radius"] * up
+    below = np.asarray(bear["center"]) - 3 * bear["radius"] * up
+    assert clearance(truth, [], above) == [] and clearance(truth, [], below) == ["below the support"]
+    assert math.isfinite(level)
+
+
+def _spec(**entry):
+    base = {"id": "x", "text": "t", "kind": "view", "feasible": True, "subjects": [{"name": "teddy bear"}]}
+    return parse_spec(base | entry, "tiny", "t.yaml", 0)
+
+
+def test_bench_reads_refusals_and_parse_differences():
+    from capframe.bench.heldout import parse_differences, refusal_reason
+
+    assert refusal_reason("subject 'cat' is not in this scene; known: ['mug']") == "refused: unknown subject"
+    assert refusal_reason("conflicting view sides 'left' and 'three-quarter'") == "refused: parse"
+    spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-40, -10], "shot": "close-up"}], elevation="bird's-eye")
+    parsed = {
+        "subjects": [{"name": "teddy bear", "view": "left", "shot": "close-up"}],
+        "elevation": "high angle",
+        "elevation_range_deg": [25.0, 60.0],
+    }
+    assert parse_differences(parsed, spec) == ["elevation", "view"]  # -90 is not in [-40, -10]; 42.5 not in [60, 90]
+    parsed = {"subjects": [{"name": "teddy bear", "view": "front-left", "shot": "close-up"}], "elevation_range_deg": [60, 90]}
+    assert parse_differences(parsed, spec) == ["view"]  # no named side lies in [-40, -10]
+    spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-60, -30], "shot": "close-up"}], elevation="bird's-eye")
+    assert parse_differences(parsed, spec) == []
+    assert parse_differences({"subjects": [{"name": "mug"}]}, _spec(roll_deg=0)) == ["roll", "subjects"]
+
+
+def test_bench_summary_counts_success_infeasible_kinds_reasons_and_clearance():
+    from capframe.bench.heldout import Outcome, format_summary, summarise
+
+    ok = Outcome(_spec(), "ok", own_all_satisfied=True, satisfied=2, applicable=2, seconds=1.0)
+    under = Outcome(
+        _spec(kind="height"), "ok", own_all_satisfied=True, clearance=["below the support"], satisfied=1, applicable=1
+    )
+    side = Outcome(_spec(id="y"), "failed", ["clause failed: view"], own_all_satisfied=True, satisfied=1, applicable=2)
+    refused = Outcome(_spec(kind="phrasing"), "refused", ["refused: parse"], "conflict", seconds=0.2)
+    wall = Outcome(
+        _spec(feasible=False, reason="occluded by wall"), "failed", ["clause failed: visibility"], own_all_satisfied=False
+    )
+    cat = Outcome(
+        _spec(kind="subject", feasible=False, reason="unknown subject", absent=["cat"], subjects=[]),
+        "refused",
+        ["refused: unknown subject"],
+    )
+    f = summarise([ok, under, side, refused, wall, cat])
+    assert (f["feasible"], f["full_success"], f["full_success_free_camera"], f["infeasible_reported"]) == (4, 2, 1, 2)
+    assert f["per_kind"]["view"] == {"feasible": 2, "ok": 1, "infeasible": 1, "reported": 1}
+    assert f["failure_reasons"] == {"clause failed: view": 1, "refused: parse": 1}
+    assert f["own_report_claims_success_on_failures"] == 1 and f["satisfied_but_not_free"] == 1
+    assert f["clearance"] == {"below the support": 1} and f["cameras"] == 4
+    text = format_summary(f)
+    assert "full success (feasible)        2/4 (50.0%)" in text and "infeasible reported            2/2 (100.0%)" in text
+
+
+def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
+    from capframe.bench import resolve_suite
+    from capframe.cli import main
+
+    assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
+    assert main(["bench", "ground", "--suite", "nosuch"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--suite 'nosuch' is neither a file nor a suite name; known: ['default', 'full', 'heldout']" in err and "\n" not in err
+    assert main(["bench", "refine", "--suite", "heldout"]) == 2
+    assert "bench refine needs generated instructions" in capsys.readouterr().err
+
+
+def test_clearance_in_a_room_walls_ceiling_and_objects():
+    from capframe.evaluate.ground_truth import Box, GroundTruth, GTObject, Room
+
+    box = Box(np.array([1.0, 0.0, 0.5]), np.eye(3), np.array([0.3, 0.3, 0.5]))
+    sofa = GTObject(0, "sofa", box.center, 0.6, 0, box=box)
+    # a room 4 x 4 x 2.6, turned 90 degrees about the up: its local +x is the world +y
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    truth = GroundTruth(np.array([0.0, 0.0, 1.0]), 4.0, [sofa], Room(turn, np.array([4.0, 4.0, 2.6])))
+    walls = ["+x", "+y", "-y"]
+    assert clearance(truth, walls, np.array([0.0, 0.0, 1.5])) == []
+    assert clearance(truth, walls, np.array([0.0, 2.5, 1.5])) == ["behind the +x wall"]
+    assert clearance(truth, walls, np.array([0.0, -2.5, 1.5])) == []  # the open side (-x) has no wall
+    assert clearance(truth, walls, np.array([0.0, 0.0, 3.0])) == ["above the walls (a real room's ceiling)"]
+    assert clearance(truth, walls, np.array([1.0, 0.0, -0.1])) == ["below the support"]
+    assert clearance(truth, walls, np.array([1.1, 0.1, 0.6])) == ["inside sofa"]
