@@ -12,7 +12,7 @@ from PIL import Image
 
 from capframe.cli import main
 from capframe.errors import InputError
-from capframe.evaluate.oracle import ground_truth_cameras
+from capframe.evaluate.ground_truth import ground_truth_cameras
 from capframe.scene import load_scene_dir
 from capframe.scene.colmap import read_colmap
 from capframe.scene.sfm import align_cameras, colmap_command, reconstruct, umeyama_sim3

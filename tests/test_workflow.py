@@ -145,6 +145,7 @@ def _fake_method_run(work: Path) -> None:
             f"results/colmap/{scene}/scene.json": "{}",
             f"results/gravity/{scene}.json": "{}",
             f"results/views/{scene}/label_views.npz": "",
+            f"results/views/{scene}/occupancy.npz": "",
             f"results/parse/capframe/{stem}": json.dumps({"needs": {"orientation": scene == "tabletop-orbit"}}),
             f"results/coarse/capframe/{stem}": "{}",
             f"results/retrieve/capframe/{stem}": "{}",

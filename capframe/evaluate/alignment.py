@@ -20,8 +20,7 @@ from ..scene import Camera
 from ..scene._io import atomic_directory, read_json, write_json
 from ..scene.colmap import read_colmap
 from ..scene.sfm import MIN_REGISTERED, align_cameras, pose_errors, umeyama_sim3, write_posed_scene
-from .ground_truth import read_ground_truth
-from .oracle import ground_truth_cameras
+from .ground_truth import ground_truth_cameras, read_ground_truth
 
 # What a synthetic scene carries besides its photos; linked into the aligned scene.
 ALIGNED_SCENE_FILES = ("scene.ply", "semantics.json", "labels.npy", "ground_truth.json")

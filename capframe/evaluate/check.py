@@ -18,8 +18,7 @@ from ..measure import CheckReport, CheckRow, ConstraintChecker, format_report
 from ..scene import Camera, load_scene_dir, read_camera_json
 from ..scene._io import read_json
 from ..scene.occupancy import build_occupancy, cached_occupancy
-from .ground_truth import GroundTruth, GTObject, read_ground_truth
-from .oracle import ground_truth_cameras
+from .ground_truth import GroundTruth, GTObject, ground_truth_cameras, read_ground_truth
 
 __all__ = ["CheckReport", "CheckRow", "GroundTruthChecker", "check_camera", "check_command", "format_report"]
 

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ..scene import Camera
 from ..scene._io import as_array, as_float, read_json, require_keys
 
 GROUND_TRUTH_FILE = "ground_truth.json"
@@ -243,3 +244,12 @@ def read_ground_truth(scene_dir: str | Path) -> GroundTruth:
             f"{GROUND_TRUTH_FILE} not found; checks and instructions need a synthetic scene's ground truth", source=str(scene_dir)
         )
     return parse_ground_truth(read_json(path), str(path))
+
+
+def ground_truth_cameras(scene_dir: str | Path) -> list[Camera]:
+    """The training cameras recorded in ``ground_truth.json`` (also for scenes written without poses)."""
+    data = read_json(Path(scene_dir) / GROUND_TRUTH_FILE)
+    return [
+        Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"])
+        for c in data.get("cameras", [])
+    ]

@@ -15,7 +15,7 @@ from ..constraints import Constraints
 from ..errors import InputError
 from ..scene import Camera, GaussianScene
 from ..translate.labels import PseudoLabels, labels_from_constraints
-from .ground_truth import GroundTruth
+from .ground_truth import GroundTruth, ground_truth_cameras
 
 
 def oracle_labels(gaussians: GaussianScene, ground_truth: GroundTruth, constraints: Constraints) -> PseudoLabels:
@@ -30,17 +30,6 @@ def oracle_labels(gaussians: GaussianScene, ground_truth: GroundTruth, constrain
         index = np.flatnonzero(labels == obj.label)
         subjects[subject.name] = (index, means[index].mean(0), obj.front)
     return labels_from_constraints(constraints, subjects, ground_truth.up)
-
-
-def ground_truth_cameras(scene_dir: str | Path) -> list[Camera]:
-    """The training cameras recorded in ``ground_truth.json`` (also for scenes written without poses)."""
-    from ..scene._io import read_json
-
-    data = read_json(Path(scene_dir) / "ground_truth.json")
-    return [
-        Camera(np.asarray(c["T_cw"]), np.asarray(c["K"]), c["width"], c["height"], name=c["name"])
-        for c in data.get("cameras", [])
-    ]
 
 
 def visible_views(cameras: list[Camera], point: np.ndarray) -> list[Camera]:

@@ -32,6 +32,8 @@ rule align_truth:
         directory("results/colmap/{scene}"),
     log:
         "results/logs/align_truth/{scene}.log",
+    benchmark:
+        "results/benchmarks/align_truth/{scene}.tsv"
     shell:
         "capframe align-truth {input.recovered} --truth {input.truth} -o {output} > {log} 2>&1"
 
