@@ -392,7 +392,7 @@ def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help=f"{output} to write")
     _perception_options(p)
-    p.set_defaults(func=func)
+    p.set_defaults(func=func, outputs={"output": "file"})
     return p
 
 
@@ -406,7 +406,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="output PNG")
     p.add_argument("--backend", default="auto", choices=["auto", "torch", "gsplat"])
     p.add_argument("--long-side", type=int, default=None, help="resize so the longer side has this many pixels")
-    p.set_defaults(func=_cmd_render)
+    p.set_defaults(func=_cmd_render, outputs={"output": "image"})
 
     p = verbs.add_parser(
         "import",
@@ -416,7 +416,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("src", help="a folder, or a single 3DGS file (then the scene has no cameras)")
     p.add_argument("dst")
     p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
-    p.set_defaults(func=_cmd_import)
+    p.set_defaults(func=_cmd_import, outputs={"dst": "folder"})
 
     p = verbs.add_parser("colmap", help="recover the poses of a scene without poses (structure from motion)")
     p.add_argument("scene", help="scene directory with images/")
@@ -427,7 +427,7 @@ def build_parser() -> argparse.ArgumentParser:
         choices=["auto", "exhaustive", "sequential"],
         help="auto: exhaustive up to 60 images, else sequential in name order",
     )
-    p.set_defaults(func=_cmd_colmap)
+    p.set_defaults(func=_cmd_colmap, outputs={"output": "folder"})
 
     p = verbs.add_parser(
         "align-truth",
@@ -436,14 +436,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("recovered", help="output directory of capframe colmap")
     p.add_argument("--truth", required=True, help="the synthetic scene the images came from")
     p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
-    p.set_defaults(func=_cmd_align_truth)
+    p.set_defaults(func=_cmd_align_truth, outputs={"output": "folder"})
 
     p = verbs.add_parser("gravity", help="estimate the world up of a scene from its cameras and straight edges")
     p.add_argument("scene", help="scene directory with training cameras")
     p.add_argument("-o", "--output", default=None, help="gravity file to write (default: SCENE/gravity.json)")
     p.add_argument("--no-lines", action="store_true", help="use the cameras only, not vanishing points of image lines")
     p.add_argument("--json", action="store_true", help="print the JSON written instead of a one-line summary")
-    p.set_defaults(func=_cmd_gravity)
+    p.set_defaults(func=_cmd_gravity, outputs={"output": "file"})
 
     p = verbs.add_parser("synth", help="generate a synthetic 3DGS scene with ground truth")
     p.add_argument("out_dir")
@@ -464,14 +464,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--resolution", default="320x240", help="training image size WxH")
     p.add_argument("--density", type=float, default=1.0, help="multiply the number of Gaussians")
-    p.set_defaults(func=_cmd_synth)
+    p.set_defaults(func=_cmd_synth, outputs={"out_dir": "folder"})
 
     p = verbs.add_parser("instructions", help="generate instructions with machine-checkable constraints for a synthetic scene")
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help="folder for instructions.tsv and constraints.json")
     p.add_argument("--count", type=int, default=3)
     p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(func=_cmd_instructions)
+    p.set_defaults(func=_cmd_instructions, outputs={"output": "into"})
 
     p = verbs.add_parser("check", help="check a result camera against a synthetic scene's ground truth")
     p.add_argument("scene")
@@ -480,21 +480,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--id", default=None, help="instruction id (default: the result's instruction_id)")
     p.add_argument("--json", action="store_true")
     p.add_argument("-o", "--output", default=None, help="also write the report as JSON to this file")
-    p.set_defaults(func=_cmd_check)
+    p.set_defaults(func=_cmd_check, outputs={"output": "file"})
 
     p = verbs.add_parser("oracle", help="oracle pseudo labels and a seeded initial view from a synthetic scene's ground truth")
     p.add_argument("scene")
     p.add_argument("--constraints", required=True, help="constraints.json")
     p.add_argument("--id", required=True, help="instruction id")
     p.add_argument("-o", "--output", required=True, help="folder for labels.json and init.json")
-    p.set_defaults(func=_cmd_oracle)
+    p.set_defaults(func=_cmd_oracle, outputs={"output": "into"})
 
     p = verbs.add_parser("aggregate", help="tables from per-instruction check reports and results")
     p.add_argument("--method", required=True)
     p.add_argument("--checks", nargs="+", required=True)
     p.add_argument("--results", nargs="+", required=True)
     p.add_argument("-o", "--output", required=True, help="per-instruction CSV; summaries are written beside it")
-    p.set_defaults(func=_cmd_aggregate)
+    p.set_defaults(func=_cmd_aggregate, outputs={"output": "file"})
 
     p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
     p.add_argument("scene", help="scene directory")
@@ -512,24 +512,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
-    p.set_defaults(func=_cmd_refine)
+    p.set_defaults(func=_cmd_refine, outputs={"output": "folder"})
 
     p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
     p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
     p.add_argument("-o", "--output", required=True, help="label_views.npz to write")
     p.add_argument("--long-side", type=int, default=160, help="measurement resolution (long side, pixels)")
-    p.set_defaults(func=_cmd_views)
+    p.set_defaults(func=_cmd_views, outputs={"output": "file"})
 
     p = verbs.add_parser("compare", help="one table of several methods' summaries")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate")
     p.add_argument("-o", "--output", required=True, help="summary CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_compare)
+    p.set_defaults(func=_cmd_compare, outputs={"output": "file"})
 
     p = verbs.add_parser("groups", help="success per method and dataset group (Retrieve against Refine and the rest)")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate, rows in this order")
     p.add_argument("--group", nargs="+", required=True, metavar="SCENE=GROUP", help="every scene's dataset group")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_groups)
+    p.set_defaults(func=_cmd_groups, outputs={"output": "file"})
 
     p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
     p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
@@ -543,14 +543,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--checks-root", default="results/check", help="check reports: CHECKS_ROOT/<method>/<scene>/<id>.json")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json scale)")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_sensitivity)
+    p.set_defaults(func=_cmd_sensitivity, outputs={"output": "file"})
 
     p = verbs.add_parser("scene-table", help="per-scene table: views, Gaussians, COLMAP and gravity errors")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json)")
     p.add_argument("--colmap-root", default="results/colmap", help="COLMAP outputs: COLMAP_ROOT/<scene>/colmap.json")
     p.add_argument("--gravity-root", default="results/gravity", help="gravity files: GRAVITY_ROOT/<scene>.json")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_scene_table)
+    p.set_defaults(func=_cmd_scene_table, outputs={"output": "file"})
 
     p = verbs.add_parser("runtime", help="seconds per scene and stage, and per instruction and method, from benchmark TSVs")
     p.add_argument("--benchmarks", default="results/benchmarks", help="Snakemake benchmark: folder")
@@ -560,7 +560,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)",
     )
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
-    p.set_defaults(func=_cmd_runtime)
+    p.set_defaults(func=_cmd_runtime, outputs={"output": "file"})
 
     p = _stage_verb(verbs, "parse", "parse an instruction against the scene's vocabulary", "parsed.json", _cmd_parse)
     p.add_argument("instruction")
@@ -608,7 +608,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene directory with training cameras and scene.ply")
     p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
     p.add_argument("-o", "--output", required=True, help="result folder to write (result.json, camera.json, render.png)")
-    p.set_defaults(func=_cmd_retrieved_view)
+    p.set_defaults(func=_cmd_retrieved_view, outputs={"output": "folder"})
 
     p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
     p.add_argument("--text", required=True, help="the instruction")
@@ -616,7 +616,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", nargs="+", required=True, help="result folders (with render.png), one per method")
     p.add_argument("--checks", nargs="+", required=True, help="check reports, one per method")
     p.add_argument("-o", "--output", required=True, help="PNG to write")
-    p.set_defaults(func=_cmd_grid)
+    p.set_defaults(func=_cmd_grid, outputs={"output": "png"})
 
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for the oracle backends)")
@@ -632,7 +632,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--iterations", type=int, default=1500)
     p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
-    p.set_defaults(func=_cmd_ground)
+    p.set_defaults(func=_cmd_ground, outputs={"output": "folder"})
 
     p = verbs.add_parser("baseline", help="find the camera with a baseline pose search: IVS, SVS or SplaTraj-style")
     p.add_argument(
@@ -646,7 +646,7 @@ def build_parser() -> argparse.ArgumentParser:
     _perception_options(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the SVS samples")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, score, timings) instead of progress")
-    p.set_defaults(func=_cmd_baseline)
+    p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render", "refine", "ground"])
@@ -655,10 +655,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Every output path the verb declared (``outputs``: argument -> a kind of
+    :data:`capframe.scene._io.OUTPUTS`), checked before the verb does any work, so a search never
+    ends in an unwritable path."""
+    from .scene._io import OUTPUTS
+
+    for dest, kind in getattr(args, "outputs", {}).items():
+        if getattr(args, dest) is not None:
+            OUTPUTS[kind].check(getattr(args, dest))
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     keep_freed_memory()
     try:
+        _check_outputs(args)
         args.func(args)
     except InputError as err:
         print(f"capframe: error: {err}", file=sys.stderr)

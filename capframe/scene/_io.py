@@ -9,6 +9,7 @@ import shutil
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -53,8 +54,7 @@ def atomic_directory(path: str | Path) -> Iterator[Path]:
     removed, so a folder is either complete or absent (DESIGN §7). ``path`` must not exist or be
     an empty folder: existing results are never overwritten."""
     path = Path(path)
-    if path.exists() and (not path.is_dir() or any(path.iterdir())):
-        raise InputError("already exists and is not an empty folder; remove it or choose another", source=str(path))
+    FOLDER.check(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
     try:
@@ -72,14 +72,72 @@ def write_json(path: str | Path, value: Any) -> None:
 
 
 def read_json(path: str | Path) -> Any:
-    """Parse a JSON file; a missing or malformed file raises :class:`InputError` naming it."""
+    """Parse a JSON file; a missing, unreadable or malformed file raises :class:`InputError`
+    naming it."""
     try:
         with open(path, encoding="utf-8") as f:
             return json.load(f)
     except FileNotFoundError:
         raise InputError("file not found", source=str(path)) from None
+    except IsADirectoryError:
+        raise InputError("is a folder; expected a JSON file", source=str(path)) from None
+    except OSError as err:
+        raise InputError(f"cannot be read ({err.strerror}); expected a JSON file", source=str(path)) from None
     except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise InputError(f"not valid JSON ({err})", source=str(path)) from None
+
+
+@dataclass(frozen=True)
+class Output:
+    """What a command writes at an output path, checked by :meth:`check` before any work.
+
+    Attributes:
+        kind: ``file`` (written atomically beside itself), ``folder`` (a new folder, written
+            whole: it must not exist or be empty) or ``into`` (a folder that files are written
+            into; it may exist).
+        suffixes: for a file, the accepted suffixes (lower case), or empty for any.
+    """
+
+    kind: str
+    suffixes: tuple[str, ...] = ()
+
+    def check(self, path: str | Path) -> None:
+        """:class:`InputError` naming ``path`` when it cannot be written as this kind of output:
+        a folder where a file goes, a file where a folder goes, an existing result, a wrong
+        suffix, a path through a file or into a folder this process cannot write."""
+        path = Path(path)
+        source = str(path)
+        if self.kind == "file" and path.is_dir():
+            raise InputError("is a folder; expected a file to write", source=source)
+        if self.suffixes and path.suffix.lower() not in self.suffixes:
+            raise InputError(f"has suffix {path.suffix!r}; expected one of {', '.join(self.suffixes)}", source=source)
+        if self.kind == "folder" and path.exists() and (not path.is_dir() or any(path.iterdir())):
+            raise InputError("already exists and is not an empty folder; remove it or choose another", source=source)
+        if self.kind == "into" and path.exists() and not path.is_dir():
+            raise InputError("is a file; expected a folder to write into", source=source)
+        # Files are written into an existing "into" folder; everything else is created beside its
+        # path (a temporary and a rename), after the missing parent folders.
+        base = path if self.kind == "into" and path.is_dir() else path.parent
+        existing = next(p for p in (base, *base.parents) if p.exists())
+        if not existing.is_dir():
+            raise InputError(f"{existing} is a file, not a folder; cannot write below it", source=source)
+        try:
+            # A real file rather than os.access: that answers yes to root on a read-only mount.
+            with tempfile.TemporaryFile(dir=existing):
+                pass
+        except OSError as err:
+            raise InputError(f"cannot write in {existing} ({err.strerror})", source=source) from None
+
+
+FOLDER = Output("folder")
+# The outputs commands declare, by name: an image is written as PNG or JPEG by its suffix.
+OUTPUTS = {
+    "file": Output("file"),
+    "folder": FOLDER,
+    "into": Output("into"),
+    "image": Output("file", (".png", ".jpg", ".jpeg")),
+    "png": Output("file", (".png",)),
+}
 
 
 def require_keys(entry: dict, keys: tuple[str, ...], what: str, source: str) -> None:

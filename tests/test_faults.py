@@ -1,0 +1,152 @@
+"""The fault suite (issue #21): what a hostile user can feed ``capframe``, one case per item.
+
+Every refusal is exit status 2 with one line on stderr naming the file, field or value, no Python
+traceback, and nothing written or lost (the working folder is compared before and after). Cases
+where the right answer is to do the work (a scene path that is not UTF-8, a ``.jpg`` output)
+check that it is done.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from _synth_helpers import build_scene
+
+from capframe.cli import main
+from capframe.scene import SceneMeta
+from capframe.scene.directory import write_scene_meta
+
+INSTRUCTION = "a medium shot of the teddy bear on the right of the frame, seen from its front, from slightly above"
+
+
+@pytest.fixture(scope="module")
+def scene_dir(tmp_path_factory) -> Path:
+    """A small labelled scene (four objects, six training views of 160x120) with a world up."""
+    root = tmp_path_factory.mktemp("faults") / "scene"
+    gt = build_scene(root)
+    write_scene_meta(SceneMeta(up=np.asarray(gt["up"]), aligned=True), root / "scene.json")
+    return root
+
+
+@pytest.fixture(scope="module")
+def camera_json(scene_dir) -> Path:
+    """A training view of the scene as a camera.json."""
+    from capframe.scene import load_scene_dir, write_camera_json
+
+    path = scene_dir.parent / "camera.json"
+    write_camera_json(load_scene_dir(scene_dir, load_gaussians=False).cameras[0], path)
+    return path
+
+
+def snapshot(root: Path) -> dict[str, tuple[int, int]]:
+    """Every file and folder under ``root``: size and modification time."""
+    return {str(p.relative_to(root)): (p.stat().st_size, p.stat().st_mtime_ns) for p in root.rglob("*")}
+
+
+@contextlib.contextmanager
+def nothing_changes(root: Path):
+    """Assert that nothing under ``root`` is written, changed or removed inside the block."""
+    before = snapshot(root)
+    yield
+    assert snapshot(root) == before
+
+
+def run(capsys, *argv) -> tuple[int, str, str]:
+    """``capframe ARGV`` in this process: exit status, stdout, stderr."""
+    try:
+        code = main([str(a) for a in argv])
+    except SystemExit as exit:  # a usage error, from argparse
+        code = exit.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def assert_refused(result: tuple[int, str, str], *names: str) -> str:
+    """Exit status 2, no traceback, and the error as one line (after any progress lines) that
+    names each of ``names``. Returns the line."""
+    code, _, err = result
+    lines = err.strip().splitlines()
+    assert code == 2, err
+    assert "Traceback" not in err
+    assert lines and lines[-1].startswith("capframe") and "error:" in lines[-1], err
+    assert all(line.startswith("[") for line in lines[:-1]), err  # only progress lines before it
+    for name in names:
+        assert name in lines[-1], (name, lines[-1])
+    return lines[-1]
+
+
+def unwritable_folder(tmp_path: Path) -> Path:
+    """A folder this process cannot create files in (root ignores permission bits: /sys then)."""
+    folder = tmp_path / "read-only"
+    folder.mkdir()
+    folder.chmod(0o555)
+    if os.access(folder, os.W_OK):
+        return Path("/sys")
+    return folder
+
+
+# --- one output-path check, used by every verb before any work ---------------------------------
+
+
+@pytest.mark.parametrize("verb", ["render", "import", "ground"])
+@pytest.mark.parametrize("case", ["is a folder", "unwritable", "under a file"])
+def test_bad_output_paths_are_refused_before_any_work(scene_dir, camera_json, tmp_path, capsys, verb, case):
+    work = tmp_path / "work"
+    work.mkdir()
+    (work / "a-file").write_text("keep me")
+    (work / "a-folder").mkdir()
+    (work / "a-folder" / "kept").write_text("keep me")
+    output = {
+        "is a folder": work / "a-folder",
+        "unwritable": unwritable_folder(tmp_path) / "out",
+        "under a file": work / "a-file" / "out",
+    }[case]
+    if verb == "render" and case != "is a folder":
+        output = output.with_suffix(".png")
+    argv = {
+        "render": ["render", scene_dir, "--camera", camera_json, "-o", output],
+        "import": ["import", scene_dir / "scene.ply", output],
+        "ground": ["ground", scene_dir, INSTRUCTION, "-o", output, "--cache", work / "cache"],
+    }[verb]
+    expected = {"is a folder": "folder", "unwritable": "cannot write in", "under a file": "is a file, not a folder"}[case]
+    with nothing_changes(work):
+        assert_refused(run(capsys, *argv), str(output), expected)
+
+
+def test_ground_output_that_exists_is_refused_before_the_search(scene_dir, tmp_path, capsys):
+    output = tmp_path / "result"
+    output.mkdir()
+    (output / "result.json").write_text("{}")
+    with nothing_changes(tmp_path):  # not even the per-scene cache: the search never started
+        assert_refused(
+            run(capsys, "ground", scene_dir, INSTRUCTION, "-o", output, "--cache", tmp_path / "cache"),
+            str(output),
+            "already exists",
+        )
+
+
+def test_every_verb_with_an_output_declares_it(capsys):
+    """The output check runs for a verb only if its parser declares its outputs."""
+    from capframe.cli import build_parser
+    from capframe.scene._io import OUTPUTS
+
+    verbs = build_parser()._subparsers._group_actions[0].choices
+    for name, parser in verbs.items():
+        dests = {a.dest for a in parser._actions if a.dest in ("output", "dst", "out_dir")}
+        declared = parser.get_default("outputs") or {}
+        assert set(declared) == dests, name
+        assert set(declared.values()) <= set(OUTPUTS), name
+
+
+# --- inputs that are not what they say ----------------------------------------------------------
+
+
+def test_camera_that_is_a_folder_is_one_line(scene_dir, tmp_path, capsys):
+    with nothing_changes(tmp_path):
+        assert_refused(
+            run(capsys, "render", scene_dir, "--camera", tmp_path, "-o", tmp_path / "out.png"), str(tmp_path), "folder"
+        )
