@@ -337,28 +337,26 @@ def _cmd_grid(args: argparse.Namespace) -> None:
 
 
 def _cmd_ground(args: argparse.Namespace) -> None:
-    import json
-
     from .pipeline import ground
+    from .scene._io import json_text
 
     result = ground(args.scene, args.instruction, args.output, _ground_options(args), progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")
-        print(json.dumps({k: result[k] for k in keys}))
+        print(json_text({k: result[k] for k in keys}, "the result", indent=None))
     else:
         print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s")
 
 
 def _cmd_baseline(args: argparse.Namespace) -> None:
-    import json
-
     from .baselines.run import BaselineOptions, run_baseline
+    from .scene._io import json_text
 
     options = BaselineOptions(seed=args.seed, stages=_ground_options(argparse.Namespace(**{**vars(args), "seed": None})))
     result = run_baseline(args.method, args.scene, args.instruction, args.output, options, progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "method", "score", "timings")
-        print(json.dumps({k: result[k] for k in keys}))
+        print(json_text({k: result[k] for k in keys}, "the result", indent=None))
     else:
         print(f"{args.output}: {args.method} camera, score {result['score']:.1f}, {result['timings']['total_s']:.1f} s")
 

@@ -9,6 +9,7 @@ check that it is done.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 from pathlib import Path
 
@@ -150,3 +151,19 @@ def test_camera_that_is_a_folder_is_one_line(scene_dir, tmp_path, capsys):
         assert_refused(
             run(capsys, "render", scene_dir, "--camera", tmp_path, "-o", tmp_path / "out.png"), str(tmp_path), "folder"
         )
+
+
+# --- no NaN passed on ---------------------------------------------------------------------------
+
+
+def test_json_we_write_never_holds_nan_or_infinity(tmp_path):
+    from capframe.errors import InputError
+    from capframe.scene._io import write_json
+
+    with pytest.raises(InputError, match=r"result.json: loss_terms.view is nan"):
+        write_json(tmp_path / "result.json", {"loss_terms": {"upright": 0.0, "view": float("nan")}})
+    with pytest.raises(InputError, match=r"up\[0\] is inf"):
+        write_json(tmp_path / "x.json", {"up": [float("inf"), 0.0, 1.0]})
+    assert not list(tmp_path.iterdir())
+    write_json(tmp_path / "ok.json", {"a": [1.0, 2]})
+    assert json.loads((tmp_path / "ok.json").read_text()) == {"a": [1.0, 2]}

@@ -39,7 +39,6 @@ up. :func:`world_up` is what every stage reads: ``scene.json``'s up, else ``grav
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,7 +48,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..scene import Camera, load_scene_dir
-from ..scene._io import read_json, require_keys, write_json
+from ..scene._io import json_text, read_json, require_keys, write_json
 from ..scene.directory import _unit_vector, read_scene_meta
 
 GRAVITY_FORMAT = 1
@@ -518,7 +517,7 @@ def gravity_command(
     result = estimate_gravity(scene_dir, use_lines=use_lines)
     output = Path(scene_dir) / "gravity.json" if output is None else Path(output)
     write_json(output, result)
-    print(json.dumps(result) if as_json else _summary(result, output))
+    print(json_text(result, "the estimate", indent=None) if as_json else _summary(result, output))
     return result
 
 

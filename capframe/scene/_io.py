@@ -66,9 +66,37 @@ def atomic_directory(path: str | Path) -> Iterator[Path]:
         raise
 
 
+def non_finite(value: Any, where: str = "") -> tuple[str, float] | None:
+    """The key path (``loss_terms.view``, ``up[0]``) and value of the first NaN or infinite number
+    in a JSON-like ``value`` (dicts, lists, tuples, numbers), or None when every number is finite."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else (where or "the value", value)
+    if isinstance(value, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for key, item in items:
+        found = non_finite(item, key)
+        if found is not None:
+            return found
+    return None
+
+
+def json_text(value: Any, source: str, indent: int | None = 2) -> str:
+    """``value`` as JSON text (floats keep all their digits). JSON has no NaN or Infinity (Python
+    would write them anyway): a non-finite number raises :class:`InputError` naming its key path,
+    so no file or line we write carries one."""
+    found = non_finite(value)
+    if found is not None:
+        raise InputError(f"{found[0]} is {found[1]}; refusing to write a non-finite number", source=source)
+    return json.dumps(value, indent=indent, allow_nan=False)
+
+
 def write_json(path: str | Path, value: Any) -> None:
-    """Write ``value`` as indented JSON, atomically. Floats keep all their digits (``repr``)."""
-    atomic_write(path, json.dumps(value, indent=2) + "\n")
+    """Write ``value`` as indented JSON (:func:`json_text`), atomically."""
+    atomic_write(path, json_text(value, str(path)) + "\n")
 
 
 def read_json(path: str | Path) -> Any:
