@@ -133,6 +133,7 @@ def _is_retrieval_file(init: str) -> bool:
 def _refine_config(args: argparse.Namespace):
     """The optimiser's settings from ``--iterations``, ``--long-side`` and ``--weights``."""
     import dataclasses
+    import math
 
     from .refine.optimize import RefineConfig
 
@@ -140,10 +141,17 @@ def _refine_config(args: argparse.Namespace):
     if getattr(args, "weights", None):
         weights = dataclasses.asdict(config.weights)
         for item in args.weights.split(","):
-            key, _, value = item.partition("=")
+            key, _, text = item.partition("=")
             if key not in weights:
                 raise InputError(f"--weights: unknown term {key!r}; expected one of {sorted(weights)}")
-            weights[key] = float(value)
+            try:
+                value = float(text)
+            except ValueError:
+                value = math.nan
+            # A weight of 1e400 reads as infinity and would turn every loss into inf or NaN.
+            if not math.isfinite(value) or value < 0:
+                raise InputError(f"--weights: {key} is {text!r}; expected a finite number >= 0")
+            weights[key] = value
         config = dataclasses.replace(config, weights=type(config.weights)(**weights))
     return config
 
@@ -394,16 +402,34 @@ def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse
     return p
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line, like every other input error (exit status 2)."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_int(text: str) -> int:
+    """An argument that counts pixels or steps: a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive whole number")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="capframe", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="capframe", description=__doc__.splitlines()[0])
     verbs = parser.add_subparsers(dest="verb", required=True)
 
     p = verbs.add_parser("render", help="render one view of a scene")
     p.add_argument("scene", help="scene directory (see docs/scene-directory.md) or a 3DGS PLY file")
     p.add_argument("--camera", required=True, help="camera.json (capframe) to render from")
-    p.add_argument("-o", "--output", required=True, help="output PNG")
+    p.add_argument("-o", "--output", required=True, help="output image: .png, or .jpg/.jpeg for JPEG")
     p.add_argument("--backend", default="auto", choices=["auto", "torch", "gsplat"])
-    p.add_argument("--long-side", type=int, default=None, help="resize so the longer side has this many pixels")
+    p.add_argument("--long-side", type=_positive_int, default=None, help="resize so the longer side has this many pixels")
     p.set_defaults(func=_cmd_render, outputs={"output": "image"})
 
     p = verbs.add_parser(
@@ -508,14 +534,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     p.add_argument("--iterations", type=int, default=1500)
-    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--long-side", type=_positive_int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
     p.set_defaults(func=_cmd_refine, outputs={"output": "folder"})
 
     p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
     p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
     p.add_argument("-o", "--output", required=True, help="label_views.npz to write")
-    p.add_argument("--long-side", type=int, default=160, help="measurement resolution (long side, pixels)")
+    p.add_argument("--long-side", type=_positive_int, default=160, help="measurement resolution (long side, pixels)")
     p.set_defaults(func=_cmd_views, outputs={"output": "file"})
 
     p = verbs.add_parser("compare", help="one table of several methods' summaries")
@@ -628,7 +654,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _perception_options(p)
     p.add_argument("--iterations", type=int, default=1500)
-    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--long-side", type=_positive_int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
     p.set_defaults(func=_cmd_ground, outputs={"output": "folder"})
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _synth_helpers import build_scene
+from PIL import Image
 
 from capframe.cli import main
 from capframe.scene import SceneMeta
@@ -151,6 +152,61 @@ def test_camera_that_is_a_folder_is_one_line(scene_dir, tmp_path, capsys):
         assert_refused(
             run(capsys, "render", scene_dir, "--camera", tmp_path, "-o", tmp_path / "out.png"), str(tmp_path), "folder"
         )
+
+
+# --- weak spots -----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("value", ["0", "-5", "ten"])
+def test_long_side_must_be_positive(scene_dir, camera_json, tmp_path, capsys, value):
+    with nothing_changes(tmp_path):
+        assert_refused(
+            run(capsys, "render", scene_dir, "--camera", camera_json, "-o", tmp_path / "x.png", "--long-side", value),
+            "--long-side",
+            repr(value),
+        )
+
+
+def test_jpeg_output_is_a_jpeg_and_other_suffixes_are_refused(scene_dir, camera_json, tmp_path, capsys):
+    code, _, err = run(capsys, "render", scene_dir, "--camera", camera_json, "-o", tmp_path / "x.jpg", "--long-side", 80)
+    assert code == 0, err
+    with Image.open(tmp_path / "x.jpg") as image:
+        assert image.format == "JPEG" and image.size == (80, 60)
+    with nothing_changes(tmp_path):
+        assert_refused(run(capsys, "render", scene_dir, "--camera", camera_json, "-o", tmp_path / "x.gif"), "x.gif", ".gif")
+
+
+@pytest.mark.parametrize(
+    "weights, named", [("inside=1e400", "1e400"), ("inside=abc", "abc"), ("inside=-1", "-1"), ("insde=2", "insde")]
+)
+def test_refine_weights_must_be_known_finite_and_non_negative(scene_dir, camera_json, tmp_path, capsys, weights, named):
+    labels = tmp_path / "labels.json"
+    labels.write_text("{}")
+    with nothing_changes(tmp_path):
+        assert_refused(
+            run(
+                capsys, "refine", scene_dir, "--labels", labels, "--init", camera_json, "-o", tmp_path / "r", "--weights", weights
+            ),
+            "--weights",
+            named,
+        )
+
+
+def test_unknown_refine_weight_is_rejected_by_the_config_schema():
+    """The schema's weight names are exactly the optimiser's loss terms."""
+    import dataclasses
+    import re
+
+    import yaml
+
+    from capframe.refine import LossWeights
+
+    schema = yaml.safe_load((Path(__file__).resolve().parents[1] / "workflow/schemas/config.schema.yaml").read_text())
+    pattern = schema["properties"]["variants"]["additionalProperties"]["properties"]["refine"]["properties"]["weights"]["pattern"]
+    names = [f.name for f in dataclasses.fields(LossWeights)]
+    assert re.fullmatch(pattern, ",".join(f"{n}=0.5" for n in names))
+    assert not re.fullmatch(pattern, "insde=2")
+    assert not re.fullmatch(pattern, "inside=-1")
 
 
 # --- no NaN passed on ---------------------------------------------------------------------------
