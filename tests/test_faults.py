@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -152,6 +153,18 @@ def test_camera_that_is_a_folder_is_one_line(scene_dir, tmp_path, capsys):
         assert_refused(
             run(capsys, "render", scene_dir, "--camera", tmp_path, "-o", tmp_path / "out.png"), str(tmp_path), "folder"
         )
+
+
+def test_scene_path_that_is_not_utf8_grounds_with_its_default_cache(scene_dir, tmp_path, capsys, monkeypatch):
+    """The default per-scene cache is named after the scene path's bytes, not its UTF-8 encoding."""
+    scene = Path(os.fsdecode(bytes(tmp_path) + b"/sc\xffene"))
+    shutil.copytree(scene_dir, scene)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    code, out, err = run(capsys, "ground", scene, "the teddy bear", "-o", tmp_path / "out", "--iterations", "20")
+    assert code == 0 and "Traceback" not in err, err
+    assert (tmp_path / "out" / "result.json").is_file()
+    (cache,) = (tmp_path / "xdg" / "capframe").iterdir()
+    assert os.fsencode(cache.name).startswith(b"sc\xffene-")
 
 
 # --- weak spots -----------------------------------------------------------------------------------

@@ -101,7 +101,8 @@ class GroundOptions:
 def default_cache_dir(scene_dir: Path) -> Path:
     """``$XDG_CACHE_HOME/capframe/<scene name>-<hash of its path>``."""
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "capframe"
-    key = hashlib.sha256(str(scene_dir.resolve()).encode()).hexdigest()[:10]
+    # The path's bytes as the file system has them: a name that is not UTF-8 has no str.encode().
+    key = hashlib.sha256(os.fsencode(scene_dir.resolve())).hexdigest()[:10]
     return base / f"{scene_dir.name}-{key}"
 
 
