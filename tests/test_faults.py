@@ -205,6 +205,20 @@ def test_refine_weights_must_be_known_finite_and_non_negative(scene_dir, camera_
         )
 
 
+def test_a_10000_character_instruction_prints_short_lines(scene_dir, tmp_path, capsys):
+    """Progress lines, the report and errors quote long input clipped (its start and end)."""
+    from capframe.errors import CLIP_CHARS, MESSAGE_CHARS
+
+    text = ("the teddy bear " + "very " * 2000)[:10_000]
+    code, out, err = run(capsys, "ground", scene_dir, text, "-o", tmp_path / "out", "--iterations", "20")
+    assert code == 0, err[-2000:]
+    assert max(len(line) for line in (out + err).splitlines()) < CLIP_CHARS + 40
+    nonsense = ("blorp " * 2000)[:10_000]
+    with nothing_changes(tmp_path):
+        line = assert_refused(run(capsys, "ground", scene_dir, nonsense, "-o", tmp_path / "out2"), "no subject in 'blorp")
+    assert len(line) < MESSAGE_CHARS and "10000 characters in all" in line
+
+
 def test_unknown_refine_weight_is_rejected_by_the_config_schema():
     """The schema's weight names are exactly the optimiser's loss terms."""
     import dataclasses

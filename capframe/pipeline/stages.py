@@ -24,7 +24,7 @@ import torch
 
 from ..backends import BackendContext, Backends, Grounding, SubjectMasks, read_models_config
 from ..backends.registry import ROLES, resolve_choices
-from ..errors import InputError
+from ..errors import InputError, clip
 from ..geometry import pose_deviation
 from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
@@ -118,7 +118,7 @@ class StageClock:
         now = time.perf_counter()
         self.timings[f"{stage}_s"] = now - self.last
         if self.enabled:
-            print(f"[{now - self.start:6.1f} s] {stage:<9} {message}", file=sys.stderr, flush=True)
+            print(f"[{now - self.start:6.1f} s] {stage:<9} {clip(message)}", file=sys.stderr, flush=True)
         self.last = now
 
     def total(self) -> dict[str, float]:
