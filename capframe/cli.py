@@ -81,17 +81,24 @@ def _cmd_refine(args: argparse.Namespace) -> None:
     options = _ground_options(args)
     options.check()
     clock = StageClock(True)
+    labels = read_pseudo_labels(args.labels)
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None:
         raise InputError("has no scene.ply to refine against", source=str(args.scene))
-    labels = read_pseudo_labels(args.labels)
+    beyond = [s.name for s in labels.subjects if s.gaussians.max() >= len(scene.gaussians)]
+    if beyond:
+        raise InputError(
+            f"subjects {beyond} have Gaussian indices beyond the {len(scene.gaussians)} of {args.scene}; "
+            "expected labels made for this scene",
+            source=str(args.labels),
+        )
     if _is_retrieval_file(args.init):
         from .handoff import Retrieved
 
         retrieved = Retrieved.read(args.init)
         if not scene.cameras:
             raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
-        starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts)]
+        starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts, retrieved.source)]
         refined = stages.refine(scene, labels, starts, options, clock)
         write_ground_result(args.output, scene, labels, retrieved, refined, options, clock)
     else:
@@ -244,7 +251,8 @@ def _cmd_coarse(args: argparse.Namespace) -> None:
         raise InputError("give the instruction or --parsed parsed.json (one of them)")
     parsed = read_parsed(args.parsed) if args.parsed else None
     _, clock, job = _stage_job(args)
-    stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock).write(args.output)
+    coarse = stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock, args.parsed)
+    coarse.write(args.output)
 
 
 def _cmd_qe(args: argparse.Namespace) -> None:
@@ -331,9 +339,7 @@ def _cmd_retrieved_view(args: argparse.Namespace) -> None:
     if scene.gaussians is None or not scene.cameras:
         raise InputError("needs scene.ply and training cameras to render a retrieved view", source=str(args.scene))
     retrieved = Retrieved.read(args.retrieval)
-    if not retrieved.starts:
-        raise InputError("'starts' is empty; expected the retrieved views, best first", source=str(args.retrieval))
-    camera = scene.cameras[view_indices(scene, retrieved.starts[:1])[0]]
+    camera = scene.cameras[view_indices(scene, retrieved.starts[:1], retrieved.source)[0]]
     summary = write_retrieved_view(args.output, scene, retrieved, camera)
     print(f"{args.output}: retrieved view {summary['init_view']}")
 

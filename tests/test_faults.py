@@ -250,3 +250,115 @@ def test_json_we_write_never_holds_nan_or_infinity(tmp_path):
     assert not list(tmp_path.iterdir())
     write_json(tmp_path / "ok.json", {"a": [1.0, 2]})
     assert json.loads((tmp_path / "ok.json").read_text()) == {"a": [1.0, 2]}
+
+
+@pytest.fixture(scope="module")
+def staged(scene_dir, tmp_path_factory) -> Path:
+    """The method's stage files for INSTRUCTION, one verb each (the workflow's rules): parsed,
+    coarse, retrieval, subjects, fronts and labels .json in one folder (with the views cache)."""
+    folder = tmp_path_factory.mktemp("staged")
+    cache = ["--cache", folder / "cache"]
+    for argv in (
+        ["parse", scene_dir, INSTRUCTION, "-o", folder / "parsed.json"],
+        ["coarse", scene_dir, "--parsed", folder / "parsed.json", "-o", folder / "coarse.json"],
+        ["qe", scene_dir, "--coarse", folder / "coarse.json", "-o", folder / "retrieval.json"],
+        ["associate", scene_dir, "--retrieval", folder / "retrieval.json", "-o", folder / "subjects.json"],
+        ["orient", scene_dir, "--retrieval", folder / "retrieval.json", "-o", folder / "fronts.json"],
+    ):
+        assert main([str(a) for a in argv + cache]) == 0
+    argv = ["translate", scene_dir, "--retrieval", folder / "retrieval.json", "--subjects", folder / "subjects.json"]
+    assert main([str(a) for a in [*argv, "--fronts", folder / "fronts.json", "-o", folder / "labels.json"]]) == 0
+    return folder
+
+
+def edited(staged: Path, name: str, tmp_path: Path, edit, keep_path: bool = False) -> Path:
+    """A copy of the stage file ``name`` changed by ``edit(data)``: in ``tmp_path``, or in place
+    with its modification time kept (``keep_path``: what Snakemake cannot see)."""
+    source = staged / name
+    data = json.loads(source.read_text())
+    edit(data)
+    target = source if keep_path else tmp_path / name
+    stat = source.stat()
+    target.write_text(json.dumps(data, indent=2))  # json writes NaN as a bare literal, as a hand edit might
+    if keep_path:
+        os.utime(target, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    return target
+
+
+def test_coarse_file_with_no_kept_view_is_refused(scene_dir, staged, tmp_path, capsys):
+    coarse = edited(staged, "coarse.json", tmp_path, lambda d: d.update(kept=[]))
+    with nothing_changes(tmp_path), nothing_changes(staged):
+        assert_refused(run(capsys, "qe", scene_dir, "--coarse", coarse, "-o", tmp_path / "q.json"), str(coarse), "kept is []")
+
+
+def test_stage_file_naming_an_unknown_subject_is_refused(scene_dir, staged, tmp_path, capsys):
+    def rename(data):
+        data["instruction"]["subjects"][0]["name"] = "unicorn"
+
+    retrieval = edited(staged, "retrieval.json", tmp_path, rename)
+    for verb in ("associate", "orient"):
+        with nothing_changes(tmp_path), nothing_changes(staged):
+            argv = [verb, scene_dir, "--retrieval", retrieval, "-o", tmp_path / "out.json", "--cache", staged / "cache"]
+            assert_refused(run(capsys, *argv), str(retrieval), "instruction.subjects[0].name", "'unicorn'")
+
+
+def _set(path: str, value):
+    """An edit that sets the field at ``path`` (keys and list indices, dot-separated) to ``value``."""
+
+    def edit(data):
+        *parents, last = [int(k) if k.isdigit() else k for k in path.split(".")]
+        for key in parents:
+            data = data[key]
+        data[last] = value
+
+    return edit
+
+
+NAN = float("nan")
+
+
+@pytest.mark.parametrize(
+    "name, field, value, named",
+    [
+        ("coarse.json", "up", [NAN, 0.0, 1.0], "up[0] is nan"),
+        ("coarse.json", "up", [0.0, 0.0, 0.0], "up is the zero vector"),
+        ("coarse.json", "coarse.v0", NAN, "coarse.v0 is nan"),
+        ("retrieval.json", "up", [NAN, 0.0, 1.0], "up[0] is nan"),
+        ("retrieval.json", "up", [0.0, 0.0, 0.0], "up is the zero vector"),
+        ("retrieval.json", "retrieval.views.0.score", NAN, "retrieval.views[0].score is nan"),
+        ("retrieval.json", "starts", [], "starts is []"),
+        ("subjects.json", "subjects.teddy bear.centroid", [NAN, 0.0, 0.0], "subjects.teddy bear.centroid[0] is nan"),
+        ("fronts.json", "fronts.teddy bear", [0.0, 0.0, 0.0], "fronts.teddy bear"),
+        ("labels.json", "up", [NAN, 0.0, 1.0], "up[0] is nan"),
+        ("labels.json", "subjects.0.centroid", [1.0, float("inf"), 0.0], "subjects[0].centroid[1] is inf"),
+        ("labels.json", "roll_deg", NAN, "roll_deg is nan"),
+    ],
+)
+def test_stage_files_with_nan_or_no_direction_are_refused(scene_dir, staged, tmp_path, capsys, name, field, value, named):
+    """Every stage file is read by one validated reader: no NaN, infinity or zero up flows on."""
+    bad = edited(staged, name, tmp_path, _set(field, value))
+    files = {n: staged / n for n in ("coarse.json", "retrieval.json", "subjects.json", "fronts.json", "labels.json")}
+    files[name] = bad
+    out = tmp_path / "out"
+    argv = {
+        "coarse.json": ["qe", scene_dir, "--coarse", files["coarse.json"], "-o", out, "--cache", staged / "cache"],
+        "retrieval.json": [
+            "associate",
+            scene_dir,
+            "--retrieval",
+            files["retrieval.json"],
+            "-o",
+            out,
+            "--cache",
+            staged / "cache",
+        ],
+        "subjects.json": ["translate", scene_dir, "--retrieval", files["retrieval.json"], "--subjects", files["subjects.json"]],
+        "fronts.json": ["translate", scene_dir, "--retrieval", files["retrieval.json"], "--subjects", files["subjects.json"]],
+        "labels.json": ["refine", scene_dir, "--labels", files["labels.json"], "--init", files["retrieval.json"]],
+    }[name]
+    if name in ("subjects.json", "fronts.json"):
+        argv += ["--fronts", files["fronts.json"], "-o", out]
+    elif name == "labels.json":
+        argv += ["-o", out]
+    with nothing_changes(tmp_path), nothing_changes(staged):
+        assert_refused(run(capsys, *argv), str(bad), named)

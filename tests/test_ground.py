@@ -292,7 +292,7 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
     # a retrieval file where a coarse file is expected names the file
     assert main(["qe", str(scene_dir), "--coarse", str(tmp_path / "r.json"), "-o", str(tmp_path / "q.json"), *cache]) == 2
     err = capsys.readouterr().err
-    assert "r.json" in err and "coarse-retrieval file" in err
+    assert "r.json" in err and "not a coarse file" in err
 
 
 def test_retrieved_view_is_the_first_start_unrefined(scene_dir, tmp_path, capsys):

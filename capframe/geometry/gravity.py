@@ -48,8 +48,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..scene import Camera, load_scene_dir
-from ..scene._io import json_text, read_json, require_keys, write_json
-from ..scene.directory import _unit_vector, read_scene_meta
+from ..scene._io import as_direction, json_text, read_json, require_keys, write_json
+from ..scene.directory import read_scene_meta
 
 GRAVITY_FORMAT = 1
 
@@ -528,7 +528,7 @@ def read_gravity(path: str | Path) -> np.ndarray:
     require_keys(data, ("format", "up"), "gravity.json", source)
     if data["format"] != GRAVITY_FORMAT:
         raise InputError(f"'format' is {data['format']!r}; this version reads format {GRAVITY_FORMAT}", source=source)
-    return _unit_vector(data["up"], "'up'", source)
+    return as_direction(data["up"], "'up'", source)
 
 
 def world_up(scene_dir: str | Path, gravity_path: str | Path | None = None) -> np.ndarray:

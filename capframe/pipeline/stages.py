@@ -139,20 +139,35 @@ class Job:
     up: np.ndarray
     backends: Backends
 
-    def view_indices(self, names: list[str]) -> list[int]:
-        return view_indices(self.scene, names)
+    def view_indices(self, names: list[str], source: str | None = None) -> list[int]:
+        return view_indices(self.scene, names, source)
 
     @property
     def view_names(self) -> list[str]:
         return [c.name for c in self.scene.cameras]
 
+    def check_subjects(self, parsed: ParsedInstruction, source: str | None) -> None:
+        """:class:`InputError` naming ``source`` (the stage file ``parsed`` was read from) when a
+        subject is not an object of a scene with semantics: the parser matches names to that
+        vocabulary (DESIGN §3: subjects are matched by name), so another name was not parsed here."""
+        if self.scene.semantics is None:
+            return
+        known = [o.name for o in self.scene.semantics]
+        for i, subject in enumerate(parsed.subjects):
+            if subject.name not in known:
+                raise InputError(
+                    f"instruction.subjects[{i}].name is {clip(subject.name)!r}; expected an object of {self.scene.root}: {known}",
+                    source=source or str(self.scene.root),
+                )
 
-def view_indices(scene: SceneDir, names: list[str]) -> list[int]:
-    """Indices of the named training views; :class:`InputError` naming any that is not one."""
+
+def view_indices(scene: SceneDir, names: list[str], source: str | None = None) -> list[int]:
+    """Indices of the named training views; :class:`InputError` naming any that is not one (and
+    ``source``, the file the names were read from)."""
     index = {c.name: i for i, c in enumerate(scene.cameras)}
     missing = [n for n in names if n not in index]
     if missing:
-        raise InputError(f"retrieved views {missing} are not training views of this scene", source=str(scene.root))
+        raise InputError(f"views {clip(repr(missing))} are not training views of {scene.root}", source=source or str(scene.root))
     return [index[n] for n in names]
 
 
@@ -190,9 +205,11 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
     return parsed
 
 
-def coarse(job: Job, parsed: ParsedInstruction, clock: StageClock) -> Coarse:
-    """Coarse retrieval: every training view scored, the top M kept for QE."""
+def coarse(job: Job, parsed: ParsedInstruction, clock: StageClock, source: str | None = None) -> Coarse:
+    """Coarse retrieval: every training view scored, the top M kept for QE (``source``: the file
+    ``parsed`` was read from, named by errors)."""
     names = job.view_names
+    job.check_subjects(parsed, source)
     scores = np.asarray(job.backends["coarse"].coarse(parsed), dtype=np.float64)
     kept = coarse_keep(scores)
     clock.done("coarse", f"{len(kept)} of {len(names)} views kept")
@@ -204,10 +221,13 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
     names = job.view_names
     if sorted(coarse.coarse) != sorted(names):
         raise InputError(
-            "the coarse scores are not of this scene's training views; rerun capframe coarse", source=str(job.scene.root)
+            f"coarse scores views that are not the training views of {job.scene.root}; rerun capframe coarse",
+            source=coarse.source or str(job.scene.root),
         )
+    job.check_subjects(coarse.parsed, coarse.source)
     scores = np.array([coarse.coarse[n] for n in names])
-    retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, job.view_indices(coarse.kept), options.top_k)
+    kept = job.view_indices(coarse.kept, coarse.source)
+    retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, kept, options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
     clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
@@ -218,7 +238,8 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
 
 def segment(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, SubjectMasks]:
     """Segmentation: each subject's 2D masks in the retrieved views."""
-    views = job.view_indices(retrieved.top)
+    job.check_subjects(retrieved.parsed, retrieved.source)
+    views = job.view_indices(retrieved.top, retrieved.source)
     masks = {s.name: job.backends["segmenter"].segment(s, views) for s in retrieved.parsed.subjects}
     clock.done("segment", ", ".join(f"{name}: {len(m.views)} views" for name, m in masks.items()))
     return masks
@@ -227,6 +248,7 @@ def segment(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, Subj
 def associate(job: Job, retrieved: Retrieved, masks: dict[str, SubjectMasks], clock: StageClock) -> dict[str, Grounding]:
     """Association: each subject's Gaussians and centroid (from its masks when the associator
     reads masks)."""
+    job.check_subjects(retrieved.parsed, retrieved.source)
     associator = job.backends["associator"]
     groundings = {s.name: associator.associate(s, masks.get(s.name)) for s in retrieved.parsed.subjects}
     clock.done("associate", ", ".join(f"{name}: {len(g.gaussians)} Gaussians" for name, g in groundings.items()))
@@ -235,7 +257,8 @@ def associate(job: Job, retrieved: Retrieved, masks: dict[str, SubjectMasks], cl
 
 def orient(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, np.ndarray | None]:
     """Orientation: the front of each subject that needs one (:attr:`ParsedSubject.needs_front`)."""
-    views = job.view_indices(retrieved.top)
+    job.check_subjects(retrieved.parsed, retrieved.source)
+    views = job.view_indices(retrieved.top, retrieved.source)
     fronts = {s.name: job.backends["orient"].front(s, views) for s in retrieved.parsed.subjects if s.needs_front}
     clock.done("orient", ", ".join(fronts) or "no subject needs a front")
     return fronts
@@ -271,7 +294,12 @@ def perceive(job: Job, retrieved: Retrieved, options: GroundOptions, clock: Stag
     """Translate in one call: segment (only for an associator that reads masks), associate and
     orient, on the instruction as ablated; then the pseudo labels."""
     ablated = Retrieved(
-        retrieved.parsed.without(options.drop), retrieved.retrieval, retrieved.top, retrieved.starts, retrieved.up
+        retrieved.parsed.without(options.drop),
+        retrieved.retrieval,
+        retrieved.top,
+        retrieved.starts,
+        retrieved.up,
+        retrieved.source,
     )
     masks = segment(job, ablated, clock) if job.backends["associator"].needs_masks else {}
     groundings = associate(job, ablated, masks, clock)

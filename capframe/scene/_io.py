@@ -99,20 +99,44 @@ def write_json(path: str | Path, value: Any) -> None:
     atomic_write(path, json_text(value, str(path)) + "\n")
 
 
-def read_json(path: str | Path) -> Any:
-    """Parse a JSON file; a missing, unreadable or malformed file raises :class:`InputError`
-    naming it."""
+def read_bytes(path: str | Path, expected: str = "a JSON file") -> bytes:
+    """The content of the file at ``path``; a missing, unreadable or folder path raises
+    :class:`InputError` naming it (``expected`` says what it should have been)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return json.load(f)
+        return Path(path).read_bytes()
     except FileNotFoundError:
         raise InputError("file not found", source=str(path)) from None
     except IsADirectoryError:
-        raise InputError("is a folder; expected a JSON file", source=str(path)) from None
+        raise InputError(f"is a folder; expected {expected}", source=str(path)) from None
     except OSError as err:
-        raise InputError(f"cannot be read ({err.strerror}); expected a JSON file", source=str(path)) from None
+        raise InputError(f"cannot be read ({err.strerror}); expected {expected}", source=str(path)) from None
+
+
+def parse_json(content: bytes, source: str) -> Any:
+    """Parse JSON text; malformed text raises :class:`InputError` naming ``source``."""
+    try:
+        return json.loads(content.decode("utf-8"))
     except (json.JSONDecodeError, UnicodeDecodeError) as err:
-        raise InputError(f"not valid JSON ({err})", source=str(path)) from None
+        raise InputError(f"not valid JSON ({err})", source=source) from None
+
+
+def read_json(path: str | Path) -> Any:
+    """Parse a JSON file; a missing, unreadable or malformed file raises :class:`InputError`
+    naming it."""
+    return parse_json(read_bytes(path), str(path))
+
+
+def read_stage_json(path: str | Path, kind: str, writer: str, keys: tuple[str, ...]) -> dict:
+    """A stage file of ``kind`` (:mod:`capframe.handoff`) written by ``writer``: format 1 with
+    ``keys`` and only finite numbers."""
+    source = str(path)
+    data = parse_json(read_bytes(path), source)
+    if not isinstance(data, dict) or data.get("format") != 1 or any(k not in data for k in keys):
+        raise InputError(f"is not a {kind} file (format 1 with {', '.join(keys)}; written by {writer})", source=source)
+    found = non_finite(data)
+    if found is not None:
+        raise InputError(f"{found[0]} is {found[1]}; expected a finite number", source=source)
+    return data
 
 
 @dataclass(frozen=True)
@@ -226,6 +250,16 @@ def as_array(value: Any, shape: tuple[int, ...], what: str, source: str) -> np.n
     if not np.isfinite(array).all():
         raise InputError(f"{what} has non-finite values {array.tolist()}; expected finite numbers", source=source)
     return array
+
+
+def as_direction(value: Any, what: str, source: str) -> np.ndarray:
+    """A JSON 3-vector as a finite unit (3,) float64 direction (normalised), else
+    :class:`InputError`: the zero vector has no direction."""
+    v = as_array(value, (3,), what, source)
+    norm = np.linalg.norm(v)
+    if norm == 0:
+        raise InputError(f"{what} is the zero vector; expected a direction", source=source)
+    return v / norm
 
 
 def make_camera(
