@@ -76,12 +76,14 @@ def _cmd_refine(args: argparse.Namespace) -> None:
     from .pipeline import StageClock, stages
     from .pipeline.outputs import write_ground_result, write_refine_result
     from .scene import load_scene_dir
+    from .scene._io import MadeFrom
     from .translate.labels import read_pseudo_labels
 
     options = _ground_options(args)
     options.check()
     clock = StageClock(True)
-    labels = read_pseudo_labels(args.labels)
+    made_from = MadeFrom()
+    labels = read_pseudo_labels(args.labels, made_from)
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None:
         raise InputError("has no scene.ply to refine against", source=str(args.scene))
@@ -95,7 +97,7 @@ def _cmd_refine(args: argparse.Namespace) -> None:
     if _is_retrieval_file(args.init):
         from .handoff import Retrieved
 
-        retrieved = Retrieved.read(args.init)
+        retrieved = Retrieved.read(args.init, made_from)
         if not scene.cameras:
             raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
         starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts, retrieved.source)]
@@ -246,23 +248,26 @@ def _cmd_parse(args: argparse.Namespace) -> None:
 def _cmd_coarse(args: argparse.Namespace) -> None:
     from .handoff import read_parsed
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
     if (args.instruction is None) == (args.parsed is None):
         raise InputError("give the instruction or --parsed parsed.json (one of them)")
-    parsed = read_parsed(args.parsed) if args.parsed else None
+    made_from = MadeFrom()
+    parsed = read_parsed(args.parsed, made_from) if args.parsed else None
     _, clock, job = _stage_job(args)
     coarse = stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock, args.parsed)
-    coarse.write(args.output)
+    coarse.write(args.output, made_from)
 
 
 def _cmd_qe(args: argparse.Namespace) -> None:
     from .handoff import Coarse
     from .pipeline import stages
-    from .scene._io import write_json
+    from .scene._io import MadeFrom, write_json
 
-    coarse = Coarse.read(args.coarse)
+    made_from = MadeFrom()
+    coarse = Coarse.read(args.coarse, made_from)
     options, clock, job = _stage_job(args)
-    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict())
+    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict(made_from))
 
 
 def _cmd_retrieve(args: argparse.Namespace) -> None:
@@ -277,43 +282,51 @@ def _cmd_retrieve(args: argparse.Namespace) -> None:
 def _cmd_segment(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, write_masks
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
-    write_masks(stages.segment(job, retrieved, clock), job.view_names, args.output)
+    write_masks(stages.segment(job, retrieved, clock), job.view_names, args.output, made_from)
 
 
 def _cmd_associate(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, read_masks, write_groundings
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
     if args.masks:
-        masks = read_masks(args.masks, job.view_names)
+        masks = read_masks(args.masks, job.view_names, made_from)
     elif job.backends["associator"].needs_masks:
         masks = stages.segment(job, retrieved, clock)
     else:
         masks = {}
-    write_groundings(stages.associate(job, retrieved, masks, clock), args.output)
+    write_groundings(stages.associate(job, retrieved, masks, clock), args.output, made_from)
 
 
 def _cmd_orient(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, write_fronts
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
-    write_fronts(stages.orient(job, retrieved, clock), args.output)
+    write_fronts(stages.orient(job, retrieved, clock), args.output, made_from)
 
 
 def _cmd_translate(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, read_fronts, read_groundings
     from .pipeline import StageClock, stages
     from .scene import load_scene_dir
+    from .scene._io import MadeFrom
     from .translate.labels import write_pseudo_labels
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     options = _ground_options(args)
     clock = StageClock(True)
     if args.subjects:
@@ -321,12 +334,12 @@ def _cmd_translate(args: argparse.Namespace) -> None:
         scene = load_scene_dir(args.scene)
         if scene.gaussians is None:
             raise InputError("has no scene.ply; the subjects' Gaussian indices refer to it", source=str(args.scene))
-        groundings = read_groundings(args.subjects, len(scene.gaussians))
-        fronts = read_fronts(args.fronts) if args.fronts else {}
+        groundings = read_groundings(args.subjects, len(scene.gaussians), made_from)
+        fronts = read_fronts(args.fronts, made_from) if args.fronts else {}
         labels = stages.translate(retrieved, groundings, fronts, options, clock)
     else:
         labels = stages.perceive(stages.open_job(args.scene, options), retrieved, options, clock)
-    write_pseudo_labels(labels, args.output)
+    write_pseudo_labels(labels, args.output, made_from)
 
 
 def _cmd_retrieved_view(args: argparse.Namespace) -> None:

@@ -21,6 +21,10 @@ Readers refuse, in one line naming the file and field, a file that is not of its
 infinite number, a world up that is not a direction, an empty list of views; views are stored by
 name, and the stages check that the names are the scene's training views and that the subjects
 are the scene's objects (:mod:`capframe.pipeline.stages`).
+
+Every file records under ``inputs`` the content hash of the stage files it was made from, and
+every reader checks them (:class:`~capframe.scene._io.MadeFrom`): a stage never combines files
+that were not made from each other, and a file edited after the files made from it is named.
 """
 
 from __future__ import annotations
@@ -33,8 +37,12 @@ import numpy as np
 
 from .backends.protocols import Grounding, SubjectMasks
 from .errors import InputError, clip
-from .scene._io import as_array, as_direction, atomic_write, read_bytes, read_stage_json, write_json
+from .scene._io import MadeFrom, as_array, as_direction, atomic_write, digest, parse_json, read_bytes, read_stage_json, write_json
 from .translate.instruction import JSON_SCHEMA, ParsedInstruction
+
+
+def _inputs(made_from: MadeFrom | None) -> dict:
+    return {} if made_from is None else made_from.record()
 
 
 def _instruction(data: dict, source: str) -> ParsedInstruction:
@@ -64,12 +72,12 @@ def write_parsed(parsed: ParsedInstruction, path: str | Path) -> None:
     """``parsed.json``: the instruction and ``needs``, the optional stages it needs
     (``orientation``: a subject with a front to be seen from)."""
     needs = {"orientation": any(s.needs_front for s in parsed.subjects)}
-    write_json(path, {"format": 1, "instruction": parsed.to_dict(), "needs": needs})
+    write_json(path, {"format": 1, "instruction": parsed.to_dict(), "needs": needs, "inputs": {}})
 
 
-def read_parsed(path: str | Path) -> ParsedInstruction:
+def read_parsed(path: str | Path, made_from: MadeFrom | None = None) -> ParsedInstruction:
     """The instruction of a ``parsed.json`` (:func:`write_parsed`)."""
-    data = read_stage_json(path, "parsed", "capframe parse", ("instruction", "needs"))
+    data = read_stage_json(path, "parsed", "capframe parse", ("instruction", "needs"), made_from)
     return _instruction(data, str(path))
 
 
@@ -91,7 +99,7 @@ class Coarse:
     up: np.ndarray
     source: str | None = None
 
-    def write(self, path: str | Path) -> None:
+    def write(self, path: str | Path, made_from: MadeFrom | None = None) -> None:
         write_json(
             path,
             {
@@ -100,13 +108,14 @@ class Coarse:
                 "coarse": self.coarse,
                 "kept": self.kept,
                 "up": self.up.tolist(),
+                "inputs": _inputs(made_from),
             },
         )
 
     @classmethod
-    def read(cls, path: str | Path) -> Coarse:
+    def read(cls, path: str | Path, made_from: MadeFrom | None = None) -> Coarse:
         source = str(path)
-        data = read_stage_json(path, "coarse", "capframe coarse", ("instruction", "coarse", "kept", "up"))
+        data = read_stage_json(path, "coarse", "capframe coarse", ("instruction", "coarse", "kept", "up"), made_from)
         coarse = data["coarse"]
         if not isinstance(coarse, dict) or not coarse or not all(isinstance(v, (int, float)) for v in coarse.values()):
             raise InputError(f"coarse is {clip(repr(coarse))}; expected view name -> score", source=source)
@@ -139,7 +148,7 @@ class Retrieved:
     up: np.ndarray
     source: str | None = None
 
-    def to_dict(self) -> dict:
+    def to_dict(self, made_from: MadeFrom | None = None) -> dict:
         return {
             "format": 1,
             "instruction": self.parsed.to_dict(),
@@ -147,13 +156,14 @@ class Retrieved:
             "top": self.top,
             "starts": self.starts,
             "up": self.up.tolist(),
+            "inputs": _inputs(made_from),
         }
 
     @classmethod
-    def read(cls, path: str | Path) -> Retrieved:
+    def read(cls, path: str | Path, made_from: MadeFrom | None = None) -> Retrieved:
         source = str(path)
         data = read_stage_json(
-            path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up")
+            path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up"), made_from
         )
         if not isinstance(data["retrieval"], dict):
             raise InputError(f"retrieval is {clip(repr(data['retrieval']))}; expected questions and answers", source=source)
@@ -162,10 +172,14 @@ class Retrieved:
         return cls(_instruction(data, source), data["retrieval"], top, starts, up, source)
 
 
-def write_masks(masks: dict[str, SubjectMasks], view_names: list[str], path: str | Path) -> None:
+def write_masks(
+    masks: dict[str, SubjectMasks], view_names: list[str], path: str | Path, made_from: MadeFrom | None = None
+) -> None:
     """``masks.npz``: ``subjects`` (S,), per subject i ``views_i`` (K,) names and ``masks_i``
-    (K, H, W) bool."""
-    arrays = {"subjects": np.array(list(masks), dtype=str)}
+    (K, H, W) bool, and ``inputs`` (the JSON of what it was made from)."""
+    import json
+
+    arrays = {"subjects": np.array(list(masks), dtype=str), "inputs": np.array(json.dumps(_inputs(made_from)))}
     for i, m in enumerate(masks.values()):
         arrays[f"views_{i}"] = np.array([view_names[v] for v in m.views], dtype=str)
         arrays[f"masks_{i}"] = np.asarray(m.masks, dtype=bool)
@@ -174,13 +188,14 @@ def write_masks(masks: dict[str, SubjectMasks], view_names: list[str], path: str
     atomic_write(path, buffer.getvalue())
 
 
-def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMasks]:
+def read_masks(path: str | Path, view_names: list[str], made_from: MadeFrom | None = None) -> dict[str, SubjectMasks]:
     """Masks written by :func:`write_masks`, their views as indices into ``view_names``."""
     source = str(path)
     content = read_bytes(path, "a masks.npz file")
     index = {name: i for i, name in enumerate(view_names)}
     try:
         with np.load(io.BytesIO(content)) as data:
+            inputs = parse_json(str(data["inputs"]).encode(), source) if "inputs" in data else {}
             out = {}
             for i, name in enumerate(data["subjects"].tolist()):
                 names, masks = data[f"views_{i}"].tolist(), data[f"masks_{i}"]
@@ -196,10 +211,11 @@ def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMask
         raise
     except (KeyError, ValueError, OSError) as err:
         raise InputError(f"is not a masks file written by capframe segment ({err})", source=source) from None
+    (made_from or MadeFrom()).add("masks", source, digest(content), inputs)
     return out
 
 
-def write_groundings(groundings: dict[str, Grounding], path: str | Path) -> None:
+def write_groundings(groundings: dict[str, Grounding], path: str | Path, made_from: MadeFrom | None = None) -> None:
     """``subjects.json``: per subject its Gaussian indices and centroid."""
     write_json(
         path,
@@ -208,14 +224,15 @@ def write_groundings(groundings: dict[str, Grounding], path: str | Path) -> None
             "subjects": {
                 name: {"gaussians": g.gaussians.tolist(), "centroid": g.centroid.tolist()} for name, g in groundings.items()
             },
+            "inputs": _inputs(made_from),
         },
     )
 
 
-def read_groundings(path: str | Path, n_gaussians: int) -> dict[str, Grounding]:
+def read_groundings(path: str | Path, n_gaussians: int, made_from: MadeFrom | None = None) -> dict[str, Grounding]:
     """Groundings written by :func:`write_groundings`, checked against a scene of ``n_gaussians``."""
     source = str(path)
-    data = read_stage_json(path, "subjects", "capframe associate", ("subjects",))
+    data = read_stage_json(path, "subjects", "capframe associate", ("subjects",), made_from)
     if not isinstance(data["subjects"], dict):
         raise InputError(f"subjects is {clip(repr(data['subjects']))}; expected subject name -> Gaussians", source=source)
     out = {}
@@ -233,19 +250,20 @@ def read_groundings(path: str | Path, n_gaussians: int) -> dict[str, Grounding]:
     return out
 
 
-def write_fronts(fronts: dict[str, np.ndarray | None], path: str | Path) -> None:
+def write_fronts(fronts: dict[str, np.ndarray | None], path: str | Path, made_from: MadeFrom | None = None) -> None:
     """``fronts.json``: subject -> unit front (world) or null when the estimator found none."""
     write_json(
         path,
         {
             "format": 1,
             "fronts": {k: None if f is None else np.asarray(f).tolist() for k, f in fronts.items()},
+            "inputs": _inputs(made_from),
         },
     )
 
 
-def read_fronts(path: str | Path) -> dict[str, np.ndarray | None]:
-    data = read_stage_json(path, "fronts", "capframe orient", ("fronts",))
+def read_fronts(path: str | Path, made_from: MadeFrom | None = None) -> dict[str, np.ndarray | None]:
+    data = read_stage_json(path, "fronts", "capframe orient", ("fronts",), made_from)
     if not isinstance(data["fronts"], dict):
         raise InputError(f"fronts is {clip(repr(data['fronts']))}; expected subject name -> front", source=str(path))
     out = {}

@@ -362,3 +362,43 @@ def test_stage_files_with_nan_or_no_direction_are_refused(scene_dir, staged, tmp
         argv += ["-o", out]
     with nothing_changes(tmp_path), nothing_changes(staged):
         assert_refused(run(capsys, *argv), str(bad), named)
+
+
+def test_stage_file_changed_after_the_files_made_from_it_is_refused(scene_dir, staged, tmp_path, capsys):
+    """A retrieval.json edited in place with its time kept (Snakemake sees nothing): the labels
+    made from it name themselves as the file to rebuild, and so does a retrieval.json whose
+    coarse.json changed."""
+    saved = {name: (staged / name).read_bytes() for name in ("retrieval.json", "coarse.json")}
+    try:
+        edited(staged, "retrieval.json", tmp_path, lambda d: d.update(starts=d["starts"][::-1]), keep_path=True)
+        argv = [
+            "refine",
+            scene_dir,
+            "--labels",
+            staged / "labels.json",
+            "--init",
+            staged / "retrieval.json",
+            "-o",
+            tmp_path / "r",
+        ]
+        with nothing_changes(tmp_path), nothing_changes(staged):
+            line = assert_refused(run(capsys, *argv), "labels.json", "inputs.retrieval", str(staged / "retrieval.json"))
+            assert line.endswith(f"rebuild {staged / 'labels.json'}")
+        (staged / "retrieval.json").write_bytes(saved["retrieval.json"])
+        edited(staged, "coarse.json", tmp_path, lambda d: d.update(kept=d["kept"][::-1]), keep_path=True)
+        argv = [
+            "orient",
+            scene_dir,
+            "--retrieval",
+            staged / "retrieval.json",
+            "-o",
+            tmp_path / "f.json",
+            "--cache",
+            staged / "cache",
+        ]
+        with nothing_changes(tmp_path), nothing_changes(staged):
+            line = assert_refused(run(capsys, *argv), "inputs.coarse", str(staged / "coarse.json"))
+            assert line.endswith(f"rebuild {staged / 'retrieval.json'}")
+    finally:
+        for name, content in saved.items():
+            (staged / name).write_bytes(content)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
@@ -126,17 +127,78 @@ def read_json(path: str | Path) -> Any:
     return parse_json(read_bytes(path), str(path))
 
 
-def read_stage_json(path: str | Path, kind: str, writer: str, keys: tuple[str, ...]) -> dict:
+def digest(content: bytes) -> str:
+    """The SHA-256 of ``content``, in hex: a stage file's identity (:class:`MadeFrom`)."""
+    return hashlib.sha256(content).hexdigest()
+
+
+class MadeFrom:
+    """The stage files one command read, so that what it writes records what it was made from,
+    and so that it never combines files that were not made from each other.
+
+    A stage file records under ``inputs`` each stage file it was made from: kind (``retrieval``,
+    ``subjects``, ...) -> ``{"path", "sha256"}``. When a command reads a stage file, every input
+    that file records must still have the recorded content: the file of that kind the command
+    itself read, else the file at the recorded path if it is still there (files moved elsewhere
+    are not looked for). A mismatch means a file changed after the files made from it, which the
+    workflow never does (Snakemake rebuilds whatever is newer than its inputs): it is refused,
+    naming the stale file to rebuild.
+    """
+
+    def __init__(self) -> None:
+        self.files: dict[str, tuple[str, str]] = {}  # kind -> (path, sha256) of what was read
+        self.claims: list[tuple[str, str, str]] = []  # (reader file, kind, sha256 it records)
+
+    def add(self, kind: str, path: str | Path, sha256: str, recorded: Any) -> None:
+        """Register the stage file of ``kind`` at ``path`` (content ``sha256``) whose ``inputs``
+        are ``recorded``, after checking both against every file read so far."""
+        source = str(path)
+        if not isinstance(recorded, dict):
+            raise InputError(f"inputs is {recorded!r}; expected kind -> {{path, sha256}}", source=source)
+        for made_from, entry in recorded.items():
+            if not (isinstance(entry, dict) and isinstance(entry.get("path"), str) and isinstance(entry.get("sha256"), str)):
+                raise InputError(f"inputs.{made_from} is {entry!r}; expected {{path, sha256}}", source=source)
+            if made_from in self.files:
+                current = self.files[made_from]
+            elif Path(entry["path"]).is_file():
+                current = (entry["path"], digest(read_bytes(entry["path"])))
+            else:
+                current = None
+            if current is not None and current[1] != entry["sha256"]:
+                raise _stale(source, made_from, current[0], entry["sha256"], current[1])
+            self.claims.append((source, made_from, entry["sha256"]))
+        for reader, made_from, recorded_sha in self.claims:
+            if made_from == kind and recorded_sha != sha256:
+                raise _stale(reader, kind, source, recorded_sha, sha256)
+        self.files[kind] = (source, sha256)
+
+    def record(self) -> dict:
+        """``inputs`` of a file made from everything read: kind -> ``{"path", "sha256"}``."""
+        return {kind: {"path": path, "sha256": sha} for kind, (path, sha) in self.files.items()}
+
+
+def read_stage_json(path: str | Path, kind: str, writer: str, keys: tuple[str, ...], made_from: MadeFrom | None) -> dict:
     """A stage file of ``kind`` (:mod:`capframe.handoff`) written by ``writer``: format 1 with
-    ``keys`` and only finite numbers."""
+    ``keys``, only finite numbers, and made from the files ``made_from`` has read (it is
+    registered there; without one, against the files at the paths it records)."""
     source = str(path)
-    data = parse_json(read_bytes(path), source)
+    content = read_bytes(path)
+    data = parse_json(content, source)
     if not isinstance(data, dict) or data.get("format") != 1 or any(k not in data for k in keys):
         raise InputError(f"is not a {kind} file (format 1 with {', '.join(keys)}; written by {writer})", source=source)
     found = non_finite(data)
     if found is not None:
         raise InputError(f"{found[0]} is {found[1]}; expected a finite number", source=source)
+    (made_from or MadeFrom()).add(kind, source, digest(content), data.get("inputs", {}))
     return data
+
+
+def _stale(reader: str, kind: str, path: str, recorded: str, actual: str) -> InputError:
+    return InputError(
+        f"inputs.{kind} is sha256 {recorded[:12]}, but {path} is now {actual[:12]}: made from a {kind} file that has "
+        f"changed since; rebuild {reader}",
+        source=reader,
+    )
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,7 @@ import numpy as np
 
 from ..constraints import REGIONS, SHOT_SIZES, VIEW_SIDES, VIEW_TOLERANCE_DEG, Constraints, min_in_frame_fraction
 from ..errors import InputError, clip
-from ..scene._io import as_array, as_direction, as_float, read_stage_json, require_keys, write_json
+from ..scene._io import MadeFrom, as_array, as_direction, as_float, read_stage_json, require_keys, write_json
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
 # checker's accepted interval (capframe.constraints.SHOT_SIZES) with a margin on both sides.
@@ -243,8 +243,9 @@ def _to_json(labels: PseudoLabels) -> dict:
     }
 
 
-def write_pseudo_labels(labels: PseudoLabels, path: str | Path) -> None:
-    write_json(path, _to_json(labels))
+def write_pseudo_labels(labels: PseudoLabels, path: str | Path, made_from: MadeFrom | None = None) -> None:
+    """``labels.json``; ``made_from`` (the stage files read) is recorded as its ``inputs``."""
+    write_json(path, _to_json(labels) | {"inputs": {} if made_from is None else made_from.record()})
 
 
 def _numbers(value, what: str, source: str, size: int | None = None) -> tuple | None:
@@ -256,11 +257,11 @@ def _numbers(value, what: str, source: str, size: int | None = None) -> tuple | 
     return tuple(as_array(value, (len(value) if size is None else size,), what, source).tolist())
 
 
-def read_pseudo_labels(path: str | Path) -> PseudoLabels:
+def read_pseudo_labels(path: str | Path, made_from: MadeFrom | None = None) -> PseudoLabels:
     """Pseudo labels written by :func:`write_pseudo_labels`, checked field by field (finite
     numbers, unit fronts, a world up, at least one subject with Gaussians)."""
     source = str(path)
-    data = read_stage_json(path, "labels", "capframe translate", ("subjects", "up", "roll_deg", "box_angle_deg"))
+    data = read_stage_json(path, "labels", "capframe translate", ("subjects", "up", "roll_deg", "box_angle_deg"), made_from)
     if not isinstance(data["subjects"], list) or not data["subjects"]:
         raise InputError(f"subjects is {clip(repr(data['subjects']))}; expected at least one subject", source=source)
     subjects = []
