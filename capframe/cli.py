@@ -75,6 +75,7 @@ def _cmd_aggregate(args: argparse.Namespace) -> None:
 def _cmd_refine(args: argparse.Namespace) -> None:
     from .pipeline import StageClock, stages
     from .pipeline.outputs import write_ground_result, write_refine_result
+    from .render import check_render_memory
     from .scene import load_scene_dir
     from .scene._io import MadeFrom
     from .translate.labels import read_pseudo_labels
@@ -101,10 +102,12 @@ def _cmd_refine(args: argparse.Namespace) -> None:
         if not scene.cameras:
             raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
         starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts, retrieved.source)]
+        check_render_memory(starts, device=scene.gaussians.means.device, source=str(args.scene))
         refined = stages.refine(scene, labels, starts, options, clock)
         write_ground_result(args.output, scene, labels, retrieved, refined, options, clock)
     else:
         start = _initial_camera(scene.cameras, args.init)
+        check_render_memory(start, device=scene.gaussians.means.device, source=args.init)
         clock.done("load")
         write_refine_result(
             args.output, scene, labels, stages.refine(scene, labels, [start], options, clock), options.refine, clock

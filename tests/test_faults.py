@@ -167,6 +167,38 @@ def test_scene_path_that_is_not_utf8_grounds_with_its_default_cache(scene_dir, t
     assert os.fsencode(cache.name).startswith(b"sc\xffene-")
 
 
+# --- one memory estimate before any render ---------------------------------------------------------
+
+
+def test_render_too_large_for_memory_is_refused_before_loading_the_scene(scene_dir, camera_json, tmp_path, capsys):
+    huge = json.loads(camera_json.read_text())
+    huge["width"], huge["height"] = 100_000, 75_000
+    (tmp_path / "huge.json").write_text(json.dumps(huge))
+    with nothing_changes(tmp_path):
+        line = assert_refused(
+            run(capsys, "render", scene_dir, "--camera", tmp_path / "huge.json", "-o", tmp_path / "x.png"),
+            "huge.json",
+            "100000x75000",
+            "GiB",
+        )
+    assert "--long-side" in line
+
+
+@pytest.mark.parametrize("verb", ["ground", "baseline"])
+def test_training_cameras_too_large_to_render_are_refused_before_the_search(scene_dir, tmp_path, capsys, verb):
+    """The result is rendered at the size of the training view it starts from: a scene whose
+    cameras are 100000x100000 fails before retrieval, not after the whole search."""
+    scene = tmp_path / "scene"
+    shutil.copytree(scene_dir, scene)
+    cameras = json.loads((scene / "cameras.json").read_text())
+    for camera in cameras:
+        camera["width"] = camera["height"] = 100_000
+    (scene / "cameras.json").write_text(json.dumps(cameras))
+    argv = [verb, *(["svs"] if verb == "baseline" else []), scene, INSTRUCTION, "-o", tmp_path / "out", "--cache", tmp_path / "c"]
+    with nothing_changes(tmp_path):
+        assert_refused(run(capsys, *argv), str(scene), "100000x100000")
+
+
 # --- weak spots -----------------------------------------------------------------------------------
 
 

@@ -30,6 +30,7 @@ from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
 from ..measure import CheckReport, ConstraintChecker, Subject
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
+from ..render import check_render_memory
 from ..retrieve.qe import coarse_keep, rank_kept
 from ..scene import Camera, SceneDir, load_scene_dir, scene_scale
 from ..translate.instruction import ParsedInstruction
@@ -145,6 +146,11 @@ class Job:
     @property
     def view_names(self) -> list[str]:
         return [c.name for c in self.scene.cameras]
+
+    def check_final_render(self) -> None:
+        """:class:`InputError` before any work when the result's full-resolution frame, rendered
+        at the size of the training view Refine starts from, cannot fit in memory."""
+        check_render_memory(self.scene.cameras, device=self.scene.gaussians.means.device, source=str(self.scene.root))
 
     def check_subjects(self, parsed: ParsedInstruction, source: str | None) -> None:
         """:class:`InputError` naming ``source`` (the stage file ``parsed`` was read from) when a
