@@ -347,16 +347,19 @@ def _cmd_translate(args: argparse.Namespace) -> None:
 
 def _cmd_retrieved_view(args: argparse.Namespace) -> None:
     from .handoff import Retrieved
+    from .pipeline import StageClock
     from .pipeline.outputs import write_retrieved_view
     from .pipeline.stages import view_indices
     from .scene import load_scene_dir
 
+    clock = StageClock(False)
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None or not scene.cameras:
         raise InputError("needs scene.ply and training cameras to render a retrieved view", source=str(args.scene))
     retrieved = Retrieved.read(args.retrieval)
     camera = scene.cameras[view_indices(scene, retrieved.starts[:1], retrieved.source)[0]]
-    summary = write_retrieved_view(args.output, scene, retrieved, camera)
+    clock.done("load")
+    summary = write_retrieved_view(args.output, scene, retrieved, camera, clock)
     print(f"{args.output}: retrieved view {summary['init_view']}")
 
 

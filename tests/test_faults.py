@@ -251,6 +251,21 @@ def test_a_10000_character_instruction_prints_short_lines(scene_dir, tmp_path, c
     assert len(line) < MESSAGE_CHARS and "10000 characters in all" in line
 
 
+def test_the_retrieve_row_of_the_methods_table_has_run_times(scene_dir, staged, tmp_path, capsys):
+    """The retrieved view's result records its job's time like every method's result, so the
+    methods table has no NaN median for Retrieve (it recorded none)."""
+    code, _, err = run(capsys, "retrieved-view", scene_dir, "--retrieval", staged / "retrieval.json", "-o", tmp_path / "view")
+    assert code == 0, err
+    check = tmp_path / "check" / "scene" / "i0.json"
+    check.parent.mkdir(parents=True)
+    check.write_text(json.dumps({"all_satisfied": True, "satisfied": 1, "applicable": 1, "rows": []}))
+    argv = ["aggregate", "--method", "retrieve", "--checks", check, "--results", tmp_path / "view" / "result.json"]
+    assert run(capsys, *argv, "-o", tmp_path / "retrieve.csv")[0] == 0
+    assert run(capsys, "compare", tmp_path / "retrieve.csv", "-o", tmp_path / "methods.csv")[0] == 0
+    table = (tmp_path / "methods.md").read_text()
+    assert "retrieve" in table and "NaN" not in table
+
+
 def test_unknown_refine_weight_is_rejected_by_the_config_schema():
     """The schema's weight names are exactly the optimiser's loss terms."""
     import dataclasses
