@@ -12,6 +12,7 @@ import contextlib
 import json
 import os
 import shutil
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -449,3 +450,73 @@ def test_stage_file_changed_after_the_files_made_from_it_is_refused(scene_dir, s
     finally:
         for name, content in saved.items():
             (staged / name).write_bytes(content)
+
+
+# --- shell injection and path escape in the workflow --------------------------------------------
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def snakemake_dry_run(work: Path, *extra: str) -> subprocess.CompletedProcess:
+    """``snakemake -n`` of the project's workflow in ``work`` (which holds its config/)."""
+    import sys
+
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
+    cmd = [sys.executable, "-m", "snakemake", "-n", "--nolock", "--cores", "1", "--snakefile", str(ROOT / "Snakefile")]
+    return subprocess.run(
+        [*cmd, "--directory", str(work), *extra], cwd=work, env=env, capture_output=True, text=True, timeout=300
+    )
+
+
+@pytest.mark.parametrize("name", ["k;touch pwned;", "../../evil", "a b", ".hidden"])
+def test_variant_names_that_are_not_safe_are_rejected_by_the_schema(tmp_path, name):
+    import yaml
+
+    shutil.copytree(ROOT / "config", tmp_path / "config")
+    config = yaml.safe_load((tmp_path / "config" / "config.yaml").read_text())
+    config["variants"] = {name: {"refine": {"iterations": 10}}}
+    (tmp_path / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+    with nothing_changes(tmp_path / "config"):
+        done = snakemake_dry_run(tmp_path)
+    assert done.returncode != 0 and "Error validating config" in done.stdout + done.stderr
+    assert not (tmp_path / "pwned").exists() and not (tmp_path / "results").exists()
+
+
+def test_suite_ids_that_are_not_safe_names_are_refused(tmp_path):
+    from capframe.errors import InputError
+    from capframe.synth.suite import load_suite
+
+    entry = "{id: %s, group: lerf, seed: 1, preset: tabletop, capture: orbit, views: 8, scale: 1.0, tilt: 0, poses: true, "
+    entry += "resolution: 80x60, density: 0.2, instructions: 1}"
+    for bad in ("'../../evil'", "'x;touch pwned'", "'$(id)'"):
+        (tmp_path / "suite.yaml").write_text("suite: s\nscenes:\n  - " + entry % bad + "\n")
+        with pytest.raises(InputError, match="'id' is"):
+            load_suite(tmp_path / "suite.yaml")
+
+
+def test_instruction_ids_that_are_not_safe_names_stop_the_workflow(tmp_path):
+    """Instruction ids come from a file (constraints.json) and become wildcards and paths too."""
+    from test_workflow import _fake_generated_suite
+
+    _fake_generated_suite(tmp_path)
+    sheet = tmp_path / "results" / "instructions" / "tabletop-orbit" / "constraints.json"
+    sheet.write_text(json.dumps({"x;touch pwned": {"text": "a photo of the ball", "constraints": {}}}))
+    done = snakemake_dry_run(tmp_path, "--rerun-triggers", "mtime")
+    assert (
+        done.returncode != 0 and "'x;touch pwned'" in done.stdout + done.stderr and "not safe names" in done.stdout + done.stderr
+    )
+    assert not (tmp_path / "pwned").exists()
+
+
+def test_every_shell_placeholder_is_quoted():
+    """Inputs, outputs, logs, wildcards and params reach the shell as {...:q}: each is one quoted
+    argument (or, for a list, one quoted argument per item), whatever characters it holds."""
+    import re
+
+    rules = [ROOT / "Snakefile", *sorted((ROOT / "workflow" / "rules").glob("*.smk"))]
+    placeholders = []
+    for path in rules:
+        for block in re.findall(r"^    shell:\n((?:        .*\n)+)", path.read_text(), re.M):
+            placeholders += re.findall(r"\{([^{}]*)\}", block)
+    assert len(placeholders) > 80, "no shell commands parsed: the pattern is stale"
+    assert [p for p in placeholders if not p.endswith(":q")] == []

@@ -2,12 +2,12 @@
 
 import json
 import os
-import shlex
+import re
 
 from snakemake.utils import validate
 
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
-from capframe.synth.suite import load_suite
+from capframe.synth.suite import SAFE_NAME, is_safe_name, load_suite
 
 validate(config, "../schemas/config.schema.yaml")
 
@@ -17,8 +17,7 @@ SCENES = {scene.id: scene for scene in SUITE_SCENES}
 
 def synth_args(wildcards):
     scene = wildcards.scene
-    images = [] if needs_images(scene) else ["--no-images"]
-    return " ".join(shlex.quote(arg) for arg in SCENES[scene].synth_args() + images)
+    return SCENES[scene].synth_args() + ([] if needs_images(scene) else ["--no-images"])
 
 
 def needs_images(scene):
@@ -28,10 +27,15 @@ def needs_images(scene):
 
 
 def instruction_ids(scene):
-    """Ids in the scene's constraints.json (known once the instructions checkpoint has run)."""
+    """Ids in the scene's constraints.json (known once the instructions checkpoint has run); each
+    becomes a wildcard and a path, so it must be a safe name (SAFE_NAME)."""
     path = checkpoints.instructions.get(scene=scene).output.constraints
     with open(path) as f:
-        return sorted(json.load(f))
+        ids = sorted(json.load(f))
+    unsafe = [i for i in ids if not is_safe_name(i)]
+    if unsafe:
+        raise ValueError(f"{path}: instruction ids {unsafe} are not safe names ({SAFE_NAME}, no '..')")
+    return ids
 
 
 def per_instruction(pattern):
@@ -60,8 +64,9 @@ def gravity_input(wildcards):
 
 
 def gravity_option(wildcards, input):
-    """The ``--gravity`` option of a rule with a ``gravity`` input (empty when the scene is aligned)."""
-    return f"--gravity {input.gravity}" if input.gravity else ""
+    """The ``--gravity`` option of a rule with a ``gravity`` input (none when the scene is aligned),
+    as arguments for ``{params.gravity:q}``."""
+    return ["--gravity", input.gravity] if input.gravity else []
 
 
 def instruction_text(wildcards):
@@ -124,12 +129,12 @@ def backends(variant):
 
 def backend_options(variant, roles):
     """The ``--<role> <backend>`` options of ``roles`` for ``variant`` (and ``--models`` when a
-    models config is set)."""
+    models config is set), as arguments for ``{params.backends:q}``."""
     chosen = backends(variant)
-    options = [f"{ROLES[role].option} {chosen[role]}" for role in roles if role in chosen]
+    options = [arg for role in roles if role in chosen for arg in (ROLES[role].option, chosen[role])]
     if config.get("models"):
-        options.append(f"--models {shlex.quote(config['models'])}")
-    return " ".join(options)
+        options += ["--models", config["models"]]
+    return options
 
 
 def masks_input(wildcards):

@@ -2,7 +2,7 @@
 
 
 wildcard_constraints:
-    method="|".join(METHOD_RESULTS),
+    method="|".join(map(re.escape, METHOD_RESULTS)),
 
 
 rule check:
@@ -18,8 +18,8 @@ rule check:
         "results/benchmarks/check/{method}/{scene}/{instruction}.tsv"
     priority: EVALUATE_PRIORITY
     shell:
-        "capframe check {input.scene} {input.result}/result.json --constraints {input.constraints} "
-        "--id {wildcards.instruction} -o {output} > {log} 2>&1"
+        "capframe check {input.scene:q} {input.result:q}/result.json --constraints {input.constraints:q} "
+        "--id {wildcards.instruction:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule aggregate:
@@ -37,8 +37,8 @@ rule aggregate:
     params:
         results=lambda wc, input: [f"{r}/result.json" for r in input.results],
     shell:
-        "capframe aggregate --method {wildcards.method} --checks {input.checks} --results {params.results} "
-        "-o {output} > {log} 2>&1"
+        "capframe aggregate --method {wildcards.method:q} --checks {input.checks:q} --results {params.results:q} "
+        "-o {output:q} > {log:q} 2>&1"
 
 
 rule compare:
@@ -52,7 +52,7 @@ rule compare:
     benchmark:
         "results/benchmarks/tables/methods.tsv"
     shell:
-        "capframe compare {input} -o {output.table} > {log} 2>&1"
+        "capframe compare {input:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 rule groups:
@@ -68,7 +68,7 @@ rule groups:
     params:
         groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
     shell:
-        "capframe groups {input} --group {params.groups} -o {output.table} > {log} 2>&1"
+        "capframe groups {input:q} --group {params.groups:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
@@ -88,8 +88,8 @@ rule sensitivity:
     params:
         variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
     shell:
-        "capframe sensitivity --reference results/refine/capframe --variant {params.variants} --checks-root results/check "
-        "--scenes-root results/scenes -o {output.table} > {log} 2>&1"
+        "capframe sensitivity --reference results/refine/capframe --variant {params.variants:q} --checks-root results/check "
+        "--scenes-root results/scenes -o {output.table:q} > {log:q} 2>&1"
 
 
 rule scene_table:
@@ -106,7 +106,7 @@ rule scene_table:
         "results/benchmarks/tables/scenes.tsv"
     shell:
         "capframe scene-table --scenes-root results/scenes --colmap-root results/colmap --gravity-root results/gravity "
-        "-o {output.table} > {log} 2>&1"
+        "-o {output.table:q} > {log:q} 2>&1"
 
 
 rule runtime:
@@ -128,4 +128,4 @@ rule runtime:
     benchmark:
         "results/benchmarks/tables/runtime.tsv"
     shell:
-        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods} -o {output.table} > {log} 2>&1"
+        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods:q} -o {output.table:q} > {log:q} 2>&1"
