@@ -520,3 +520,78 @@ def test_every_shell_placeholder_is_quoted():
             placeholders += re.findall(r"\{([^{}]*)\}", block)
     assert len(placeholders) > 80, "no shell commands parsed: the pattern is stale"
     assert [p for p in placeholders if not p.endswith(":q")] == []
+
+
+# --- an interrupted run resumes ------------------------------------------------------------------
+
+TINY_SUITE = """suite: tiny
+scenes:
+  - {id: tiny, group: lerf, seed: 1, preset: tabletop, capture: orbit, objects: [teddy bear, mug],
+     views: 8, scale: 1.0, tilt: 0, poses: true, resolution: 80x60, density: 0.2, instructions: 1}
+"""
+
+
+def _snakemake(work: Path, *extra: str, **popen) -> subprocess.Popen:
+    """The project's workflow on the tiny suite in ``work``, with the default profile (which asks
+    for --rerun-incomplete), running this checkout's capframe."""
+    import sys
+
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
+    cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(work)]
+    cmd += ["--workflow-profile", str(ROOT / "workflow" / "profiles" / "default"), "--cores", "2", *extra]
+    return subprocess.Popen([*cmd, "results/tables/capframe.csv"], cwd=work, env=env, text=True, **popen)
+
+
+def _finished_jobs(log: str) -> list[tuple[str, str]]:
+    """(rule, outputs) of every job a Snakemake log reports finished."""
+    import re
+
+    started = {
+        jobid: (rule, outputs)
+        for rule, outputs, jobid in re.findall(
+            r"^(?:local)?(?:rule|checkpoint) (\w+):\n(?:    .*\n)*?    output: (.*)\n(?:    .*\n)*?    jobid: (\d+)$", log, re.M
+        )
+    }
+    return [started[jobid] for jobid in re.findall(r"^Finished jobid: (\d+) ", log, re.M)]
+
+
+def test_a_run_interrupted_after_a_checkpoint_resumes_every_job_once(tmp_path):
+    """SIGINT reaches Snakemake while a job after the parse checkpoint runs: Snakemake lets it
+    finish but records it as incomplete. The resumed run reruns exactly the jobs it did not see
+    finish, every job of the target finishes once over both runs, and no incomplete marker is left."""
+    import signal
+    import time
+
+    (tmp_path / "config" / "suites").mkdir(parents=True)
+    (tmp_path / "config" / "suites" / "tiny.yaml").write_text(TINY_SUITE)
+    config = "suite: config/suites/tiny.yaml\nrefine: {iterations: 30, long_side: 48}\nvariants: {}\n"
+    (tmp_path / "config" / "config.yaml").write_text(config)
+    logs = [tmp_path / "first.log", tmp_path / "resumed.log"]
+
+    with open(logs[0], "w") as out:
+        first = _snakemake(tmp_path, stdout=out, stderr=subprocess.STDOUT)
+        coarse_log = tmp_path / "results" / "logs" / "coarse" / "capframe" / "tiny" / "tiny-000.log"
+        incomplete = tmp_path / ".snakemake" / "incomplete"
+
+        def coarse_is_running() -> bool:  # started (its log) and registered by Snakemake (a marker)
+            return coarse_log.exists() and incomplete.is_dir() and any(incomplete.iterdir())
+
+        deadline = time.monotonic() + 300
+        while not coarse_is_running() and first.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert first.poll() is None, "the run ended before the coarse job started"
+        first.send_signal(signal.SIGINT)
+        first.wait(timeout=300)
+    assert first.returncode != 0 and any(incomplete.iterdir()), "the interrupt hit no running job"
+
+    with open(logs[1], "w") as out:
+        assert _snakemake(tmp_path, stdout=out, stderr=subprocess.STDOUT).wait(timeout=600) == 0, logs[1].read_text()[-3000:]
+
+    first_jobs, resumed_jobs = (_finished_jobs(log.read_text()) for log in logs)
+    assert "coarse" in [rule for rule, _ in resumed_jobs]  # interrupted, so run again
+    everything = first_jobs + resumed_jobs
+    assert sorted(everything) == sorted(set(everything)), "a job finished twice"
+    assert not any(incomplete.iterdir())
+    nothing = _snakemake(tmp_path, "-n", stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    assert "Nothing to be done" in nothing.communicate(timeout=300)[0]

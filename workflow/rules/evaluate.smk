@@ -26,6 +26,7 @@ rule aggregate:
     input:
         # First: the parse checkpoints enter the DAG before the results that depend on them.
         parsed=lambda wc: parse_outputs(wc.method)(wc),
+        constraints=CONSTRAINTS,
         checks=lambda wc: per_instruction(f"results/check/{wc.method}/{{scene}}/{{instruction}}.json")(wc),
         results=lambda wc: per_instruction(METHOD_RESULTS[wc.method])(wc),
     output:
@@ -76,6 +77,7 @@ VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
 
 rule sensitivity:
     input:
+        constraints=CONSTRAINTS,
         checks=lambda wc: [c for v in VARIANTS for c in per_instruction(f"results/check/{v}/{{scene}}/{{instruction}}.json")(wc)],
         results=lambda wc: [r for v in VARIANTS for r in per_instruction(METHOD_RESULTS[v])(wc)],
     output:
@@ -116,6 +118,7 @@ rule runtime:
         "results/tables/scenes.csv",
         ["results/tables/sensitivity.csv"] if VARIANT_NAMES else [],
         per_instruction("results/report/grid/{scene}/{instruction}.png"),
+        CONSTRAINTS,
         methods="results/tables/methods.csv",
     output:
         table=report("results/tables/runtime.csv", caption="../report/runtime.rst", category="Tables"),
