@@ -42,6 +42,7 @@ from .translate.instruction import JSON_SCHEMA, ParsedInstruction
 
 
 def _inputs(made_from: MadeFrom | None) -> dict:
+    """A written file's ``inputs``: the stage files its command read (none when made in-process)."""
     return {} if made_from is None else made_from.record()
 
 

@@ -1,4 +1,6 @@
-"""Helpers shared by the scene readers and writers (not part of the public API)."""
+"""Helpers shared by the readers and writers (not part of the public API): atomic writes, the
+JSON reader and the one JSON writer, the stage-file reader and its record of what a file was
+made from, the output-path check, field parsers."""
 
 from __future__ import annotations
 
@@ -155,20 +157,20 @@ class MadeFrom:
         source = str(path)
         if not isinstance(recorded, dict):
             raise InputError(f"inputs is {recorded!r}; expected kind -> {{path, sha256}}", source=source)
-        for made_from, entry in recorded.items():
+        for input_kind, entry in recorded.items():
             if not (isinstance(entry, dict) and isinstance(entry.get("path"), str) and isinstance(entry.get("sha256"), str)):
-                raise InputError(f"inputs.{made_from} is {entry!r}; expected {{path, sha256}}", source=source)
-            if made_from in self.files:
-                current = self.files[made_from]
+                raise InputError(f"inputs.{input_kind} is {entry!r}; expected {{path, sha256}}", source=source)
+            if input_kind in self.files:
+                current = self.files[input_kind]
             elif Path(entry["path"]).is_file():
                 current = (entry["path"], digest(read_bytes(entry["path"])))
             else:
                 current = None
             if current is not None and current[1] != entry["sha256"]:
-                raise _stale(source, made_from, current[0], entry["sha256"], current[1])
-            self.claims.append((source, made_from, entry["sha256"]))
-        for reader, made_from, recorded_sha in self.claims:
-            if made_from == kind and recorded_sha != sha256:
+                raise _stale(source, input_kind, current[0], entry["sha256"], current[1])
+            self.claims.append((source, input_kind, entry["sha256"]))
+        for reader, input_kind, recorded_sha in self.claims:
+            if input_kind == kind and recorded_sha != sha256:
                 raise _stale(reader, kind, source, recorded_sha, sha256)
         self.files[kind] = (source, sha256)
 
