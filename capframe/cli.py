@@ -124,16 +124,16 @@ def _cmd_refine(args: argparse.Namespace) -> None:
 
 
 def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
-    """The occupancy of ``capframe refine``: its --occupancy file, else the cached one (None with
-    --no-free-space)."""
+    """The occupancy of ``capframe refine``: its --occupancy file (built from this scene's
+    Gaussians), else the cached one (None with --no-free-space)."""
     from .pipeline import stages
-    from .scene.occupancy import load_occupancy
+    from .scene.occupancy import gaussians_fingerprint, load_occupancy
 
     if not options.free_space:
         return None
     if args.occupancy is None:
         return stages.free_space(scene, labels.up, options, clock)
-    occupancy = load_occupancy(args.occupancy)
+    occupancy = load_occupancy(args.occupancy, gaussians=gaussians_fingerprint(scene.gaussians))
     if occupancy is None:
         raise InputError(
             "not found or not an occupancy of this version; rebuild it with capframe occupancy", source=args.occupancy
@@ -144,14 +144,15 @@ def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
 def _cmd_occupancy(args: argparse.Namespace) -> None:
     from .geometry.gravity import world_up
     from .scene import load_scene_dir
-    from .scene.occupancy import build_occupancy, occupancy_fingerprint, save_occupancy
+    from .scene.occupancy import build_occupancy, gaussians_fingerprint, occupancy_fingerprint, save_occupancy
 
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None:
         raise InputError("has no scene.ply to build free space from", source=str(args.scene))
     up = world_up(args.scene, args.gravity)
     grid = build_occupancy(scene.gaussians, up, scene.cameras)
-    save_occupancy(grid, args.output, occupancy_fingerprint(scene.gaussians, up, scene.cameras))
+    fingerprint = occupancy_fingerprint(scene.gaussians, up, scene.cameras)
+    save_occupancy(grid, args.output, fingerprint, gaussians_fingerprint(scene.gaussians))
     print(f"{args.output}: {grid.occupied.shape} voxels of {grid.voxel:.4g}, {int(grid.free.sum())} free")
 
 

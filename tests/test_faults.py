@@ -135,15 +135,28 @@ def test_ground_output_that_exists_is_refused_before_the_search(scene_dir, tmp_p
 
 def test_every_verb_with_an_output_declares_it(capsys):
     """The output check runs for a verb only if its parser declares its outputs."""
+    import argparse
+
     from capframe.cli import build_parser
     from capframe.scene._io import OUTPUTS
 
-    verbs = build_parser()._subparsers._group_actions[0].choices
-    for name, parser in verbs.items():
+    def verbs(parser, prefix=""):
+        """(name, parser) of every verb, nested ones (``models export``) included."""
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    yield from verbs(sub, f"{prefix}{name} ")
+        if prefix and not any(isinstance(a, argparse._SubParsersAction) for a in parser._actions):
+            yield prefix.strip(), parser
+
+    names = []
+    for name, parser in verbs(build_parser()):
+        names.append(name)
         dests = {a.dest for a in parser._actions if a.dest in ("output", "dst", "out_dir")}
         declared = parser.get_default("outputs") or {}
         assert set(declared) == dests, name
         assert set(declared.values()) <= set(OUTPUTS), name
+    assert {"occupancy", "align-truth", "models export"} <= set(names)
 
 
 # --- inputs that are not what they say ----------------------------------------------------------
@@ -450,6 +463,90 @@ def test_stage_file_changed_after_the_files_made_from_it_is_refused(scene_dir, s
     finally:
         for name, content in saved.items():
             (staged / name).write_bytes(content)
+
+
+# --- free space, closed-form starts, benches and model export (added to main after #21) ---------
+
+
+@pytest.fixture(scope="module")
+def occupancy_file(scene_dir, tmp_path_factory) -> Path:
+    """The scene's occupancy.npz, written by capframe occupancy."""
+    path = tmp_path_factory.mktemp("occupancy") / "occupancy.npz"
+    assert main([str(a) for a in ("occupancy", scene_dir, "-o", path)]) == 0
+    return path
+
+
+def _rewritten_occupancy(source: Path, target: Path, **changes) -> Path:
+    """A copy of the occupancy file ``source`` at ``target`` with arrays (or ``meta`` keys, as
+    ``meta_<key>``) replaced."""
+    with np.load(source) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(str(arrays["meta"]))
+    for key, value in changes.items():
+        if key.startswith("meta_"):
+            meta[key[len("meta_") :]] = value
+        else:
+            arrays[key] = value
+    arrays["meta"] = np.array(json.dumps(meta))
+    with open(target, "wb") as f:
+        np.savez(f, **arrays)
+    return target
+
+
+def test_occupancy_and_model_export_check_their_output_first(scene_dir, tmp_path, capsys):
+    (tmp_path / "a-folder").mkdir()
+    with nothing_changes(tmp_path):
+        assert_refused(run(capsys, "occupancy", scene_dir, "-o", tmp_path / "a-folder"), str(tmp_path / "a-folder"), "folder")
+        # Refused for its output before the models config (which does not exist) is read.
+        argv = ["models", "export", "clip", "--models", tmp_path / "none.yaml", "-o", tmp_path / "a-folder"]
+        assert_refused(run(capsys, *argv), str(tmp_path / "a-folder"), "folder")
+
+
+@pytest.mark.parametrize(
+    "case, named",
+    [
+        ("missing", "not found"),
+        ("folder", "is a folder"),
+        ("not npz", "is not an occupancy file"),
+        ("nan sdf", "sdf holds NaN"),
+        ("shapes", "free is bool of shape"),
+        ("voxel", "voxel is -1.0"),
+        ("rotation", "rotation is not a rotation matrix"),
+        ("another scene", "was built from another scene"),
+    ],
+)
+def test_occupancy_file_that_is_not_this_scenes_is_refused(scene_dir, staged, occupancy_file, tmp_path, capsys, case, named):
+    """``capframe refine --occupancy``: one line naming the file, before any refinement."""
+    bad = tmp_path / "occupancy.npz"
+    with np.load(occupancy_file) as data:
+        sdf, free = data["sdf"], data["free"]
+    if case == "folder":
+        bad.mkdir()
+    elif case == "not npz":
+        bad.write_bytes(b"PK\x03\x04 not really a zip")
+    elif case == "nan sdf":
+        _rewritten_occupancy(occupancy_file, bad, sdf=np.where(sdf > 0, np.float32("nan"), sdf))
+    elif case == "shapes":
+        _rewritten_occupancy(occupancy_file, bad, free=free[:-1])
+    elif case == "voxel":
+        _rewritten_occupancy(occupancy_file, bad, meta_voxel=-1.0)
+    elif case == "rotation":
+        _rewritten_occupancy(occupancy_file, bad, rotation=2 * np.eye(3))
+    elif case == "another scene":
+        _rewritten_occupancy(occupancy_file, bad, meta_gaussians="0123456789abcdef")
+    argv = ["refine", scene_dir, "--labels", staged / "labels.json", "--init", staged / "retrieval.json"]
+    argv += ["--occupancy", bad, "-o", tmp_path / "out"]
+    with nothing_changes(tmp_path), nothing_changes(staged):
+        assert_refused(run(capsys, *argv), str(bad), named)
+
+
+def test_occupancy_file_of_this_scene_is_read(scene_dir, occupancy_file):
+    from capframe.scene import load_scene_dir
+    from capframe.scene.occupancy import gaussians_fingerprint, load_occupancy
+
+    scene = load_scene_dir(scene_dir)
+    grid = load_occupancy(occupancy_file, gaussians=gaussians_fingerprint(scene.gaussians))
+    assert grid is not None and grid.free.any() and np.isfinite(grid.sdf).all()
 
 
 # --- shell injection and path escape in the workflow --------------------------------------------
