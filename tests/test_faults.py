@@ -393,6 +393,9 @@ NAN = float("nan")
         ("labels.json", "up", [NAN, 0.0, 1.0], "up[0] is nan"),
         ("labels.json", "subjects.0.centroid", [1.0, float("inf"), 0.0], "subjects[0].centroid[1] is inf"),
         ("labels.json", "roll_deg", NAN, "roll_deg is nan"),
+        ("labels.json", "subjects.0.box", [0.6, 0.2, 0.6, 0.8], "subjects[0].box is [0.6, 0.2, 0.6, 0.8]"),
+        ("labels.json", "subjects.0.region", [0.7, 0.2, 0.5, 0.8], "subjects[0].region"),
+        ("labels.json", "subjects.0.box", None, "subjects[0].extent"),
     ],
 )
 def test_stage_files_with_nan_or_no_direction_are_refused(scene_dir, staged, tmp_path, capsys, name, field, value, named):
@@ -463,6 +466,16 @@ def test_stage_file_changed_after_the_files_made_from_it_is_refused(scene_dir, s
     finally:
         for name, content in saved.items():
             (staged / name).write_bytes(content)
+
+
+def test_labels_whose_front_is_along_the_up_are_refused(scene_dir, staged, tmp_path, capsys):
+    """A front with no horizontal part has no azimuth: the closed-form starts and the view loss
+    would place cameras at NaN."""
+    up = json.loads((staged / "labels.json").read_text())["up"]
+    labels = edited(staged, "labels.json", tmp_path, _set("subjects.0.front", [-x for x in up]))
+    argv = ["refine", scene_dir, "--labels", labels, "--init", staged / "retrieval.json", "-o", tmp_path / "out"]
+    with nothing_changes(tmp_path), nothing_changes(staged):
+        assert_refused(run(capsys, *argv), str(labels), "subjects[0].front", "along the up")
 
 
 # --- free space, closed-form starts, benches and model export (added to main after #21) ---------
@@ -547,6 +560,30 @@ def test_occupancy_file_of_this_scene_is_read(scene_dir, occupancy_file):
     scene = load_scene_dir(scene_dir)
     grid = load_occupancy(occupancy_file, gaussians=gaussians_fingerprint(scene.gaussians))
     assert grid is not None and grid.free.any() and np.isfinite(grid.sdf).all()
+
+
+def test_solved_starts_write_no_nan(scene_dir):
+    """result.json's ``solved`` entries: a number that is not finite (a degenerate placement) is null."""
+    from capframe.refine.candidates import Candidate
+    from capframe.scene import load_scene_dir
+    from capframe.scene._io import json_text
+
+    camera = load_scene_dir(scene_dir, load_gaussians=False).cameras[0]
+    entry = Candidate(camera, 30.0, float("nan"), 2.0, float("inf"), 0.0, 0.0, "inside geometry").to_dict()
+    assert entry["elevation_deg"] is None and entry["clearance"] is None and entry["azimuth_deg"] == 30.0
+    assert "NaN" not in json_text(entry, "solved")
+
+
+def test_bench_checks_its_results_folder_first_and_prints_null_for_unmeasured(tmp_path, capsys, monkeypatch):
+    import capframe.bench.render
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results").write_text("a file where the results folder goes")
+    with nothing_changes(tmp_path):
+        assert_refused(run(capsys, "bench", "ground"), "results/bench", "is a file, not a folder")
+    monkeypatch.setattr(capframe.bench.render, "bench_render", lambda: {"seconds": 0.5, "not_measured": float("nan")})
+    code, out, _ = run(capsys, "bench", "render", "--json")
+    assert code == 0 and json.loads(out) == {"seconds": 0.5, "not_measured": None} and "NaN" not in out
 
 
 # --- shell injection and path escape in the workflow --------------------------------------------

@@ -87,6 +87,19 @@ def non_finite(value: Any, where: str = "") -> tuple[str, float] | None:
     return None
 
 
+def finite_or_null(value: Any) -> Any:
+    """``value`` (JSON-like: dicts, lists, tuples, numbers) with every NaN or infinite number
+    replaced by None: for figures where a number may be undefined (not measured), which JSON
+    writes as null rather than as a literal it has no word for."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite_or_null(v) for v in value]
+    return value
+
+
 def json_text(value: Any, source: str, indent: int | None = 2) -> str:
     """``value`` as JSON text (floats keep all their digits). JSON has no NaN or Infinity (Python
     would write them anyway): a non-finite number raises :class:`InputError` naming its key path,

@@ -269,13 +269,23 @@ def _numbers(value, what: str, source: str, size: int | None = None) -> tuple | 
     return tuple(as_array(value, (len(value) if size is None else size,), what, source).tolist())
 
 
+def _box(value, what: str, source: str) -> tuple | None:
+    """None for null, else a frame box ``[x0, y0, x1, y1]`` of finite numbers with some area."""
+    box = _numbers(value, what, source, 4)
+    if box is not None and not (box[0] < box[2] and box[1] < box[3]):
+        raise InputError(f"{what} is {list(box)}; expected [x0, y0, x1, y1] with x0 < x1 and y0 < y1", source=source)
+    return box
+
+
 def read_pseudo_labels(path: str | Path, made_from: MadeFrom | None = None) -> PseudoLabels:
     """Pseudo labels written by :func:`write_pseudo_labels`, checked field by field (finite
-    numbers, unit fronts, a world up, at least one subject with Gaussians)."""
+    numbers, a world up, unit fronts with a horizontal direction, boxes with an area, a shot's
+    extent with its box, at least one subject with Gaussians)."""
     source = str(path)
     data = read_stage_json(path, "labels", "capframe translate", ("subjects", "up", "roll_deg", "box_angle_deg"), made_from)
     if not isinstance(data["subjects"], list) or not data["subjects"]:
         raise InputError(f"subjects is {clip(repr(data['subjects']))}; expected at least one subject", source=source)
+    up = as_direction(data["up"], "up", source)
     subjects = []
     for i, s in enumerate(data["subjects"]):
         what = f"subjects[{i}]"
@@ -294,21 +304,33 @@ def read_pseudo_labels(path: str | Path, made_from: MadeFrom | None = None) -> P
                 as_float(v["azimuth_tolerance_deg"], f"{what}.view.azimuth_tolerance_deg", source),
                 _numbers(v["elevation_range_deg"], f"{what}.view.elevation_range_deg", source, 2),
             )
+        front = None if s["front"] is None else as_direction(s["front"], f"{what}.front", source)
+        # Azimuths are measured about the up from the front's horizontal part (subject_frame).
+        if front is not None and np.linalg.norm(front - (front @ up) * up) < 1e-6:
+            raise InputError(
+                f"{what}.front is {front.tolist()}, along the up; expected a front with a horizontal part", source=source
+            )
+        box = _box(s["box"], f"{what}.box", source)
+        extent = _numbers(s["extent"], f"{what}.extent", source, 2)
+        if extent is not None and box is None:
+            raise InputError(
+                f"{what}.extent is {list(extent)} with box null; expected the shot's box with its extent", source=source
+            )
         subjects.append(
             SubjectLabel(
                 s["name"],
                 index,
                 as_array(s["centroid"], (3,), f"{what}.centroid", source),
-                None if s["front"] is None else as_direction(s["front"], f"{what}.front", source),
-                _numbers(s["region"], f"{what}.region", source, 4),
-                _numbers(s["box"], f"{what}.box", source, 4),
-                _numbers(s["extent"], f"{what}.extent", source, 2),
+                front,
+                _box(s["region"], f"{what}.region", source),
+                box,
+                extent,
                 v,
             )
         )
     return PseudoLabels(
         subjects,
-        as_direction(data["up"], "up", source),
+        up,
         as_float(data["roll_deg"], "roll_deg", source),
         as_float(data["box_angle_deg"], "box_angle_deg", source),
     )
