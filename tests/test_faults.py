@@ -435,31 +435,14 @@ def test_stage_file_changed_after_the_files_made_from_it_is_refused(scene_dir, s
     saved = {name: (staged / name).read_bytes() for name in ("retrieval.json", "coarse.json")}
     try:
         edited(staged, "retrieval.json", tmp_path, lambda d: d.update(starts=d["starts"][::-1]), keep_path=True)
-        argv = [
-            "refine",
-            scene_dir,
-            "--labels",
-            staged / "labels.json",
-            "--init",
-            staged / "retrieval.json",
-            "-o",
-            tmp_path / "r",
-        ]
+        retrieval = staged / "retrieval.json"
+        argv = ["refine", scene_dir, "--labels", staged / "labels.json", "--init", retrieval, "-o", tmp_path / "r"]
         with nothing_changes(tmp_path), nothing_changes(staged):
             line = assert_refused(run(capsys, *argv), "labels.json", "inputs.retrieval", str(staged / "retrieval.json"))
             assert line.endswith(f"rebuild {staged / 'labels.json'}")
         (staged / "retrieval.json").write_bytes(saved["retrieval.json"])
         edited(staged, "coarse.json", tmp_path, lambda d: d.update(kept=d["kept"][::-1]), keep_path=True)
-        argv = [
-            "orient",
-            scene_dir,
-            "--retrieval",
-            staged / "retrieval.json",
-            "-o",
-            tmp_path / "f.json",
-            "--cache",
-            staged / "cache",
-        ]
+        argv = ["orient", scene_dir, "--retrieval", retrieval, "-o", tmp_path / "f.json", "--cache", staged / "cache"]
         with nothing_changes(tmp_path), nothing_changes(staged):
             line = assert_refused(run(capsys, *argv), "inputs.coarse", str(staged / "coarse.json"))
             assert line.endswith(f"rebuild {staged / 'retrieval.json'}")
