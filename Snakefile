@@ -23,7 +23,7 @@ rule all:
     input:
         # Listed so that every scene's instructions are scheduled at once (an input function can
         # only report one incomplete checkpoint at a time).
-        expand("results/instructions/{scene}/constraints.json", scene=SCENES),
+        CONSTRAINTS,
         # The parse checkpoints before the results that depend on them (see parse_outputs()).
         [parse_outputs(method) for method in VARIANTS],
         # Every method's per-instruction result and check are targets, so that deleting one of

@@ -83,28 +83,40 @@ def _cmd_aggregate(args: argparse.Namespace) -> None:
 def _cmd_refine(args: argparse.Namespace) -> None:
     from .pipeline import StageClock, stages
     from .pipeline.outputs import write_ground_result, write_refine_result
+    from .render import check_render_memory
     from .scene import load_scene_dir
+    from .scene._io import MadeFrom
     from .translate.labels import read_pseudo_labels
 
     options = _ground_options(args)
     options.check()
     clock = StageClock(True)
+    made_from = MadeFrom()
+    labels = read_pseudo_labels(args.labels, made_from)
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None:
         raise InputError("has no scene.ply to refine against", source=str(args.scene))
-    labels = read_pseudo_labels(args.labels)
+    beyond = [s.name for s in labels.subjects if s.gaussians.max() >= len(scene.gaussians)]
+    if beyond:
+        raise InputError(
+            f"subjects {beyond} have Gaussian indices beyond the {len(scene.gaussians)} of {args.scene}; "
+            "expected labels made for this scene",
+            source=str(args.labels),
+        )
     if _is_retrieval_file(args.init):
         from .handoff import Retrieved
 
-        retrieved = Retrieved.read(args.init)
+        retrieved = Retrieved.read(args.init, made_from)
         if not scene.cameras:
             raise InputError("has no training cameras to refine from retrieved views", source=str(args.scene))
+        starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts, retrieved.source)]
+        check_render_memory(starts, device=scene.gaussians.means.device, source=str(args.scene))
         occupancy = _occupancy(args, scene, labels, options, clock)
-        starts = [scene.cameras[v] for v in stages.view_indices(scene, retrieved.starts)]
         refined = stages.refine(scene, labels, starts, options, clock, occupancy)
         write_ground_result(args.output, scene, labels, retrieved, refined, options, clock, occupancy)
     else:
         start = _initial_camera(scene.cameras, args.init)
+        check_render_memory(start, device=scene.gaussians.means.device, source=args.init)
         clock.done("load")
         occupancy = _occupancy(args, scene, labels, options, clock)
         refined = stages.refine(scene, labels, [start], options, clock, occupancy, solve=False)
@@ -112,16 +124,16 @@ def _cmd_refine(args: argparse.Namespace) -> None:
 
 
 def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
-    """The occupancy of ``capframe refine``: its --occupancy file, else the cached one (None with
-    --no-free-space)."""
+    """The occupancy of ``capframe refine``: its --occupancy file (built from this scene's
+    Gaussians), else the cached one (None with --no-free-space)."""
     from .pipeline import stages
-    from .scene.occupancy import load_occupancy
+    from .scene.occupancy import gaussians_fingerprint, load_occupancy
 
     if not options.free_space:
         return None
     if args.occupancy is None:
         return stages.free_space(scene, labels.up, options, clock)
-    occupancy = load_occupancy(args.occupancy)
+    occupancy = load_occupancy(args.occupancy, gaussians=gaussians_fingerprint(scene.gaussians))
     if occupancy is None:
         raise InputError(
             "not found or not an occupancy of this version; rebuild it with capframe occupancy", source=args.occupancy
@@ -132,14 +144,15 @@ def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
 def _cmd_occupancy(args: argparse.Namespace) -> None:
     from .geometry.gravity import world_up
     from .scene import load_scene_dir
-    from .scene.occupancy import build_occupancy, occupancy_fingerprint, save_occupancy
+    from .scene.occupancy import build_occupancy, gaussians_fingerprint, occupancy_fingerprint, save_occupancy
 
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None:
         raise InputError("has no scene.ply to build free space from", source=str(args.scene))
     up = world_up(args.scene, args.gravity)
     grid = build_occupancy(scene.gaussians, up, scene.cameras)
-    save_occupancy(grid, args.output, occupancy_fingerprint(scene.gaussians, up, scene.cameras))
+    fingerprint = occupancy_fingerprint(scene.gaussians, up, scene.cameras)
+    save_occupancy(grid, args.output, fingerprint, gaussians_fingerprint(scene.gaussians))
     print(f"{args.output}: {grid.occupied.shape} voxels of {grid.voxel:.4g}, {int(grid.free.sum())} free")
 
 
@@ -174,6 +187,7 @@ def _is_retrieval_file(init: str) -> bool:
 def _refine_config(args: argparse.Namespace):
     """The optimiser's settings from ``--iterations``, ``--long-side`` and ``--weights``."""
     import dataclasses
+    import math
 
     from .refine.optimize import RefineConfig
 
@@ -181,10 +195,17 @@ def _refine_config(args: argparse.Namespace):
     if getattr(args, "weights", None):
         weights = dataclasses.asdict(config.weights)
         for item in args.weights.split(","):
-            key, _, value = item.partition("=")
+            key, _, text = item.partition("=")
             if key not in weights:
                 raise InputError(f"--weights: unknown term {key!r}; expected one of {sorted(weights)}")
-            weights[key] = float(value)
+            try:
+                value = float(text)
+            except ValueError:
+                value = math.nan
+            # A weight of 1e400 reads as infinity and would turn every loss into inf or NaN.
+            if not math.isfinite(value) or value < 0:
+                raise InputError(f"--weights: {key} is {text!r}; expected a finite number >= 0")
+            weights[key] = value
         config = dataclasses.replace(config, weights=type(config.weights)(**weights))
     return config
 
@@ -274,22 +295,26 @@ def _cmd_parse(args: argparse.Namespace) -> None:
 def _cmd_coarse(args: argparse.Namespace) -> None:
     from .handoff import read_parsed
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
     if (args.instruction is None) == (args.parsed is None):
         raise InputError("give the instruction or --parsed parsed.json (one of them)")
-    parsed = read_parsed(args.parsed) if args.parsed else None
+    made_from = MadeFrom()
+    parsed = read_parsed(args.parsed, made_from) if args.parsed else None
     _, clock, job = _stage_job(args)
-    stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock).write(args.output)
+    coarse = stages.coarse(job, parsed or stages.parse(job, args.instruction, clock), clock, args.parsed)
+    coarse.write(args.output, made_from)
 
 
 def _cmd_qe(args: argparse.Namespace) -> None:
     from .handoff import Coarse
     from .pipeline import stages
-    from .scene._io import write_json
+    from .scene._io import MadeFrom, write_json
 
-    coarse = Coarse.read(args.coarse)
+    made_from = MadeFrom()
+    coarse = Coarse.read(args.coarse, made_from)
     options, clock, job = _stage_job(args)
-    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict())
+    write_json(args.output, stages.qe(job, coarse, options, clock).to_dict(made_from))
 
 
 def _cmd_retrieve(args: argparse.Namespace) -> None:
@@ -304,44 +329,52 @@ def _cmd_retrieve(args: argparse.Namespace) -> None:
 def _cmd_segment(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, write_masks
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
-    write_masks(stages.segment(job, retrieved, clock), job.view_names, args.output)
+    write_masks(stages.segment(job, retrieved, clock), job.view_names, args.output, made_from)
 
 
 def _cmd_associate(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, read_masks, write_groundings
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
     if args.masks:
-        masks = read_masks(args.masks, job.view_names)
+        masks = read_masks(args.masks, job.view_names, made_from)
     elif job.backends["associator"].needs_masks:
         masks = stages.segment(job, retrieved, clock)
     else:
         masks = {}
-    write_groundings(stages.associate(job, retrieved, masks, clock), args.output)
+    write_groundings(stages.associate(job, retrieved, masks, clock), args.output, made_from)
 
 
 def _cmd_orient(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, read_masks, write_fronts
     from .pipeline import stages
+    from .scene._io import MadeFrom
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     _, clock, job = _stage_job(args)
-    masks = read_masks(args.masks, job.view_names) if args.masks else None
-    write_fronts(stages.orient(job, retrieved, clock, masks), args.output)
+    masks = read_masks(args.masks, job.view_names, made_from) if args.masks else None
+    write_fronts(stages.orient(job, retrieved, clock, masks), args.output, made_from)
 
 
 def _cmd_translate(args: argparse.Namespace) -> None:
     from .handoff import Retrieved, read_fronts, read_groundings
     from .pipeline import StageClock, stages
     from .scene import load_scene_dir
+    from .scene._io import MadeFrom
     from .translate.labels import write_pseudo_labels
 
-    retrieved = Retrieved.read(args.retrieval)
+    made_from = MadeFrom()
+    retrieved = Retrieved.read(args.retrieval, made_from)
     options = _ground_options(args)
     clock = StageClock(True)
     if args.subjects:
@@ -349,28 +382,29 @@ def _cmd_translate(args: argparse.Namespace) -> None:
         scene = load_scene_dir(args.scene)
         if scene.gaussians is None:
             raise InputError("has no scene.ply; the subjects' Gaussian indices refer to it", source=str(args.scene))
-        groundings = read_groundings(args.subjects, len(scene.gaussians))
-        fronts = read_fronts(args.fronts) if args.fronts else {}
+        groundings = read_groundings(args.subjects, len(scene.gaussians), made_from)
+        fronts = read_fronts(args.fronts, made_from) if args.fronts else {}
         labels = stages.translate(retrieved, groundings, fronts, options, clock)
     else:
         labels = stages.perceive(stages.open_job(args.scene, options), retrieved, options, clock)
-    write_pseudo_labels(labels, args.output)
+    write_pseudo_labels(labels, args.output, made_from)
 
 
 def _cmd_retrieved_view(args: argparse.Namespace) -> None:
     from .handoff import Retrieved
+    from .pipeline import StageClock
     from .pipeline.outputs import write_retrieved_view
     from .pipeline.stages import view_indices
     from .scene import load_scene_dir
 
+    clock = StageClock(False)
     scene = load_scene_dir(args.scene)
     if scene.gaussians is None or not scene.cameras:
         raise InputError("needs scene.ply and training cameras to render a retrieved view", source=str(args.scene))
     retrieved = Retrieved.read(args.retrieval)
-    if not retrieved.starts:
-        raise InputError("'starts' is empty; expected the retrieved views, best first", source=str(args.retrieval))
-    camera = scene.cameras[view_indices(scene, retrieved.starts[:1])[0]]
-    summary = write_retrieved_view(args.output, scene, retrieved, camera)
+    camera = scene.cameras[view_indices(scene, retrieved.starts[:1], retrieved.source)[0]]
+    clock.done("load")
+    summary = write_retrieved_view(args.output, scene, retrieved, camera, clock)
     print(f"{args.output}: retrieved view {summary['init_view']}")
 
 
@@ -381,28 +415,26 @@ def _cmd_grid(args: argparse.Namespace) -> None:
 
 
 def _cmd_ground(args: argparse.Namespace) -> None:
-    import json
-
     from .pipeline import ground
+    from .scene._io import json_text
 
     result = ground(args.scene, args.instruction, args.output, _ground_options(args), progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")
-        print(json.dumps({k: result[k] for k in keys}))
+        print(json_text({k: result[k] for k in keys}, "the result", indent=None))
     else:
         print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s")
 
 
 def _cmd_baseline(args: argparse.Namespace) -> None:
-    import json
-
     from .baselines.run import BaselineOptions, run_baseline
+    from .scene._io import json_text
 
     options = BaselineOptions(seed=args.seed, stages=_ground_options(argparse.Namespace(**{**vars(args), "seed": None})))
     result = run_baseline(args.method, args.scene, args.instruction, args.output, options, progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "method", "score", "timings")
-        print(json.dumps({k: result[k] for k in keys}))
+        print(json_text({k: result[k] for k in keys}, "the result", indent=None))
     else:
         print(f"{args.output}: {args.method} camera, score {result['score']:.1f}, {result['timings']['total_s']:.1f} s")
 
@@ -460,21 +492,39 @@ def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help=f"{output} to write")
     _perception_options(p)
-    p.set_defaults(func=func)
+    p.set_defaults(func=func, outputs={"output": "file"})
     return p
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors as one line, like every other input error (exit status 2)."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def _positive_int(text: str) -> int:
+    """An argument that counts pixels or steps: a whole number of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a positive whole number")
+    return value
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="capframe", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="capframe", description=__doc__.splitlines()[0])
     verbs = parser.add_subparsers(dest="verb", required=True)
 
     p = verbs.add_parser("render", help="render one view of a scene")
     p.add_argument("scene", help="scene directory (see docs/scene-directory.md) or a 3DGS PLY file")
     p.add_argument("--camera", required=True, help="camera.json (capframe) to render from")
-    p.add_argument("-o", "--output", required=True, help="output PNG")
+    p.add_argument("-o", "--output", required=True, help="output image: .png, or .jpg/.jpeg for JPEG")
     p.add_argument("--backend", default="auto", choices=["auto", "torch", "gsplat"])
-    p.add_argument("--long-side", type=int, default=None, help="resize so the longer side has this many pixels")
-    p.set_defaults(func=_cmd_render)
+    p.add_argument("--long-side", type=_positive_int, default=None, help="resize so the longer side has this many pixels")
+    p.set_defaults(func=_cmd_render, outputs={"output": "image"})
 
     p = verbs.add_parser(
         "import",
@@ -484,7 +534,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("src", help="a folder, or a single 3DGS file (then the scene has no cameras)")
     p.add_argument("dst")
     p.add_argument("--copy-images", action="store_true", help="copy images instead of symlinking them")
-    p.set_defaults(func=_cmd_import)
+    p.set_defaults(func=_cmd_import, outputs={"dst": "folder"})
 
     p = verbs.add_parser("colmap", help="recover the poses of a scene without poses (structure from motion)")
     p.add_argument("scene", help="scene directory with images/")
@@ -495,7 +545,7 @@ def build_parser() -> argparse.ArgumentParser:
         choices=["auto", "exhaustive", "sequential"],
         help="auto: exhaustive up to 60 images, else sequential in name order",
     )
-    p.set_defaults(func=_cmd_colmap)
+    p.set_defaults(func=_cmd_colmap, outputs={"output": "folder"})
 
     p = verbs.add_parser(
         "align-truth",
@@ -504,14 +554,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("recovered", help="output directory of capframe colmap")
     p.add_argument("--truth", required=True, help="the synthetic scene the images came from")
     p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
-    p.set_defaults(func=_cmd_align_truth)
+    p.set_defaults(func=_cmd_align_truth, outputs={"output": "folder"})
 
     p = verbs.add_parser("gravity", help="estimate the world up of a scene from its cameras and straight edges")
     p.add_argument("scene", help="scene directory with training cameras")
     p.add_argument("-o", "--output", default=None, help="gravity file to write (default: SCENE/gravity.json)")
     p.add_argument("--no-lines", action="store_true", help="use the cameras only, not vanishing points of image lines")
     p.add_argument("--json", action="store_true", help="print the JSON written instead of a one-line summary")
-    p.set_defaults(func=_cmd_gravity)
+    p.set_defaults(func=_cmd_gravity, outputs={"output": "file"})
 
     p = verbs.add_parser("synth", help="generate a synthetic 3DGS scene with ground truth")
     p.add_argument("out_dir")
@@ -532,14 +582,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--resolution", default="320x240", help="training image size WxH")
     p.add_argument("--density", type=float, default=1.0, help="multiply the number of Gaussians")
-    p.set_defaults(func=_cmd_synth)
+    p.set_defaults(func=_cmd_synth, outputs={"out_dir": "folder"})
 
     p = verbs.add_parser("instructions", help="generate instructions with machine-checkable constraints for a synthetic scene")
     p.add_argument("scene")
     p.add_argument("-o", "--output", required=True, help="folder for instructions.tsv and constraints.json")
     p.add_argument("--count", type=int, default=3)
     p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(func=_cmd_instructions)
+    p.set_defaults(func=_cmd_instructions, outputs={"output": "into"})
 
     p = verbs.add_parser("check", help="check a result camera against a synthetic scene's ground truth")
     p.add_argument("scene")
@@ -549,21 +599,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.add_argument("-o", "--output", default=None, help="also write the report as JSON to this file")
     p.add_argument("--cache", default=None, help="folder caching the scene's occupancy (clearance verdict); default: none")
-    p.set_defaults(func=_cmd_check)
+    p.set_defaults(func=_cmd_check, outputs={"output": "file"})
 
     p = verbs.add_parser("oracle", help="oracle pseudo labels and a seeded initial view from a synthetic scene's ground truth")
     p.add_argument("scene")
     p.add_argument("--constraints", required=True, help="constraints.json")
     p.add_argument("--id", required=True, help="instruction id")
     p.add_argument("-o", "--output", required=True, help="folder for labels.json and init.json")
-    p.set_defaults(func=_cmd_oracle)
+    p.set_defaults(func=_cmd_oracle, outputs={"output": "into"})
 
     p = verbs.add_parser("aggregate", help="tables from per-instruction check reports and results")
     p.add_argument("--method", required=True)
     p.add_argument("--checks", nargs="+", required=True)
     p.add_argument("--results", nargs="+", required=True)
     p.add_argument("-o", "--output", required=True, help="per-instruction CSV; summaries are written beside it")
-    p.set_defaults(func=_cmd_aggregate)
+    p.set_defaults(func=_cmd_aggregate, outputs={"output": "file"})
 
     p = verbs.add_parser("refine", help="optimise a camera pose from pseudo labels")
     p.add_argument("scene", help="scene directory")
@@ -579,37 +629,37 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     p.add_argument("--iterations", type=int, default=1500)
-    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--long-side", type=_positive_int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--weights", default=None, help="loss weights to override, e.g. inside=4,upright=1")
     _placement_options(p)
     p.add_argument(
         "--occupancy", default=None, help="the scene's occupancy.npz (capframe occupancy); default: built in the --cache folder"
     )
     p.add_argument("--cache", default=None, help="per-scene cache folder (default: ~/.cache/capframe/<scene>)")
-    p.set_defaults(func=_cmd_refine)
+    p.set_defaults(func=_cmd_refine, outputs={"output": "folder"})
 
     p = verbs.add_parser("occupancy", help="the free space of a scene (where a camera can be), once per scene")
     p.add_argument("scene", help="scene directory with scene.ply")
     p.add_argument("-o", "--output", required=True, help="occupancy.npz to write")
     p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
-    p.set_defaults(func=_cmd_occupancy)
+    p.set_defaults(func=_cmd_occupancy, outputs={"output": "file"})
 
     p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
     p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
     p.add_argument("-o", "--output", required=True, help="label_views.npz to write")
-    p.add_argument("--long-side", type=int, default=160, help="measurement resolution (long side, pixels)")
-    p.set_defaults(func=_cmd_views)
+    p.add_argument("--long-side", type=_positive_int, default=160, help="measurement resolution (long side, pixels)")
+    p.set_defaults(func=_cmd_views, outputs={"output": "file"})
 
     p = verbs.add_parser("compare", help="one table of several methods' summaries")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate")
     p.add_argument("-o", "--output", required=True, help="summary CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_compare)
+    p.set_defaults(func=_cmd_compare, outputs={"output": "file"})
 
     p = verbs.add_parser("groups", help="success per method and dataset group (Retrieve against Refine and the rest)")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate, rows in this order")
     p.add_argument("--group", nargs="+", required=True, metavar="SCENE=GROUP", help="every scene's dataset group")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_groups)
+    p.set_defaults(func=_cmd_groups, outputs={"output": "file"})
 
     p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
     p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
@@ -623,14 +673,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--checks-root", default="results/check", help="check reports: CHECKS_ROOT/<method>/<scene>/<id>.json")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json scale)")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_sensitivity)
+    p.set_defaults(func=_cmd_sensitivity, outputs={"output": "file"})
 
     p = verbs.add_parser("scene-table", help="per-scene table: views, Gaussians, COLMAP and gravity errors")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json)")
     p.add_argument("--colmap-root", default="results/colmap", help="COLMAP outputs: COLMAP_ROOT/<scene>/colmap.json")
     p.add_argument("--gravity-root", default="results/gravity", help="gravity files: GRAVITY_ROOT/<scene>.json")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
-    p.set_defaults(func=_cmd_scene_table)
+    p.set_defaults(func=_cmd_scene_table, outputs={"output": "file"})
 
     p = verbs.add_parser("runtime", help="seconds per scene and stage, and per instruction and method, from benchmark TSVs")
     p.add_argument("--benchmarks", default="results/benchmarks", help="Snakemake benchmark: folder")
@@ -640,7 +690,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)",
     )
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
-    p.set_defaults(func=_cmd_runtime)
+    p.set_defaults(func=_cmd_runtime, outputs={"output": "file"})
 
     p = _stage_verb(verbs, "parse", "parse an instruction against the scene's vocabulary", "parsed.json", _cmd_parse)
     p.add_argument("instruction")
@@ -689,7 +739,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene directory with training cameras and scene.ply")
     p.add_argument("--retrieval", required=True, help="retrieval.json written by capframe qe or capframe retrieve")
     p.add_argument("-o", "--output", required=True, help="result folder to write (result.json, camera.json, render.png)")
-    p.set_defaults(func=_cmd_retrieved_view)
+    p.set_defaults(func=_cmd_retrieved_view, outputs={"output": "folder"})
 
     p = verbs.add_parser("grid", help="side-by-side renders of one instruction with the checker's verdicts")
     p.add_argument("--text", required=True, help="the instruction")
@@ -697,7 +747,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", nargs="+", required=True, help="result folders (with render.png), one per method")
     p.add_argument("--checks", nargs="+", required=True, help="check reports, one per method")
     p.add_argument("-o", "--output", required=True, help="PNG to write")
-    p.set_defaults(func=_cmd_grid)
+    p.set_defaults(func=_cmd_grid, outputs={"output": "png"})
 
     p = verbs.add_parser("ground", help="find the camera for an instruction: Retrieve, Translate, Refine")
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for the oracle backends)")
@@ -712,9 +762,9 @@ def build_parser() -> argparse.ArgumentParser:
     _perception_options(p)
     _placement_options(p)
     p.add_argument("--iterations", type=int, default=1500)
-    p.add_argument("--long-side", type=int, default=160, help="optimisation resolution (long side, pixels)")
+    p.add_argument("--long-side", type=_positive_int, default=160, help="optimisation resolution (long side, pixels)")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
-    p.set_defaults(func=_cmd_ground)
+    p.set_defaults(func=_cmd_ground, outputs={"output": "folder"})
 
     p = verbs.add_parser("baseline", help="find the camera with a baseline pose search: IVS, SVS or SplaTraj-style")
     p.add_argument(
@@ -728,7 +778,7 @@ def build_parser() -> argparse.ArgumentParser:
     _perception_options(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the SVS samples")
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, score, timings) instead of progress")
-    p.set_defaults(func=_cmd_baseline)
+    p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
     p.add_argument("what", choices=["render", "refine", "ground", "segment", "models"])
@@ -751,14 +801,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("backend", help="clip, siglip, fg-clip, fg-clip2 or orient-anything")
     p.add_argument("--models", required=True, help="models config with the backend's weights")
     p.add_argument("-o", "--output", required=True, help="ONNX file to write; name it as the entry's onnx field")
-    p.set_defaults(func=_cmd_models_export)
+    p.set_defaults(func=_cmd_models_export, outputs={"output": "file"})
     return parser
+
+
+def _check_outputs(args: argparse.Namespace) -> None:
+    """Every output path the verb declared (``outputs``: argument -> a kind of
+    :data:`capframe.scene._io.OUTPUTS`), checked before the verb does any work, so a search never
+    ends in an unwritable path."""
+    from .scene._io import OUTPUTS
+
+    for dest, kind in getattr(args, "outputs", {}).items():
+        if getattr(args, dest) is not None:
+            OUTPUTS[kind].check(getattr(args, dest))
 
 
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     keep_freed_memory()
     try:
+        _check_outputs(args)
         args.func(args)
     except InputError as err:
         print(f"capframe: error: {err}", file=sys.stderr)

@@ -17,40 +17,69 @@ orient        ``fronts.json``      per subject asked for, its front (or null)
 translate     ``labels.json``      the pseudo labels (:mod:`capframe.translate.labels`)
 ============  ===================  ===================================================
 
-Views are stored by name; readers check that the names are the scene's training views.
+Readers refuse, in one line naming the file and field, a file that is not of its kind, any NaN or
+infinite number, a world up that is not a direction, an empty list of views; views are stored by
+name, and the stages check that the names are the scene's training views and that the subjects
+are the scene's objects (:mod:`capframe.pipeline.stages`).
+
+Every file records under ``inputs`` the content hash of the stage files it was made from, and
+every reader checks them (:class:`~capframe.scene._io.MadeFrom`): a stage never combines files
+that were not made from each other, and a file edited after the files made from it is named.
 """
 
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .backends.protocols import Grounding, SubjectMasks
-from .errors import InputError
-from .scene._io import atomic_write, read_json, write_json
-from .translate.instruction import ParsedInstruction
+from .errors import InputError, clip
+from .scene._io import MadeFrom, as_array, as_direction, atomic_write, digest, parse_json, read_bytes, read_stage_json, write_json
+from .translate.instruction import JSON_SCHEMA, ParsedInstruction
 
 
-def _read_format(path: str | Path, kind: str, writer: str, keys: tuple[str, ...]) -> dict:
-    data = read_json(path)
-    if not isinstance(data, dict) or data.get("format") != 1 or any(k not in data for k in keys):
-        raise InputError(f"is not a {kind} file (format 1 with {', '.join(keys)}; written by {writer})", source=str(path))
-    return data
+def _inputs(made_from: MadeFrom | None) -> dict:
+    """A written file's ``inputs``: the stage files its command read (none when made in-process)."""
+    return {} if made_from is None else made_from.record()
+
+
+def _instruction(data: dict, source: str) -> ParsedInstruction:
+    """``instruction`` of a stage file, checked against the parser's schema (:data:`JSON_SCHEMA`)."""
+    import jsonschema
+
+    value = data["instruction"]
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(JSON_SCHEMA).iter_errors(value))
+    if error is not None:
+        where = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path)
+        raise InputError(f"instruction{where}: {clip(error.message)}", source=source)
+    try:
+        return ParsedInstruction.from_dict(value, source=source)
+    except InputError as err:  # a cue the schema allows but the constraints do not (elevation and elevation_deg)
+        raise InputError(f"instruction: {err}", source=source) from None
+
+
+def _views(data: dict, field: str, source: str) -> list[str]:
+    """A non-empty list of view names."""
+    value = data[field]
+    if not isinstance(value, list) or not value or not all(isinstance(v, str) for v in value):
+        raise InputError(f"{field} is {clip(repr(value))}; expected a non-empty list of view names", source=source)
+    return value
 
 
 def write_parsed(parsed: ParsedInstruction, path: str | Path) -> None:
     """``parsed.json``: the instruction and ``needs``, the optional stages it needs
     (``orientation``: a subject with a front to be seen from)."""
     needs = {"orientation": any(s.needs_front for s in parsed.subjects)}
-    write_json(path, {"format": 1, "instruction": parsed.to_dict(), "needs": needs})
+    write_json(path, {"format": 1, "instruction": parsed.to_dict(), "needs": needs, "inputs": {}})
 
 
-def read_parsed(path: str | Path) -> ParsedInstruction:
+def read_parsed(path: str | Path, made_from: MadeFrom | None = None) -> ParsedInstruction:
     """The instruction of a ``parsed.json`` (:func:`write_parsed`)."""
-    data = _read_format(path, "parsed-instruction", "capframe parse", ("instruction", "needs"))
-    return ParsedInstruction.from_dict(data["instruction"], source=str(path))
+    data = read_stage_json(path, "parsed", "capframe parse", ("instruction", "needs"), made_from)
+    return _instruction(data, str(path))
 
 
 @dataclass
@@ -62,28 +91,41 @@ class Coarse:
         coarse: view name -> coarse score, every training view.
         kept: the views QE questions, best coarse score first.
         up: (3,) the world up used.
+        source: the file it was read from (None when computed in this process).
     """
 
     parsed: ParsedInstruction
     coarse: dict[str, float]
     kept: list[str]
     up: np.ndarray
+    source: str | None = None
 
-    def write(self, path: str | Path) -> None:
+    def write(self, path: str | Path, made_from: MadeFrom | None = None) -> None:
         write_json(
             path,
-            {"format": 1, "instruction": self.parsed.to_dict(), "coarse": self.coarse, "kept": self.kept, "up": self.up.tolist()},
+            {
+                "format": 1,
+                "instruction": self.parsed.to_dict(),
+                "coarse": self.coarse,
+                "kept": self.kept,
+                "up": self.up.tolist(),
+                "inputs": _inputs(made_from),
+            },
         )
 
     @classmethod
-    def read(cls, path: str | Path) -> Coarse:
-        data = _read_format(path, "coarse-retrieval", "capframe coarse", ("instruction", "coarse", "kept", "up"))
-        return cls(
-            ParsedInstruction.from_dict(data["instruction"], source=str(path)),
-            {k: float(v) for k, v in data["coarse"].items()},
-            list(data["kept"]),
-            np.asarray(data["up"], dtype=np.float64),
-        )
+    def read(cls, path: str | Path, made_from: MadeFrom | None = None) -> Coarse:
+        source = str(path)
+        data = read_stage_json(path, "coarse", "capframe coarse", ("instruction", "coarse", "kept", "up"), made_from)
+        coarse = data["coarse"]
+        if not isinstance(coarse, dict) or not coarse or not all(isinstance(v, (int, float)) for v in coarse.values()):
+            raise InputError(f"coarse is {clip(repr(coarse))}; expected view name -> score", source=source)
+        kept = _views(data, "kept", source)
+        unscored = [v for v in kept if v not in coarse]
+        if unscored:
+            raise InputError(f"kept names {clip(repr(unscored))}; expected views that coarse scores", source=source)
+        up = as_direction(data["up"], "up", source)
+        return cls(_instruction(data, source), {k: float(v) for k, v in coarse.items()}, kept, up, source)
 
 
 @dataclass
@@ -97,6 +139,7 @@ class Retrieved:
         starts: names of the views Refine tries, in order: a seeded pick among the top K, then
             the other kept views by QE score.
         up: (3,) the world up used.
+        source: the file it was read from (None when computed in this process).
     """
 
     parsed: ParsedInstruction
@@ -104,8 +147,9 @@ class Retrieved:
     top: list[str]
     starts: list[str]
     up: np.ndarray
+    source: str | None = None
 
-    def to_dict(self) -> dict:
+    def to_dict(self, made_from: MadeFrom | None = None) -> dict:
         return {
             "format": 1,
             "instruction": self.parsed.to_dict(),
@@ -113,28 +157,30 @@ class Retrieved:
             "top": self.top,
             "starts": self.starts,
             "up": self.up.tolist(),
+            "inputs": _inputs(made_from),
         }
 
     @classmethod
-    def read(cls, path: str | Path) -> Retrieved:
-        data = _read_format(
-            path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up")
+    def read(cls, path: str | Path, made_from: MadeFrom | None = None) -> Retrieved:
+        source = str(path)
+        data = read_stage_json(
+            path, "retrieval", "capframe retrieve or capframe qe", ("instruction", "retrieval", "top", "starts", "up"), made_from
         )
-        return cls(
-            ParsedInstruction.from_dict(data["instruction"], source=str(path)),
-            data["retrieval"],
-            data["top"],
-            data["starts"],
-            np.asarray(data["up"], dtype=np.float64),
-        )
+        if not isinstance(data["retrieval"], dict):
+            raise InputError(f"retrieval is {clip(repr(data['retrieval']))}; expected questions and answers", source=source)
+        top, starts = _views(data, "top", source), _views(data, "starts", source)
+        up = as_direction(data["up"], "up", source)
+        return cls(_instruction(data, source), data["retrieval"], top, starts, up, source)
 
 
-def write_masks(masks: dict[str, SubjectMasks], view_names: list[str], path: str | Path) -> None:
-    """``masks.npz``: ``subjects`` (S,), and per subject i ``views_i`` (K,) names and ``masks_i``
-    (K, H, W) bool."""
-    import io
+def write_masks(
+    masks: dict[str, SubjectMasks], view_names: list[str], path: str | Path, made_from: MadeFrom | None = None
+) -> None:
+    """``masks.npz``: ``subjects`` (S,), per subject i ``views_i`` (K,) names and ``masks_i``
+    (K, H, W) bool, and ``inputs`` (the JSON of what it was made from)."""
+    import json
 
-    arrays = {"subjects": np.array(list(masks), dtype=str)}
+    arrays = {"subjects": np.array(list(masks), dtype=str), "inputs": np.array(json.dumps(_inputs(made_from)))}
     for i, m in enumerate(masks.values()):
         arrays[f"views_{i}"] = np.array([view_names[v] for v in m.views], dtype=str)
         arrays[f"masks_{i}"] = np.asarray(m.masks, dtype=bool)
@@ -143,11 +189,14 @@ def write_masks(masks: dict[str, SubjectMasks], view_names: list[str], path: str
     atomic_write(path, buffer.getvalue())
 
 
-def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMasks]:
+def read_masks(path: str | Path, view_names: list[str], made_from: MadeFrom | None = None) -> dict[str, SubjectMasks]:
     """Masks written by :func:`write_masks`, their views as indices into ``view_names``."""
+    source = str(path)
+    content = read_bytes(path, "a masks.npz file")
     index = {name: i for i, name in enumerate(view_names)}
     try:
-        with np.load(path) as data:
+        with np.load(io.BytesIO(content)) as data:
+            inputs = parse_json(str(data["inputs"]).encode(), source) if "inputs" in data else {}
             out = {}
             for i, name in enumerate(data["subjects"].tolist()):
                 names, masks = data[f"views_{i}"].tolist(), data[f"masks_{i}"]
@@ -156,17 +205,18 @@ def read_masks(path: str | Path, view_names: list[str]) -> dict[str, SubjectMask
                     raise InputError(
                         f"subject {name!r}: views {unknown} are not training views, or masks of shape "
                         f"{masks.shape} do not match {len(names)} views",
-                        source=str(path),
+                        source=source,
                     )
                 out[name] = SubjectMasks([index[n] for n in names], masks.astype(bool))
-            return out
-    except FileNotFoundError:
-        raise InputError("masks file not found", source=str(path)) from None
+    except InputError:
+        raise
     except (KeyError, ValueError, OSError) as err:
-        raise InputError(f"is not a masks file written by capframe segment ({err})", source=str(path)) from None
+        raise InputError(f"is not a masks file written by capframe segment ({err})", source=source) from None
+    (made_from or MadeFrom()).add("masks", source, digest(content), inputs)
+    return out
 
 
-def write_groundings(groundings: dict[str, Grounding], path: str | Path) -> None:
+def write_groundings(groundings: dict[str, Grounding], path: str | Path, made_from: MadeFrom | None = None) -> None:
     """``subjects.json``: per subject its Gaussian indices and centroid."""
     write_json(
         path,
@@ -175,40 +225,52 @@ def write_groundings(groundings: dict[str, Grounding], path: str | Path) -> None
             "subjects": {
                 name: {"gaussians": g.gaussians.tolist(), "centroid": g.centroid.tolist()} for name, g in groundings.items()
             },
+            "inputs": _inputs(made_from),
         },
     )
 
 
-def read_groundings(path: str | Path, n_gaussians: int) -> dict[str, Grounding]:
+def read_groundings(path: str | Path, n_gaussians: int, made_from: MadeFrom | None = None) -> dict[str, Grounding]:
     """Groundings written by :func:`write_groundings`, checked against a scene of ``n_gaussians``."""
-    data = _read_format(path, "subjects", "capframe associate", ("subjects",))
+    source = str(path)
+    data = read_stage_json(path, "subjects", "capframe associate", ("subjects",), made_from)
+    if not isinstance(data["subjects"], dict):
+        raise InputError(f"subjects is {clip(repr(data['subjects']))}; expected subject name -> Gaussians", source=source)
     out = {}
     for name, entry in data["subjects"].items():
         try:
             index = np.asarray(entry["gaussians"], dtype=np.int64)
-            centroid = np.asarray(entry["centroid"], dtype=np.float64)
         except (KeyError, TypeError, ValueError) as err:
-            raise InputError(f"subject {name!r}: malformed entry ({err!r})", source=str(path)) from None
-        if index.ndim != 1 or index.size == 0 or index.min() < 0 or index.max() >= n_gaussians or centroid.shape != (3,):
+            raise InputError(f"subject {name!r}: malformed entry ({err!r})", source=source) from None
+        if index.ndim != 1 or index.size == 0 or index.min() < 0 or index.max() >= n_gaussians:
             raise InputError(
-                f"subject {name!r}: expected a non-empty list of Gaussian indices below {n_gaussians} and a 3-vector centroid",
-                source=str(path),
+                f"subjects.{name}.gaussians: expected a non-empty list of Gaussian indices below {n_gaussians}", source=source
             )
+        centroid = as_array(entry.get("centroid"), (3,), f"subjects.{name}.centroid", source)
         out[name] = Grounding(name, index, centroid, None)
     return out
 
 
-def write_fronts(fronts: dict[str, np.ndarray | None], path: str | Path) -> None:
+def write_fronts(fronts: dict[str, np.ndarray | None], path: str | Path, made_from: MadeFrom | None = None) -> None:
     """``fronts.json``: subject -> unit front (world) or null when the estimator found none."""
-    write_json(path, {"format": 1, "fronts": {k: None if f is None else np.asarray(f).tolist() for k, f in fronts.items()}})
+    write_json(
+        path,
+        {
+            "format": 1,
+            "fronts": {k: None if f is None else np.asarray(f).tolist() for k, f in fronts.items()},
+            "inputs": _inputs(made_from),
+        },
+    )
 
 
-def read_fronts(path: str | Path) -> dict[str, np.ndarray | None]:
-    data = _read_format(path, "fronts", "capframe orient", ("fronts",))
+def read_fronts(path: str | Path, made_from: MadeFrom | None = None) -> dict[str, np.ndarray | None]:
+    data = read_stage_json(path, "fronts", "capframe orient", ("fronts",), made_from)
+    if not isinstance(data["fronts"], dict):
+        raise InputError(f"fronts is {clip(repr(data['fronts']))}; expected subject name -> front", source=str(path))
     out = {}
     for name, front in data["fronts"].items():
-        f = None if front is None else np.asarray(front, dtype=np.float64)
-        if f is not None and (f.shape != (3,) or not np.isfinite(f).all() or abs(np.linalg.norm(f) - 1.0) > 1e-6):
-            raise InputError(f"subject {name!r}: front {front} is not a finite unit 3-vector", source=str(path))
+        f = None if front is None else as_array(front, (3,), f"fronts.{name}", str(path))
+        if f is not None and abs(np.linalg.norm(f) - 1.0) > 1e-6:
+            raise InputError(f"fronts.{name} is {front}; expected a unit 3-vector or null", source=str(path))
         out[name] = f
     return out

@@ -45,7 +45,7 @@ from .constraints import (
     min_in_frame_fraction,
     view_tolerance_deg,
 )
-from .errors import InputError
+from .errors import InputError, clip
 from .geometry import any_horizontal, camera_roll, view_angles
 from .render import NEAR_FRACTION, resolve_backend, scene_extent
 from .render.masks import SubjectMask, subject_masks
@@ -431,7 +431,7 @@ def format_report(report: CheckReport) -> str:
     fmt = lambda row: "  ".join(c.ljust(w) for c, w in zip(row[:-1], widths)) + "  " + row[-1]  # noqa: E731
     out = []
     if report.instruction_id or report.text:
-        out.append(f"instruction {report.instruction_id or '-'}: {report.text or ''}".rstrip())
+        out.append(f"instruction {report.instruction_id or '-'}: {clip(report.text or '')}".rstrip())
     out += [fmt(header), *(fmt(row) for row in lines)]
     applicable = [r for r in report.rows if r.satisfied is not None]
     ok = sum(bool(r.satisfied) for r in applicable)

@@ -234,7 +234,7 @@ def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, 
     assert json.loads((tmp_path / "p.json").read_text())["needs"] == {"orientation": True}
     assert main(["coarse", scene, "--parsed", out("p.json"), "-o", out("c.json"), *common]) == 0
     assert main(["qe", scene, "--coarse", out("c.json"), "-o", out("q.json"), *common]) == 0
-    assert json.loads((tmp_path / "q.json").read_text()) == json.loads((tmp_path / "r.json").read_text())
+    assert without_inputs(tmp_path / "q.json") == without_inputs(tmp_path / "r.json")
     masks = []
     if associator == "knn":
         assert main(["segment", scene, "--retrieval", out("q.json"), "-o", out("m.npz"), *common]) == 0
@@ -259,7 +259,15 @@ def test_fine_stage_verbs_reproduce_retrieve_and_translate(scene_dir, tmp_path, 
         )
         == 0
     )
-    assert json.loads((tmp_path / "staged.json").read_text()) == json.loads((tmp_path / "l.json").read_text())
+    assert without_inputs(tmp_path / "staged.json") == without_inputs(tmp_path / "l.json")
+
+
+def without_inputs(path) -> dict:
+    """A stage file's content but the record of the files it was made from (a verb that read none,
+    like retrieve, records none)."""
+    data = json.loads(path.read_text())
+    del data["inputs"]
+    return data
 
 
 def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsys):
@@ -296,7 +304,7 @@ def test_fine_stages_reject_missing_or_foreign_inputs(scene_dir, tmp_path, capsy
     # a retrieval file where a coarse file is expected names the file
     assert main(["qe", str(scene_dir), "--coarse", str(tmp_path / "r.json"), "-o", str(tmp_path / "q.json"), *cache]) == 2
     err = capsys.readouterr().err
-    assert "r.json" in err and "coarse-retrieval file" in err
+    assert "r.json" in err and "not a coarse file" in err
 
 
 def test_retrieved_view_is_the_first_start_unrefined(scene_dir, tmp_path, capsys):

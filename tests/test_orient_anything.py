@@ -225,4 +225,7 @@ def test_orient_verb_segments_for_an_estimator_that_reads_masks(configs, scene, 
         main(["segment", str(root), "--retrieval", str(tmp_path / "retrieval.json"), "-o", str(tmp_path / "m.npz"), *common]) == 0
     )
     assert main([*args, "--masks", str(tmp_path / "m.npz"), "-o", str(tmp_path / "fronts2.json"), *common]) == 0
-    assert json.loads((tmp_path / "fronts2.json").read_text()) == json.loads((tmp_path / "fronts.json").read_text())
+    # The same fronts; fronts2.json also records the masks it was made from (stage files' inputs, #21).
+    segmented, given = (json.loads((tmp_path / name).read_text()) for name in ("fronts.json", "fronts2.json"))
+    assert given["fronts"] == segmented["fronts"]
+    assert set(segmented["inputs"]) == {"retrieval"} and set(given["inputs"]) == {"retrieval", "masks"}

@@ -149,6 +149,7 @@ def run_baseline(
         raise InputError(f"max_views {options.max_views}: must be at least 1")
     clock = StageClock(progress)
     job = open_job(scene_dir, options.stages)
+    job.check_final_render()
     parsed = stages.parse(job, text, clock)
     coarse = stages.coarse(job, parsed, clock)
     retrieved = stages.qe(job, coarse, options.stages, clock)

@@ -1,16 +1,20 @@
 """Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
 JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``ground`` (a name in
 ``config/suites`` or a path; default: the default suite); ``ground`` on a suite whose
-instructions are committed (the held-out set) is :mod:`capframe.bench.heldout`."""
+instructions are committed (the held-out set) is :mod:`capframe.bench.heldout`. The benchmarks
+that run the method write under ``results/bench`` (checked before any work, as every verb's
+outputs are); figures not measured are null in the JSON."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import InputError
+from ..scene._io import OUTPUTS, finite_or_null, json_text
 
 SUITES = Path(__file__).resolve().parents[2] / "config" / "suites"
+# Where refine, ground and segment write their scenes, runs and tables (relative to the working folder).
+RESULTS = Path("results/bench")
 
 
 def resolve_suite(suite: str | Path | None) -> Path:
@@ -42,6 +46,8 @@ def run_bench(
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
+    if what in ("refine", "ground", "segment"):
+        OUTPUTS["into"].check(RESULTS)
     if what == "render":
         from .render import bench_render
 
@@ -77,7 +83,7 @@ def run_bench(
     else:
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:
-        print(json.dumps(figures))
+        print(json_text(finite_or_null(figures), "the figures", indent=None))
     elif "per_kind" in figures:
         from .heldout import format_summary
 

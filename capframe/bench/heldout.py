@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import contextlib
 import csv
-import json
 import shutil
 import sys
 import time
@@ -38,7 +37,7 @@ from ..evaluate.spec import InstructionSpec, arc_deviation, clearance, judge
 from ..measure import CheckReport
 from ..pipeline import GroundOptions, ground
 from ..scene import load_scene_dir
-from ..scene._io import atomic_write, read_json
+from ..scene._io import read_json, write_json
 from ..synth.heldout import load_heldout
 from .ground import prepare_scene
 
@@ -202,7 +201,7 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
             status, message, seconds = _ground_one(ground_dir, spec, out, options)
             if status == "done":
                 outcome, report = judge_result(out, spec, checker, walls, seconds)
-                atomic_write(root / "checks" / f"{spec.id}.json", json.dumps(report.to_dict(), indent=1))
+                write_json(root / "checks" / f"{spec.id}.json", report.to_dict())
             elif status == "refused":
                 outcome = Outcome(spec, "refused", [refusal_reason(message)], message, seconds=seconds)
             else:
@@ -213,7 +212,7 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
     figures["suite"] = heldout.name
     figures["wall_s"] = time.perf_counter() - start
     _write_rows(outcomes, root / "heldout.csv")
-    atomic_write(root / "heldout.json", json.dumps(figures, indent=1))
+    write_json(root / "heldout.json", figures)
     return figures
 
 

@@ -8,7 +8,6 @@ method reads the ground truth.
 from __future__ import annotations
 
 import difflib
-import json
 import re
 from pathlib import Path
 
@@ -16,7 +15,7 @@ from ..constraints import Constraints
 from ..errors import InputError
 from ..measure import CheckReport, CheckRow, ConstraintChecker, format_report
 from ..scene import Camera, load_scene_dir, read_camera_json
-from ..scene._io import read_json
+from ..scene._io import json_text, read_json, write_json
 from ..scene.occupancy import build_occupancy, cached_occupancy
 from .ground_truth import GroundTruth, GTObject, ground_truth_cameras, read_ground_truth
 
@@ -142,9 +141,7 @@ def check_command(
     report = check_camera(scene, camera, cons, cache_dir=cache_dir)
     report.instruction_id = instruction_id
     report.text = entry.get("text")
-    print(json.dumps(report.to_dict()) if as_json else format_report(report))
+    print(json_text(report.to_dict(), "the report", indent=None) if as_json else format_report(report))
     if output is not None:
-        from ..scene._io import atomic_write
-
-        atomic_write(output, json.dumps(report.to_dict(), indent=1))
+        write_json(output, report.to_dict())
     return report

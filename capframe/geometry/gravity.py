@@ -39,7 +39,6 @@ up. :func:`world_up` is what every stage reads: ``scene.json``'s up, else ``grav
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -49,8 +48,8 @@ import numpy as np
 
 from ..errors import InputError
 from ..scene import Camera, load_scene_dir
-from ..scene._io import read_json, require_keys, write_json
-from ..scene.directory import _unit_vector, read_scene_meta
+from ..scene._io import as_direction, json_text, read_json, require_keys, write_json
+from ..scene.directory import read_scene_meta
 
 GRAVITY_FORMAT = 1
 
@@ -518,7 +517,7 @@ def gravity_command(
     result = estimate_gravity(scene_dir, use_lines=use_lines)
     output = Path(scene_dir) / "gravity.json" if output is None else Path(output)
     write_json(output, result)
-    print(json.dumps(result) if as_json else _summary(result, output))
+    print(json_text(result, "the estimate", indent=None) if as_json else _summary(result, output))
     return result
 
 
@@ -529,7 +528,7 @@ def read_gravity(path: str | Path) -> np.ndarray:
     require_keys(data, ("format", "up"), "gravity.json", source)
     if data["format"] != GRAVITY_FORMAT:
         raise InputError(f"'format' is {data['format']!r}; this version reads format {GRAVITY_FORMAT}", source=source)
-    return _unit_vector(data["up"], "'up'", source)
+    return as_direction(data["up"], "'up'", source)
 
 
 def world_up(scene_dir: str | Path, gravity_path: str | Path | None = None) -> np.ndarray:

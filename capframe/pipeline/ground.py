@@ -19,6 +19,7 @@ def ground(
     options = options or GroundOptions()
     clock = StageClock(progress)
     job = stages.open_job(scene_dir, options)
+    job.check_final_render()
     parsed = stages.parse(job, text, clock)
     retrieved = stages.qe(job, stages.coarse(job, parsed, clock), options, clock)
     labels = stages.perceive(job, retrieved, options, clock)

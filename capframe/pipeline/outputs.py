@@ -208,15 +208,17 @@ def write_refine_result(
     return json.loads((Path(out_dir) / "result.json").read_text())
 
 
-def write_retrieved_view(out_dir: str | Path, scene: SceneDir, retrieved: Retrieved, camera: Camera) -> dict:
+def write_retrieved_view(out_dir: str | Path, scene: SceneDir, retrieved: Retrieved, camera: Camera, clock: StageClock) -> dict:
     """Retrieve's answer on its own, ``camera`` (the view Refine starts from), written like a
     method's result so the benchmark checks the pose before refinement beside the pose after it.
 
-    ``result.json`` has no ``timings``: the view was chosen by the coarse and QE jobs, whose
-    benchmark files carry the cost (``capframe runtime``). Returns its content.
+    ``result.json``'s ``timings`` are this job's, as every method's are its own job's (loading and
+    the full-resolution render; Refine's are its refinement's): the coarse and QE jobs that chose
+    the view carry their cost in their benchmark files (``capframe runtime`` adds them up).
+    Returns its content.
     """
     image = render(scene.gaussians, camera).rgb
+    clock.done("final_render", f"{camera.width}x{camera.height}")
+    fields = {"method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict(), "timings": clock.total()}
     with atomic_directory(out_dir) as tmp:
-        return write_camera_result(
-            tmp, camera, image, {"method": "retrieve", "init_view": camera.name, "instruction": retrieved.parsed.to_dict()}
-        )
+        return write_camera_result(tmp, camera, image, fields)

@@ -25,13 +25,14 @@ import torch
 
 from ..backends import BackendContext, Backends, Grounding, SubjectMasks, read_models_config
 from ..backends.registry import ROLES, resolve_choices
-from ..errors import InputError
+from ..errors import InputError, clip
 from ..geometry import camera_center, pose_deviation
 from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
 from ..measure import CheckReport, ConstraintChecker, Subject
 from ..refine.candidates import Candidate, solve_candidates
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
+from ..render import check_render_memory
 from ..retrieve.qe import rank_kept
 from ..scene import Camera, SceneDir, load_scene_dir, scene_scale
 from ..scene.occupancy import Occupancy, cached_occupancy
@@ -122,7 +123,8 @@ def cache_dir(scene: SceneDir, options: GroundOptions) -> Path:
 def default_cache_dir(scene_dir: Path) -> Path:
     """``$XDG_CACHE_HOME/capframe/<scene name>-<hash of its path>``."""
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "capframe"
-    key = hashlib.sha256(str(scene_dir.resolve()).encode()).hexdigest()[:10]
+    # The path's bytes as the file system has them: a name that is not UTF-8 has no str.encode().
+    key = hashlib.sha256(os.fsencode(scene_dir.resolve())).hexdigest()[:10]
     return base / f"{scene_dir.name}-{key}"
 
 
@@ -138,7 +140,7 @@ class StageClock:
         now = time.perf_counter()
         self.timings[f"{stage}_s"] = now - self.last
         if self.enabled:
-            print(f"[{now - self.start:6.1f} s] {stage:<9} {message}", file=sys.stderr, flush=True)
+            print(f"[{now - self.start:6.1f} s] {stage:<9} {clip(message)}", file=sys.stderr, flush=True)
         self.last = now
 
     def total(self) -> dict[str, float]:
@@ -159,20 +161,40 @@ class Job:
     up: np.ndarray
     backends: Backends
 
-    def view_indices(self, names: list[str]) -> list[int]:
-        return view_indices(self.scene, names)
+    def view_indices(self, names: list[str], source: str | None = None) -> list[int]:
+        return view_indices(self.scene, names, source)
 
     @property
     def view_names(self) -> list[str]:
         return [c.name for c in self.scene.cameras]
 
+    def check_final_render(self) -> None:
+        """:class:`InputError` before any work when the result's full-resolution frame, rendered
+        at the size of the training view Refine starts from, cannot fit in memory."""
+        check_render_memory(self.scene.cameras, device=self.scene.gaussians.means.device, source=str(self.scene.root))
 
-def view_indices(scene: SceneDir, names: list[str]) -> list[int]:
-    """Indices of the named training views; :class:`InputError` naming any that is not one."""
+    def check_subjects(self, parsed: ParsedInstruction, source: str | None) -> None:
+        """:class:`InputError` naming ``source`` (the stage file ``parsed`` was read from) when a
+        subject is not an object of a scene with semantics: the parser matches names to that
+        vocabulary (DESIGN §3: subjects are matched by name), so another name was not parsed here."""
+        if self.scene.semantics is None:
+            return
+        known = [o.name for o in self.scene.semantics]
+        for i, subject in enumerate(parsed.subjects):
+            if subject.name not in known:
+                raise InputError(
+                    f"instruction.subjects[{i}].name is {clip(subject.name)!r}; expected an object of {self.scene.root}: {known}",
+                    source=source or str(self.scene.root),
+                )
+
+
+def view_indices(scene: SceneDir, names: list[str], source: str | None = None) -> list[int]:
+    """Indices of the named training views; :class:`InputError` naming any that is not one (and
+    ``source``, the file the names were read from)."""
     index = {c.name: i for i, c in enumerate(scene.cameras)}
     missing = [n for n in names if n not in index]
     if missing:
-        raise InputError(f"retrieved views {missing} are not training views of this scene", source=str(scene.root))
+        raise InputError(f"views {clip(repr(missing))} are not training views of {scene.root}", source=source or str(scene.root))
     return [index[n] for n in names]
 
 
@@ -210,10 +232,12 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
     return parsed
 
 
-def coarse(job: Job, parsed: ParsedInstruction, clock: StageClock) -> Coarse:
+def coarse(job: Job, parsed: ParsedInstruction, clock: StageClock, source: str | None = None) -> Coarse:
     """Coarse retrieval: every training view scored, the top M kept for QE (M as the coarse
-    scorer says: :meth:`~capframe.backends.CoarseScorer.keep`)."""
+    scorer says: :meth:`~capframe.backends.CoarseScorer.keep`; ``source``: the file ``parsed``
+    was read from, named by errors)."""
     names = job.view_names
+    job.check_subjects(parsed, source)
     scorer = job.backends["coarse"]
     scores = np.asarray(scorer.coarse(parsed), dtype=np.float64)
     kept = scorer.keep(scores)
@@ -226,10 +250,13 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
     names = job.view_names
     if sorted(coarse.coarse) != sorted(names):
         raise InputError(
-            "the coarse scores are not of this scene's training views; rerun capframe coarse", source=str(job.scene.root)
+            f"coarse scores views that are not the training views of {job.scene.root}; rerun capframe coarse",
+            source=coarse.source or str(job.scene.root),
         )
+    job.check_subjects(coarse.parsed, coarse.source)
     scores = np.array([coarse.coarse[n] for n in names])
-    retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, job.view_indices(coarse.kept), options.top_k)
+    kept = job.view_indices(coarse.kept, coarse.source)
+    retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, kept, options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
     clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
@@ -240,7 +267,8 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
 
 def segment(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, SubjectMasks]:
     """Segmentation: each subject's 2D masks in the retrieved views."""
-    views = job.view_indices(retrieved.top)
+    job.check_subjects(retrieved.parsed, retrieved.source)
+    views = job.view_indices(retrieved.top, retrieved.source)
     masks = {s.name: job.backends["segmenter"].segment(s, views) for s in retrieved.parsed.subjects}
     clock.done("segment", ", ".join(f"{name}: {len(m.views)} views" for name, m in masks.items()))
     return masks
@@ -249,6 +277,7 @@ def segment(job: Job, retrieved: Retrieved, clock: StageClock) -> dict[str, Subj
 def associate(job: Job, retrieved: Retrieved, masks: dict[str, SubjectMasks], clock: StageClock) -> dict[str, Grounding]:
     """Association: each subject's Gaussians and centroid (from its masks when the associator
     reads masks)."""
+    job.check_subjects(retrieved.parsed, retrieved.source)
     associator = job.backends["associator"]
     groundings = {s.name: associator.associate(s, masks.get(s.name)) for s in retrieved.parsed.subjects}
     clock.done("associate", ", ".join(f"{name}: {len(g.gaussians)} Gaussians" for name, g in groundings.items()))
@@ -260,7 +289,8 @@ def orient(
 ) -> dict[str, np.ndarray | None]:
     """Orientation: the front of each subject that needs one (:attr:`ParsedSubject.needs_front`).
     An estimator that reads masks gets ``masks``, or the segmenter's, computed here."""
-    views = job.view_indices(retrieved.top)
+    job.check_subjects(retrieved.parsed, retrieved.source)
+    views = job.view_indices(retrieved.top, retrieved.source)
     subjects = [s for s in retrieved.parsed.subjects if s.needs_front]
     estimator = job.backends["orient"] if subjects else None
     if estimator is not None and estimator.needs_masks and masks is None:
@@ -300,7 +330,12 @@ def perceive(job: Job, retrieved: Retrieved, options: GroundOptions, clock: Stag
     """Translate in one call: segment (only for an associator or an orientation estimator that
     reads masks), associate and orient, on the instruction as ablated; then the pseudo labels."""
     ablated = Retrieved(
-        retrieved.parsed.without(options.drop), retrieved.retrieval, retrieved.top, retrieved.starts, retrieved.up
+        retrieved.parsed.without(options.drop),
+        retrieved.retrieval,
+        retrieved.top,
+        retrieved.starts,
+        retrieved.up,
+        retrieved.source,
     )
     needs_front = any(s.needs_front for s in ablated.parsed.subjects)
     reads_masks = job.backends["associator"].needs_masks or (needs_front and job.backends["orient"].needs_masks)

@@ -28,6 +28,7 @@ import numpy as np
 import torch
 
 from ..geometry import look_at, view_angles, view_direction
+from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, SubjectLabel
@@ -73,15 +74,19 @@ class Candidate:
     status: str
 
     def to_dict(self) -> dict:
-        return {
-            "azimuth_deg": round(self.azimuth_deg, 3),
-            "elevation_deg": round(self.elevation_deg, 3),
-            "distance": self.distance,
-            "clearance": self.clearance,
-            "blocked": round(self.blocked, 4),
-            "layout_error": round(self.layout_error, 4),
-            "status": self.status,
-        }
+        """The candidate as ``result.json``'s ``solved`` lists it; a number that is not finite
+        (a degenerate placement) is null, so the result is still written."""
+        return finite_or_null(
+            {
+                "azimuth_deg": round(self.azimuth_deg, 3),
+                "elevation_deg": round(self.elevation_deg, 3),
+                "distance": self.distance,
+                "clearance": self.clearance,
+                "blocked": round(self.blocked, 4),
+                "layout_error": round(self.layout_error, 4),
+                "status": self.status,
+            }
+        )
 
 
 def subject_radius(gaussians: GaussianScene, subject: SubjectLabel) -> float:
@@ -192,7 +197,8 @@ def solve_candidates(
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
         centre, clearance = _free_position(occupancy, centroid, direction, along, radius, margin)
         blocked = occupancy.segment_blocked(centre, centroid + radius * direction, ignore)
-        status = "inside geometry" if clearance < margin else "occluded" if blocked > MAX_BLOCKED else "kept"
+        # Written so that a NaN clearance or blocked share is never kept.
+        status = "inside geometry" if not clearance >= margin else "occluded" if not blocked <= MAX_BLOCKED else "kept"
         pose = aimed_pose(centre, centroid, point, reference, up, labels.roll_deg)
         camera = reference.with_pose(pose)
         camera.name = f"solved-{rank}"

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import torch
 from torch import Tensor
 
+from ..errors import InputError
 from ..geometry.camera import camera_center
 from ..scene.model import Camera, GaussianScene, scene_extent
 from .sh import eval_sh_colors
@@ -46,6 +47,55 @@ class RenderOutput:
     def depth_valid(self) -> Tensor:
         """(H, W) bool: where ``depth`` is defined."""
         return self.alpha > DEPTH_ALPHA_MIN
+
+
+# Peak bytes a render holds per pixel and composited channel, in units of the render dtype: the
+# tile buffer twice while a chunk is added to it, its untiled copy, and the image's conversions
+# to 8 bits. Refine's low-resolution renders are far below any limit; full-resolution frames of
+# 100000-pixel-wide cameras are what this guards against.
+RENDER_COPIES = 4
+# Renders estimated below this are not checked: asking for the free memory synchronises a CUDA
+# device, and Refine renders thousands of small frames.
+UNCHECKED_RENDER_BYTES = 1 << 30
+
+
+def render_bytes(width: int, height: int, channels: int = 3, dtype: torch.dtype = torch.float32) -> int:
+    """Estimated peak memory of a ``width`` x ``height`` render of ``channels`` composited
+    channels (colour 3, plus extra channels), alpha and depth included."""
+    itemsize = torch.empty((), dtype=dtype).element_size()
+    return width * height * (channels + 2) * itemsize * RENDER_COPIES
+
+
+def available_memory(device: torch.device) -> int:
+    """Bytes that can still be allocated on ``device`` (free GPU memory; available RAM)."""
+    if device.type == "cuda":
+        return torch.cuda.mem_get_info(device)[0]
+    import psutil
+
+    return psutil.virtual_memory().available
+
+
+def check_render_memory(
+    cameras: Camera | list[Camera],
+    channels: int = 3,
+    device: torch.device | str = "cpu",
+    dtype: torch.dtype = torch.float32,
+    source: str | None = None,
+) -> None:
+    """:class:`InputError` (naming ``source``, the file the cameras come from) when the largest
+    of ``cameras`` cannot be rendered in the memory left on ``device``: checked by every
+    :func:`render`, and by commands before any work for the frames they render at the end."""
+    camera = max([cameras] if isinstance(cameras, Camera) else cameras, key=lambda c: c.width * c.height)
+    need = render_bytes(camera.width, camera.height, channels, dtype)
+    if need <= UNCHECKED_RENDER_BYTES:
+        return
+    have = available_memory(torch.device(device))
+    if need > have:
+        raise InputError(
+            f"camera {camera.name!r} is {camera.width}x{camera.height}: rendering it needs about {need / 2**30:.1f} GiB, "
+            f"{have / 2**30:.1f} GiB is available; expected a smaller image (e.g. --long-side)",
+            source=source,
+        )
 
 
 def resolve_backend(backend: str) -> str:
@@ -137,6 +187,7 @@ def render(
     """
     name = resolve_backend(backend)
     device = scene.means.device
+    check_render_memory(camera, (3 if colors else 0) + (0 if extra is None else extra.shape[1]), device, dtype)
     gaussians = scene if isinstance(scene, PreparedGaussians) else prepare(scene, dtype)
     if near is None:
         near = NEAR_FRACTION * gaussians.extent
@@ -183,4 +234,12 @@ def render(
     )
 
 
-__all__ = ["PreparedGaussians", "RenderOutput", "prepare", "render", "resolve_backend", "scene_extent"]
+__all__ = [
+    "PreparedGaussians",
+    "RenderOutput",
+    "check_render_memory",
+    "prepare",
+    "render",
+    "resolve_backend",
+    "scene_extent",
+]

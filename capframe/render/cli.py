@@ -6,13 +6,17 @@ from pathlib import Path
 
 from ..errors import InputError
 from ..scene import load_scene_dir, read_camera_json, read_ply
-from . import render
-from .image import save_png
+from . import check_render_memory, render
+from .image import save_image
 
 
 def render_command(scene: str, camera_path: str, output: str, *, backend: str = "auto", long_side: int | None = None) -> None:
     """Render ``scene`` (a scene directory or a 3DGS PLY file) from ``camera_path`` (camera.json)
-    to the PNG ``output``; the background is black."""
+    to the image ``output`` (JPEG for ``.jpg``/``.jpeg``, else PNG); the background is black."""
+    camera = read_camera_json(camera_path)
+    if long_side is not None:
+        camera = camera.with_long_side(long_side)
+    check_render_memory(camera, source=camera_path)
     source = Path(scene)
     if source.is_dir():
         gaussians = load_scene_dir(source).gaussians
@@ -22,8 +26,5 @@ def render_command(scene: str, camera_path: str, output: str, *, backend: str = 
         gaussians = read_ply(source)
     else:
         raise InputError("expected a scene directory or a .ply file", source=str(source))
-    camera = read_camera_json(camera_path)
-    if long_side is not None:
-        camera = camera.with_long_side(long_side)
     out = render(gaussians, camera, backend=backend)
-    save_png(out.rgb, output)
+    save_image(out.rgb, output)

@@ -21,6 +21,15 @@ def save_png(image: torch.Tensor, path: str | Path) -> None:
     """Write an (H, W, 3) float image in [0, 1] (or (H, W) grey) as a PNG, atomically.
 
     The PNG carries no timestamp, so the same image always gives the same bytes."""
+    save_image(image, path, "PNG")
+
+
+def save_image(image: torch.Tensor, path: str | Path, format: str | None = None) -> None:
+    """Write an (H, W, 3) float image in [0, 1] (or (H, W) grey) atomically, as ``format``
+    (``PNG`` or ``JPEG``; default: JPEG for a ``.jpg``/``.jpeg`` path, else PNG)."""
+    if format is None:
+        format = "JPEG" if Path(path).suffix.lower() in (".jpg", ".jpeg") else "PNG"
     buffer = io.BytesIO()
-    Image.fromarray(to_uint8(image if image.dim() == 3 else image[..., None].expand(-1, -1, 3))).save(buffer, format="PNG")
+    rgb = to_uint8(image if image.dim() == 3 else image[..., None].expand(-1, -1, 3))
+    Image.fromarray(rgb).save(buffer, format=format, **({"quality": 95} if format == "JPEG" else {}))
     atomic_write(path, buffer.getvalue())

@@ -31,7 +31,7 @@ import numpy as np
 import torch
 
 from ..errors import InputError
-from ._io import as_array, atomic_directory, atomic_write, read_json, require_keys, write_json
+from ._io import as_direction, atomic_directory, atomic_write, read_json, require_keys, write_json
 from .cameras_json import read_cameras_json, write_cameras_json
 from .colmap import read_colmap
 from .formats import read_gaussians
@@ -96,14 +96,6 @@ class SceneDir:
     semantics: list[SemanticObject] | None
 
 
-def _unit_vector(value: object, what: str, source: str) -> np.ndarray:
-    v = as_array(value, (3,), what, source)
-    norm = np.linalg.norm(v)
-    if norm == 0:
-        raise InputError(f"{what} is the zero vector; expected a direction", source=source)
-    return v / norm
-
-
 def read_scene_meta(path: str | Path) -> SceneMeta:
     """Read ``scene.json``; :class:`InputError` naming it for an unknown format or invalid fields."""
     source = str(path)
@@ -115,7 +107,7 @@ def read_scene_meta(path: str | Path) -> SceneMeta:
     if not isinstance(aligned, bool):
         raise InputError(f"'aligned' is {aligned!r}; expected true or false", source=source)
     up = data.get("up")
-    return SceneMeta(up=None if up is None else _unit_vector(up, "'up'", source), aligned=aligned)
+    return SceneMeta(up=None if up is None else as_direction(up, "'up'", source), aligned=aligned)
 
 
 def write_scene_meta(meta: SceneMeta, path: str | Path) -> None:
@@ -145,7 +137,7 @@ def read_semantics(path: str | Path) -> list[SemanticObject]:
             raise InputError(f"object {i} ('{name}'): 'aliases' is {aliases!r}; expected a list of strings", source=source)
         if not isinstance(symmetric, bool):
             raise InputError(f"object {i} ('{name}'): 'symmetric' is {symmetric!r}; expected true or false", source=source)
-        front = None if front is None else _unit_vector(front, f"object {i} ('{name}') 'front'", source)
+        front = None if front is None else as_direction(front, f"object {i} ('{name}') 'front'", source)
         objects.append(SemanticObject(oid, name, aliases, symmetric, front))
     for key in ("id", "name"):
         values = [getattr(o, key) for o in objects]

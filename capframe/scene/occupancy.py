@@ -24,6 +24,7 @@ import hashlib
 import io
 import json
 import math
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -257,20 +258,33 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
 # --- cache ----------------------------------------------------------------------------------------
 
 
+def gaussians_fingerprint(gaussians: GaussianScene) -> str:
+    """The Gaussians an occupancy is built from (``gaussians`` in the file, checked by
+    :func:`load_occupancy` against the scene it is read for). The cameras and the up are left
+    out: the workflow builds one occupancy per scene (from COLMAP's cameras and the estimated up
+    for a scene without poses) and Refine on oracle labels reads it too, with the true ones."""
+    h = hashlib.sha256()
+    for tensor in (gaussians.means, gaussians.log_scales, gaussians.quats, gaussians.opacity_logits):
+        h.update(tensor.detach().cpu().contiguous().numpy().tobytes())
+    return h.hexdigest()[:16]
+
+
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
     h = hashlib.sha256(f"{FORMAT}:{VOXELS}:{SOLID_OPACITY}:{PADDING}:{FLOOR_COVERAGE}".encode())
-    for tensor in (gaussians.means, gaussians.log_scales, gaussians.quats, gaussians.opacity_logits):
-        h.update(tensor.detach().cpu().contiguous().numpy().tobytes())
+    h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
     for c in cameras:
         h.update(np.ascontiguousarray(c.center).tobytes())
     return h.hexdigest()[:16]
 
 
-def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str) -> None:
-    """Write ``grid`` as one ``.npz``, atomically."""
+def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussians: str | None = None) -> None:
+    """Write ``grid`` as one ``.npz``, atomically; ``gaussians`` is the
+    :func:`gaussians_fingerprint` of the Gaussians it was built from."""
     meta = {"format": FORMAT, "fingerprint": fingerprint, "voxel": grid.voxel, "floor_top": grid.floor_top}
+    if gaussians is not None:
+        meta["gaussians"] = gaussians
     buffer = io.BytesIO()
     np.savez_compressed(
         buffer,
@@ -284,21 +298,63 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str) -> None:
     atomic_write(path, buffer.getvalue())
 
 
-def load_occupancy(path: str | Path, fingerprint: str | None = None) -> Occupancy | None:
-    """The occupancy in ``path``; None when absent or stale (another ``fingerprint``; None
-    accepts any), :class:`InputError` when unreadable."""
+def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: str | None = None) -> Occupancy | None:
+    """The occupancy in ``path``; None when absent or stale (another format or ``fingerprint``;
+    None accepts any). :class:`InputError` naming the file when it is a folder, is not an
+    occupancy (unreadable, fields missing, shapes that do not match, a rotation that is not one,
+    a voxel that is not a positive size, any NaN or infinite number), or was built from other
+    Gaussians than ``gaussians`` (a :func:`gaussians_fingerprint`; a file that records none is
+    not checked)."""
     path = Path(path)
+    source = str(path)
+    if path.is_dir():
+        raise InputError("is a folder; expected an occupancy .npz (capframe occupancy)", source=source)
     if not path.is_file():
         return None
     try:
         with np.load(path) as data:
             meta = json.loads(str(data["meta"]))
+            if not isinstance(meta, dict):
+                raise ValueError(f"meta is {type(meta).__name__}, expected a JSON object")
             if meta.get("format") != FORMAT or fingerprint not in (None, meta.get("fingerprint")):
                 return None
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
-    except (OSError, ValueError, KeyError) as err:
-        raise InputError(f"unreadable occupancy ({err}); delete the file to rebuild it", source=str(path)) from None
-    return Occupancy(voxel=float(meta["voxel"]), floor_top=int(meta["floor_top"]), **arrays)
+            voxel, floor_top = float(meta["voxel"]), meta["floor_top"]
+    except (OSError, EOFError, ValueError, TypeError, KeyError, zipfile.BadZipFile) as err:
+        raise InputError(f"is not an occupancy file ({err}); rebuild it with capframe occupancy", source=source) from None
+    problem = _occupancy_problem(arrays, voxel, floor_top)
+    if problem is not None:
+        raise InputError(f"{problem}; rebuild it with capframe occupancy", source=source)
+    if gaussians is not None and meta.get("gaussians", gaussians) != gaussians:
+        raise InputError(
+            f"was built from another scene (Gaussians {meta['gaussians']}, expected {gaussians}); "
+            "rebuild it with capframe occupancy",
+            source=source,
+        )
+    return Occupancy(voxel=voxel, floor_top=floor_top, **arrays)
+
+
+def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top) -> str | None:
+    """What makes the fields of an occupancy file unusable, or None."""
+    rotation, origin, sdf = arrays["rotation"], arrays["origin"], arrays["sdf"]
+    if not (math.isfinite(voxel) and voxel > 0):
+        return f"voxel is {voxel}; expected a positive size"
+    if rotation.shape != (3, 3) or origin.shape != (3,) or sdf.ndim != 3:
+        shapes = f"{rotation.shape}, {origin.shape}, {sdf.shape}"
+        return f"rotation, origin and sdf have shapes {shapes}; expected (3, 3), (3,), (X, Y, Z)"
+    for name in ("occupied", "free"):
+        if arrays[name].dtype != bool or arrays[name].shape != sdf.shape:
+            return f"{name} is {arrays[name].dtype} of shape {arrays[name].shape}; expected bool of the sdf's {sdf.shape}"
+    for name in ("rotation", "origin", "sdf"):
+        if arrays[name].dtype.kind != "f":
+            return f"{name} is {arrays[name].dtype}; expected floating-point numbers"
+        if not np.isfinite(arrays[name]).all():
+            return f"{name} holds NaN or infinite numbers; expected finite numbers"
+    if np.abs(rotation @ rotation.T - np.eye(3)).max() > 1e-6:
+        return "rotation is not a rotation matrix"
+    if isinstance(floor_top, bool) or not isinstance(floor_top, int) or not -1 <= floor_top < sdf.shape[2]:
+        return f"floor_top is {floor_top!r}; expected a layer index of the grid or -1"
+    return None
 
 
 def cached_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera], cache_dir: str | Path) -> Occupancy:
@@ -308,5 +364,5 @@ def cached_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Cam
     grid = load_occupancy(path, fingerprint)
     if grid is None:
         grid = build_occupancy(gaussians, up, cameras)
-        save_occupancy(grid, path, fingerprint)
+        save_occupancy(grid, path, fingerprint, gaussians_fingerprint(gaussians))
     return grid

@@ -8,6 +8,7 @@ to generate for it (format documented at the top of ``config/suites/full.yaml``)
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +33,15 @@ _REQUIRED = (
     "instructions",
 )
 _OPTIONAL = ("objects",)
+# Scene ids and groups become workflow wildcards, paths under results/ and shell arguments: a
+# letter or digit, then letters, digits, '_', '.', '-', and never '..' (the workflow's config
+# schema holds the same pattern for variant names).
+SAFE_NAME = r"[A-Za-z0-9][A-Za-z0-9_.-]*"
+
+
+def is_safe_name(name: object) -> bool:
+    """Whether ``name`` may become a wildcard, a path component and a shell argument."""
+    return isinstance(name, str) and re.fullmatch(SAFE_NAME, name) is not None and ".." not in name
 
 
 @dataclass(frozen=True)
@@ -126,6 +136,11 @@ def load_suite(path: str | Path) -> tuple[str, list[SuiteScene]]:
         unknown = sorted(set(entry) - set(_REQUIRED) - set(_OPTIONAL))
         if missing or unknown:
             raise InputError(f"{what}: missing keys {missing}, unknown keys {unknown}", source=source)
+        for key in ("id", "group"):
+            if not is_safe_name(entry[key]):
+                raise InputError(
+                    f"{what}: '{key}' is {entry[key]!r}; expected a name matching {SAFE_NAME} without '..'", source=source
+                )
         if entry["id"] in seen:
             raise InputError(f"{what}: duplicate id", source=source)
         seen.add(entry["id"])

@@ -21,7 +21,6 @@ the scene appears rotated counter-clockwise by the roll, and so does an upright 
 from __future__ import annotations
 
 import dataclasses
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,7 +35,8 @@ from ..constraints import (
     min_in_frame_fraction,
     view_tolerance_deg,
 )
-from ..errors import InputError
+from ..errors import InputError, clip
+from ..scene._io import MadeFrom, as_array, as_direction, as_float, read_stage_json, require_keys, write_json
 
 # Target extent (fraction of the frame) of a subject's box for each shot size: inside the
 # checker's accepted interval (capframe.constraints.SHOT_SIZES) with a margin on both sides.
@@ -255,47 +255,82 @@ def _to_json(labels: PseudoLabels) -> dict:
     }
 
 
-def write_pseudo_labels(labels: PseudoLabels, path: str | Path) -> None:
-    from ..scene._io import write_json
+def write_pseudo_labels(labels: PseudoLabels, path: str | Path, made_from: MadeFrom | None = None) -> None:
+    """``labels.json``; ``made_from`` (the stage files read) is recorded as its ``inputs``."""
+    write_json(path, _to_json(labels) | {"inputs": {} if made_from is None else made_from.record()})
 
-    write_json(path, _to_json(labels))
+
+def _numbers(value, what: str, source: str, size: int | None = None) -> tuple | None:
+    """None for null, else a JSON list of ``size`` (any number when None) finite numbers."""
+    if value is None:
+        return None
+    if not isinstance(value, list):
+        raise InputError(f"{what} is {clip(repr(value))}; expected a list of numbers or null", source=source)
+    return tuple(as_array(value, (len(value) if size is None else size,), what, source).tolist())
 
 
-def read_pseudo_labels(path: str | Path) -> PseudoLabels:
-    """Read pseudo labels written by :func:`write_pseudo_labels`."""
+def _box(value, what: str, source: str) -> tuple | None:
+    """None for null, else a frame box ``[x0, y0, x1, y1]`` of finite numbers with some area."""
+    box = _numbers(value, what, source, 4)
+    if box is not None and not (box[0] < box[2] and box[1] < box[3]):
+        raise InputError(f"{what} is {list(box)}; expected [x0, y0, x1, y1] with x0 < x1 and y0 < y1", source=source)
+    return box
+
+
+def read_pseudo_labels(path: str | Path, made_from: MadeFrom | None = None) -> PseudoLabels:
+    """Pseudo labels written by :func:`write_pseudo_labels`, checked field by field (finite
+    numbers, a world up, unit fronts with a horizontal direction, boxes with an area, a shot's
+    extent with its box, at least one subject with Gaussians)."""
     source = str(path)
-    try:
-        data = json.loads(Path(path).read_text())
-        subjects = []
-        for s in data["subjects"]:
-            v = s.get("view")
-            view = (
-                None
-                if v is None
-                else ViewTarget(
-                    tuple(v["azimuths_deg"]),
-                    float(v["azimuth_tolerance_deg"]),
-                    None if v["elevation_range_deg"] is None else tuple(v["elevation_range_deg"]),
-                )
+    data = read_stage_json(path, "labels", "capframe translate", ("subjects", "up", "roll_deg", "box_angle_deg"), made_from)
+    if not isinstance(data["subjects"], list) or not data["subjects"]:
+        raise InputError(f"subjects is {clip(repr(data['subjects']))}; expected at least one subject", source=source)
+    up = as_direction(data["up"], "up", source)
+    subjects = []
+    for i, s in enumerate(data["subjects"]):
+        what = f"subjects[{i}]"
+        require_keys(s, ("name", "gaussians", "centroid", "front", "region", "box", "extent", "view"), what, source)
+        try:
+            index = np.asarray(s["gaussians"], dtype=np.int64)
+        except (TypeError, ValueError):
+            index = np.zeros((0,), dtype=np.int64)
+        if not isinstance(s["name"], str) or index.ndim != 1 or index.size == 0 or index.min() < 0:
+            raise InputError(f"{what}: expected a name and a non-empty list of Gaussian indices", source=source)
+        v = s["view"]
+        if v is not None:
+            require_keys(v, ("azimuths_deg", "azimuth_tolerance_deg", "elevation_range_deg"), f"{what}.view", source)
+            v = ViewTarget(
+                _numbers(v["azimuths_deg"], f"{what}.view.azimuths_deg", source) or (),
+                as_float(v["azimuth_tolerance_deg"], f"{what}.view.azimuth_tolerance_deg", source),
+                _numbers(v["elevation_range_deg"], f"{what}.view.elevation_range_deg", source, 2),
             )
-            subjects.append(
-                SubjectLabel(
-                    s["name"],
-                    np.asarray(s["gaussians"], dtype=np.int64),
-                    np.asarray(s["centroid"], dtype=np.float64),
-                    None if s["front"] is None else np.asarray(s["front"], dtype=np.float64),
-                    None if s["region"] is None else tuple(s["region"]),
-                    None if s["box"] is None else tuple(s["box"]),
-                    None if s["extent"] is None else tuple(s["extent"]),
-                    view,
-                )
+        front = None if s["front"] is None else as_direction(s["front"], f"{what}.front", source)
+        # Azimuths are measured about the up from the front's horizontal part (subject_frame).
+        if front is not None and np.linalg.norm(front - (front @ up) * up) < 1e-6:
+            raise InputError(
+                f"{what}.front is {front.tolist()}, along the up; expected a front with a horizontal part", source=source
             )
-        return PseudoLabels(
-            subjects, np.asarray(data["up"], dtype=np.float64), float(data["roll_deg"]), float(data["box_angle_deg"])
+        box = _box(s["box"], f"{what}.box", source)
+        extent = _numbers(s["extent"], f"{what}.extent", source, 2)
+        if extent is not None and box is None:
+            raise InputError(
+                f"{what}.extent is {list(extent)} with box null; expected the shot's box with its extent", source=source
+            )
+        subjects.append(
+            SubjectLabel(
+                s["name"],
+                index,
+                as_array(s["centroid"], (3,), f"{what}.centroid", source),
+                front,
+                _box(s["region"], f"{what}.region", source),
+                box,
+                extent,
+                v,
+            )
         )
-    except FileNotFoundError:
-        raise InputError("pseudo labels not found", source=source) from None
-    except (KeyError, TypeError, ValueError) as err:
-        raise InputError(
-            f"malformed pseudo labels ({err!r}); expected the format of write_pseudo_labels", source=source
-        ) from None
+    return PseudoLabels(
+        subjects,
+        up,
+        as_float(data["roll_deg"], "roll_deg", source),
+        as_float(data["box_angle_deg"], "box_angle_deg", source),
+    )

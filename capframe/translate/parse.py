@@ -95,7 +95,7 @@ import re
 from dataclasses import dataclass
 
 from ..constraints import ELEVATIONS
-from ..errors import InputError
+from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singular, words
 
@@ -929,8 +929,8 @@ class RuleParser:
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed]
         if not mentions:
-            hint = f" (not understood: {unparsed_text})" if unparsed else ""
-            raise InputError(f"no subject in {text.strip()!r}{hint}; name one of the scene's objects: {vocabulary.names}")
+            hint = f" (not understood: {clip(repr(unparsed_text))})" if unparsed else ""
+            raise InputError(f"no subject in {clip(text.strip())!r}{hint}; name one of the scene's objects: {vocabulary.names}")
         mentions.sort(key=lambda m: m.at)
         subjects = _attach(cues, mentions, tokens, vocabulary)
         elevation, elevation_deg = _elevation(cues)

@@ -2,13 +2,13 @@
 
 import json
 import os
-import shlex
+import re
 
 from snakemake.utils import validate
 
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
 from capframe.backends.registry import MASK_ORIENTERS
-from capframe.synth.suite import load_suite
+from capframe.synth.suite import SAFE_NAME, is_safe_name, load_suite
 
 validate(config, "../schemas/config.schema.yaml")
 
@@ -18,8 +18,7 @@ SCENES = {scene.id: scene for scene in SUITE_SCENES}
 
 def synth_args(wildcards):
     scene = wildcards.scene
-    images = [] if needs_images(scene) else ["--no-images"]
-    return " ".join(shlex.quote(arg) for arg in SCENES[scene].synth_args() + images)
+    return SCENES[scene].synth_args() + ([] if needs_images(scene) else ["--no-images"])
 
 
 def needs_images(scene):
@@ -28,11 +27,44 @@ def needs_images(scene):
     return not aligned(scene)
 
 
+def checkpoint_output(deciding, path, **wildcards):
+    """``path``, the output of the checkpoint ``deciding`` for ``wildcards``, for an input
+    function to read.
+
+    A file that exists is read directly; only a missing one defers the decision to the
+    checkpoint. Snakemake 9 leaves every checkpoint undecided in the first DAG it builds
+    (Checkpoint.get() raises until a checkpoint job is registered, even with its output
+    complete), so the jobs reached through one join the DAG only afterwards, while incomplete
+    markers are looked up in that first DAG only: jobs interrupted by SIGINT after a checkpoint
+    kept their markers and were never rerun, even with --rerun-incomplete. Read directly, they
+    are in the first DAG. A checkpoint job that reruns still updates the jobs that list its
+    output as an input, so the rules whose inputs are expanded over its file list it.
+    """
+    if not os.path.exists(path):
+        deciding.get(**wildcards)
+    return path
+
+
+def constraints_file(scene):
+    """The instructions checkpoint's file of ``scene`` (:func:`checkpoint_output`)."""
+    return checkpoint_output(checkpoints.instructions, f"results/instructions/{scene}/constraints.json", scene=scene)
+
+
 def instruction_ids(scene):
-    """Ids in the scene's constraints.json (known once the instructions checkpoint has run)."""
-    path = checkpoints.instructions.get(scene=scene).output.constraints
+    """Ids in the scene's constraints.json (known once the instructions checkpoint has run); each
+    becomes a wildcard and a path, so it must be a safe name (SAFE_NAME)."""
+    path = constraints_file(scene)
     with open(path) as f:
-        return sorted(json.load(f))
+        ids = sorted(json.load(f))
+    unsafe = [i for i in ids if not is_safe_name(i)]
+    if unsafe:
+        raise ValueError(f"{path}: instruction ids {unsafe} are not safe names ({SAFE_NAME}, no '..')")
+    return ids
+
+
+# Inputs of the rules that expand patterns over instruction ids (per_instruction): so that a rerun
+# of the instructions checkpoint updates their jobs (checkpoint_output).
+CONSTRAINTS = [f"results/instructions/{scene}/constraints.json" for scene in SCENES]
 
 
 def per_instruction(pattern):
@@ -61,15 +93,15 @@ def gravity_input(wildcards):
 
 
 def gravity_option(wildcards, input):
-    """The ``--gravity`` option of a rule with a ``gravity`` input (empty when the scene is aligned)."""
-    return f"--gravity {input.gravity}" if input.gravity else ""
+    """The ``--gravity`` option of a rule with a ``gravity`` input (none when the scene is aligned),
+    as arguments for ``{params.gravity:q}``."""
+    return ["--gravity", input.gravity] if input.gravity else []
 
 
 def instruction_text(wildcards):
     """The instruction's text, or its first paraphrase for a variant that asks for it (a param,
     so editing one text reruns only that instruction)."""
-    path = checkpoints.instructions.get(scene=wildcards.scene).output.constraints
-    with open(path) as f:
+    with open(constraints_file(wildcards.scene)) as f:
         entry = json.load(f)[wildcards.instruction]
     variant = wildcards.get("variant", "capframe")
     if VARIANTS[variant].get("retrieve", {}).get("paraphrase") and entry.get("paraphrases"):
@@ -126,12 +158,12 @@ def backends(variant):
 
 def backend_options(variant, roles):
     """The ``--<role> <backend>`` options of ``roles`` for ``variant`` (and ``--models`` when a
-    models config is set)."""
+    models config is set), as arguments for ``{params.backends:q}``."""
     chosen = backends(variant)
-    options = [f"{ROLES[role].option} {chosen[role]}" for role in roles if role in chosen]
+    options = [arg for role in roles if role in chosen for arg in (ROLES[role].option, chosen[role])]
     if config.get("models"):
-        options.append(f"--models {shlex.quote(config['models'])}")
-    return " ".join(options)
+        options += ["--models", config["models"]]
+    return options
 
 
 def masks_input(role="associator"):
@@ -149,14 +181,10 @@ def masks_input(role="associator"):
 
 def parse_output(wildcards):
     """The parse checkpoint's file for this instruction and variant (it decides which of the later
-    stages run). Until the parse job has run, the checkpoint defers the decision; once its file
-    exists it is read directly: Snakemake leaves a checkpoint reached only through input functions
-    undecided even when its output is complete (seen with Snakemake 9.27)."""
+    stages run; :func:`checkpoint_output`)."""
     key = stage_key(wildcards.variant, "parse")
     path = f"results/parse/{key}/{wildcards.scene}/{wildcards.instruction}.json"
-    if not os.path.exists(path):
-        checkpoints.parse.get(variant=key, scene=wildcards.scene, instruction=wildcards.instruction)
-    return path
+    return checkpoint_output(checkpoints.parse, path, variant=key, scene=wildcards.scene, instruction=wildcards.instruction)
 
 
 def parse_outputs(method):

@@ -2,7 +2,7 @@
 
 
 wildcard_constraints:
-    method="|".join(METHOD_RESULTS),
+    method="|".join(map(re.escape, METHOD_RESULTS)),
 
 
 rule check:
@@ -18,14 +18,15 @@ rule check:
         "results/benchmarks/check/{method}/{scene}/{instruction}.tsv"
     priority: EVALUATE_PRIORITY
     shell:
-        "capframe check {input.scene} {input.result}/result.json --constraints {input.constraints} "
-        "--id {wildcards.instruction} --cache results/truth/{wildcards.scene} -o {output} > {log} 2>&1"
+        "capframe check {input.scene:q} {input.result:q}/result.json --constraints {input.constraints:q} "
+        "--id {wildcards.instruction:q} --cache results/truth/{wildcards.scene:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule aggregate:
     input:
         # First: the parse checkpoints enter the DAG before the results that depend on them.
         parsed=lambda wc: parse_outputs(wc.method)(wc),
+        constraints=CONSTRAINTS,
         checks=lambda wc: per_instruction(f"results/check/{wc.method}/{{scene}}/{{instruction}}.json")(wc),
         results=lambda wc: per_instruction(METHOD_RESULTS[wc.method])(wc),
     output:
@@ -37,8 +38,8 @@ rule aggregate:
     params:
         results=lambda wc, input: [f"{r}/result.json" for r in input.results],
     shell:
-        "capframe aggregate --method {wildcards.method} --checks {input.checks} --results {params.results} "
-        "-o {output} > {log} 2>&1"
+        "capframe aggregate --method {wildcards.method:q} --checks {input.checks:q} --results {params.results:q} "
+        "-o {output:q} > {log:q} 2>&1"
 
 
 rule compare:
@@ -52,7 +53,7 @@ rule compare:
     benchmark:
         "results/benchmarks/tables/methods.tsv"
     shell:
-        "capframe compare {input} -o {output.table} > {log} 2>&1"
+        "capframe compare {input:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 rule groups:
@@ -68,7 +69,7 @@ rule groups:
     params:
         groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
     shell:
-        "capframe groups {input} --group {params.groups} -o {output.table} > {log} 2>&1"
+        "capframe groups {input:q} --group {params.groups:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
@@ -76,6 +77,7 @@ VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
 
 rule sensitivity:
     input:
+        constraints=CONSTRAINTS,
         checks=lambda wc: [c for v in VARIANTS for c in per_instruction(f"results/check/{v}/{{scene}}/{{instruction}}.json")(wc)],
         results=lambda wc: [r for v in VARIANTS for r in per_instruction(METHOD_RESULTS[v])(wc)],
     output:
@@ -88,8 +90,8 @@ rule sensitivity:
     params:
         variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
     shell:
-        "capframe sensitivity --reference results/refine/capframe --variant {params.variants} --checks-root results/check "
-        "--scenes-root results/scenes -o {output.table} > {log} 2>&1"
+        "capframe sensitivity --reference results/refine/capframe --variant {params.variants:q} --checks-root results/check "
+        "--scenes-root results/scenes -o {output.table:q} > {log:q} 2>&1"
 
 
 rule scene_table:
@@ -106,7 +108,7 @@ rule scene_table:
         "results/benchmarks/tables/scenes.tsv"
     shell:
         "capframe scene-table --scenes-root results/scenes --colmap-root results/colmap --gravity-root results/gravity "
-        "-o {output.table} > {log} 2>&1"
+        "-o {output.table:q} > {log:q} 2>&1"
 
 
 rule runtime:
@@ -116,6 +118,7 @@ rule runtime:
         "results/tables/scenes.csv",
         ["results/tables/sensitivity.csv"] if VARIANT_NAMES else [],
         per_instruction("results/report/grid/{scene}/{instruction}.png"),
+        CONSTRAINTS,
         methods="results/tables/methods.csv",
     output:
         table=report("results/tables/runtime.csv", caption="../report/runtime.rst", category="Tables"),
@@ -128,4 +131,4 @@ rule runtime:
     benchmark:
         "results/benchmarks/tables/runtime.tsv"
     shell:
-        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods} -o {output.table} > {log} 2>&1"
+        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods:q} -o {output.table:q} > {log:q} 2>&1"

@@ -19,7 +19,7 @@ rule colmap:
     benchmark:
         "results/benchmarks/colmap/{scene}.tsv"
     shell:
-        "capframe colmap {input} -o {output} > {log} 2>&1"
+        "capframe colmap {input:q} -o {output:q} > {log:q} 2>&1"
 
 
 # Evaluation of synthetic scenes: the recovered cameras are mapped into the generator's world,
@@ -35,7 +35,7 @@ rule align_truth:
     benchmark:
         "results/benchmarks/align_truth/{scene}.tsv"
     shell:
-        "capframe align-truth {input.recovered} --truth {input.truth} -o {output} > {log} 2>&1"
+        "capframe align-truth {input.recovered:q} --truth {input.truth:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule gravity:
@@ -48,7 +48,7 @@ rule gravity:
     benchmark:
         "results/benchmarks/gravity/{scene}.tsv"
     shell:
-        "capframe gravity {input} -o {output} > {log} 2>&1"
+        "capframe gravity {input:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule label_views:
@@ -61,7 +61,7 @@ rule label_views:
     benchmark:
         "results/benchmarks/views/{scene}.tsv"
     shell:
-        "capframe views {input} -o {output} > {log} 2>&1"
+        "capframe views {input:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule occupancy:
@@ -77,11 +77,11 @@ rule occupancy:
     params:
         gravity=gravity_option,
     shell:
-        "capframe occupancy {input.scene} -o {output} {params.gravity} > {log} 2>&1"
+        "capframe occupancy {input.scene:q} -o {output:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 wildcard_constraints:
-    variant="|".join(VARIANTS),
+    variant="|".join(map(re.escape, VARIANTS)),  # names may hold a "."
     baseline="|".join(BASELINES),
 
 
@@ -104,7 +104,7 @@ checkpoint parse:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["parse"]),
     shell:
-        "capframe parse {input.scene} {params.text:q} -o {output} {params.backends} {params.gravity} > {log} 2>&1"
+        "capframe parse {input.scene:q} {params.text:q} -o {output:q} {params.backends:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule coarse:
@@ -124,8 +124,8 @@ rule coarse:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["coarse"]),
     shell:
-        "capframe coarse {input.scene} --parsed {input.parsed} -o {output} --cache results/views/{wildcards.scene} "
-        "{params.backends} {params.gravity} > {log} 2>&1"
+        "capframe coarse {input.scene:q} --parsed {input.parsed:q} -o {output:q} --cache results/views/{wildcards.scene:q} "
+        "{params.backends:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule qe:
@@ -146,8 +146,8 @@ rule qe:
         topk=lambda wc: stage_setting(wc.variant, "retrieve", "topk", 2),
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["qe"]),
     shell:
-        "capframe qe {input.scene} --coarse {input.coarse} -o {output} --topk {params.topk} "
-        "--cache results/views/{wildcards.scene} {params.backends} {params.gravity} > {log} 2>&1"
+        "capframe qe {input.scene:q} --coarse {input.coarse:q} -o {output:q} --topk {params.topk:q} "
+        "--cache results/views/{wildcards.scene:q} {params.backends:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule retrieved_view:
@@ -163,7 +163,7 @@ rule retrieved_view:
     # Retrieve's answer unrefined, checked as method "retrieve" (Retrieve-vs-Refine per group).
     priority: METHOD_PRIORITY
     shell:
-        "capframe retrieved-view {input.scene} --retrieval {input.retrieval} -o {output} > {log} 2>&1"
+        "capframe retrieved-view {input.scene:q} --retrieval {input.retrieval:q} -o {output:q} > {log:q} 2>&1"
 
 
 rule segment:
@@ -183,8 +183,8 @@ rule segment:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["segment"]),
     shell:
-        "capframe segment {input.scene} --retrieval {input.retrieval} -o {output} {params.backends} "
-        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "capframe segment {input.scene:q} --retrieval {input.retrieval:q} -o {output:q} {params.backends:q} "
+        "--cache results/views/{wildcards.scene:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule associate:
@@ -204,10 +204,10 @@ rule associate:
     params:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["associate"]),
-        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
+        masks=lambda wc, input: ["--masks", input.masks] if input.masks else [],
     shell:
-        "capframe associate {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} "
-        "{params.backends} --cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "capframe associate {input.scene:q} --retrieval {input.retrieval:q} {params.masks:q} -o {output:q} "
+        "{params.backends:q} --cache results/views/{wildcards.scene:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule orient:
@@ -227,10 +227,10 @@ rule orient:
     params:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["orient"]),
-        masks=lambda wc, input: f"--masks {input.masks}" if input.masks else "",
+        masks=lambda wc, input: ["--masks", input.masks] if input.masks else [],
     shell:
-        "capframe orient {input.scene} --retrieval {input.retrieval} {params.masks} -o {output} {params.backends} "
-        "--cache results/views/{wildcards.scene} {params.gravity} > {log} 2>&1"
+        "capframe orient {input.scene:q} --retrieval {input.retrieval:q} {params.masks:q} -o {output:q} {params.backends:q} "
+        "--cache results/views/{wildcards.scene:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule translate:
@@ -247,13 +247,15 @@ rule translate:
         "results/benchmarks/translate/{variant}/{scene}/{instruction}.tsv"
     priority: METHOD_PRIORITY
     params:
-        options=lambda wc: " ".join(
-            f"--{flag.replace('_', '-')} {value}" for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
-        ),
-        fronts=lambda wc, input: f"--fronts {input.fronts}" if input.fronts else "",
+        options=lambda wc: [
+            arg
+            for flag, value in VARIANTS[wc.variant].get("translate", {}).items()
+            for arg in (f"--{flag.replace('_', '-')}", str(value))
+        ],
+        fronts=lambda wc, input: ["--fronts", input.fronts] if input.fronts else [],
     shell:
-        "capframe translate {input.scene} --retrieval {input.retrieval} --subjects {input.subjects} {params.fronts} "
-        "-o {output} {params.options} > {log} 2>&1"
+        "capframe translate {input.scene:q} --retrieval {input.retrieval:q} --subjects {input.subjects:q} {params.fronts:q} "
+        "-o {output:q} {params.options:q} > {log:q} 2>&1"
 
 
 rule refine_method:
@@ -272,11 +274,11 @@ rule refine_method:
     params:
         iterations=lambda wc: stage_setting(wc.variant, "refine", "iterations", config["refine"]["iterations"]),
         long_side=lambda wc: stage_setting(wc.variant, "refine", "long_side", config["refine"]["long_side"]),
-        weights=lambda wc: (f"--weights {w}" if (w := stage_setting(wc.variant, "refine", "weights", "")) else ""),
+        weights=lambda wc: (["--weights", w] if (w := stage_setting(wc.variant, "refine", "weights", "")) else []),
     shell:
-        "capframe refine {input.scene} --labels {input.labels} --init {input.retrieval} -o {output} "
-        "--occupancy {input.occupancy} --iterations {params.iterations} --long-side {params.long_side} {params.weights} "
-        "> {log} 2>&1"
+        "capframe refine {input.scene:q} --labels {input.labels:q} --init {input.retrieval:q} -o {output:q} "
+        "--occupancy {input.occupancy:q} --iterations {params.iterations:q} --long-side {params.long_side:q} "
+        "{params.weights:q} > {log:q} 2>&1"
 
 
 rule baseline:
@@ -296,5 +298,5 @@ rule baseline:
         gravity=gravity_option,
         backends=lambda wc: backend_options("capframe", BASELINE_ROLES),
     shell:
-        "capframe baseline {wildcards.baseline} {input.scene} {params.text:q} -o {output} "
-        "--cache results/views/{wildcards.scene} {params.backends} {params.gravity} > {log} 2>&1"
+        "capframe baseline {wildcards.baseline:q} {input.scene:q} {params.text:q} -o {output:q} "
+        "--cache results/views/{wildcards.scene:q} {params.backends:q} {params.gravity:q} > {log:q} 2>&1"

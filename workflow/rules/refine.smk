@@ -14,8 +14,8 @@ rule oracle_labels:
     benchmark:
         "results/benchmarks/labels/oracle/{scene}/{instruction}.tsv"
     shell:
-        "capframe oracle {input.scene} --constraints {input.constraints} --id {wildcards.instruction} "
-        "-o results/oracle/{wildcards.scene}/{wildcards.instruction} > {log} 2>&1"
+        "capframe oracle {input.scene:q} --constraints {input.constraints:q} --id {wildcards.instruction:q} "
+        "-o results/oracle/{wildcards.scene:q}/{wildcards.instruction:q} > {log:q} 2>&1"
 
 
 rule refine_oracle:
@@ -34,5 +34,5 @@ rule refine_oracle:
         iterations=config["refine"]["iterations"],
         long_side=config["refine"]["long_side"],
     shell:
-        "capframe refine {input.scene} --labels {input.labels} --init {input.init} -o {output} "
-        "--occupancy {input.occupancy} --iterations {params.iterations} --long-side {params.long_side} > {log} 2>&1"
+        "capframe refine {input.scene:q} --labels {input.labels:q} --init {input.init:q} -o {output:q} "
+        "--occupancy {input.occupancy:q} --iterations {params.iterations:q} --long-side {params.long_side:q} > {log:q} 2>&1"

@@ -23,5 +23,5 @@ rule grid:
         text=instruction_text,
         methods=REPORT_METHODS,
     shell:
-        "capframe grid --text {params.text:q} --methods {params.methods} --results {input.results} "
-        "--checks {input.checks} -o {output} > {log} 2>&1"
+        "capframe grid --text {params.text:q} --methods {params.methods:q} --results {input.results:q} "
+        "--checks {input.checks:q} -o {output:q} > {log:q} 2>&1"

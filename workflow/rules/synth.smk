@@ -12,7 +12,7 @@ rule synth_scene:
     params:
         args=synth_args,
     shell:
-        "capframe synth {output} {params.args} > {log} 2>&1"
+        "capframe synth {output:q} {params.args:q} > {log:q} 2>&1"
 
 
 checkpoint instructions:
@@ -29,5 +29,5 @@ checkpoint instructions:
         number=lambda wc: SCENES[wc.scene].instructions,
         seed=lambda wc: SCENES[wc.scene].seed,
     shell:
-        "capframe instructions {input} -o results/instructions/{wildcards.scene} "
-        "--count {params.number} --seed {params.seed} > {log} 2>&1"
+        "capframe instructions {input:q} -o results/instructions/{wildcards.scene:q} "
+        "--count {params.number:q} --seed {params.seed:q} > {log:q} 2>&1"
