@@ -825,6 +825,11 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"capframe: error: {err}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        # Every output is written atomically, so nothing partial is left to mention; the shell's
+        # convention for a SIGINT exit is 128 + 2.
+        print("capframe: interrupted; nothing was written for this command", file=sys.stderr)
+        return 130
     return 0
 
 

@@ -712,3 +712,18 @@ def test_a_run_interrupted_after_a_checkpoint_resumes_every_job_once(tmp_path):
     assert not any(incomplete.iterdir())
     nothing = _snakemake(tmp_path, "-n", stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     assert "Nothing to be done" in nothing.communicate(timeout=300)[0]
+
+
+def test_an_interrupt_is_one_line_and_exit_130(monkeypatch, capsys):
+    """Ctrl-C (or Snakemake's SIGINT to its jobs) ends a command without a traceback."""
+    import capframe.cli as cli
+
+    def interrupted(args):
+        raise KeyboardInterrupt
+
+    parser = cli.build_parser()
+    monkeypatch.setattr(cli, "build_parser", lambda: parser)
+    parser._subparsers._group_actions[0].choices["gravity"].set_defaults(func=interrupted)
+    assert cli.main(["gravity", "scene"]) == 130
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "interrupted" in err and "Traceback" not in err
