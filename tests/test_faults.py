@@ -648,12 +648,21 @@ scenes:
 """
 
 
-def _snakemake(work: Path, *extra: str, **popen) -> subprocess.Popen:
+def _snakemake(work: Path, *extra: str, slow_coarse: bool = False, **popen) -> subprocess.Popen:
     """The project's workflow on the tiny suite in ``work``, with the default profile (which asks
-    for --rerun-incomplete), running this checkout's capframe."""
+    for --rerun-incomplete), running this checkout's capframe; with ``slow_coarse`` its coarse
+    jobs first wait 5 s, so a signal sent while one runs lands while it runs (on a tiny scene
+    the job itself takes well under a second)."""
     import sys
 
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
+    path = f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}"
+    if slow_coarse:
+        wrapper = work / "bin" / "capframe"
+        wrapper.parent.mkdir(exist_ok=True)
+        wrapper.write_text(f'#!/bin/sh\n[ "$1" = coarse ] && sleep 5\nexec "{sys.executable}" -m capframe.cli "$@"\n')
+        wrapper.chmod(0o755)
+        path = f"{wrapper.parent}:{path}"
+    env = dict(os.environ, PATH=path)
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
     cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(work)]
     cmd += ["--workflow-profile", str(ROOT / "workflow" / "profiles" / "default"), "--cores", "2", *extra]
@@ -687,7 +696,7 @@ def test_a_run_interrupted_after_a_checkpoint_resumes_every_job_once(tmp_path):
     logs = [tmp_path / "first.log", tmp_path / "resumed.log"]
 
     with open(logs[0], "w") as out:
-        first = _snakemake(tmp_path, stdout=out, stderr=subprocess.STDOUT)
+        first = _snakemake(tmp_path, slow_coarse=True, stdout=out, stderr=subprocess.STDOUT)
         coarse_log = tmp_path / "results" / "logs" / "coarse" / "capframe" / "tiny" / "tiny-000.log"
         incomplete = tmp_path / ".snakemake" / "incomplete"
 
