@@ -666,7 +666,17 @@ def _snakemake(work: Path, *extra: str, slow_coarse: bool = False, **popen) -> s
     env["PYTHONPATH"] = os.pathsep.join([str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])
     cmd = [sys.executable, "-m", "snakemake", "--snakefile", str(ROOT / "Snakefile"), "--directory", str(work)]
     cmd += ["--workflow-profile", str(ROOT / "workflow" / "profiles" / "default"), "--cores", "2", *extra]
-    return subprocess.Popen([*cmd, "results/tables/capframe.csv"], cwd=work, env=env, text=True, **popen)
+    # The child gets the default SIGINT action: an earlier test in this process may have left
+    # SIGINT ignored, and an ignored disposition survives exec (Snakemake would then never stop).
+    return subprocess.Popen(
+        [*cmd, "results/tables/capframe.csv"], cwd=work, env=env, text=True, preexec_fn=_default_sigint, **popen
+    )
+
+
+def _default_sigint() -> None:
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def _finished_jobs(log: str) -> list[tuple[str, str]]:
