@@ -76,10 +76,11 @@ def ground_and_check(
     return report.all_satisfied, sum(bool(r.satisfied) for r in applicable), len(applicable), seconds
 
 
-def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite") -> dict:
-    root = Path(root)
-    cases = suite_cases(suite, root)
-    prepared, checkers, rows = {}, {}, []
+def prepared_cases(cases: list[tuple[Path, str, object]], root: Path):
+    """Each of ``cases`` (:func:`suite_cases`' scene, id, constraints) with its text and its scene
+    prepared as the workflow would (:func:`prepare_scene`, once per scene), its checker built once:
+    yields ``(key, constraints, text, ground_dir, gravity, checker)``."""
+    prepared, checkers = {}, {}
     for scene_dir, key, constraints in cases:
         if scene_dir not in prepared:
             prepared[scene_dir] = prepare_scene(scene_dir, root)
@@ -87,8 +88,15 @@ def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/
         if ground_dir not in checkers:
             checkers[ground_dir] = GroundTruthChecker(ground_dir)
         text = read_json(root / "instructions" / scene_dir.name / "constraints.json")[key]["text"]
+        yield key, constraints, text, ground_dir, gravity, checkers[ground_dir]
+
+
+def bench_ground(suite: str | Path = DEFAULT_SUITE, root: str | Path = "results/bench/suite") -> dict:
+    root = Path(root)
+    rows = []
+    for key, constraints, text, ground_dir, gravity, checker in prepared_cases(suite_cases(suite, root), root):
         options = GroundOptions(cache_dir=root / "cache" / ground_dir.name, gravity=gravity)
-        rows.append((key, *ground_and_check(ground_dir, text, root / "ground" / key, options, checkers[ground_dir], constraints)))
+        rows.append((key, *ground_and_check(ground_dir, text, root / "ground" / key, options, checker, constraints)))
         print(
             f"{key}: {'ok  ' if rows[-1][1] else 'FAIL'} {rows[-1][2]}/{rows[-1][3]} constraints, {rows[-1][4]:.1f} s  {text}",
             file=sys.stderr,

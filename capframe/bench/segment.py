@@ -21,11 +21,10 @@ import numpy as np
 
 from ..backends import check_choice
 from ..errors import InputError
-from ..evaluate.check import GroundTruthChecker
 from ..pipeline import GroundOptions
 from ..scene import load_scene_dir
 from ..scene._io import read_json
-from .ground import ground_and_check, prepare_scene
+from .ground import ground_and_check, prepared_cases
 from .refine import DEFAULT_SUITE, suite_cases
 
 
@@ -60,17 +59,14 @@ def bench_segment(
     check_choice("segmenter", segmenter)
     started = time.perf_counter()
     root = Path(root)
-    prepared, checkers, rows, skipped, precision = {}, {}, [], [], []
-    for scene_dir, key, constraints in suite_cases(suite, root):
-        if not can_name(segmenter, [s.name for s in constraints.subjects]):
-            skipped.append(key)
-            continue
-        if scene_dir not in prepared:
-            prepared[scene_dir] = prepare_scene(scene_dir, root)
-        ground_dir, gravity = prepared[scene_dir]
-        if ground_dir not in checkers:
-            checkers[ground_dir] = GroundTruthChecker(ground_dir)
-        text = read_json(root / "instructions" / scene_dir.name / "constraints.json")[key]["text"]
+    rows, precision = [], []
+    nameable, skipped = [], []
+    for case in suite_cases(suite, root):
+        if can_name(segmenter, [s.name for s in case[2].subjects]):
+            nameable.append(case)
+        else:
+            skipped.append(case[1])
+    for key, constraints, text, ground_dir, gravity, checker in prepared_cases(nameable, root):
         options = GroundOptions(
             cache_dir=root / "cache" / ground_dir.name,
             gravity=gravity,
@@ -78,7 +74,6 @@ def bench_segment(
             models=models,
         )
         out = root / f"ground-{segmenter}" / key
-        checker = checkers[ground_dir]
         try:
             ok, satisfied, applicable, seconds = ground_and_check(ground_dir, text, out, options, checker, constraints)
         except InputError as err:

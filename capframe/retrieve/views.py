@@ -20,7 +20,7 @@ from ..errors import InputError
 from ..render import NEAR_FRACTION, prepare
 from ..render.masks import subject_masks
 from ..scene import Camera, SceneDir
-from ..scene._io import atomic_write
+from ..scene._io import write_npz
 
 VIEWS_LONG_SIDE = 160  # measurement resolution (longer side, pixels)
 FORMAT = 1
@@ -115,8 +115,6 @@ def scene_fingerprint(scene: SceneDir, long_side: int) -> str:
 
 def save_view_measurements(m: ViewMeasurements, path: str | Path, fingerprint: str) -> None:
     """Write ``m`` as one ``.npz``, atomically."""
-    import io
-
     meta = {
         "format": FORMAT,
         "fingerprint": fingerprint,
@@ -126,10 +124,9 @@ def save_view_measurements(m: ViewMeasurements, path: str | Path, fingerprint: s
             {"name": c.name, "T_cw": c.T_cw.tolist(), "K": c.K.tolist(), "width": c.width, "height": c.height} for c in m.cameras
         ],
     }
-    buffer = io.BytesIO()
-    np.savez_compressed(
-        buffer,
-        meta=np.array(json.dumps(meta)),
+    write_npz(
+        path,
+        meta,
         visible_fraction=m.visible_fraction,
         in_frame=m.in_frame,
         centroid=m.centroid,
@@ -138,7 +135,6 @@ def save_view_measurements(m: ViewMeasurements, path: str | Path, fingerprint: s
         label_map=m.label_map,
         depth=m.depth,
     )
-    atomic_write(path, buffer.getvalue())
 
 
 def load_view_measurements(path: str | Path, fingerprint: str | None = None) -> ViewMeasurements | None:

@@ -51,6 +51,16 @@ def atomic_write(path: str | Path, *parts: str | bytes | np.ndarray) -> None:
         raise
 
 
+def write_npz(path: str | Path, meta: dict, **arrays: np.ndarray) -> None:
+    """``arrays`` and the JSON ``meta`` (stored as the string array ``meta``) as one compressed
+    ``.npz`` at ``path``, written atomically (:func:`atomic_write`)."""
+    import io
+
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, meta=np.array(json.dumps(meta)), **arrays)
+    atomic_write(path, buffer.getvalue())
+
+
 @contextmanager
 def atomic_directory(path: str | Path) -> Iterator[Path]:
     """Yield a temporary folder beside ``path``; on success it is renamed to ``path``, on error

@@ -21,7 +21,6 @@ half a voxel from the centres of the boundary voxels.
 from __future__ import annotations
 
 import hashlib
-import io
 import json
 import math
 import zipfile
@@ -33,7 +32,7 @@ import torch
 from torch import Tensor
 
 from ..errors import InputError
-from ._io import atomic_write
+from ._io import write_npz
 from .model import Camera, GaussianScene
 
 FORMAT = 1
@@ -285,17 +284,7 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussian
     meta = {"format": FORMAT, "fingerprint": fingerprint, "voxel": grid.voxel, "floor_top": grid.floor_top}
     if gaussians is not None:
         meta["gaussians"] = gaussians
-    buffer = io.BytesIO()
-    np.savez_compressed(
-        buffer,
-        meta=np.array(json.dumps(meta)),
-        rotation=grid.rotation,
-        origin=grid.origin,
-        occupied=grid.occupied,
-        free=grid.free,
-        sdf=grid.sdf,
-    )
-    atomic_write(path, buffer.getvalue())
+    write_npz(path, meta, rotation=grid.rotation, origin=grid.origin, occupied=grid.occupied, free=grid.free, sdf=grid.sdf)
 
 
 def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: str | None = None) -> Occupancy | None:
