@@ -30,7 +30,7 @@ import torch
 from ..geometry import look_at, view_angles, view_direction
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
-from ..scene.occupancy import Occupancy
+from ..scene.occupancy import Occupancy, dilate
 from ..translate.labels import PseudoLabels, SubjectLabel
 
 # The candidate grid: azimuths at these shares of the accepted tolerance around each asked
@@ -184,7 +184,8 @@ def solve_candidates(
         distance = max(float(np.linalg.norm(to_reference)), shot_distance(radius, 0.9, reference))
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     margin = occupancy.margin
-    ignore = _dilated(occupancy.voxelize(gaussians.subset(torch.as_tensor(subject.gaussians, dtype=torch.long))))
+    # The subject's own surface voxels and those around it do not count as occluders.
+    ignore = dilate(occupancy.voxelize(gaussians.subset(torch.as_tensor(subject.gaussians, dtype=torch.long))))
     point = _aim_point(subject)
     out = []
     for rank, (elevation, azimuth) in enumerate((e, a) for e in elevations for a in azimuths):
@@ -266,13 +267,3 @@ def _free_position(
             return centre, clearance
         best = best or (centre, clearance)
     return best
-
-
-def _dilated(mask: np.ndarray) -> np.ndarray:
-    """``mask`` grown by one voxel (6-neighbourhood): the subject's own surface voxels and those
-    around it do not count as occluders."""
-    out = mask.copy()
-    for axis in range(3):
-        for shift in (1, -1):
-            out |= np.roll(mask, shift, axis=axis)
-    return out

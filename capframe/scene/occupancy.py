@@ -180,19 +180,25 @@ def _floor_top(occupied: np.ndarray) -> int:
     return top
 
 
+def dilate(mask: np.ndarray) -> np.ndarray:
+    """(X, Y, Z) bool ``mask`` grown by one voxel towards its 6 neighbours (nothing wraps around
+    the grid's faces)."""
+    grown = mask.copy()
+    for axis in range(3):
+        for shift in (1, -1):
+            source = [slice(None)] * 3
+            target = [slice(None)] * 3
+            source[axis] = slice(None, -1) if shift == 1 else slice(1, None)
+            target[axis] = slice(1, None) if shift == 1 else slice(None, -1)
+            grown[tuple(target)] |= mask[tuple(source)]
+    return grown
+
+
 def _flood(empty: np.ndarray, seeds: np.ndarray) -> np.ndarray:
     """(X, Y, Z) bool: the voxels of ``empty`` connected to ``seeds`` through 6-neighbours."""
     reached = seeds & empty
     while True:
-        grown = reached.copy()
-        for axis in range(3):
-            for shift in (1, -1):
-                source = [slice(None)] * 3
-                target = [slice(None)] * 3
-                source[axis] = slice(None, -1) if shift == 1 else slice(1, None)
-                target[axis] = slice(1, None) if shift == 1 else slice(None, -1)
-                grown[tuple(target)] |= reached[tuple(source)]
-        grown &= empty
+        grown = dilate(reached) & empty
         if grown.sum() == reached.sum():
             return reached
         reached = grown
