@@ -1,6 +1,7 @@
 """The ``capframe`` command. Each verb is a thin wrapper over one library entry point.
 
-Input errors (:class:`capframe.errors.InputError`) print as one line on stderr and exit with 2.
+Input errors (:class:`capframe.errors.InputError`) print as one line on stderr and exit with 2;
+model failures (:class:`capframe.errors.ModelError`) likewise with 3.
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ import argparse
 import sys
 
 from ._malloc import keep_freed_memory
-from .errors import InputError
+from .errors import InputError, ModelError
 
 
 def _cmd_render(args: argparse.Namespace) -> None:
@@ -825,6 +826,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as err:
         print(f"capframe: error: {err}", file=sys.stderr)
         return 2
+    except ModelError as err:
+        print(f"capframe: model error: {err}", file=sys.stderr)
+        return 3
     except KeyboardInterrupt:
         # Every output is written atomically, so nothing partial is left to mention; the shell's
         # convention for a SIGINT exit is 128 + 2.

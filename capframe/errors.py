@@ -33,3 +33,14 @@ class InputError(ValueError):
         self.source = source
         text = f"{source}: {message}" if source else message
         super().__init__(clip(" ".join(text.splitlines()), MESSAGE_CHARS))
+
+
+class ModelError(RuntimeError):
+    """A model backend failed after its bounded retries: a server unreachable, refusing, timing
+    out or answering outside the schema; local weights that cannot be loaded or decoded.
+
+    One line naming the endpoint (or weights), the model and the fault; never an API key. The CLI
+    prints it as one line and exits with status 3, and no result of the failing command is written."""
+
+    def __init__(self, message: str):
+        super().__init__(clip(" ".join(message.splitlines()), MESSAGE_CHARS))

@@ -35,6 +35,11 @@ from pathlib import Path
 from ..errors import InputError
 
 DTYPES = ("float32", "float16", "bfloat16")
+# Structured-output dialects of OpenAI-compatible servers: ``openai`` (``response_format``
+# json_schema: OpenAI, SGLang, vLLM, Ollama's /v1), ``vllm`` (``structured_outputs``, vLLM >=
+# 0.12), ``vllm-legacy`` (``guided_json``), ``ollama`` (native /api/chat ``format``), ``none``
+# (not asked; the answer is still validated, e.g. ``transformers serve``).
+DIALECTS = ("openai", "vllm", "vllm-legacy", "ollama", "none")
 # Fields that name local files: a relative path is relative to the config file, so a config and
 # its weights move together.
 PATH_FIELDS = ("weights", "config", "onnx")
@@ -52,6 +57,11 @@ class ModelSettings:
         onnx: an ONNX file of the model's image encoder (``capframe models export``); images are
             then encoded by onnxruntime on the CPU.
         min_confidence: Orient Anything: views whose estimate is less confident are ignored.
+        dialect: MLLM endpoint: how structured output is asked for (:data:`DIALECTS`).
+        image_side: MLLM: images are downscaled so that their long side is at most this.
+        concurrency: MLLM endpoint: requests in flight at once when scoring many views.
+        retries: MLLM: further attempts after an invalid answer or a transient server fault.
+        max_new_tokens: MLLM: the longest answer, in tokens.
     """
 
     weights: str | None = None
@@ -67,6 +77,14 @@ class ModelSettings:
     config: str | None = None
     onnx: str | None = None
     min_confidence: float = 0.5
+    # MLLM backends (capframe.backends.mllm): the server's structured-output dialect, the long
+    # side images are downscaled to, concurrent requests, retries after an invalid or failed
+    # answer, and the longest answer.
+    dialect: str = "openai"
+    image_side: int = 768
+    concurrency: int = 4
+    retries: int = 2
+    max_new_tokens: int = 512
 
 
 @dataclass(frozen=True)
@@ -99,6 +117,10 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
             "threshold": (int, float),
             "threads": int,
             "min_confidence": (int, float),
+            "image_side": int,
+            "concurrency": int,
+            "retries": int,
+            "max_new_tokens": int,
         }.get(key, str)
         if not isinstance(value, expected) or isinstance(value, bool):
             raise InputError(
@@ -117,6 +139,12 @@ def _settings(name: str, entry: object, source: str) -> ModelSettings:
         raise InputError(f"entry {name!r}: threads {settings.threads} must be at least 1", source=source)
     if not 0 <= settings.min_confidence <= 1:
         raise InputError(f"entry {name!r}: min_confidence {settings.min_confidence} is not in [0, 1]", source=source)
+    if settings.dialect not in DIALECTS:
+        raise InputError(f"entry {name!r}: dialect {settings.dialect!r}; expected one of {list(DIALECTS)}", source=source)
+    if min(settings.image_side, settings.concurrency, settings.max_new_tokens) < 1 or settings.retries < 0:
+        raise InputError(
+            f"entry {name!r}: image_side, concurrency and max_new_tokens must be >= 1 and retries >= 0", source=source
+        )
     if settings.weights is None and settings.endpoint is None:
         raise InputError(f"entry {name!r}: give weights (a local path) or endpoint (a server URL)", source=source)
     return settings

@@ -1,0 +1,100 @@
+"""The chat contract every MLLM backend serves, whatever runs the model.
+
+A role (the subject parser, Question-Evaluation, a judge) builds a :class:`ChatRequest`: a system
+prompt, a user text, images, and the JSON schema its answer must satisfy. A :class:`ChatModel`
+(an OpenAI-compatible endpoint, local weights with schema-constrained decoding, a response cache
+around either) returns a :class:`ChatReply` whose ``data`` has been validated against that schema
+on our side, whatever the model or server promised.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ChatRequest:
+    """One structured question to a multimodal model.
+
+    Attributes:
+        system: the system prompt (a versioned prompt file's text).
+        user: the user turn's text.
+        images: (H, W, 3) uint8 RGB images shown before the user text, in order.
+        schema: the JSON schema (draft 2020-12) the answer must satisfy.
+        schema_name: a short name for the schema (servers' ``json_schema.name``).
+        prompt_version: the prompt file's version, part of every cache key and output.
+        max_tokens: the longest answer, in tokens.
+    """
+
+    system: str
+    user: str
+    schema: dict
+    schema_name: str
+    prompt_version: str
+    images: tuple[np.ndarray, ...] = ()
+    max_tokens: int = 512
+
+
+@dataclass
+class ChatReply:
+    """A schema-valid answer and what it cost.
+
+    Attributes:
+        data: the parsed, validated JSON answer.
+        text: the model's raw answer text.
+        model: the model's identity (endpoint + model name, or the weights folder).
+        prompt_tokens, completion_tokens: as reported by the server or counted locally (0 if unknown).
+        seconds: wall time spent on this request, retries included (0 for a cache hit).
+        attempts: requests made (0 for a cache hit).
+        cached: True when answered from the response cache.
+    """
+
+    data: dict
+    text: str
+    model: str
+    prompt_tokens: int = 0
+    completion_tokens: int = 0
+    seconds: float = 0.0
+    attempts: int = 1
+    cached: bool = False
+    extra: dict = field(default_factory=dict)
+
+
+class ChatModel(Protocol):
+    """Anything that answers :class:`ChatRequest` with a validated :class:`ChatReply`.
+
+    ``identity`` names the model for cache keys and reports (never a key or secret).
+    ``complete_many`` may run requests concurrently (bounded) and returns replies in order.
+    Failures after the bounded retries raise :class:`~capframe.errors.ModelError`: one line
+    naming the endpoint or weights, the model and the fault.
+    """
+
+    identity: str
+
+    def complete(self, request: ChatRequest) -> ChatReply: ...
+
+    def complete_many(self, requests: list[ChatRequest]) -> list[ChatReply]: ...
+
+
+def validate_reply(text: str, schema: dict) -> dict:
+    """``text`` parsed as JSON and checked against ``schema``.
+
+    Raises:
+        ValueError: one line naming the first fault (not JSON, or the schema path that fails);
+            the caller feeds it back to the model on a retry.
+    """
+    import jsonschema
+
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise ValueError(f"the answer is not JSON ({err.msg} at character {err.pos})") from None
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(schema).iter_errors(data))
+    if error is not None:
+        where = "/".join(str(p) for p in error.absolute_path) or "the top level"
+        raise ValueError(f"the answer does not match the schema at {where}: {error.message}")
+    return data
