@@ -790,7 +790,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm"])
     p.add_argument(
         "--suite",
         default=None,

@@ -499,3 +499,15 @@ def test_answers_recorded_before_a_failure_are_not_asked_again(serve, tmp_path, 
     assert len(list(tmp_path.rglob("*.json"))) == 2 and not list(tmp_path.rglob("*.tmp"))
     replies = cached.complete_many(requests)
     assert [r.cached for r in replies] == [True, True, False] and len(server.received) == 4
+
+
+def test_bench_mllm_counts_its_calls(monkeypatch):
+    import capframe.bench.mllm as bench
+
+    monkeypatch.setattr(bench, "CALLS", 8)
+    monkeypatch.setattr(bench, "REPEATS", 1)
+    figures = bench.bench_mllm()
+    # text: warm-up + 1 run of 8; images: 2 of 2; the cache: 8 misses, then 16 hits
+    assert figures["server requests"] == 16 + 4 + 8
+    assert figures["calls through the cache"] == 24 and figures["cache hit rate"] == pytest.approx(2 / 3)
+    assert all(value > 0 for value in figures.values())
