@@ -215,8 +215,9 @@ class EndpointChat:
 
         The body goes as a plain dict through the client's ``post`` (its auth, base URL, timeout
         and error classes) rather than ``chat.completions.create``, whose typed transform of the
-        messages and parse into models cost ~2 ms a call here; the dialects' fields are all
-        top-level keys of the body, as ``extra_body`` would have merged them."""
+        messages and parse into models cost 2.2 ms a call more (3.4 ms with a 640x480 image)
+        against the benchmark's instant server; the dialects' fields are all top-level keys of
+        the body, as ``extra_body`` would have merged them."""
         max_tokens = min(request.max_tokens, self.settings.max_new_tokens)
         dialect = self.settings.dialect
         body = {"model": self.settings.model, "messages": messages}
