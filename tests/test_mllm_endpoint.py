@@ -270,13 +270,14 @@ def test_unreachable_endpoint_is_one_line_after_the_bounded_retries():
     _one_line_naming(err, "connection failed", "after 3 requests")
 
 
-def test_401_is_never_retried_and_the_key_never_shown(serve, monkeypatch, caplog, capsys):
+@pytest.mark.parametrize("code, words", [(401, ("HTTP 401", "CAPFRAME_TEST_KEY")), (400, ("HTTP 400", "invalid key ***"))])
+def test_refusals_are_never_retried_and_the_key_never_shown(serve, monkeypatch, caplog, capsys, code, words):
     monkeypatch.setenv("CAPFRAME_TEST_KEY", KEY)
-    server = serve(status(401, message=f"invalid key {KEY}"))  # a server that echoes the key
+    server = serve(status(code, message=f"invalid key {KEY}"))  # a server that echoes the key
     caplog.set_level(logging.DEBUG)
     with pytest.raises(ModelError) as err:
         client(server, api_key_env="CAPFRAME_TEST_KEY", retries=3).complete(_request())
-    message = _one_line_naming(err, "HTTP 401", "CAPFRAME_TEST_KEY")
+    message = _one_line_naming(err, *words)
     assert len(server.received) == 1
     assert server.received[0]["headers"]["authorization"] == f"Bearer {KEY}"
     captured = capsys.readouterr()

@@ -157,7 +157,8 @@ class EndpointChat:
                 except ValueError as invalid:
                     # The model answered outside the schema: show it its answer and the fault, at once.
                     message, wait = f"invalid answer: {invalid}", 0.0
-                    messages = [*messages, {"role": "assistant", "content": text}, self._feedback(str(invalid))]
+                    feedback = {"role": "user", "content": FEEDBACK.format(error=invalid)}
+                    messages = [*messages, {"role": "assistant", "content": text}, feedback]
                 else:
                     return ChatReply(
                         data=data,
@@ -185,11 +186,16 @@ class EndpointChat:
             pool.shutdown(wait=True, cancel_futures=True)
 
     def served_models(self) -> list[str]:
-        """The model names the server lists at ``/models`` (one attempt; :class:`ModelError`)."""
+        """The model names the server lists at ``<endpoint>/models`` (one attempt; a fault is a
+        :class:`ModelError`)."""
         try:
-            return [model.id for model in self._call(lambda: self.client.models.list()).data]
+            answer = self._call(lambda: self.client.get("/models", cast_to=object))
         except _Transient as fault:
             raise self._error(str(fault)) from None
+        listed = answer.get("data") if isinstance(answer, dict) else None
+        if not isinstance(listed, list):
+            raise self._error("the server's /models answer has no list of models (data)")
+        return [str(model.get("id")) for model in listed if isinstance(model, dict)]
 
     # --- one request ---------------------------------------------------------------------------
 
@@ -206,9 +212,6 @@ class EndpointChat:
         else:
             user = {"role": "user", "content": request.user}
         return [{"role": "system", "content": request.system}, user]
-
-    def _feedback(self, error: str) -> dict:
-        return {"role": "user", "content": FEEDBACK.format(error=error)}
 
     def _send(self, messages: list[dict], request: ChatRequest) -> tuple[str, int, int]:
         """One request: the answer text and the (prompt, completion) tokens the server reports.
