@@ -413,13 +413,15 @@ def test_a_corrupt_cache_file_is_a_miss_and_rewritten(serve, tmp_path):
     server = serve(chat(json.dumps(GOOD)))
     cached = CachedChat(client(server), tmp_path)
     cached.complete(_request())
-    path = cached.path(cached.key(_request()))
-    for corrupt in (b'{"format": 1, "key": ', b"[]", json.dumps({"format": 1, "key": "other"}).encode()):
-        path.write_bytes(corrupt)
+    key = cached.key(_request())
+    path = cached.path(key)
+    outside_schema = {"format": 1, "key": key, "text": json.dumps({"score": "high"})}
+    for corrupt in ('{"format": 1, "key": ', "[]", json.dumps({"format": 1, "key": "other"}), json.dumps(outside_schema)):
+        path.write_text(corrupt)
         reply = cached.complete(_request())
         assert not reply.cached and reply.data == GOOD
         assert json.loads(path.read_text())["text"] == json.dumps(GOOD)
-    assert len(server.received) == 4
+    assert len(server.received) == 5
 
 
 def test_cached_complete_many_mixes_hits_and_misses_in_order(serve, tmp_path):
