@@ -142,6 +142,12 @@ def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
     return occupancy
 
 
+def _cmd_warm_server(args: argparse.Namespace) -> None:
+    from .warm import serve
+
+    serve(args.socket, parent=args.parent)
+
+
 def _cmd_occupancy(args: argparse.Namespace) -> None:
     from .geometry.gravity import world_up
     from .scene import load_scene_dir
@@ -445,7 +451,14 @@ def _cmd_bench(args: argparse.Namespace) -> None:
 
     if args.what == "segment" and args.models is None:
         raise InputError("capframe bench segment needs --models (the models config of the segmenter)")
-    run_bench(args.what, as_json=args.json, suite=args.suite, models=args.models, segmenter=args.segmenter)
+    run_bench(
+        args.what,
+        as_json=args.json,
+        suite=args.suite,
+        models=args.models,
+        segmenter=args.segmenter,
+        benchmarks=args.benchmarks,
+    )
 
 
 def _cmd_models_export(args: argparse.Namespace) -> None:
@@ -524,7 +537,10 @@ def _positive_int(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from . import __version__
+
     parser = _Parser(prog="capframe", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"capframe {__version__}")
     verbs = parser.add_subparsers(dest="verb", required=True)
 
     p = verbs.add_parser("render", help="render one view of a scene")
@@ -652,6 +668,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", required=True, help="occupancy.npz to write")
     p.add_argument("--gravity", default=None, help="gravity.json when scene.json has no up (default: SCENE/gravity.json)")
     p.set_defaults(func=_cmd_occupancy, outputs={"output": "file"})
+
+    p = verbs.add_parser("warm-server", help="workflow: serve capframe commands from one process that imported the library once")
+    p.add_argument("socket", help="Unix socket to listen on; commands find it in $CAPFRAME_WARM_SOCKET")
+    p.add_argument("--parent", type=int, default=None, help="stop when this process is gone (default: the parent)")
+    p.set_defaults(func=_cmd_warm_server)
 
     p = verbs.add_parser("views", help="label renders of the training views, measured once per scene (retrieval cache)")
     p.add_argument("scene", help="scene directory with cameras and a semantic sidecar")
@@ -790,7 +811,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup"])
     p.add_argument(
         "--suite",
         default=None,
@@ -801,6 +822,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
     p.add_argument(
         "--models", default=None, help="segment: the models config of the segmenter's weights; models: also time its encoders"
+    )
+    p.add_argument(
+        "--benchmarks",
+        default=None,
+        help="startup: a workflow run's benchmark folder (run without the warm server), for the per-instruction overhead",
     )
     p.set_defaults(func=_cmd_bench)
 
@@ -831,6 +857,13 @@ def _check_outputs(args: argparse.Namespace) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if argv is None:
+        from .warm import run_warm
+
+        # The workflow's warm server runs the command when there is one (capframe.warm).
+        status = run_warm(sys.argv[1:])
+        if status is not None:
+            return status
     args = build_parser().parse_args(argv)
     keep_freed_memory()
     try:

@@ -39,10 +39,11 @@ def run_bench(
     suite: str | Path | None = None,
     models: str | None = None,
     segmenter: str = "detector",
+    benchmarks: str | None = None,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
-    image encoders of ``models``."""
+    image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
@@ -80,6 +81,10 @@ def run_bench(
         from .mllm import bench_mllm
 
         figures = bench_mllm()
+    elif what == "startup":
+        from .startup import bench_startup
+
+        figures = bench_startup(benchmarks)
     elif what == "models":
         from .models import bench_models
 

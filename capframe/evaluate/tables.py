@@ -517,20 +517,22 @@ TABLES_STAGE = "tables"
 GROUND_TRUTH_METHODS = ("oracle",)
 
 
-def read_benchmark(path: str | Path) -> float:
-    """Seconds of one Snakemake ``benchmark:`` TSV: its ``s`` column (the mean over the rows when
-    the rule was benchmarked with repeats); :class:`InputError` naming the file otherwise."""
+def read_benchmark(path: str | Path, column: str = "s") -> float:
+    """Seconds of one Snakemake ``benchmark:`` TSV: its ``column`` (``s``: wall; ``cpu_time``: CPU
+    of the job's processes), the mean over the rows when the rule was benchmarked with repeats;
+    :class:`InputError` naming the file otherwise."""
     try:
         table = pd.read_csv(path, sep="\t")
     except (pd.errors.EmptyDataError, pd.errors.ParserError, UnicodeDecodeError) as err:
         raise InputError(f"not a Snakemake benchmark TSV ({err})", source=str(path)) from None
-    if "s" not in table.columns or table.empty:
+    if column not in table.columns or table.empty:
         raise InputError(
-            f"no 's' column with a row (columns {list(table.columns)}); expected a Snakemake benchmark TSV", source=str(path)
+            f"no {column!r} column with a row (columns {list(table.columns)}); expected a Snakemake benchmark TSV",
+            source=str(path),
         )
-    seconds = pd.to_numeric(table["s"], errors="coerce")
+    seconds = pd.to_numeric(table[column], errors="coerce")
     if seconds.isna().any():
-        raise InputError(f"'s' holds {table['s'].tolist()}; expected seconds", source=str(path))
+        raise InputError(f"{column!r} holds {table[column].tolist()}; expected seconds", source=str(path))
     return float(seconds.mean())
 
 

@@ -3,12 +3,16 @@
 import json
 import os
 import re
+import shutil
+import subprocess
+import tempfile
 
 from snakemake.utils import validate
 
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
 from capframe.backends.registry import MASK_ORIENTERS
 from capframe.synth.suite import SAFE_NAME, is_safe_name, load_suite
+from capframe.warm import SOCKET_ENV
 
 validate(config, "../schemas/config.schema.yaml")
 
@@ -229,3 +233,40 @@ METHOD_RESULTS |= {b: f"results/baselines/{b}/{{scene}}/{{instruction}}" for b i
 REPORT_METHODS = ["retrieve", "capframe", *BASELINES, "oracle"]
 # Methods of the per-group table, Retrieve and Refine (CapFrame) first.
 GROUP_METHODS = ["retrieve", "capframe", "oracle", *BASELINES]
+
+
+# The warm server of this run (capframe.warm): started by onstart, stopped by onsuccess/onerror,
+# and gone on its own within a second when Snakemake exits any other way.
+WARM_SERVER = {}
+
+
+def start_warm_server():
+    """Start `capframe warm-server` for this run and point the jobs at it (capframe.warm.SOCKET_ENV).
+    A job that finds no server yet (it imports for a few seconds) runs its command itself."""
+    executable = shutil.which("capframe")
+    if not config.get("warm_start", False) or executable is None:
+        return
+    path = os.path.join(tempfile.gettempdir(), f"capframe-warm-{os.getpid()}.sock")
+    # The server's imports fix the BLAS and OpenMP pools; one thread each, as a one-thread job
+    # gets them. A job's own thread count is applied per command (capframe.warm).
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env.pop(SOCKET_ENV, None)
+    os.makedirs("results/logs", exist_ok=True)
+    with open("results/logs/warm-server.log", "w") as log:
+        WARM_SERVER["process"] = subprocess.Popen(
+            [executable, "warm-server", path, "--parent", str(os.getpid())],
+            env=env,
+            stdin=subprocess.DEVNULL,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            start_new_session=True,
+        )
+    os.environ[SOCKET_ENV] = path
+
+
+def stop_warm_server():
+    process = WARM_SERVER.pop("process", None)
+    if process is not None:
+        process.terminate()
+        process.wait()
+    os.environ.pop(SOCKET_ENV, None)
