@@ -287,3 +287,8 @@ def tiny_qwen_vl(directory: str | Path, kind: str = "qwen3-vl", seed: int = 0) -
         tokenizer.save_pretrained(directory)
         processor.save_pretrained(directory)
     return directory
+
+
+def tiny_qwen3_vl(directory: str | Path, seed: int = 0) -> Path:
+    """A tiny random-weight Qwen3-VL in ``directory`` (:func:`tiny_qwen_vl`). Returns the folder."""
+    return tiny_qwen_vl(directory, "qwen3-vl", seed)
