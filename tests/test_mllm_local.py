@@ -206,3 +206,16 @@ def test_bad_weights_folder_rejected(tmp_path, weights):
     assert f"{clip}: has no weights file" in error(weights=str(clip))
     if not torch.cuda.is_available():
         assert "torch sees no CUDA device" in error(weights=str(weights), device="cuda")
+
+
+def test_greedy_whatever_the_checkpoints_generation_config(chat, one_by_one):
+    """A checkpoint's sampling settings and repetition penalty (Qwen2.5-VL ships 1.05) leave
+    the answers greedy: the same as with the tiny model's plain generation_config."""
+    saved = chat.model.generation_config
+    chat.model.generation_config = saved.__class__.from_dict(
+        saved.to_dict() | {"do_sample": True, "temperature": 0.7, "top_k": 20, "repetition_penalty": 5.0}
+    )
+    try:
+        assert [chat.complete(r).text for r in REQUESTS[6:9]] == [r.text for r in one_by_one[6:9]]
+    finally:
+        chat.model.generation_config = saved

@@ -193,8 +193,14 @@ class LocalChat:
         encoded = self.tokenizer(texts, return_tensors="pt", padding=True, add_special_tokens=False)
         inputs = {key: value.to(self.device) for key, value in (dict(encoded) | vision).items()}
         grammars = [self._compiler.compile_json_schema(json.dumps(row.request.schema), any_whitespace=False) for row in rows]
+        # Fields left unset here are filled from the checkpoint's generation_config, whose sampling
+        # settings do_sample=False overrides; its repetition penalty (1.05 in Qwen2.5-VL's) is reset.
         config = GenerationConfig(
-            max_new_tokens=max(row.cap for row in rows), do_sample=False, eos_token_id=self.stops, pad_token_id=self.pad
+            max_new_tokens=max(row.cap for row in rows),
+            do_sample=False,
+            repetition_penalty=1.0,
+            eos_token_id=self.stops,
+            pad_token_id=self.pad,
         )
         # A fresh processor per call: it keeps each row's grammar state (xgrammar: single use).
         processors = LogitsProcessorList([self._mask_control, xgr.contrib.hf.LogitsProcessor(grammars)])
@@ -219,8 +225,8 @@ class LocalChat:
         text = self.tokenizer.apply_chat_template(row.messages, tokenize=False, add_generation_prompt=True)
         if text.count(self.image_pad) != len(row.images):
             raise InputError(
-                f"the request's text holds the model's image placeholder {self.image_pad}; "
-                f"expected it only for its {len(row.images)} images (system or user text of {row.request.schema_name!r})"
+                f"a {row.request.schema_name!r} request's text holds the model's image placeholder {self.image_pad}; "
+                f"images go in the request's images ({len(row.images)} here)"
             )
         return text
 
