@@ -219,3 +219,16 @@ def test_greedy_whatever_the_checkpoints_generation_config(chat, one_by_one):
         assert [chat.complete(r).text for r in REQUESTS[6:9]] == [r.text for r in one_by_one[6:9]]
     finally:
         chat.model.generation_config = saved
+
+
+def test_through_the_factory_and_the_cache(weights, tmp_path, one_by_one):
+    """A models-config entry with weights builds a LocalChat behind the response cache: the
+    first ask runs the model, the second is answered from the cache."""
+    from capframe.backends.mllm.factory import build_chat
+
+    settings = ModelSettings(weights=str(weights), image_side=IMAGE_SIDE, max_new_tokens=128)
+    chat = build_chat(settings, "mllm", tmp_path / "cache")
+    assert chat.identity == str(weights.resolve())
+    first, again = chat.complete(REQUESTS[4]), chat.complete(REQUESTS[4])
+    assert first.text == again.text == one_by_one[4].text and not first.cached and again.cached
+    assert chat.stats()["mllm_cache_hits"] == 1
