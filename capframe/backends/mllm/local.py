@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import json
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -61,7 +61,7 @@ class _Row:
     completion_tokens: int = 0
     text: str = ""
     fault: str = ""
-    data: dict | None = field(default=None)
+    data: dict | None = None
 
 
 class LocalChat:
