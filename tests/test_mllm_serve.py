@@ -125,7 +125,6 @@ def _check_answered_or_failed(server: Server, dialect: str, retries: int, images
     many; the server's log holds one successful POST per attempt."""
     settings = ModelSettings(endpoint=server.url, model=server.model, dialect=dialect, retries=retries, timeout_s=60)
     chat = EndpointChat(settings, "judge")
-    chat.backoff_s = 0.0
     before = len(server.posts())
     try:
         reply = chat.complete(_request(images))
