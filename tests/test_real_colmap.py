@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pycolmap
 import pytest
+from PIL import Image
 
 from capframe.bench.colmap import (
     angle_deg,
@@ -16,6 +17,7 @@ from capframe.bench.colmap import (
     dominant_plane_normal,
     reference_ups,
 )
+from capframe.cli import main
 from capframe.errors import InputError
 from capframe.geometry.gravity import gravity_command
 from capframe.scene import load_scene_dir
@@ -45,16 +47,18 @@ def subset_scene(tmp_path_factory):
 
 @needs_capture
 def test_colmap_registers_a_real_subset_close_to_the_published_cameras(subset_scene):
-    """Measured at the commit that added it (pycolmap 4.0): 16/16 registered, rotation error
-    median 0.XX deg, max 0.XX deg after the Sim(3) alignment; the bounds leave margin for other
-    builds and thread orders."""
+    """Measured when written (pycolmap 4.2.1, 2 threads, 52 s on a loaded 2-core machine): 16/16
+    registered; after the Sim(3) alignment rotation error median 0.61 deg, max 0.99 deg, position
+    error max 0.41 % of the capture's extent; focal 825.0 px. The bounds leave margin for other
+    builds and thread orders (two threads do not give bit-identical runs)."""
     out, record, _ = subset_scene
     reference = read_cameras_json(CAPTURE / "cameras.json")
     cameras = load_scene_dir(out, load_gaussians=False).cameras
     assert record["images_registered"] >= 15
     assert record["estimated_camera"]["model"] == "SIMPLE_RADIAL"
-    # Undistorted into the output: pinhole cameras and real image files the size of the cameras.
-    assert all(not c.image_path or not Path(c.image_path).is_symlink() for c in cameras)
+    # Undistorted into the output: image files of their own, the size of the pinhole cameras.
+    assert all(c.image_path and not Path(c.image_path).is_symlink() for c in cameras)
+    assert Image.open(cameras[0].image_path).size == (cameras[0].width, cameras[0].height)
     errors = compare_poses(cameras, reference)
     assert errors["rotation_error_deg"]["max"] <= 2.0
     assert errors["position_error_rel"]["max"] <= 0.02
@@ -64,14 +68,16 @@ def test_colmap_registers_a_real_subset_close_to_the_published_cameras(subset_sc
 
 @needs_capture
 def test_gravity_of_a_real_subset_is_near_the_published_horizontal(subset_scene):
-    """The estimate, turned into the published world, against the normal of the bed plane of the
-    published points. Measured: XX deg (the published poses' own camera consensus is 8.6 deg off:
-    the capture is not roll-free); bound with margin."""
+    """The estimate, turned into the published world, against the normal of the dominant (bed)
+    plane of the published points. Measured when written: 5.8 deg (cameras and vertical edges;
+    the cameras alone 6.2 deg). The reference itself is uncertain by a few degrees: on all 97
+    photos the camera consensus of the *published* poses is 9.5 deg from that normal and the
+    vertical edges 5.1 deg; hence the loose bound."""
     out, _, gravity = subset_scene
     reference = read_cameras_json(CAPTURE / "cameras.json")
     errors = compare_poses(load_scene_dir(out, load_gaussians=False).cameras, reference)
     up = reference_ups(reference, read_points3D_bin(CAPTURE / "points3D.bin"))["plane"]
-    assert angle_deg(errors["alignment"][1] @ np.array(gravity["up"]), up) <= 15.0
+    assert angle_deg(errors["alignment"][1] @ np.array(gravity["up"]), up) <= 12.0
 
 
 def test_dominant_plane_normal_finds_the_largest_plane_and_faces_the_viewpoints():
@@ -118,3 +124,13 @@ def test_read_points3D_bin_matches_pycolmap(tmp_path):
 def test_reconstruct_rejects_an_unknown_camera_model(tmp_path):
     with pytest.raises(InputError, match="camera model 'FISHEYE'"):
         reconstruct(tmp_path, tmp_path / "work", camera_model="FISHEYE")
+
+
+def test_bench_colmap_on_other_photos_needs_their_cameras(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "photos").mkdir()
+    assert main(["bench", "colmap", "--photos", str(tmp_path / "photos")]) == 2
+    err = capsys.readouterr().err
+    assert "needs --reference" in err and err.count("\n") == 1
+    assert main(["bench", "render", "--points", "points3D.bin"]) == 2
+    assert "apply to bench colmap only" in capsys.readouterr().err
