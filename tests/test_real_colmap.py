@@ -126,6 +126,15 @@ def test_reconstruct_rejects_an_unknown_camera_model(tmp_path):
         reconstruct(tmp_path, tmp_path / "work", camera_model="FISHEYE")
 
 
+def test_colmap_reads_a_plain_folder_of_photos(tmp_path, capsys):
+    (tmp_path / "photos").mkdir()
+    argv = ["colmap", str(tmp_path / "photos"), "-o", str(tmp_path / "out"), "--camera-model", "OPENCV", "--threads", "2"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "no images" in err and str(tmp_path / "photos") in err
+    assert not (tmp_path / "out").exists()
+
+
 def test_bench_colmap_on_other_photos_needs_their_cameras(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "photos").mkdir()
