@@ -28,7 +28,7 @@ def _cmd_import(args: argparse.Namespace) -> None:
 def _cmd_colmap(args: argparse.Namespace) -> None:
     from .scene.sfm import colmap_command
 
-    colmap_command(args.scene, args.output, matcher=args.matcher)
+    colmap_command(args.scene, args.output, matcher=args.matcher, camera_model=args.camera_model, num_threads=args.threads)
 
 
 def _cmd_align_truth(args: argparse.Namespace) -> None:
@@ -458,6 +458,9 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         models=args.models,
         segmenter=args.segmenter,
         benchmarks=args.benchmarks,
+        photos=args.photos,
+        reference=args.reference,
+        points=args.points,
     )
 
 
@@ -562,7 +565,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_import, outputs={"dst": "folder"})
 
     p = verbs.add_parser("colmap", help="recover the poses of a scene without poses (structure from motion)")
-    p.add_argument("scene", help="scene directory with images/")
+    p.add_argument("scene", help="scene directory with images/, or a folder of photos")
     p.add_argument("-o", "--output", required=True, help="output scene directory (must not exist)")
     p.add_argument(
         "--matcher",
@@ -570,6 +573,14 @@ def build_parser() -> argparse.ArgumentParser:
         choices=["auto", "exhaustive", "sequential"],
         help="auto: exhaustive up to 60 images, else sequential in name order",
     )
+    p.add_argument(
+        "--camera-model",
+        default="SIMPLE_PINHOLE",
+        choices=["SIMPLE_PINHOLE", "SIMPLE_RADIAL", "OPENCV"],
+        help="one camera shared by all images: SIMPLE_PINHOLE for renders; SIMPLE_RADIAL or OPENCV for photos "
+        "as shot (they are undistorted into the output)",
+    )
+    p.add_argument("--threads", type=int, default=1, help="COLMAP threads (1: repeatable)")
     p.set_defaults(func=_cmd_colmap, outputs={"output": "folder"})
 
     p = verbs.add_parser(
@@ -811,7 +822,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup", "colmap"])
     p.add_argument(
         "--suite",
         default=None,
@@ -828,6 +839,9 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         help="startup: a workflow run's benchmark folder (run without the warm server), for the per-instruction overhead",
     )
+    p.add_argument("--photos", default=None, help="colmap: folder of photos (default: the real capture in ../shared/data/real)")
+    p.add_argument("--reference", default=None, help="colmap: the photos' published Inria cameras.json")
+    p.add_argument("--points", default=None, help="colmap: the published COLMAP points3D.bin (plane up; optional)")
     p.set_defaults(func=_cmd_bench)
 
     p = verbs.add_parser("models", help="model backends' files")

@@ -1,6 +1,7 @@
 """Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
 JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``ground`` (a name in
-``config/suites`` or a path; default: the default suite); ``ground`` on a suite whose
+``config/suites`` or a path; default: the default suite); ``colmap`` takes ``--photos``,
+``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``); ``ground`` on a suite whose
 instructions are committed (the held-out set) is :mod:`capframe.bench.heldout`. The benchmarks
 that run the method write under ``results/bench`` (checked before any work, as every verb's
 outputs are); figures not measured are null in the JSON."""
@@ -40,14 +41,20 @@ def run_bench(
     models: str | None = None,
     segmenter: str = "detector",
     benchmarks: str | None = None,
+    photos: str | None = None,
+    reference: str | None = None,
+    points: str | None = None,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
-    image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder."""
+    image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder;
+    ``colmap`` runs on ``photos`` against ``reference`` and ``points``."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
-    if what in ("refine", "ground", "segment"):
+    if (photos, reference, points) != (None, None, None) and what != "colmap":
+        raise InputError("--photos, --reference and --points apply to bench colmap only")
+    if what in ("refine", "ground", "segment", "colmap"):
         OUTPUTS["into"].check(RESULTS)
     if what == "render":
         from .render import bench_render
@@ -85,6 +92,10 @@ def run_bench(
         from .startup import bench_startup
 
         figures = bench_startup(benchmarks)
+    elif what == "colmap":
+        from .colmap import bench_colmap
+
+        figures = bench_colmap(photos, reference, points, RESULTS / "colmap")
     elif what == "models":
         from .models import bench_models
 

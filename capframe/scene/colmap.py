@@ -99,6 +99,39 @@ def read_colmap(sparse_dir: str | Path, images_dir: str | Path | None = None) ->
     return cameras
 
 
+def read_points3D_bin(path: str | Path) -> np.ndarray:
+    """Positions (N, 3) float64 of a COLMAP ``points3D.bin`` read on its own (pycolmap reads only
+    whole models).
+
+    Layout (COLMAP's binary model, little-endian): a uint64 count, then per point a uint64 id,
+    3 float64 ``xyz``, 3 uint8 ``rgb``, a float64 error, a uint64 track length L and L pairs of
+    uint32 (image id, 2D point index). Raises :class:`InputError` naming the file when it is
+    missing or ends early.
+    """
+    source = str(path)
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        raise InputError(f"cannot read ({err.strerror}); expected a COLMAP points3D.bin", source=source) from None
+    head = np.dtype([("id", "<u8"), ("xyz", "<f8", 3), ("rgb", "u1", 3), ("error", "<f8"), ("track", "<u8")])
+    if len(data) < 8:
+        raise InputError(f"{len(data)} bytes; expected a COLMAP points3D.bin (a uint64 count first)", source=source)
+    count = int(np.frombuffer(data, "<u8", 1)[0])
+    xyz = np.empty((count, 3))
+    offset = 8
+    for i in range(count):  # records vary in length with their tracks
+        if offset + head.itemsize > len(data):
+            raise InputError(f"ends at point {i} of {count}; the file is truncated", source=source)
+        record = np.frombuffer(data, head, 1, offset)[0]
+        xyz[i] = record["xyz"]
+        offset += head.itemsize + 8 * int(record["track"])
+    if offset > len(data):
+        raise InputError(f"the track of point {count - 1} ends past the file's end; the file is truncated", source=source)
+    if offset < len(data):
+        raise InputError(f"{len(data) - offset} bytes after point {count}; expected the end of the file", source=source)
+    return xyz
+
+
 def colmap_image_name(camera: Camera) -> str:
     """The image file name COLMAP records: the camera's name plus its image's extension
     (``.png`` when the camera has no image), so :func:`read_colmap` gives the name back."""

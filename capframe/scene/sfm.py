@@ -2,11 +2,14 @@
 
 :func:`reconstruct` recovers the training cameras of a folder of images with COLMAP's incremental
 pipeline (SIFT on the CPU, exhaustive or sequential matching, incremental mapping, one shared
-pinhole camera). :func:`colmap_command` (``capframe colmap``) turns a scene directory without
-poses into a posed one. A real 3DGS is trained on the recovered poses afterwards, so its Gaussians
-live in COLMAP's world. A synthetic scene's Gaussians live in the generator's world instead; the
-evaluation verb ``capframe align-truth`` (:mod:`capframe.evaluate.alignment`) maps the recovered
-cameras into that world; no stage of the method reads the ground truth (DESIGN §4).
+camera). Rendered images take a pinhole camera; photos as shot take a distortion model
+(``SIMPLE_RADIAL``, ``OPENCV``) and are then undistorted, so every later stage sees pinhole
+cameras and straight lines. :func:`colmap_command` (``capframe colmap``) turns a scene directory
+without poses, or a plain folder of photos, into a posed one. A real 3DGS is trained on the
+recovered poses afterwards, so its Gaussians live in COLMAP's world. A synthetic scene's
+Gaussians live in the generator's world instead; the evaluation verb ``capframe align-truth``
+(:mod:`capframe.evaluate.alignment`) maps the recovered cameras into that world; no stage of the
+method reads the ground truth (DESIGN §4).
 
 :func:`umeyama_sim3` and :func:`align_cameras` are the general tools: fit ``X' = s R X + t`` to
 point pairs, and move cameras into the new world so that every point projects where it did.
@@ -36,6 +39,9 @@ from .directory import SceneMeta, _place_images, write_scene_meta
 from .model import Camera
 
 MATCHERS = ("auto", "exhaustive", "sequential")
+# One camera shared by all images: a pinhole for renders and undistorted images; a radial (k1) or
+# OpenCV (fx, fy, cx, cy, k1, k2, p1, p2) distortion for photos as shot.
+CAMERA_MODELS = ("SIMPLE_PINHOLE", "SIMPLE_RADIAL", "OPENCV")
 # Exhaustive matching costs n(n-1)/2 pairs; beyond this many images "auto" matches sequentially.
 EXHAUSTIVE_MAX_IMAGES = 60
 # Sequential matching pairs each image with those 1, 2, 4, ..., 2^(SEQUENTIAL_OVERLAP-1) places
@@ -57,12 +63,17 @@ class SfmResult:
     Attributes:
         cameras: the registered views, sorted by name (T_cw in the reconstruction's world).
         image_names: every input image, relative to the image folder (``/``-separated), sorted.
-        reconstruction: the pycolmap model (the largest one the mapper built).
-        sparse_dir: where that model was written (binary), ``work_dir/sparse/0``.
+        reconstruction: the pycolmap model (the largest one the mapper built; undistorted, with
+            a ``PINHOLE`` camera, when the camera model has distortion).
+        sparse_dir: where that model was written (binary): ``work_dir/sparse/0``, or
+            ``work_dir/undistorted/sparse`` next to the undistorted images.
+        estimated_camera: the shared camera bundle adjustment refined, before undistortion:
+            ``{"model", "params", "width", "height"}`` (params in COLMAP's order for the model).
         mean_reprojection_error: mean reprojection error of the 3D points' observations, pixels.
         num_points3D: number of triangulated 3D points.
         matcher: ``"exhaustive"`` or ``"sequential"``, the matching that ran.
-        timings: wall time per step in seconds (``extract_s``, ``match_s``, ``map_s``, ``total_s``).
+        timings: wall time per step in seconds (``extract_s``, ``match_s``, ``map_s``,
+            ``undistort_s`` when the images were undistorted, ``total_s``).
     """
 
     cameras: list[Camera]
@@ -72,6 +83,7 @@ class SfmResult:
     mean_reprojection_error: float
     num_points3D: int
     matcher: str
+    estimated_camera: dict
     timings: dict[str, float] = field(default_factory=dict)
 
     @property
@@ -90,6 +102,7 @@ class SfmResult:
             "mean_reprojection_error_px": self.mean_reprojection_error,
             "num_points3D": self.num_points3D,
             "matcher": self.matcher,
+            "estimated_camera": self.estimated_camera,
             "camera": {
                 "fx": self.cameras[0].K[0, 0],
                 "fy": self.cameras[0].K[1, 1],
@@ -132,6 +145,7 @@ def reconstruct(
     work_dir: str | Path,
     *,
     matcher: str = "auto",
+    camera_model: str = "SIMPLE_PINHOLE",
     num_threads: int = 1,
     seed: int = 0,
     verbose: bool = False,
@@ -140,10 +154,14 @@ def reconstruct(
 
     Steps (pycolmap): SIFT extraction on the CPU into ``work_dir/database.db``; matching, exhaustive
     up to :data:`EXHAUSTIVE_MAX_IMAGES` images and sequential in name order beyond (``matcher``
-    forces one); incremental mapping. All images share one ``SIMPLE_PINHOLE`` camera (one focal
-    length refined by bundle adjustment, principal point fixed at the image centre), as images
-    rendered or undistorted from one camera are; images of another size than the first are not
-    registered. The largest model is kept and written (binary) to ``work_dir/sparse/0``.
+    forces one); incremental mapping. All images share one camera of ``camera_model``, refined by
+    bundle adjustment (principal point fixed at the image centre): ``SIMPLE_PINHOLE`` (one focal
+    length) for images rendered or undistorted from one camera, ``SIMPLE_RADIAL`` or ``OPENCV`` for
+    photos as shot. Images of another size than the first are not registered. The largest model
+    is kept and written (binary) to ``work_dir/sparse/0``; with a distortion model, the registered
+    images and the model are then undistorted into ``work_dir/undistorted`` (``images/`` and a
+    ``PINHOLE`` ``sparse/``, cropped to valid pixels; COLMAP's image_undistorter), and the result's
+    cameras, model and image paths are those.
 
     Determinism: the RANSAC and mapper seeds are fixed to ``seed``. SIFT extraction on the CPU is
     deterministic; with ``num_threads=1`` (the default) the whole run is repeatable with the same
@@ -156,17 +174,20 @@ def reconstruct(
             paths without extension, as in a scene directory.
         work_dir: folder for the database and the model; created if missing.
         matcher: ``"auto"``, ``"exhaustive"`` or ``"sequential"``.
+        camera_model: one of :data:`CAMERA_MODELS`.
         num_threads: threads for every step.
         seed: random seed of RANSAC and the mapper.
         verbose: let COLMAP log at INFO level (default: warnings and errors only).
 
     Raises :class:`InputError` naming ``image_dir`` when it holds no images or fewer than
-    :data:`MIN_REGISTERED` register.
+    :data:`MIN_REGISTERED` register, and for an unknown matcher or camera model.
     """
     image_dir, work_dir = Path(image_dir), Path(work_dir)
     source = str(image_dir)
     if matcher not in MATCHERS:
         raise InputError(f"matcher {matcher!r}; expected one of {list(MATCHERS)}")
+    if camera_model not in CAMERA_MODELS:
+        raise InputError(f"camera model {camera_model!r}; expected one of {list(CAMERA_MODELS)}")
     names = list_images(image_dir) if image_dir.is_dir() else []
     if not names:
         raise InputError(f"no images ({', '.join(sorted(_IMAGE_SUFFIXES))}); nothing to reconstruct", source=source)
@@ -178,7 +199,7 @@ def reconstruct(
     pycolmap.set_random_seed(seed)
     t0 = time.perf_counter()
     with _colmap_log(verbose):
-        _extract(database, image_dir, names, num_threads)
+        _extract(database, image_dir, names, camera_model, num_threads)
         t1 = time.perf_counter()
         _match(database, matcher, num_threads, seed)
         t2 = time.perf_counter()
@@ -197,23 +218,48 @@ def reconstruct(
         shutil.rmtree(sparse_dir)
     sparse_dir.mkdir(parents=True)
     reconstruction.write_binary(str(sparse_dir))
+    camera = next(iter(reconstruction.cameras.values()))
+    estimated = {
+        "model": camera.model.name,
+        "params": [float(v) for v in camera.params],
+        "width": int(camera.width),
+        "height": int(camera.height),
+    }
+    images_dir = image_dir
+    if camera_model != "SIMPLE_PINHOLE":
+        with _colmap_log(verbose):
+            sparse_dir, images_dir = _undistort(sparse_dir, image_dir, work_dir / "undistorted", num_threads)
+        reconstruction = pycolmap.Reconstruction(str(sparse_dir))
+        timings["undistort_s"] = time.perf_counter() - t3
     timings["total_s"] = time.perf_counter() - t0
     return SfmResult(
-        cameras=read_colmap(sparse_dir, image_dir),
+        cameras=read_colmap(sparse_dir, images_dir),
         image_names=names,
         reconstruction=reconstruction,
         sparse_dir=sparse_dir,
         mean_reprojection_error=float(reconstruction.compute_mean_reprojection_error()),
         num_points3D=int(reconstruction.num_points3D()),
         matcher=matcher,
+        estimated_camera=estimated,
         timings=timings,
     )
 
 
-def _extract(database: Path, image_dir: Path, names: list[str], num_threads: int) -> None:
-    """SIFT features of ``names`` on the CPU, one shared ``SIMPLE_PINHOLE`` camera."""
+def _undistort(sparse_dir: Path, image_dir: Path, out_dir: Path, num_threads: int) -> tuple[Path, Path]:
+    """Undistorted copies of the registered images and a ``PINHOLE`` model of them, in ``out_dir``
+    (replaced); returns ``(model folder, image folder)``. The focal length is kept and the image
+    cropped to the pixels that have a source (COLMAP's ``blank_pixels = 0``), as the 3DGS data
+    converter does."""
+    if out_dir.exists():
+        shutil.rmtree(out_dir)
+    pycolmap.undistort_images(out_dir, sparse_dir, image_dir, output_type="COLMAP", num_threads=num_threads)
+    return out_dir / "sparse", out_dir / "images"
+
+
+def _extract(database: Path, image_dir: Path, names: list[str], camera_model: str, num_threads: int) -> None:
+    """SIFT features of ``names`` on the CPU, one shared camera of ``camera_model``."""
     reader = pycolmap.ImageReaderOptions()
-    reader.camera_model = "SIMPLE_PINHOLE"
+    reader.camera_model = camera_model
     options = pycolmap.FeatureExtractionOptions()
     options.num_threads = num_threads
     options.use_gpu = False
@@ -328,7 +374,7 @@ def pose_errors(cameras: list[Camera], reference: list[Camera], scale: float) ->
     one), both in one world.
 
     Returns ``rotation_error_deg`` (geodesic angle between the rotations) and
-    ``position_error_rel`` (centre distance / ``scale``), each as ``{"mean", "max"}``, and
+    ``position_error_rel`` (centre distance / ``scale``), each as ``{"mean", "median", "max"}``, and
     ``per_view``: ``[{"name", "rotation_deg", "position_rel"}]``.
     """
     truth = {c.name: c for c in reference}
@@ -346,36 +392,52 @@ def pose_errors(cameras: list[Camera], reference: list[Camera], scale: float) ->
     summary = {}
     for key, out in (("rotation_deg", "rotation_error_deg"), ("position_rel", "position_error_rel")):
         values = np.array([v[key] for v in per_view])
-        summary[out] = {"mean": float(values.mean()), "max": float(values.max())}
+        summary[out] = {"mean": float(values.mean()), "median": float(np.median(values)), "max": float(values.max())}
     return {**summary, "per_view": per_view}
 
 
-def colmap_command(scene_dir: str | Path, out_dir: str | Path, matcher: str = "auto", num_threads: int = 1) -> dict:
-    """``capframe colmap``: recover the poses of ``scene_dir/images`` and write a scene directory.
+def photo_folder(scene_dir: Path) -> Path:
+    """The images ``capframe colmap`` reads: ``scene_dir/images`` when that folder exists (a scene
+    directory), else ``scene_dir`` itself (a plain folder of photos)."""
+    return scene_dir / "images" if (scene_dir / "images").is_dir() else scene_dir
 
-    ``out_dir`` gets ``cameras.json`` (registered views), ``sparse/0`` (the COLMAP model),
-    ``images/`` (symlinks to the source images of the registered views), ``scene.json``
-    (``up: null, aligned: false``) and ``colmap.json`` (:meth:`SfmResult.stats`, device). The
-    cameras are in COLMAP's world: a 3DGS must be trained on them before any stage renders (the
-    benchmark's synthetic scenes are instead mapped into their ground-truth world by the
-    evaluation verb ``capframe align-truth``).
+
+def colmap_command(
+    scene_dir: str | Path,
+    out_dir: str | Path,
+    matcher: str = "auto",
+    camera_model: str = "SIMPLE_PINHOLE",
+    num_threads: int = 1,
+) -> dict:
+    """``capframe colmap``: recover the poses of a scene's images and write a scene directory.
+
+    ``scene_dir`` is a scene directory without poses (``images/``) or a folder of photos
+    (:func:`photo_folder`). ``out_dir`` gets ``cameras.json`` (registered views), ``sparse/0``
+    (the COLMAP model), ``images/`` (symlinks to the source images of the registered views, or the
+    undistorted images themselves when ``camera_model`` has distortion), ``scene.json`` (``up:
+    null, aligned: false``) and ``colmap.json`` (:meth:`SfmResult.stats`, device). The cameras are
+    in COLMAP's world: a 3DGS must be trained on them before any stage renders (the benchmark's
+    synthetic scenes are instead mapped into their ground-truth world by the evaluation verb
+    ``capframe align-truth``).
 
     ``out_dir`` is written whole or not at all and must not already hold files. Prints a summary
-    and returns the ``colmap.json`` record. Raises :class:`InputError` for a scene without
+    and returns the ``colmap.json`` record. Raises :class:`InputError` for a folder without
     images, fewer than 3 registered views, or an ``out_dir`` that holds files.
     """
     scene_dir, out_dir = Path(scene_dir), Path(out_dir)
     if not scene_dir.is_dir():
         raise InputError("scene directory not found", source=str(scene_dir))
     with atomic_directory(out_dir) as tmp, tempfile.TemporaryDirectory(prefix=f".{out_dir.name}.colmap-", dir=tmp.parent) as work:
-        result = reconstruct(scene_dir / "images", work, matcher=matcher, num_threads=num_threads)
+        result = reconstruct(photo_folder(scene_dir), work, matcher=matcher, camera_model=camera_model, num_threads=num_threads)
         record = {
             "format": 1,
             **result.stats(),
             "device": platform.processor() or platform.machine(),
             "threads": num_threads,
         }
-        write_posed_scene(tmp, result.cameras, result.reconstruction, str(scene_dir))
+        # Undistorted images live in the temporary work folder: copy them, link the originals.
+        undistorted = camera_model != "SIMPLE_PINHOLE"
+        write_posed_scene(tmp, result.cameras, result.reconstruction, str(scene_dir), copy_images=undistorted)
         write_json(tmp / "colmap.json", record)
     print(
         f"{out_dir}: {record['images_registered']}/{record['images_total']} views registered, "
@@ -386,14 +448,16 @@ def colmap_command(scene_dir: str | Path, out_dir: str | Path, matcher: str = "a
     return record
 
 
-def write_posed_scene(out_dir: Path, cameras: list[Camera], reconstruction: pycolmap.Reconstruction, source: str) -> None:
+def write_posed_scene(
+    out_dir: Path, cameras: list[Camera], reconstruction: pycolmap.Reconstruction, source: str, copy_images: bool = False
+) -> None:
     """Write a scene directory's poses into ``out_dir`` (which must exist): ``cameras.json``,
-    ``sparse/0`` (binary), ``images/`` symlinked to each camera's ``image_path``, and a
-    ``scene.json`` with no up and not aligned."""
+    ``sparse/0`` (binary), ``images/`` symlinked to (or with ``copy_images``, copies of) each
+    camera's ``image_path``, and a ``scene.json`` with no up and not aligned."""
     write_cameras_json(cameras, out_dir / "cameras.json")
     (out_dir / "sparse" / "0").mkdir(parents=True)
     reconstruction.write_binary(str(out_dir / "sparse" / "0"))
-    _place_images(cameras, out_dir / "images", copy=False, source=source)
+    _place_images(cameras, out_dir / "images", copy=copy_images, source=source)
     write_scene_meta(SceneMeta(), out_dir / "scene.json")
 
 
@@ -405,6 +469,8 @@ __all__ = [
     "align_cameras",
     "pose_errors",
     "colmap_command",
+    "photo_folder",
     "write_posed_scene",
     "MATCHERS",
+    "CAMERA_MODELS",
 ]
