@@ -15,6 +15,9 @@ from typing import Protocol
 
 import numpy as np
 
+# The user turn that answers a model's invalid answer on a retry (both backends).
+FEEDBACK = "Your previous answer was rejected: {error}. Reply again with only a JSON value that matches the schema, nothing else."
+
 
 @dataclass(frozen=True)
 class ChatRequest:

@@ -36,7 +36,7 @@ from urllib.parse import urlsplit, urlunsplit
 
 from ...errors import InputError, ModelError
 from ..models import ModelSettings
-from .chat import ChatReply, ChatRequest, validate_reply
+from .chat import FEEDBACK, ChatReply, ChatRequest, validate_reply
 from .images import data_url, encode
 
 # Sent as the bearer token when the entry names no key: the openai package would otherwise read
@@ -48,7 +48,6 @@ RETRY_AFTER_CAP_S = 30.0
 BACKOFF_S = 0.5
 # Longest excerpt of a server's error text quoted in a ModelError.
 SERVER_TEXT_CHARS = 200
-FEEDBACK = "Your previous answer was rejected: {error}. Reply again with only a JSON value that matches the schema, nothing else."
 
 
 class _Transient(Exception):

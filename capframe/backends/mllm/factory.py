@@ -29,7 +29,8 @@ def build_chat(settings: ModelSettings, entry: str, cache_folder: str | Path) ->
     """``entry``'s chat model (:class:`~.endpoint.EndpointChat` for an ``endpoint``,
     :class:`~.local.LocalChat` for ``weights``) answering through a :class:`CachedChat` in
     ``cache_folder``. The cache's tag holds the settings that change answers but not the model's
-    identity: the image size sent and the answer's token cap."""
+    identity: the image size sent, the answer's token cap and, for local weights, the device and
+    dtype they run in."""
     if settings.endpoint is not None and settings.weights is not None:
         raise InputError(f"entry {entry!r}: give either endpoint (a server) or weights (local), not both")
     if settings.endpoint is not None:
@@ -39,5 +40,8 @@ def build_chat(settings: ModelSettings, entry: str, cache_folder: str | Path) ->
     else:
         from .local import LocalChat  # transformers and xgrammar load only for local weights
 
-        inner = LocalChat(settings)
-    return CachedChat(inner, cache_folder, tag=f"image_side={settings.image_side} max_new_tokens={settings.max_new_tokens}")
+        inner = LocalChat(settings, entry)
+    tag = f"image_side={settings.image_side} max_new_tokens={settings.max_new_tokens}"
+    if settings.weights is not None:
+        tag += f" device={settings.device} dtype={settings.dtype}"  # a local model's numerics
+    return CachedChat(inner, cache_folder, tag=tag)

@@ -34,8 +34,7 @@ import numpy as np
 from ...errors import InputError, ModelError
 from ..models import ModelSettings
 from ..weights import WEIGHT_FILES, quiet_transformers, torch_device_dtype
-from .chat import ChatReply, ChatRequest, validate_reply
-from .endpoint import FEEDBACK
+from .chat import FEEDBACK, ChatReply, ChatRequest, validate_reply
 from .images import downscale
 
 # config.json model_type -> the transformers class that generates with it.
