@@ -48,6 +48,7 @@ bench: $(STAMP)
 	$(BIN)/capframe bench refine
 	$(BIN)/capframe bench ground
 	$(BIN)/capframe bench models
+	$(BIN)/capframe bench startup
 
 clean:
 	rm -rf results/* .snakemake
