@@ -1,7 +1,7 @@
-"""The held-out set (config/suites/heldout.yaml + heldout/<scene>.yaml): its files are valid and
-shaped as issue #15 asks, without generating a scene or running the method; the spec format's
-errors are one line naming file, instruction and field; the judge's range rows and the clearance
-verdicts on a tiny scene."""
+"""The held-out sets (config/suites/heldout.yaml + heldout/<scene>.yaml; heldout2, written after
+the first had been used for tuning): their files are valid and shaped as issue #15 asks, without
+generating a scene or running the method; the spec format's errors are one line naming file,
+instruction and field; the judge's range rows and the clearance verdicts on a tiny scene."""
 
 from __future__ import annotations
 
@@ -21,21 +21,33 @@ from capframe.synth.suite import load_suite
 SUITES = Path(__file__).resolve().parents[1] / "config" / "suites"
 
 
-def test_the_committed_set_is_valid_and_shaped_as_asked():
-    suite = load_heldout(SUITES / "heldout.yaml")  # validates every spec and subject
+# name -> instructions per scene (the files' counts, so a dropped or added instruction is noticed)
+COMMITTED = {"heldout": [15, 15, 14, 15, 14, 14], "heldout2": [15, 14, 15, 14, 14, 15]}
+
+
+@pytest.mark.parametrize("name", sorted(COMMITTED))
+def test_the_committed_set_is_valid_and_shaped_as_asked(name):
+    suite = load_heldout(SUITES / f"{name}.yaml")  # validates every spec and subject
     cases = suite.cases()
-    assert suite.name == "heldout" and len(suite.scenes) >= 6 and len(cases) >= 80
+    assert [len(suite.specs[s.id]) for s in suite.scenes] == COMMITTED[name]
+    assert suite.name == name and len(suite.scenes) >= 6 and len(cases) >= 80
     assert all(len(suite.specs[s.id]) >= 10 for s in suite.scenes)
     assert {s.preset for s in suite.scenes} == {"tabletop", "room", "outdoor"}
     assert {s.capture for s in suite.scenes} == {"orbit", "forward", "walkthrough"}
     assert any(not s.poses for s in suite.scenes) and any(s.tilt != 0 for s in suite.scenes)
-    others = [s for name in ("default", "full") for s in load_suite(SUITES / f"{name}.yaml")[1]]
+    others = [s for other in ("default", "full", *COMMITTED) if other != name for s in load_suite(SUITES / f"{other}.yaml")[1]]
     assert not {s.seed for s in suite.scenes} & {s.seed for s in others}, "held-out scenes must be freshly seeded"
     infeasible = [spec for _, spec in cases if not spec.feasible]
     assert 0.05 <= len(infeasible) / len(cases) <= 0.2
     assert {"phrasing", "view", "height", "size"} <= {spec.kind for _, spec in cases} <= set(KINDS)
     assert len({spec.text.lower() for _, spec in cases}) == len(cases), "every text is different"
-    assert has_committed_instructions(SUITES / "heldout.yaml") and not has_committed_instructions(SUITES / "default.yaml")
+    assert has_committed_instructions(SUITES / f"{name}.yaml") and not has_committed_instructions(SUITES / "default.yaml")
+
+
+def test_the_second_set_does_not_reuse_the_first_sets_texts():
+    first = {spec.text.lower() for _, spec in load_heldout(SUITES / "heldout.yaml").cases()}
+    second = {spec.text.lower() for _, spec in load_heldout(SUITES / "heldout2.yaml").cases()}
+    assert not first & second
 
 
 def _write(tmp_path, instructions: str, count: int = 1) -> Path:
@@ -191,10 +203,12 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     from capframe.bench import resolve_suite
     from capframe.cli import main
 
+    assert resolve_suite("heldout2") == SUITES / "heldout2.yaml"
     assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
-    assert "--suite 'nosuch' is neither a file nor a suite name; known: ['default', 'full', 'heldout']" in err and "\n" not in err
+    known = "known: ['default', 'full', 'heldout', 'heldout2']"
+    assert f"--suite 'nosuch' is neither a file nor a suite name; {known}" in err and "\n" not in err
     assert main(["bench", "refine", "--suite", "heldout"]) == 2
     assert "bench refine needs generated instructions" in capsys.readouterr().err
 

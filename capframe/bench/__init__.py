@@ -1,10 +1,10 @@
 """Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
 JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``ground`` (a name in
 ``config/suites`` or a path; default: the default suite); ``colmap`` takes ``--photos``,
-``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``); ``ground`` on a suite whose
-instructions are committed (the held-out set) is :mod:`capframe.bench.heldout`. The benchmarks
-that run the method write under ``results/bench`` (checked before any work, as every verb's
-outputs are); figures not measured are null in the JSON."""
+``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``);
+``ground`` on a suite whose instructions are committed (hand-written specs: the held-out sets) is
+:mod:`capframe.bench.heldout`. The benchmarks that run the method write under ``results/bench``
+(checked before any work, as every verb's outputs are); figures not measured are null in the JSON."""
 
 from __future__ import annotations
 

@@ -1,19 +1,21 @@
-"""Ground benchmark on a suite whose instructions are committed (the held-out set, issue #15).
+"""Ground benchmark on a suite with hand-written specs (committed instructions: the held-out
+sets, issue #15).
 
-``capframe bench ground --suite heldout``: every scene of the suite is generated (when absent) and
-prepared as the workflow would (COLMAP without poses, gravity when not aligned), its view cache is
-warmed, then every committed instruction text goes through ``capframe ground`` (Retrieve ->
-Translate -> Refine, embedded defaults) and the returned camera is judged against the
-instruction's hand-written spec with the ground-truth checker (:func:`capframe.evaluate.spec.judge`)
-and the clearance verdict (:func:`capframe.evaluate.spec.clearance`).
+``capframe bench ground --suite heldout`` (or ``heldout2``, or any suite file naming a ``specs``
+folder): every scene of the suite is generated (when absent) and prepared as the workflow would
+(COLMAP without poses, gravity when not aligned), its view cache is warmed, then every committed
+instruction text goes through ``capframe ground`` (Retrieve -> Translate -> Refine, embedded
+defaults) and the returned camera is judged against the instruction's hand-written spec with the
+ground-truth checker (:func:`capframe.evaluate.spec.judge`) and the clearance verdict
+(:func:`capframe.evaluate.spec.clearance`).
 
 Printed: full success on the feasible instructions (every row of the spec satisfied; and the same
 with a camera in free space), how the infeasible ones were handled (refused, reported by a
 failing clause of the method's own report, or claimed satisfied), counts per kind and per failure
 reason (refused: unknown subject / parse; error; clause failed: which clause), where the parse
-differs from the spec, and a clearance line. Written under the root: ``ground/<id>/`` (each
-result folder), ``checks/<id>.json`` (each verdict), ``heldout.csv`` (one row per instruction)
-and ``heldout.json`` (the figures).
+differs from the spec, and a clearance line. Written under the root (by default
+``results/bench/<suite name>``): ``ground/<id>/`` (each result folder), ``checks/<id>.json``
+(each verdict), ``heldout.csv`` (one row per instruction) and ``heldout.json`` (the figures).
 """
 
 from __future__ import annotations
