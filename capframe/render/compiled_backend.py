@@ -1,9 +1,10 @@
-"""Compiled CPU rasteriser (numba): the torch backend's rules, one pixel at a time.
+"""Compiled CPU rasteriser (numba): the torch backend's rules, one Gaussian or pixel at a time.
 
-The projection (EWA, culling, depth sort) is the torch backend's own
-:func:`~capframe.render.torch_backend.project_gaussians`, so the pose gradient flows through the
-same differentiable code. What is compiled is the part whose cost grows with the pixels:
+Every stage is a compiled kernel with its analytic backward:
 
+* **projection**: the torch backend's EWA projection and culling
+  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, with its backward to
+  the means, the covariance factors and the pose; the depth sort uses the torch backend's key;
 * **tile binning**: each depth-sorted Gaussian is listed in every ``tile_size`` square tile where
   some pixel centre lies inside its cut-off ellipse (exact ellipse-rectangle test), in depth
   order;
@@ -22,6 +23,7 @@ whatever the render dtype.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numba
 import numpy as np
@@ -29,7 +31,7 @@ import torch
 from numba import njit, prange
 from torch import Tensor
 
-from .torch_backend import ALPHA_MAX, ALPHA_MIN, SIGMA_MAX, TRANSMITTANCE_MIN, project_gaussians
+from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE_MIN, _GatherRows
 
 LOG_ALPHA_MIN = math.log(ALPHA_MIN)
 # Binning margin on the cut-off exponent: a tile is listed when sigma <= reach + this somewhere on
@@ -37,7 +39,7 @@ LOG_ALPHA_MIN = math.log(ALPHA_MIN)
 _REACH_MARGIN = 1e-4
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _edge_min(a, b, c, fixed, lo, hi, fixed_is_y):
     """Minimum of ``sigma = a dx^2/2 + b dx dy + c dy^2/2`` along a rectangle edge: one offset
     fixed, the other in ``[lo, hi]``."""
@@ -105,7 +107,7 @@ def _bin_tiles(means2d, conics, reach, extents, tile_size, tiles_x, tiles_y):
     return tile_start, tile_gaussian
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _alpha(means2d, conics, log_opacity, threshold, g, px, py):
     """``(alpha, dx, dy)`` of Gaussian ``g`` at pixel centre ``(px, py)``; alpha is 0 outside the
     cut-offs (``q = log(opacity) - sigma < threshold``), else ``min(0.999, exp(q))``."""
@@ -211,6 +213,135 @@ def _backward(
                         T = next_T
 
 
+@njit(cache=True)
+def _jacobian_rows(R, K, x, y, z, width, height):
+    """Rows ``j0, j1`` (3-tuples) of ``J R`` at the camera point ``(x, y, z)`` with the clamped
+    slopes ``tx, ty`` and whether each was left unclamped (see
+    :func:`~capframe.render.torch_backend.ewa_project`)."""
+    fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+    margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
+    sx, sy = x / z, y / z
+    lo_x, hi_x = -(cx / fx + margin_x), (width - cx) / fx + margin_x
+    lo_y, hi_y = -(cy / fy + margin_y), (height - cy) / fy + margin_y
+    tx, ty = min(max(sx, lo_x), hi_x), min(max(sy, lo_y), hi_y)
+    ax, ay = fx / z, fy / z
+    j0 = (ax * (R[0, 0] - tx * R[2, 0]), ax * (R[0, 1] - tx * R[2, 1]), ax * (R[0, 2] - tx * R[2, 2]))
+    j1 = (ay * (R[1, 0] - ty * R[2, 0]), ay * (R[1, 1] - ty * R[2, 1]), ay * (R[1, 2] - ty * R[2, 2]))
+    return j0, j1, tx, ty, lo_x <= sx <= hi_x, lo_y <= sy <= hi_y
+
+
+@njit(cache=True)
+def _row_times(j, L):
+    """Row vector ``j`` (3-tuple) times the 3x3 matrix ``L``, as a 3-tuple."""
+    return (
+        j[0] * L[0, 0] + j[1] * L[1, 0] + j[2] * L[2, 0],
+        j[0] * L[0, 1] + j[1] * L[1, 1] + j[2] * L[2, 1],
+        j[0] * L[0, 2] + j[1] * L[1, 2] + j[2] * L[2, 2],
+    )
+
+
+@njit(cache=True)
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+@njit(cache=True)
+def _camera_point(R, t, m):
+    return (
+        R[0, 0] * m[0] + R[0, 1] * m[1] + R[0, 2] * m[2] + t[0],
+        R[1, 0] * m[0] + R[1, 1] * m[1] + R[1, 2] * m[2] + t[1],
+        R[2, 0] * m[0] + R[2, 1] * m[1] + R[2, 2] * m[2] + t[2],
+    )
+
+
+@njit(cache=True, parallel=True)
+def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d, out, flags):
+    """Per Gaussian: ``out`` (N, 8) = ``[u, v, a, b, c, z, extent x, extent y]``; ``flags`` (N,):
+    1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen, degenerate)."""
+    for n in prange(len(means)):
+        flags[n] = 0
+        L = factors[n]
+        if not np.isfinite(L).all():
+            flags[n] = 2
+            continue
+        x, y, z = _camera_point(R, t, means[n])
+        if not (near < z < far):
+            continue
+        j0, j1, _, _, _, _ = _jacobian_rows(R, K, x, y, z, width, height)
+        m0, m1 = _row_times(j0, L), _row_times(j1, L)
+        u, v = K[0, 0] * x / z + K[0, 2], K[1, 1] * y / z + K[1, 2]
+        c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
+        if not (np.isfinite(c00) and np.isfinite(c01) and np.isfinite(c11) and np.isfinite(u) and np.isfinite(v)):
+            flags[n] = 2
+            continue
+        det = c00 * c11 - c01 * c01
+        level = 2.0 * math.log(max(opacities[n], ALPHA_MIN) / ALPHA_MIN)
+        k = math.sqrt(min(max(level, 0.0), 2.0 * SIGMA_MAX))
+        ex, ey = k * math.sqrt(c00), k * math.sqrt(c11)
+        if det > 0 and ex > 0 and ey > 0 and u + ex > 0 and v + ey > 0 and u - ex < width and v - ey < height:
+            flags[n] = 1
+            out[n, 0], out[n, 1] = u, v
+            out[n, 2], out[n, 3], out[n, 4] = c11 / det, -c01 / det, c00 / det
+            out[n, 5], out[n, 6], out[n, 7] = z, ex, ey
+
+
+@njit(cache=True, parallel=True)
+def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad, chunks, grad_means, grad_factors, grad_pose):
+    """Backward of :func:`_project` for the kept Gaussians ``index`` (G,), given ``grad`` (G, 6)
+    to ``[u, v, a, b, c, z]``: (G, 3) to the means, (G, 3, 3) to the factors, and per chunk of
+    ``index`` (chunks, 12) to ``[R (row-major), t]``."""
+    fx, fy = K[0, 0], K[1, 1]
+    for chunk in prange(len(chunks) - 1):
+        gj = np.empty((2, 3))  # gradient to the rows of J R
+        for i in range(chunks[chunk], chunks[chunk + 1]):
+            n = index[i]
+            m, L = means[n], factors[n]
+            x, y, z = _camera_point(R, t, m)
+            j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
+            m0, m1 = _row_times(j0, L), _row_times(j1, L)
+            c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
+            det = c00 * c11 - c01 * c01
+            q00, q01, q11 = c11 / det, -c01 / det, c00 / det
+            # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
+            g00, g01, g11 = grad[i, 2], 0.5 * grad[i, 3], grad[i, 4]
+            h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
+            h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
+            s00 = -(q00 * h00 + q01 * h10)
+            s01 = -(q00 * h01 + q01 * h11)
+            s11 = -(q01 * h01 + q11 * h11)
+            # cov = M M^T + eps I with M = (J R) L: dM = 2 S M, dL = (J R)^T dM, d(J R) = dM L^T.
+            gj[:] = 0.0
+            for col in range(3):
+                gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
+                gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
+                for row in range(3):
+                    grad_factors[i, row, col] = j0[row] * gm0 + j1[row] * gm1
+                    gj[0, row] += L[row, col] * gm0
+                    gj[1, row] += L[row, col] * gm1
+            # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
+            ax, ay = fx / z, fy / z
+            g_tx, g_ty = 0.0, 0.0
+            gj0, gj1 = gj[0], gj[1]
+            g_z = grad[i, 5] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
+            for col in range(3):
+                grad_pose[chunk, col] += ax * gj0[col]
+                grad_pose[chunk, 3 + col] += ay * gj1[col]
+                grad_pose[chunk, 6 + col] -= ax * tx * gj0[col] + ay * ty * gj1[col]
+                g_tx -= ax * R[2, col] * gj0[col]
+                g_ty -= ay * R[2, col] * gj1[col]
+            # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
+            g_u, g_v = grad[i, 0] * ax + (g_tx / z if free_x else 0.0), grad[i, 1] * ay + (g_ty / z if free_y else 0.0)
+            g_x, g_y = g_u, g_v
+            g_z -= (g_u * x + g_v * y) / z
+            # p = R m + t.
+            g_p = (g_x, g_y, g_z)
+            for row in range(3):
+                grad_means[i, row] = R[0, row] * g_x + R[1, row] * g_y + R[2, row] * g_z
+                for col in range(3):
+                    grad_pose[chunk, 3 * row + col] += g_p[row] * m[col]
+                grad_pose[chunk, 9 + row] += g_p[row]
+
+
 def _balanced_groups(tile_start: np.ndarray, groups: int) -> np.ndarray:
     """(groups + 1,) tile offsets splitting the tiles into contiguous runs of about equal pair
     counts (plus one per tile, for tiles' fixed cost)."""
@@ -224,6 +355,57 @@ def _threads() -> int:
     threads = max(1, min(torch.get_num_threads(), numba.config.NUMBA_NUM_THREADS))
     numba.set_num_threads(threads)
     return threads
+
+
+def _numpy(x: Tensor) -> np.ndarray:
+    return x.detach().to(torch.float64).contiguous().numpy()
+
+
+class _Project(torch.autograd.Function):
+    """Compiled :func:`~capframe.render.torch_backend.project_gaussians`: differentiable to the
+    means, the factors and the pose; returns the kept Gaussians' ``index``, means2d, conics and
+    depths (nearest first) and their extents (no gradient)."""
+
+    @staticmethod
+    def forward(ctx, means, factors, opacities, T_cw, K, width, height, near, far, sort_key):
+        m, L, R, t, k = _numpy(means), _numpy(factors), _numpy(T_cw[:3, :3]), _numpy(T_cw[:3, 3]), _numpy(K)
+        out = np.empty((len(m), 8))
+        flags = np.empty(len(m), np.int8)
+        _project(m, L, _numpy(opacities), R, t, k, width, height, near, far, EPS2D, out, flags)
+        skipped = int((flags == 2).sum())
+        if skipped:
+            warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
+        kept = np.flatnonzero(flags == 1)
+        # The sort key is the torch backend's own (render dtype), so both order ties alike.
+        index = kept[np.argsort(sort_key[kept], kind="stable")]
+        ctx.arrays = (m, L, R, t, k, width, height, index)
+        ctx.num = len(m)
+        kept_out = out[index]
+        means2d, conics, depths, extents = (
+            torch.from_numpy(np.ascontiguousarray(kept_out[:, cols])).to(means.dtype)
+            for cols in (slice(0, 2), slice(2, 5), 5, slice(6, 8))
+        )
+        index = torch.from_numpy(index)
+        ctx.mark_non_differentiable(index, extents)
+        return index, means2d, conics, depths, extents
+
+    @staticmethod
+    def backward(ctx, _, grad_means2d, grad_conics, grad_depths, __):
+        m, L, R, t, k, width, height, index = ctx.arrays
+        ctx.arrays = None
+        grad = np.concatenate([_numpy(grad_means2d), _numpy(grad_conics), _numpy(grad_depths)[:, None]], 1)
+        chunks = np.linspace(0, len(index), _threads() + 1).astype(np.int64)
+        grad_means = np.zeros((len(index), 3))
+        grad_factors = np.zeros((len(index), 3, 3))
+        grad_pose = np.zeros((len(chunks) - 1, 12))
+        _project_backward(m, L, R, t, k, width, height, EPS2D, index, grad, chunks, grad_means, grad_factors, grad_pose)
+        dtype, rows = grad_means2d.dtype, torch.from_numpy(index)
+        means = torch.zeros(ctx.num, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_means).to(dtype))
+        factors = torch.zeros(ctx.num, 3, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_factors).to(dtype))
+        pose = torch.zeros(4, 4, dtype=dtype)
+        total = torch.from_numpy(grad_pose.sum(0)).to(dtype)
+        pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
+        return means, factors, None, pose, None, None, None, None, None, None
 
 
 class _Rasterize(torch.autograd.Function):
@@ -289,11 +471,15 @@ def rasterize_compiled(
     """
     if means.device.type != "cpu":
         raise ValueError(f"the compiled render backend runs on the CPU; got tensors on {means.device}")
-    proj = project_gaussians(means, factors, opacities.detach(), T_cw, K, width, height, near, far)
+    with torch.no_grad():
+        sort_key = (means @ T_cw[2, :3] + T_cw[2, 3]).double().numpy()  # as project_gaussians sorts
+    index, means2d, conics, depths, extents = _Project.apply(
+        means, factors, opacities.detach(), T_cw, K, width, height, near, far, sort_key
+    )
     # The alpha is composited as a channel of ones, after the depth.
-    values = torch.cat([features[proj.index], proj.depths[:, None], torch.ones_like(proj.depths)[:, None]], -1)
-    stats = {"visible": len(proj.index)}
+    values = torch.cat([_GatherRows.apply(features, index), depths[:, None], torch.ones_like(depths)[:, None]], -1)
+    stats = {"visible": len(index)}
     image = _Rasterize.apply(
-        proj.means2d, proj.conics, opacities[proj.index], values, proj.extents, width, height, tile_size, stats
+        means2d, conics, _GatherRows.apply(opacities, index), values, extents, width, height, tile_size, stats
     )
     return image[..., :-2], image[..., -1], image[..., -2], stats
