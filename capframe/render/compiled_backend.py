@@ -120,9 +120,11 @@ def _alpha(means2d, conics, log_opacity, threshold, g, px, py):
 
 @njit(cache=True, parallel=True)
 def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out):
-    """Composite ``values`` (G, D) into ``out`` (H, W, D) (zeros on entry)."""
+    """Composite ``values`` (G, D) into ``out`` (H, W, D) (zeros on entry); returns the number of
+    composited (Gaussian, pixel) pairs."""
     height, width, channels = out.shape
     acc = np.empty((len(group_start) - 1, channels))
+    composited = np.zeros(len(group_start) - 1, np.int64)
     for group in prange(len(group_start) - 1):
         for tile in range(group_start[group], group_start[group + 1]):
             start, end = tile_start[tile], tile_start[tile + 1]
@@ -145,8 +147,10 @@ def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_g
                         for ch in range(channels):
                             acc[group, ch] += w * values[g, ch]
                         T = next_T
+                        composited[group] += 1
                     for ch in range(channels):
                         out[y, x, ch] = acc[group, ch]
+    return composited.sum()
 
 
 @njit(cache=True, parallel=True)
@@ -288,7 +292,8 @@ def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d
 @njit(cache=True, parallel=True)
 def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad, chunks, grad_means, grad_factors, grad_pose):
     """Backward of :func:`_project` for the kept Gaussians ``index`` (G,), given ``grad`` (G, 6)
-    to ``[u, v, a, b, c, z]``: (G, 3) to the means, (G, 3, 3) to the factors, and per chunk of
+    to ``[u, v, a, b, c, z]``: (G, 3) to the means, (G, 3, 3) to the factors (skipped when
+    ``grad_factors`` is empty), and per chunk of
     ``index`` (chunks, 12) to ``[R (row-major), t]``."""
     fx, fy = K[0, 0], K[1, 1]
     for chunk in prange(len(chunks) - 1):
@@ -315,7 +320,8 @@ def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad
                 gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
                 gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
                 for row in range(3):
-                    grad_factors[i, row, col] = j0[row] * gm0 + j1[row] * gm1
+                    if len(grad_factors):
+                        grad_factors[i, row, col] = j0[row] * gm0 + j1[row] * gm1
                     gj[0, row] += L[row, col] * gm0
                     gj[1, row] += L[row, col] * gm1
             # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
@@ -358,6 +364,11 @@ def _threads() -> int:
 
 
 def _numpy(x: Tensor) -> np.ndarray:
+    """The values of ``x``, in its dtype: the kernels compute in float64 whatever they read."""
+    return x.detach().contiguous().numpy()
+
+
+def _float64(x: Tensor) -> np.ndarray:
     return x.detach().to(torch.float64).contiguous().numpy()
 
 
@@ -368,10 +379,10 @@ class _Project(torch.autograd.Function):
 
     @staticmethod
     def forward(ctx, means, factors, opacities, T_cw, K, width, height, near, far, sort_key):
-        m, L, R, t, k = _numpy(means), _numpy(factors), _numpy(T_cw[:3, :3]), _numpy(T_cw[:3, 3]), _numpy(K)
+        m, L, R, t, k = _numpy(means), _numpy(factors), _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
         out = np.empty((len(m), 8))
         flags = np.empty(len(m), np.int8)
-        _project(m, L, _numpy(opacities), R, t, k, width, height, near, far, EPS2D, out, flags)
+        _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, out, flags)
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
@@ -393,15 +404,18 @@ class _Project(torch.autograd.Function):
     def backward(ctx, _, grad_means2d, grad_conics, grad_depths, __):
         m, L, R, t, k, width, height, index = ctx.arrays
         ctx.arrays = None
-        grad = np.concatenate([_numpy(grad_means2d), _numpy(grad_conics), _numpy(grad_depths)[:, None]], 1)
+        grad = np.concatenate([_float64(grad_means2d), _float64(grad_conics), _float64(grad_depths)[:, None]], 1)
         chunks = np.linspace(0, len(index), _threads() + 1).astype(np.int64)
         grad_means = np.zeros((len(index), 3))
-        grad_factors = np.zeros((len(index), 3, 3))
+        with_factors = ctx.needs_input_grad[1]
+        grad_factors = np.zeros((len(index) if with_factors else 0, 3, 3))
         grad_pose = np.zeros((len(chunks) - 1, 12))
         _project_backward(m, L, R, t, k, width, height, EPS2D, index, grad, chunks, grad_means, grad_factors, grad_pose)
         dtype, rows = grad_means2d.dtype, torch.from_numpy(index)
         means = torch.zeros(ctx.num, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_means).to(dtype))
-        factors = torch.zeros(ctx.num, 3, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_factors).to(dtype))
+        factors = None
+        if with_factors:
+            factors = torch.zeros(ctx.num, 3, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_factors).to(dtype))
         pose = torch.zeros(4, 4, dtype=dtype)
         total = torch.from_numpy(grad_pose.sum(0)).to(dtype)
         pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
@@ -414,22 +428,17 @@ class _Rasterize(torch.autograd.Function):
     @staticmethod
     def forward(ctx, means2d, conics, opacities, values, extents, width, height, tile_size, stats):
         dtype = values.dtype
-        m = means2d.detach().double().contiguous().numpy()
-        cn = conics.detach().double().contiguous().numpy()
-        o = opacities.detach().double().numpy()
-        v = values.detach().double().contiguous().numpy()
+        m, cn, v, o = _numpy(means2d), _numpy(conics), _numpy(values), _float64(opacities)
         log_opacity = np.log(np.maximum(o, 1e-30))
         # Cut-offs: sigma <= 4.5 (the 3-sigma ellipse) and alpha >= 1/255, as q >= threshold.
         threshold = np.maximum(log_opacity - SIGMA_MAX, LOG_ALPHA_MIN)
         reach = np.minimum(log_opacity - LOG_ALPHA_MIN, SIGMA_MAX)
         tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
-        tile_start, tile_gaussian = _bin_tiles(
-            m, cn, reach, extents.detach().double().contiguous().numpy(), tile_size, tiles_x, tiles_y
-        )
+        tile_start, tile_gaussian = _bin_tiles(m, cn, reach, _numpy(extents), tile_size, tiles_x, tiles_y)
         groups = _balanced_groups(tile_start, _threads())
         out = np.zeros((height, width, v.shape[1]))
         state = (m, cn, log_opacity, threshold, v, tile_start, tile_gaussian, groups, tile_size, tiles_x)
-        _forward(*state, out)
+        stats["composited"] = int(_forward(*state, out))
         ctx.state, ctx.out = state, out
         stats["pairs"] = len(tile_gaussian)
         return torch.from_numpy(out).to(dtype)
@@ -440,7 +449,7 @@ class _Rasterize(torch.autograd.Function):
         groups, num = len(state[7]) - 1, len(state[0])
         grad_geometry = np.zeros((groups, num, 6))
         grad_values = np.zeros((groups, num, out.shape[2]))
-        _backward(*state, out, grad_out.detach().double().contiguous().numpy(), grad_geometry, grad_values)
+        _backward(*state, out, _numpy(grad_out), grad_geometry, grad_values)
         ctx.state = ctx.out = None
         geometry = torch.from_numpy(grad_geometry.sum(0)).to(grad_out.dtype)
         values = torch.from_numpy(grad_values.sum(0)).to(grad_out.dtype)
@@ -467,7 +476,7 @@ def rasterize_compiled(
         tile_size: binning tile edge in pixels; the image does not depend on it.
     Returns:
         features (H, W, D), alpha (H, W), accumulated camera-z (H, W), stats (visible Gaussians,
-        tile pairs at ``tile_size``).
+        tile pairs at ``tile_size``, composited (Gaussian, pixel) pairs).
     """
     if means.device.type != "cpu":
         raise ValueError(f"the compiled render backend runs on the CPU; got tensors on {means.device}")
