@@ -259,9 +259,11 @@ def _camera_point(R, t, m):
 
 
 @njit(cache=True, parallel=True)
-def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d, out, flags):
+def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d, limit, out, flags):
     """Per Gaussian: ``out`` (N, 8) = ``[u, v, a, b, c, z, extent x, extent y]``; ``flags`` (N,):
-    1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen, degenerate)."""
+    1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen, degenerate).
+    ``limit`` is the render dtype's largest value: what would overflow it counts as non-finite,
+    as in the torch backend."""
     for n in prange(len(means)):
         flags[n] = 0
         L = factors[n]
@@ -275,7 +277,7 @@ def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d
         m0, m1 = _row_times(j0, L), _row_times(j1, L)
         u, v = K[0, 0] * x / z + K[0, 2], K[1, 1] * y / z + K[1, 2]
         c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
-        if not (np.isfinite(c00) and np.isfinite(c01) and np.isfinite(c11) and np.isfinite(u) and np.isfinite(v)):
+        if not (abs(c00) <= limit and abs(c01) <= limit and abs(c11) <= limit and abs(u) <= limit and abs(v) <= limit):
             flags[n] = 2
             continue
         det = c00 * c11 - c01 * c01
@@ -382,7 +384,8 @@ class _Project(torch.autograd.Function):
         m, L, R, t, k = _numpy(means), _numpy(factors), _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
         out = np.empty((len(m), 8))
         flags = np.empty(len(m), np.int8)
-        _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, out, flags)
+        limit = float(torch.finfo(means.dtype).max)
+        _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, limit, out, flags)
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
