@@ -23,6 +23,7 @@ whatever the render dtype.
 from __future__ import annotations
 
 import math
+import os
 import warnings
 
 import numba
@@ -32,6 +33,12 @@ from numba import njit, prange
 from torch import Tensor
 
 from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE_MIN, _GatherRows
+
+# numba's OpenMP layer leaves its threads spinning after each kernel, where they take the cores
+# from torch's own threads (a render alternates between the two): 3-6x slower end to end on two
+# cores. The workqueue layer's threads sleep. An explicit NUMBA_THREADING_LAYER still wins.
+if "NUMBA_THREADING_LAYER" not in os.environ:
+    numba.config.THREADING_LAYER = "workqueue"
 
 LOG_ALPHA_MIN = math.log(ALPHA_MIN)
 # Binning margin on the cut-off exponent: a tile is listed when sigma <= reach + this somewhere on
@@ -471,7 +478,7 @@ def rasterize_compiled(
     *,
     near: float = 0.01,
     far: float = 1e10,
-    tile_size: int = 8,
+    tile_size: int = 4,
 ) -> tuple[Tensor, Tensor, Tensor, dict]:
     """Same contract as :func:`capframe.render.torch_backend.rasterize_torch` (CPU tensors only).
 
