@@ -89,74 +89,95 @@ def _bin_tiles(means2d, conics, reach, extents, tile_size, tiles_x, tiles_y):
     """
     num_tiles, num = tiles_x * tiles_y, len(means2d)
     boxes = np.empty((num, 4), np.int64)
-    counts = np.zeros(num_tiles + 1, np.int64)
+    candidates = 0
     for g in range(num):
         boxes[g, 0] = max(int(math.floor((means2d[g, 0] - extents[g, 0]) / tile_size)), 0)
         boxes[g, 1] = min(int(math.floor((means2d[g, 0] + extents[g, 0]) / tile_size)), tiles_x - 1)
         boxes[g, 2] = max(int(math.floor((means2d[g, 1] - extents[g, 1]) / tile_size)), 0)
         boxes[g, 3] = min(int(math.floor((means2d[g, 1] + extents[g, 1]) / tile_size)), tiles_y - 1)
-        for ty in range(boxes[g, 2], boxes[g, 3] + 1):
-            for tx in range(boxes[g, 0], boxes[g, 1] + 1):
-                if _touches(means2d, conics, reach, g, tx, ty, tile_size):
-                    counts[ty * tiles_x + tx] += 1
-    tile_start = np.zeros(num_tiles + 1, np.int64)
-    tile_start[1:] = np.cumsum(counts[:num_tiles])
-    cursor = tile_start[:num_tiles].copy()
-    tile_gaussian = np.empty(tile_start[num_tiles], np.int64)
-    # Gaussians in depth order, so each tile's list is too.
+        candidates += max(boxes[g, 1] - boxes[g, 0] + 1, 0) * max(boxes[g, 3] - boxes[g, 2] + 1, 0)
+    # (tile, Gaussian) pairs in Gaussian order, then a stable counting sort by tile: each tile's
+    # list stays in depth order.
+    pair_tile = np.empty(candidates, np.int64)
+    pair_gaussian = np.empty(candidates, np.int64)
+    counts = np.zeros(num_tiles, np.int64)
+    pairs = 0
     for g in range(num):
         for ty in range(boxes[g, 2], boxes[g, 3] + 1):
             for tx in range(boxes[g, 0], boxes[g, 1] + 1):
                 if _touches(means2d, conics, reach, g, tx, ty, tile_size):
                     t = ty * tiles_x + tx
-                    tile_gaussian[cursor[t]] = g
-                    cursor[t] += 1
+                    pair_tile[pairs], pair_gaussian[pairs] = t, g
+                    counts[t] += 1
+                    pairs += 1
+    tile_start = np.zeros(num_tiles + 1, np.int64)
+    tile_start[1:] = np.cumsum(counts)
+    cursor = tile_start[:num_tiles].copy()
+    tile_gaussian = np.empty(pairs, np.int64)
+    for k in range(pairs):
+        t = pair_tile[k]
+        tile_gaussian[cursor[t]] = pair_gaussian[k]
+        cursor[t] += 1
     return tile_start, tile_gaussian
 
 
+# Columns of a tile's gathered Gaussians: mean x, mean y, a/2, b, c/2, log(opacity), threshold, values.
+_COLUMNS = 7
+
+
 @njit(cache=True)
-def _alpha(means2d, conics, log_opacity, threshold, g, px, py):
-    """``(alpha, dx, dy)`` of Gaussian ``g`` at pixel centre ``(px, py)``; alpha is 0 outside the
-    cut-offs (``q = log(opacity) - sigma < threshold``), else ``min(0.999, exp(q))``."""
-    dx, dy = px - means2d[g, 0], py - means2d[g, 1]
-    q = log_opacity[g] - (0.5 * conics[g, 0] * dx * dx + conics[g, 1] * dx * dy + 0.5 * conics[g, 2] * dy * dy)
-    if q < threshold[g]:
-        return 0.0, dx, dy
-    return min(ALPHA_MAX, math.exp(q)), dx, dy
+def _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end):
+    """Copy the Gaussians of one tile's list into consecutive rows of ``local`` (n, 7 + D): the
+    pixel loops then read memory in order."""
+    for k in range(end - start):
+        g = tile_gaussian[start + k]
+        local[k, 0], local[k, 1] = means2d[g, 0], means2d[g, 1]
+        local[k, 2], local[k, 3], local[k, 4] = 0.5 * conics[g, 0], conics[g, 1], 0.5 * conics[g, 2]
+        local[k, 5], local[k, 6] = log_opacity[g], threshold[g]
+        for ch in range(values.shape[1]):
+            local[k, _COLUMNS + ch] = values[g, ch]
 
 
 @njit(cache=True, parallel=True)
 def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out):
     """Composite ``values`` (G, D) into ``out`` (H, W, D) (zeros on entry); returns the number of
-    composited (Gaussian, pixel) pairs."""
+    composited (Gaussian, pixel) pairs.
+
+    At each pixel, Gaussian ``k`` counts where ``q = log(opacity) - sigma >= threshold`` (the
+    cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
+    to 1e-4."""
     height, width, channels = out.shape
-    acc = np.empty((len(group_start) - 1, channels))
+    longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
     composited = np.zeros(len(group_start) - 1, np.int64)
     for group in prange(len(group_start) - 1):
+        local = np.empty((longest, _COLUMNS + channels))
+        acc = np.empty(channels)
         for tile in range(group_start[group], group_start[group + 1]):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
                 continue
+            _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
             ty, tx = tile // tiles_x, tile % tiles_x
             for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
                 for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
-                    acc[group, :] = 0.0
+                    acc[:] = 0.0
                     T = 1.0
-                    for k in range(start, end):
-                        g = tile_gaussian[k]
-                        alpha, _, _ = _alpha(means2d, conics, log_opacity, threshold, g, x + 0.5, y + 0.5)
-                        if alpha == 0.0:
+                    for k in range(end - start):
+                        dx, dy = x + 0.5 - local[k, 0], y + 0.5 - local[k, 1]
+                        q = local[k, 5] - (local[k, 2] * dx * dx + local[k, 3] * dx * dy + local[k, 4] * dy * dy)
+                        if q < local[k, 6]:
                             continue
+                        alpha = min(ALPHA_MAX, math.exp(q))
                         next_T = T * (1.0 - alpha)
                         if next_T <= TRANSMITTANCE_MIN:
                             break
                         w = alpha * T
                         for ch in range(channels):
-                            acc[group, ch] += w * values[g, ch]
+                            acc[ch] += w * local[k, _COLUMNS + ch]
                         T = next_T
                         composited[group] += 1
                     for ch in range(channels):
-                        out[y, x, ch] = acc[group, ch]
+                        out[y, x, ch] = acc[ch]
     return composited.sum()
 
 
@@ -183,45 +204,62 @@ def _backward(
     Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
     ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
     and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
+    Each tile sums its pixels' gradients per listed Gaussian first, then adds them to the group's.
     """
     height, width, channels = out.shape
+    longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
     for group in prange(len(group_start) - 1):
+        local = np.empty((longest, _COLUMNS + channels))
+        grads = np.empty((longest, 6 + channels))  # per listed Gaussian: mean x, y, a, b, c, log(opacity), values
+        pixel_grad = np.empty(channels)
         for tile in range(group_start[group], group_start[group + 1]):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
                 continue
+            n = end - start
+            _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
+            grads[:n] = 0.0
             ty, tx = tile // tiles_x, tile % tiles_x
             for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
                 for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
                     total = 0.0
                     for ch in range(channels):
-                        total += grad_out[y, x, ch] * out[y, x, ch]
+                        pixel_grad[ch] = grad_out[y, x, ch]
+                        total += pixel_grad[ch] * out[y, x, ch]
                     T, done = 1.0, 0.0
-                    for k in range(start, end):
-                        g = tile_gaussian[k]
-                        alpha, dx, dy = _alpha(means2d, conics, log_opacity, threshold, g, x + 0.5, y + 0.5)
-                        if alpha == 0.0:
+                    for k in range(n):
+                        dx, dy = x + 0.5 - local[k, 0], y + 0.5 - local[k, 1]
+                        q = local[k, 5] - (local[k, 2] * dx * dx + local[k, 3] * dx * dy + local[k, 4] * dy * dy)
+                        if q < local[k, 6]:
                             continue
+                        alpha = min(ALPHA_MAX, math.exp(q))
                         next_T = T * (1.0 - alpha)
                         if next_T <= TRANSMITTANCE_MIN:
                             break
                         w = alpha * T
                         contrib = 0.0
                         for ch in range(channels):
-                            contrib += grad_out[y, x, ch] * values[g, ch]
-                            grad_values[group, g, ch] += w * grad_out[y, x, ch]
+                            contrib += pixel_grad[ch] * local[k, _COLUMNS + ch]
+                            grads[k, 6 + ch] += w * pixel_grad[ch]
                         done += w * contrib
                         if alpha < ALPHA_MAX:
                             grad_q = alpha * (T * contrib - (total - done) / (1.0 - alpha))
-                            a, b, c = conics[g, 0], conics[g, 1], conics[g, 2]
                             # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
-                            grad_geometry[group, g, 0] += grad_q * (a * dx + b * dy)
-                            grad_geometry[group, g, 1] += grad_q * (b * dx + c * dy)
-                            grad_geometry[group, g, 2] -= grad_q * 0.5 * dx * dx
-                            grad_geometry[group, g, 3] -= grad_q * dx * dy
-                            grad_geometry[group, g, 4] -= grad_q * 0.5 * dy * dy
-                            grad_geometry[group, g, 5] += grad_q * math.exp(-log_opacity[g])
+                            half_a, b, half_c = local[k, 2], local[k, 3], local[k, 4]
+                            grads[k, 0] += grad_q * (2.0 * half_a * dx + b * dy)
+                            grads[k, 1] += grad_q * (b * dx + 2.0 * half_c * dy)
+                            grads[k, 2] -= grad_q * 0.5 * dx * dx
+                            grads[k, 3] -= grad_q * dx * dy
+                            grads[k, 4] -= grad_q * 0.5 * dy * dy
+                            grads[k, 5] += grad_q
                         T = next_T
+            for k in range(n):
+                g = tile_gaussian[start + k]
+                for j in range(5):
+                    grad_geometry[group, g, j] += grads[k, j]
+                grad_geometry[group, g, 5] += grads[k, 5] * math.exp(-log_opacity[g])  # d log(o) / d o
+                for ch in range(channels):
+                    grad_values[group, g, ch] += grads[k, 6 + ch]
 
 
 @njit(cache=True)
