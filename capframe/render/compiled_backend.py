@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import os
+import threading
 import warnings
 
 import numba
@@ -39,6 +40,9 @@ from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE
 # cores. The workqueue layer's threads sleep. An explicit NUMBA_THREADING_LAYER still wins.
 if "NUMBA_THREADING_LAYER" not in os.environ:
     numba.config.THREADING_LAYER = "workqueue"
+
+# The workqueue layer aborts the process when two threads launch kernels at once: they take turns.
+_LAUNCH = threading.Lock()
 
 LOG_ALPHA_MIN = math.log(ALPHA_MIN)
 # Binning margin on the cut-off exponent: a tile is listed when sigma <= reach + this somewhere on
@@ -430,7 +434,8 @@ class _Project(torch.autograd.Function):
         out = np.empty((len(m), 8))
         flags = np.empty(len(m), np.int8)
         limit = float(torch.finfo(means.dtype).max)
-        _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, limit, out, flags)
+        with _LAUNCH:
+            _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, limit, out, flags)
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
@@ -458,7 +463,8 @@ class _Project(torch.autograd.Function):
         with_factors = ctx.needs_input_grad[1]
         grad_factors = np.zeros((len(index) if with_factors else 0, 3, 3))
         grad_pose = np.zeros((len(chunks) - 1, 12))
-        _project_backward(m, L, R, t, k, width, height, EPS2D, index, grad, chunks, grad_means, grad_factors, grad_pose)
+        with _LAUNCH:
+            _project_backward(m, L, R, t, k, width, height, EPS2D, index, grad, chunks, grad_means, grad_factors, grad_pose)
         dtype, rows = grad_means2d.dtype, torch.from_numpy(index)
         means = torch.zeros(ctx.num, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_means).to(dtype))
         factors = None
@@ -486,7 +492,8 @@ class _Rasterize(torch.autograd.Function):
         groups = _balanced_groups(tile_start, _threads())
         out = np.zeros((height, width, v.shape[1]))
         state = (m, cn, log_opacity, threshold, v, tile_start, tile_gaussian, groups, tile_size, tiles_x)
-        stats["composited"] = int(_forward(*state, out))
+        with _LAUNCH:
+            stats["composited"] = int(_forward(*state, out))
         ctx.state, ctx.out = state, out
         stats["pairs"] = len(tile_gaussian)
         return torch.from_numpy(out).to(dtype)
@@ -497,7 +504,8 @@ class _Rasterize(torch.autograd.Function):
         groups, num = len(state[7]) - 1, len(state[0])
         grad_geometry = np.zeros((groups, num, 6))
         grad_values = np.zeros((groups, num, out.shape[2]))
-        _backward(*state, out, _numpy(grad_out), grad_geometry, grad_values)
+        with _LAUNCH:
+            _backward(*state, out, _numpy(grad_out), grad_geometry, grad_values)
         ctx.state = ctx.out = None
         geometry = torch.from_numpy(grad_geometry.sum(0)).to(grad_out.dtype)
         values = torch.from_numpy(grad_values.sum(0)).to(grad_out.dtype)
