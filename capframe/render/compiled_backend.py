@@ -142,6 +142,28 @@ def _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussia
             local[k, _COLUMNS + ch] = values[g, ch]
 
 
+@njit(cache=True)
+def _tile_pixels(tile, tiles_x, tile_size, width, height, px, py):
+    """Pixel centres of one tile (clipped to the image) into ``px, py``, row-major; their count."""
+    ty, tx = tile // tiles_x, tile % tiles_x
+    count = 0
+    for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
+        for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
+            px[count], py[count] = x + 0.5, y + 0.5
+            count += 1
+    return count
+
+
+@njit(cache=True)
+def _exponents(local, k, px, py, count, q):
+    """``q = log(opacity) - sigma`` of listed Gaussian ``k`` at the tile's ``count`` pixels: one
+    branch-free loop (vectorised), since most pixels of a tile fail the cut-offs."""
+    mx, my, half_a, b, half_c, log_opacity = local[k, 0], local[k, 1], local[k, 2], local[k, 3], local[k, 4], local[k, 5]
+    for p in range(count):
+        dx, dy = px[p] - mx, py[p] - my
+        q[p] = log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)
+
+
 @njit(cache=True, parallel=True)
 def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out):
     """Composite ``values`` (G, D) into ``out`` (H, W, D) (zeros on entry); returns the number of
@@ -149,39 +171,49 @@ def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_g
 
     At each pixel, Gaussian ``k`` counts where ``q = log(opacity) - sigma >= threshold`` (the
     cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
-    to 1e-4."""
+    to 1e-4. A tile's pixels advance together through its list, each with its own state."""
     height, width, channels = out.shape
     longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
     composited = np.zeros(len(group_start) - 1, np.int64)
+    pixels = tile_size * tile_size
     for group in prange(len(group_start) - 1):
         local = np.empty((longest, _COLUMNS + channels))
-        acc = np.empty(channels)
+        acc = np.empty((pixels, channels))
+        px, py, q, T = np.empty(pixels), np.empty(pixels), np.empty(pixels), np.empty(pixels)
+        alive = np.empty(pixels, np.bool_)
         for tile in range(group_start[group], group_start[group + 1]):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
                 continue
             _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
-            ty, tx = tile // tiles_x, tile % tiles_x
-            for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
-                for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
-                    acc[:] = 0.0
-                    T = 1.0
-                    for k in range(end - start):
-                        dx, dy = x + 0.5 - local[k, 0], y + 0.5 - local[k, 1]
-                        q = local[k, 5] - (local[k, 2] * dx * dx + local[k, 3] * dx * dy + local[k, 4] * dy * dy)
-                        if q < local[k, 6]:
-                            continue
-                        alpha = min(ALPHA_MAX, math.exp(q))
-                        next_T = T * (1.0 - alpha)
-                        if next_T <= TRANSMITTANCE_MIN:
-                            break
-                        w = alpha * T
-                        for ch in range(channels):
-                            acc[ch] += w * local[k, _COLUMNS + ch]
-                        T = next_T
-                        composited[group] += 1
+            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            acc[:count] = 0.0
+            T[:count] = 1.0
+            alive[:count] = True
+            remaining = count
+            for k in range(end - start):
+                _exponents(local, k, px, py, count, q)
+                threshold_k = local[k, 6]
+                for p in range(count):
+                    if q[p] < threshold_k or not alive[p]:
+                        continue
+                    alpha = min(ALPHA_MAX, math.exp(q[p]))
+                    next_T = T[p] * (1.0 - alpha)
+                    if next_T <= TRANSMITTANCE_MIN:
+                        alive[p] = False
+                        remaining -= 1
+                        continue
+                    w = alpha * T[p]
                     for ch in range(channels):
-                        out[y, x, ch] = acc[ch]
+                        acc[p, ch] += w * local[k, _COLUMNS + ch]
+                    T[p] = next_T
+                    composited[group] += 1
+                if remaining == 0:
+                    break
+            for p in range(count):
+                y, x = int(py[p]), int(px[p])
+                for ch in range(channels):
+                    out[y, x, ch] = acc[p, ch]
     return composited.sum()
 
 
@@ -208,14 +240,19 @@ def _backward(
     Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
     ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
     and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
-    Each tile sums its pixels' gradients per listed Gaussian first, then adds them to the group's.
+    The forward's per-pixel state is recomputed in the same order; each tile sums its pixels'
+    gradients per listed Gaussian first, then adds them to the group's.
     """
     height, width, channels = out.shape
     longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
+    pixels = tile_size * tile_size
     for group in prange(len(group_start) - 1):
         local = np.empty((longest, _COLUMNS + channels))
         grads = np.empty((longest, 6 + channels))  # per listed Gaussian: mean x, y, a, b, c, log(opacity), values
-        pixel_grad = np.empty(channels)
+        pixel_grad = np.empty((pixels, channels))
+        px, py, q, T = np.empty(pixels), np.empty(pixels), np.empty(pixels), np.empty(pixels)
+        total, done = np.empty(pixels), np.empty(pixels)
+        alive = np.empty(pixels, np.bool_)
         for tile in range(group_start[group], group_start[group + 1]):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
@@ -223,40 +260,49 @@ def _backward(
             n = end - start
             _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
             grads[:n] = 0.0
-            ty, tx = tile // tiles_x, tile % tiles_x
-            for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
-                for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
-                    total = 0.0
+            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            for p in range(count):
+                y, x = int(py[p]), int(px[p])
+                total[p] = 0.0
+                for ch in range(channels):
+                    pixel_grad[p, ch] = grad_out[y, x, ch]
+                    total[p] += pixel_grad[p, ch] * out[y, x, ch]
+            T[:count] = 1.0
+            done[:count] = 0.0
+            alive[:count] = True
+            remaining = count
+            for k in range(n):
+                _exponents(local, k, px, py, count, q)
+                threshold_k = local[k, 6]
+                for p in range(count):
+                    if q[p] < threshold_k or not alive[p]:
+                        continue
+                    alpha = min(ALPHA_MAX, math.exp(q[p]))
+                    next_T = T[p] * (1.0 - alpha)
+                    if next_T <= TRANSMITTANCE_MIN:
+                        alive[p] = False
+                        remaining -= 1
+                        continue
+                    w = alpha * T[p]
+                    contrib = 0.0
                     for ch in range(channels):
-                        pixel_grad[ch] = grad_out[y, x, ch]
-                        total += pixel_grad[ch] * out[y, x, ch]
-                    T, done = 1.0, 0.0
-                    for k in range(n):
-                        dx, dy = x + 0.5 - local[k, 0], y + 0.5 - local[k, 1]
-                        q = local[k, 5] - (local[k, 2] * dx * dx + local[k, 3] * dx * dy + local[k, 4] * dy * dy)
-                        if q < local[k, 6]:
-                            continue
-                        alpha = min(ALPHA_MAX, math.exp(q))
-                        next_T = T * (1.0 - alpha)
-                        if next_T <= TRANSMITTANCE_MIN:
-                            break
-                        w = alpha * T
-                        contrib = 0.0
-                        for ch in range(channels):
-                            contrib += pixel_grad[ch] * local[k, _COLUMNS + ch]
-                            grads[k, 6 + ch] += w * pixel_grad[ch]
-                        done += w * contrib
-                        if alpha < ALPHA_MAX:
-                            grad_q = alpha * (T * contrib - (total - done) / (1.0 - alpha))
-                            # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
-                            half_a, b, half_c = local[k, 2], local[k, 3], local[k, 4]
-                            grads[k, 0] += grad_q * (2.0 * half_a * dx + b * dy)
-                            grads[k, 1] += grad_q * (b * dx + 2.0 * half_c * dy)
-                            grads[k, 2] -= grad_q * 0.5 * dx * dx
-                            grads[k, 3] -= grad_q * dx * dy
-                            grads[k, 4] -= grad_q * 0.5 * dy * dy
-                            grads[k, 5] += grad_q
-                        T = next_T
+                        contrib += pixel_grad[p, ch] * local[k, _COLUMNS + ch]
+                        grads[k, 6 + ch] += w * pixel_grad[p, ch]
+                    done[p] += w * contrib
+                    if alpha < ALPHA_MAX:
+                        grad_q = alpha * (T[p] * contrib - (total[p] - done[p]) / (1.0 - alpha))
+                        # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
+                        dx, dy = px[p] - local[k, 0], py[p] - local[k, 1]
+                        half_a, b, half_c = local[k, 2], local[k, 3], local[k, 4]
+                        grads[k, 0] += grad_q * (2.0 * half_a * dx + b * dy)
+                        grads[k, 1] += grad_q * (b * dx + 2.0 * half_c * dy)
+                        grads[k, 2] -= grad_q * 0.5 * dx * dx
+                        grads[k, 3] -= grad_q * dx * dy
+                        grads[k, 4] -= grad_q * 0.5 * dy * dy
+                        grads[k, 5] += grad_q
+                    T[p] = next_T
+                if remaining == 0:
+                    break
             for k in range(n):
                 g = tile_gaussian[start + k]
                 for j in range(5):
