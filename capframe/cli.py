@@ -550,7 +550,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scene", help="scene directory (see docs/scene-directory.md) or a 3DGS PLY file")
     p.add_argument("--camera", required=True, help="camera.json (capframe) to render from")
     p.add_argument("-o", "--output", required=True, help="output image: .png, or .jpg/.jpeg for JPEG")
-    p.add_argument("--backend", default="auto", choices=["auto", "torch", "gsplat"])
+    p.add_argument("--backend", default="auto", choices=["auto", "cpu", "compiled", "torch", "gsplat"])
     p.add_argument("--long-side", type=_positive_int, default=None, help="resize so the longer side has this many pixels")
     p.set_defaults(func=_cmd_render, outputs={"output": "image"})
 

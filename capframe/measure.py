@@ -181,7 +181,7 @@ class ConstraintChecker:
         members: per object id (``Subject.id``), (N,) boolean mask of its Gaussians.
         up: (3,) unit world up.
         long_side: render size of the masks (longer side, pixels; default :data:`CHECK_LONG_SIDE`).
-        backend: render backend (``auto``: gsplat on CUDA, else the torch reference).
+        backend: render backend (``auto``: gsplat on CUDA, else the CPU default, the compiled one).
         occupancy: the scene's free space; with it every check has a ``clearance`` row.
     """
 

@@ -77,7 +77,7 @@ class _Objective:
 
     def __call__(self, T_cw: Tensor) -> tuple[Tensor, dict[str, Tensor]]:
         cfg, w, h = self.config, self.camera.width, self.camera.height
-        mask = render(self.subjects, self.camera, T_cw=T_cw, colors=False, dtype=self.dtype, backend="torch").alpha.double()
+        mask = render(self.subjects, self.camera, T_cw=T_cw, colors=False, dtype=self.dtype, backend="cpu").alpha.double()
         centroid, mass = soft_centroid(mask)
         offset = centroid - self.image_centre
         gate = (mass / cfg.mask_floor_px).clamp(0.0, 1.0)

@@ -1,5 +1,14 @@
-"""Renderer benchmark: forward + backward (w.r.t. the pose) time per iteration, peak memory, and
-the pose-gradient error against central finite differences.
+"""Renderer benchmark: forward + backward (w.r.t. the pose) time per iteration of the torch
+reference and the compiled CPU backend side by side, with ns per Gaussian-pixel pair, their
+parity, peak memory, and the pose-gradient error against central finite differences.
+
+A **Gaussian-pixel pair** is a (Gaussian, pixel) pair that is composited: the pixel centre lies
+inside the Gaussian's cut-offs (3-sigma ellipse, alpha >= 1/255) and compositing has not stopped
+there; the compiled backend counts them (``stats["composited"]``). The same count, for the same
+scene and view, divides both backends' times. Tile pairs (``pairs``) are reported too; times are
+of a :func:`~capframe.render.prepare`-d scene (its pose-independent work done once, as Refine
+does), and the two backends alternate within each iteration so that load on the shared machine
+affects both alike.
 
 The scene imitates a trained 3DGS reconstruction seen from a training camera: Gaussians lie on
 surfaces (a floor, boxes, spheres), flattened along the surface normal, sized to their
@@ -18,7 +27,7 @@ import numpy as np
 import torch
 
 from ..geometry import look_at, rotmat_to_quat, se3_exp
-from ..render import render
+from ..render import prepare, render
 from ..scene import Camera, GaussianScene
 from ..scene._io import intrinsics
 
@@ -102,42 +111,69 @@ def orbit_camera(width: int, height: int, azimuth_deg: float = 30.0) -> Camera:
     return Camera(T.numpy(), intrinsics(focal, focal, width / 2, height / 2), width, height, name="bench")
 
 
-def time_forward_backward(scene: GaussianScene, camera: Camera, iterations: int = 10, warmup: int = 2) -> tuple[float, dict]:
-    """Median seconds of one forward + backward w.r.t. the pose, and the renderer's stats."""
-    times, stats = [], {}
+BACKENDS = ("torch", "compiled")
+
+
+def _loss(out) -> torch.Tensor:
+    return out.rgb.sum() + out.alpha.sum() + out.depth.mean()
+
+
+def time_forward_backward(
+    scene: GaussianScene, camera: Camera, iterations: int = 10, warmup: int = 2, backends=BACKENDS
+) -> dict[str, tuple[float, dict]]:
+    """Per backend: median seconds of one forward + backward w.r.t. the pose, and its stats."""
+    prepared = prepare(scene)
+    times: dict[str, list[float]] = {b: [] for b in backends}
+    stats: dict[str, dict] = {}
     for i in range(warmup + iterations):
+        for backend in backends:
+            T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+            start = time.perf_counter()
+            out = render(prepared, camera, T_cw=T, backend=backend)
+            _loss(out).backward()
+            if i >= warmup:
+                times[backend].append(time.perf_counter() - start)
+            stats[backend] = out.stats
+    return {b: (float(np.median(times[b])), stats[b]) for b in backends}
+
+
+def parity(scene: GaussianScene, camera: Camera, dtype: torch.dtype) -> dict[str, float]:
+    """Max abs differences compiled - torch of rgb, alpha, depth and the pose gradient (of
+    :func:`_loss`), and the gradient's relative difference."""
+    results = {}
+    prepared = prepare(scene, dtype)
+    for backend in BACKENDS:
         T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
-        start = time.perf_counter()
-        out = render(scene, camera, T_cw=T, backend="torch")
-        (out.rgb.sum() + out.alpha.sum() + out.depth.mean()).backward()
-        if i >= warmup:
-            times.append(time.perf_counter() - start)
-        stats = out.stats
-    return float(np.median(times)), stats
+        out = render(prepared, camera, T_cw=T, backend=backend, dtype=dtype)
+        _loss(out).backward()
+        results[backend] = (out.rgb.detach(), out.alpha.detach(), out.depth.detach(), T.grad)
+    diffs = [float((a - b).abs().max()) for a, b in zip(results["torch"], results["compiled"])]
+    grad_rel = float((results["torch"][3] - results["compiled"][3]).norm() / results["torch"][3].norm())
+    return {"rgb": diffs[0], "alpha": diffs[1], "depth": diffs[2], "pose_grad": diffs[3], "pose_grad_rel": grad_rel}
 
 
-def _peak_memory_child(n: int, width: int, height: int, queue) -> None:
+def _peak_memory_child(n: int, width: int, height: int, backend: str, queue) -> None:
     scene = surface_scene(n)
     camera = orbit_camera(width, height)
     baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    seconds, stats = time_forward_backward(scene, camera, iterations=3, warmup=1)
+    seconds, stats = time_forward_backward(scene, camera, iterations=3, warmup=1, backends=(backend,))[backend]
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     queue.put((seconds, stats, peak / 1024.0, (peak - baseline) / 1024.0))
 
 
-def peak_memory(n: int, width: int, height: int) -> tuple[float, dict, float, float]:
-    """Run one size in a fresh process: (seconds, stats, peak RSS MB, RSS growth over the loaded
-    scene MB). A fresh process keeps earlier allocations out of the peak."""
+def peak_memory(n: int, width: int, height: int, backend: str) -> tuple[float, dict, float, float]:
+    """Run one size with one backend in a fresh process: (seconds, stats, peak RSS MB, RSS growth
+    over the loaded scene MB). A fresh process keeps earlier allocations out of the peak."""
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
-    proc = ctx.Process(target=_peak_memory_child, args=(n, width, height, queue))
+    proc = ctx.Process(target=_peak_memory_child, args=(n, width, height, backend, queue))
     proc.start()
     result = queue.get()
     proc.join()
     return result
 
 
-def pose_gradient_error(seed: int = 0) -> float:
+def pose_gradient_error(backend: str, seed: int = 0) -> float:
     """Relative error ||g - g_fd|| / ||g_fd|| of the pose gradient at a random small twist,
     float64, central differences. The step is 1e-8: in a dense scene a larger step lets some of
     the ~1e5 pair-pixels cross the 1/255 alpha floor or the depth-validity threshold, and each
@@ -149,7 +185,7 @@ def pose_gradient_error(seed: int = 0) -> float:
     T0 = torch.as_tensor(camera.T_cw)
 
     def loss(tau):
-        out = render(scene, camera, T_cw=se3_exp(tau) @ T0, backend="torch", dtype=torch.float64)
+        out = render(scene, camera, T_cw=se3_exp(tau) @ T0, backend=backend, dtype=torch.float64)
         return (out.rgb * weights).sum() + out.alpha.sum() + out.depth.sum()
 
     tau0 = torch.randn(6, generator=g, dtype=torch.float64) * 0.01
@@ -164,16 +200,32 @@ def pose_gradient_error(seed: int = 0) -> float:
     return float((tau.grad - numeric).norm() / numeric.norm())
 
 
+def _side_by_side(figures: dict, label: str, timed: dict[str, tuple[float, dict]]) -> None:
+    """Seconds and ns per Gaussian-pixel pair of both backends, and the speed-up."""
+    pairs = timed["compiled"][1]["composited"]
+    figures[f"gaussian_pixel_pairs_{label}"] = pairs
+    figures[f"tile_pairs_{label}"] = timed["torch"][1]["pairs"]
+    for backend, (seconds, _) in timed.items():
+        figures[f"{backend}_{label}_s"] = seconds
+        figures[f"{backend}_{label}_ns_per_pair"] = seconds / pairs * 1e9
+    figures[f"speedup_{label}"] = timed["torch"][0] / timed["compiled"][0]
+
+
 def bench_render() -> dict:
     figures: dict = {"threads": torch.get_num_threads()}
-    for n, (w, h) in ((5_000, (160, 120)), (50_000, (160, 120))):
-        seconds, stats = time_forward_backward(surface_scene(n), orbit_camera(w, h))
-        figures[f"torch_{n // 1000}k_{w}x{h}_s"] = seconds
-        figures[f"pairs_{n // 1000}k_{w}x{h}"] = stats["pairs"]
-    seconds, stats, peak, growth = peak_memory(100_000, 640, 480)
-    figures["torch_100k_640x480_s"] = seconds
-    figures["pairs_100k_640x480"] = stats["pairs"]
-    figures["peak_mem_100k_640x480_mb"] = peak
-    figures["render_mem_growth_100k_640x480_mb"] = growth
-    figures["pose_grad_rel_err"] = pose_gradient_error()
+    for n, (w, h) in ((5_000, (160, 120)), (50_000, (160, 120)), (300_000, (640, 480))):
+        scene, camera = surface_scene(n), orbit_camera(w, h)
+        label = f"{n // 1000}k_{w}x{h}"
+        _side_by_side(figures, label, time_forward_backward(scene, camera, iterations=10 if n <= 50_000 else 3, warmup=1))
+        if n == 50_000:
+            for name, value in parity(scene, camera, torch.float32).items():
+                figures[f"parity_f32_{label}_{name}"] = value
+            for name, value in parity(surface_scene(n, dtype=torch.float64), camera, torch.float64).items():
+                figures[f"parity_f64_{label}_{name}"] = value
+    for backend in BACKENDS:
+        seconds, stats, peak, growth = peak_memory(100_000, 640, 480, backend)
+        figures[f"{backend}_100k_640x480_s"] = seconds
+        figures[f"{backend}_peak_mem_100k_640x480_mb"] = peak
+        figures[f"{backend}_render_mem_growth_100k_640x480_mb"] = growth
+        figures[f"{backend}_pose_grad_rel_err"] = pose_gradient_error(backend)
     return figures

@@ -202,9 +202,7 @@ class _Objective:
 
     def __call__(self, T_cw: Tensor) -> tuple[Tensor, dict[str, Tensor]]:
         wts, cfg = self.config.weights, self.config
-        out = render(
-            self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch"
-        )
+        out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu")
         masks = out.extra.permute(2, 0, 1)  # (subjects, H, W)
         terms: dict[str, Tensor] = {}
         total = T_cw.new_zeros(())
@@ -262,7 +260,7 @@ class _Objective:
     def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
         """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
         full = render(
-            self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype, backend="torch"
+            self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype, backend="cpu"
         )
         return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
 
@@ -270,7 +268,7 @@ class _Objective:
         """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
         with torch.no_grad():
             out = render(
-                self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="torch"
+                self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu"
             )
             return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
 

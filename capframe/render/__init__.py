@@ -1,7 +1,10 @@
-"""One rendering entry point, :func:`render`, over two backends.
+"""One rendering entry point, :func:`render`, over three backends.
 
-``torch`` is the pure-PyTorch reference (CPU or any device); ``gsplat`` uses the CUDA kernels.
-``auto`` picks gsplat when CUDA and gsplat are available, else torch.
+``torch`` is the pure-PyTorch reference (CPU or any device); ``compiled`` the numba CPU kernel
+with the same rules (:mod:`.compiled_backend`); ``gsplat`` uses the CUDA kernels. ``cpu`` names
+the CPU default, ``compiled`` unless the environment variable ``CAPFRAME_CPU_RENDERER`` says
+``torch``: everything that renders on the CPU with gradients (Refine, the baselines) asks for it.
+``auto`` picks gsplat when CUDA and gsplat are available, else the CPU default.
 
 Precision: poses are float64. Before anything is cast to the render dtype, the world is shifted
 so that the camera centre is the origin (in float64), which keeps far-from-origin scenes (offsets
@@ -11,6 +14,7 @@ of 1e4 units and more) as accurate as scenes at the origin.
 from __future__ import annotations
 
 import importlib.util
+import os
 from dataclasses import dataclass, field
 
 import torch
@@ -98,13 +102,23 @@ def check_render_memory(
         )
 
 
+BACKENDS = ("torch", "compiled", "gsplat")
+CPU_RENDERER_VARIABLE = "CAPFRAME_CPU_RENDERER"
+
+
 def resolve_backend(backend: str) -> str:
-    """``auto`` -> ``gsplat`` with CUDA and gsplat installed, else ``torch``."""
+    """``auto`` -> ``gsplat`` with CUDA and gsplat installed, else ``cpu``; ``cpu`` -> the value of
+    ``CAPFRAME_CPU_RENDERER`` (``compiled`` or ``torch``; default ``compiled``)."""
     if backend == "auto":
         has_gsplat = importlib.util.find_spec("gsplat") is not None
-        return "gsplat" if torch.cuda.is_available() and has_gsplat else "torch"
-    if backend not in ("torch", "gsplat"):
-        raise ValueError(f"unknown render backend {backend!r}; expected 'auto', 'torch' or 'gsplat'")
+        return "gsplat" if torch.cuda.is_available() and has_gsplat else resolve_backend("cpu")
+    if backend == "cpu":
+        backend = os.environ.get(CPU_RENDERER_VARIABLE, "compiled")
+        if backend not in ("compiled", "torch"):
+            raise InputError(f"{CPU_RENDERER_VARIABLE}={backend!r}; expected 'compiled' or 'torch'")
+        return backend
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown render backend {backend!r}; expected 'auto', 'cpu', 'torch', 'compiled' or 'gsplat'")
     return backend
 
 
@@ -181,7 +195,9 @@ def render(
         colors: False skips the colour (``rgb`` is None): masks and depth only, faster.
         near: near plane in scene units; default ``1e-4`` of the scene extent.
         dtype: render precision (float64 for gradient checks).
-        backend_options: passed to the backend (torch: ``tile_size``, ``max_chunk_elements``).
+        backend: ``auto``, ``cpu``, ``torch``, ``compiled`` or ``gsplat`` (:func:`resolve_backend`).
+        backend_options: passed to the backend (torch: ``tile_size``, ``max_chunk_elements``;
+            compiled: ``tile_size``).
     Returns:
         :class:`RenderOutput`.
     """
@@ -214,6 +230,12 @@ def render(
         image, alpha, depth_sum, stats = rasterize_gsplat(
             *args, camera.width, camera.height, near=near, far=far, **backend_options
         )
+    elif name == "compiled":
+        from .compiled_backend import rasterize_compiled
+
+        image, alpha, depth_sum, stats = rasterize_compiled(
+            *args, camera.width, camera.height, near=near, far=far, **backend_options
+        )
     else:
         from .torch_backend import rasterize_torch
 
@@ -235,6 +257,7 @@ def render(
 
 
 __all__ = [
+    "BACKENDS",
     "PreparedGaussians",
     "RenderOutput",
     "check_render_memory",
