@@ -319,7 +319,8 @@ def translate(
         s.name: (groundings[s.name].gaussians, groundings[s.name].centroid, fronts.get(s.name) if s.needs_front else None)
         for s in parsed.subjects
     }
-    labels = labels_from_constraints(parsed.constraints(), subjects, retrieved.up)
+    boxes = {s.name: s.box for s in parsed.subjects if s.box is not None}
+    labels = labels_from_constraints(parsed.constraints(), subjects, retrieved.up, boxes)
     if options.box_noise or options.front_noise_deg:
         labels = perturbed(labels, options.box_noise, options.front_noise_deg, options.noise_seed)
     clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))

@@ -13,7 +13,7 @@ miss when no view satisfies a question exactly.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 import torch
@@ -188,6 +188,8 @@ class Retrieval:
         answers: (M, Q) answers of the kept views, rows in ``kept`` order.
         scores: (M,) mean answer per kept view.
         top: indices (into the training views) of the retrieved views, best first.
+        evaluator: what a model evaluator records of itself (model, prompt versions, and
+            ``reasons``: per kept view, in ``kept`` order, a reason per answer); empty otherwise.
     """
 
     coarse: np.ndarray
@@ -196,6 +198,7 @@ class Retrieval:
     answers: np.ndarray
     scores: np.ndarray
     top: list[int]
+    evaluator: dict = field(default_factory=dict)
 
     def ranked(self) -> list[int]:
         """All kept views by QE score, best first (``top`` is a prefix of it)."""
@@ -203,7 +206,8 @@ class Retrieval:
 
     def to_dict(self, view_names: list[str]) -> dict:
         ranked = np.argsort(-self.scores, kind="stable")
-        return {
+        reasons = self.evaluator.get("reasons")
+        out = {
             "questions": [asdict(q) for q in self.questions],
             "views": [
                 {
@@ -213,10 +217,14 @@ class Retrieval:
                     "answers": [float(a) for a in self.answers[i]],
                     "retrieved": self.kept[i] in self.top,
                 }
+                | ({"reasons": list(reasons[i])} if reasons else {})
                 for i in ranked
             ],
             "top": [view_names[v] for v in self.top],
         }
+        if self.evaluator:
+            out["evaluator"] = {k: v for k, v in self.evaluator.items() if k != "reasons"}
+        return out
 
 
 def coarse_keep(coarse: np.ndarray) -> list[int]:
@@ -238,13 +246,20 @@ def rank_kept(parsed: ParsedInstruction, evaluator, coarse: np.ndarray, kept: li
     questions = evaluator.questions(parsed)
     answers = evaluator.answer(questions, kept)
     scores = answers.mean(1)
-    order = np.argsort(-scores, kind="stable")
-    top = [kept[order[0]]]
-    for i in order[1:top_k]:
-        if scores[order[0]] - scores[i] > ADAPTIVE_CUT_POINTS:
-            break
-        top.append(kept[i])
-    return Retrieval(coarse, kept, questions, answers, scores, top)
+    # A model evaluator brings its own cut (the paper's adaptive one on the model's scale) and a
+    # record of what answered (model, prompt versions, reasons).
+    cut = getattr(evaluator, "cut", None)
+    if cut is not None:
+        top = [kept[i] for i in cut(scores, top_k)]
+    else:
+        order = np.argsort(-scores, kind="stable")
+        top = [kept[order[0]]]
+        for i in order[1:top_k]:
+            if scores[order[0]] - scores[i] > ADAPTIVE_CUT_POINTS:
+                break
+            top.append(kept[i])
+    record = evaluator.record() if hasattr(evaluator, "record") else {}
+    return Retrieval(coarse, kept, questions, answers, scores, top, record)
 
 
 def retrieve(parsed: ParsedInstruction, scorer, evaluator, top_k: int = 2) -> Retrieval:
