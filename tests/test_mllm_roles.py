@@ -63,10 +63,10 @@ class ScriptedChat:
 def bear_answers(box=None, azimuth=90.0, region="left", elevation=20.0, explicit=False) -> dict:
     """Answers for "A close-up of the teddy bear on the left, seen from its right, from slightly above"."""
     return {
-        "subjects": {"subjects": [{"mention": "the teddy bear", "name": "teddy bear", "role": "primary"}], "unparsed": []},
-        "layout": {"subjects": [{"name": "teddy bear", "region": region, "shot": "close-up", "box": box}]},
+        "subjects": {"subjects": [{"name": "teddy bear", "mention": "the teddy bear"}]},
+        "layout": {"subjects": {"teddy bear": {"region": region, "shot": "close-up", "box": box}}},
         "orientation": {
-            "subjects": [{"name": "teddy bear", "symmetric": False, "azimuth_deg": azimuth, "either_side": False}],
+            "subjects": {"teddy bear": {"symmetric": False, "azimuth_deg": azimuth, "either_side": False}},
             "elevation_deg": elevation,
             "elevation_explicit": explicit,
             "roll_deg": None,
@@ -85,9 +85,9 @@ def test_every_prompt_file_is_versioned_with_a_valid_schema_and_its_tables_match
 
     for name in NAMES:
         prompt = load(name)
-        assert prompt.version == f"{name}-v1"
+        assert prompt.version.startswith(f"{name}-v") and prompt.version.rsplit("-v", 1)[1].isdigit()
         jsonschema.Draft202012Validator.check_schema(prompt.schema)
-    layout = load("layout").schema["properties"]["subjects"]["items"]["properties"]
+    layout = load("layout").schema["$defs"]["subject"]["properties"]
     assert set(layout["region"]["enum"]) == {*REGIONS, None}
     assert set(layout["shot"]["enum"]) == {*SHOT_SIZES, None}
 
@@ -99,12 +99,14 @@ def test_parser_requests_carry_version_schema_and_the_scene_names():
     chat = ScriptedChat(bear_answers())
     MLLMParser(chat).parse(BEAR, SCENE)
     versions = [r.prompt_version for r in chat.requests]
-    assert versions == ["subjects-v1", "layout-v1", "orientation-v1"]
+    assert versions == ["subjects-v2", "layout-v2", "orientation-v2"]
     subjects = chat.requests[0]
     assert subjects.schema["properties"]["subjects"]["items"]["properties"]["name"]["enum"] == [*SCENE.names, None]
     assert "plush toy" in subjects.user and BEAR in subjects.user  # aliases shown: a synonym can be read
-    for r in chat.requests[1:]:
-        assert r.schema["properties"]["subjects"]["items"]["properties"]["name"]["enum"] == ["teddy bear"]
+    assert subjects.schema["properties"]["subjects"]["maxItems"] == 3  # no more subjects than objects
+    for r in chat.requests[1:]:  # one entry per parsed subject, by construction
+        keyed = r.schema["properties"]["subjects"]
+        assert list(keyed["properties"]) == keyed["required"] == ["teddy bear"] and keyed["additionalProperties"] is False
         assert r.images == ()
 
 
@@ -116,9 +118,9 @@ def test_a_canned_answer_parses_like_the_rule_parser():
     assert parsed.parser == {
         "backend": "mllm",
         "model": "scripted-model",
-        "prompts": ["subjects-v1", "layout-v1", "orientation-v1"],
+        "prompts": ["subjects-v2", "layout-v2", "orientation-v2"],
     }
-    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v1" and "parser" not in rules.to_dict()
+    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v2" and "parser" not in rules.to_dict()
 
 
 def test_two_subjects_roll_explicit_elevation_and_either_side():
@@ -126,17 +128,17 @@ def test_two_subjects_roll_explicit_elevation_and_either_side():
     answers = {
         "subjects": {
             "subjects": [
-                {"mention": "the vase", "name": "vase", "role": "primary"},
-                {"mention": "the television", "name": "television", "role": "secondary"},
-            ],
-            "unparsed": [],
+                {"name": "vase", "mention": "the vase"},
+                {"name": "television", "mention": "the television"},
+                {"name": "vase", "mention": "it"},  # named twice: one subject
+            ]
         },
-        "layout": {"subjects": [{"name": n, "region": None, "shot": None, "box": None} for n in ("television", "vase")]},
+        "layout": {"subjects": {n: {"region": None, "shot": None, "box": None} for n in ("television", "vase")}},
         "orientation": {
-            "subjects": [
-                {"name": "vase", "symmetric": True, "azimuth_deg": None, "either_side": False},
-                {"name": "television", "symmetric": False, "azimuth_deg": -90.0, "either_side": True},
-            ],
+            "subjects": {
+                "vase": {"symmetric": True, "azimuth_deg": None, "either_side": False},
+                "television": {"symmetric": False, "azimuth_deg": -90.0, "either_side": True},
+            },
             "elevation_deg": 35.0,
             "elevation_explicit": True,
             "roll_deg": 15.0,
@@ -169,14 +171,11 @@ def test_angle_mapping_conventions():
 
 def test_a_synonym_the_model_reads_is_reported_and_an_unknown_subject_names_the_closest():
     answers = bear_answers()
-    answers["subjects"] = {
-        "subjects": [{"mention": "the stuffed animal", "name": "teddy bear", "role": "primary"}],
-        "unparsed": [],
-    }
+    answers["subjects"] = {"subjects": [{"name": "teddy bear", "mention": "the stuffed animal"}]}
     parsed = MLLMParser(ScriptedChat(answers)).parse("a close-up of the stuffed animal on the left", SCENE)
     assert parsed.subjects[0].name == "teddy bear"
     assert parsed.corrected == [{"said": "stuffed animal", "read": "teddy bear"}]
-    answers["subjects"] = {"subjects": [{"mention": "the teddy baer", "name": None, "role": "primary"}], "unparsed": []}
+    answers["subjects"] = {"subjects": [{"name": None, "mention": "the teddy baer"}]}
     with pytest.raises(InputError, match=r"subject 'the teddy baer' is not in this scene; closest: \['teddy bear'\]"):
         MLLMParser(ScriptedChat(answers)).parse("the teddy baer", SCENE)
 
@@ -184,53 +183,53 @@ def test_a_synonym_the_model_reads_is_reported_and_an_unknown_subject_names_the_
 @pytest.mark.parametrize(
     "field, answer, message",
     [
-        ("subjects", {"subjects": [{"mention": "the bear", "name": "giraffe", "role": "primary"}], "unparsed": []}, None),
+        ("subjects", {"subjects": [{"name": "giraffe", "mention": "the bear"}]}, None),
+        ("layout", {"subjects": {}}, None),
         (
-            "subjects",
-            {"subjects": [{"mention": "the bear", "name": "teddy bear", "role": "secondary"}], "unparsed": []},
-            r"subjects has 0 primary subjects",
+            "layout",
+            {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": [0.4, 0.1, 0.2, 0.5]}}},
+            r"subjects\.teddy bear\.box is .*x0 < x1",
         ),
         (
             "layout",
-            {"subjects": [{"name": "teddy bear", "region": "left", "shot": None, "box": [0.4, 0.1, 0.2, 0.5]}]},
-            r"subjects\[0\]\.box is .*x0 < x1",
-        ),
-        (
-            "layout",
-            {"subjects": [{"name": "teddy bear", "region": "left", "shot": None, "box": [0.6, 0.1, 0.9, 0.5]}]},
-            r"subjects\[0\]\.box is centred at \(0\.75, 0\.30\), outside its region 'left'",
-        ),
-        (
-            "layout",
-            {"subjects": [{"name": "teddy bear", "region": None, "shot": None, "box": None}] * 2},
-            r"subjects\[1\]\.name 'teddy bear' is answered twice",
+            {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": [0.6, 0.1, 0.9, 0.5]}}},
+            r"subjects\.teddy bear\.box is centred at \(0\.75, 0\.30\), outside its region 'left'",
         ),
     ],
 )
 def test_a_meaningless_answer_is_one_line_naming_the_field(field, answer, message):
     answers = bear_answers() | {field: answer}
     parser = MLLMParser(ScriptedChat(answers))
-    if message is None:  # outside the schema's enum: the model's own validation refuses it
-        with pytest.raises(ValueError, match=r"subjects/0/name"):
+    if message is None:  # outside the schema: the model's own validation refuses it
+        with pytest.raises(ValueError, match=r"does not match the schema at subjects"):
             parser.parse(BEAR, SCENE)
         return
-    with pytest.raises(ModelError, match=f"^scripted-model: the {field} answer \\({field}-v1\\) is invalid: {message}") as err:
+    version = load(field).version
+    with pytest.raises(ModelError, match=f"^scripted-model: the {field} answer \\({version}\\) is invalid: {message}") as err:
         parser.parse(BEAR, SCENE)
     assert "\n" not in str(err.value)
 
 
-def test_a_name_outside_the_vocabulary_is_refused_even_from_a_model_that_does_not_validate():
-    class Unchecked(ScriptedChat):
-        def complete(self, request):
-            self.requests.append(request)
-            data = self.answers[request.prompt_version.rsplit("-v", 1)[0]][0]
-            return ChatReply(data, json.dumps(data), self.identity)
+class Unchecked(ScriptedChat):
+    """A chat model that does not validate (so the roles' own meaning checks are what refuses)."""
 
-    answers = bear_answers() | {
-        "subjects": {"subjects": [{"mention": "x", "name": "giraffe", "role": "primary"}], "unparsed": []}
-    }
-    with pytest.raises(ModelError, match=r"subjects\[0\]\.name 'giraffe' is not a scene object; expected one of"):
-        MLLMParser(Unchecked(answers)).parse(BEAR, SCENE)
+    def complete(self, request):
+        self.requests.append(request)
+        data = self.answers[request.prompt_version.rsplit("-v", 1)[0]][0]
+        return ChatReply(data, json.dumps(data), self.identity)
+
+
+@pytest.mark.parametrize(
+    "field, answer, message",
+    [
+        ("subjects", {"subjects": [{"name": "giraffe", "mention": "x"}]}, r"subjects\[0\]\.name 'giraffe' is not a scene object"),
+        ("layout", {"subjects": {}}, r"subjects has no entry for \['teddy bear'\]"),
+        ("orientation", {"subjects": {"teddy bear": {}, "vase": {}}}, r"subjects\.vase is not a parsed subject"),
+    ],
+)
+def test_a_meaningless_answer_is_refused_even_from_a_model_that_does_not_validate(field, answer, message):
+    with pytest.raises(ModelError, match=message):
+        MLLMParser(Unchecked(bear_answers() | {field: answer})).parse(BEAR, SCENE)
 
 
 # --- the layout box: parsed -> stage file -> pseudo labels ----------------------------------------
@@ -299,7 +298,7 @@ QUESTIONS = {
 
 
 def answers(scores: list[int]) -> dict:
-    return {"answers": [{"question": k + 1, "reason": f"reason {k + 1}", "score": s} for k, s in enumerate(scores)]}
+    return {"answers": {str(k + 1): {"reason": f"reason {k + 1}", "score": s} for k, s in enumerate(scores)}}
 
 
 def test_qe_questions_map_to_our_kinds_with_the_parsed_targets(views_context):
@@ -325,7 +324,8 @@ def test_qe_scores_one_request_per_view_with_all_questions_and_records_reasons(v
     qe = MLLMQE(chat, views_context)
     retrieval = rank_kept(parsed, qe, np.zeros(4), [0, 1, 2, 3], top_k=2)
     scoring = chat.requests[1:]
-    assert len(scoring) == 4 and all(r.prompt_version == "qe-answers-v1" for r in scoring)
+    assert len(scoring) == 4 and all(r.prompt_version == "qe-answers-v2" for r in scoring)
+    assert scoring[0].schema["properties"]["answers"]["required"] == ["1", "2", "3", "4", "5"]
     assert all(len(r.images) == 1 and r.images[0].shape == (100, 160, 3) for r in scoring)  # long side 160
     assert [int(r.images[0][0, 0, 0]) for r in scoring] == [0, 40, 80, 120]  # each view's own picture
     assert all("5. Does the picture match?" in r.user for r in scoring)
@@ -334,27 +334,21 @@ def test_qe_scores_one_request_per_view_with_all_questions_and_records_reasons(v
     # alone; it lies outside the coarse better half (positions 0, 1) but is kept as the best.
     assert retrieval.top == [2]
     out = retrieval.to_dict([f"view{k}" for k in range(4)])
-    assert out["evaluator"] == {"backend": "mllm", "model": "scripted-model", "prompts": ["qe-questions-v1", "qe-answers-v1"]}
+    assert out["evaluator"] == {"backend": "mllm", "model": "scripted-model", "prompts": ["qe-questions-v1", "qe-answers-v2"]}
     assert out["views"][0]["view"] == "view2" and out["views"][0]["reasons"][0] == "reason 1"
 
 
 @pytest.mark.parametrize(
     "answer, message",
     [
-        (answers([50, 50, 50, 50]), r"questions \[5\] are not answered"),
-        ({"answers": [{"question": 1, "reason": "", "score": 50}] * 5}, r"question 1 is unknown or answered twice"),
+        (answers([50, 50, 50, 50]), r"answers \['1', '2', '3', '4'\]; expected questions \['1', '2', '3', '4', '5'\]"),
+        (answers([50, 50, 50, 50, 101]), r"answers\.5\.score 101 is not in \[0, 100\]"),
     ],
 )
-def test_qe_refuses_an_answer_that_misses_or_repeats_a_question(views_context, answer, message):
+def test_qe_refuses_an_answer_that_misses_a_question_or_leaves_the_scale(views_context, answer, message):
     parsed = RuleParser().parse(BEAR, SCENE)
-
-    class Unchecked(ScriptedChat):  # schema-free, so the meaning checks are what refuses
-        def complete(self, request):
-            data = self.answers[request.prompt_version.rsplit("-v", 1)[0]][0]
-            return ChatReply(data, json.dumps(data), self.identity)
-
     qe = MLLMQE(Unchecked({"qe-questions": QUESTIONS, "qe-answers": answer}), views_context)
-    with pytest.raises(ModelError, match=f"qe-answers answer \\(qe-answers-v1\\) is invalid: view view0: ({message})"):
+    with pytest.raises(ModelError, match=f"qe-answers answer \\(qe-answers-v2\\) is invalid: view view0: {message}"):
         qe.answer(qe.questions(parsed), [0])
 
 

@@ -2,15 +2,13 @@
 the same :class:`~capframe.translate.instruction.ParsedInstruction` as the rule parser.
 
 Three requests per instruction (prompts ``subjects``, ``layout``, ``orientation``): first the
-subjects, each matched to one name of the scene's vocabulary; then, for those subjects, their
-layout and the camera's angles (these two are sent together). Every answer has passed its JSON
-schema in the :class:`~.chat.ChatModel`; here it is also checked for meaning, and a meaningless
-answer is a one-line :class:`~capframe.errors.ModelError` naming the field:
-
-* subjects: names from the scene's list, one primary;
-* layout: every parsed subject answered once; a box ordered, inside ``[0, 1]``, and centred in the
-  region the answer names;
-* orientation: every parsed subject answered once.
+subjects, each matched to one name of the scene's vocabulary (the main subject listed first);
+then, for those subjects, their layout and the camera's angles (these two are sent together, each
+answer keyed by subject name, so every subject is answered exactly once by construction). Every
+answer has passed its JSON schema in the :class:`~.chat.ChatModel`; here it is also checked for
+meaning, and a meaningless answer is a one-line :class:`~capframe.errors.ModelError` naming the
+field: names outside the scene's list or the parsed subjects, a box not ordered or not inside
+``[0, 1]``, a box not centred in the region the same answer names.
 
 How numbers become the parsed instruction's cues (DESIGN §3 conventions):
 
@@ -74,16 +72,14 @@ class MLLMParser:
             raise InputError("the instruction is empty; expected e.g. 'a close-up of the teddy bear on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        subjects, unparsed = self._subjects(text, vocabulary)
+        subjects = self._subjects(text, vocabulary)
         listing = "; ".join(f"{name} (said: {mention!r})" for mention, name, _ in subjects)
         fields = {"instruction": text.strip(), "subjects": listing, "regions": ", ".join(REGIONS), "shots": ", ".join(SHOT_SIZES)}
         names = [name for _, name, _ in subjects]
-        layout_prompt, orientation_prompt = self.prompts["layout"], self.prompts["orientation"]
-        subject_path = ("properties", "subjects", "items", "properties", "name")
         layout, orientation = self.chat.complete_many(
             [
-                layout_prompt.request(fields, schema=layout_prompt.narrowed(subject_path, enum=names)),
-                orientation_prompt.request(fields, schema=orientation_prompt.narrowed(subject_path, enum=names)),
+                self.prompts[p].request(fields, schema=self.prompts[p].keyed(("properties", "subjects"), names, "subject"))
+                for p in ("layout", "orientation")
             ]
         )
         boxes = self._layout(layout.data, names)
@@ -107,7 +103,7 @@ class MLLMParser:
             elevation,
             elevation_deg,
             camera["roll_deg"],
-            unparsed,
+            [],
             corrected,
             parser={"backend": "mllm", "model": self.chat.identity, "prompts": [p.version for p in self.prompts.values()]},
         )
@@ -115,56 +111,49 @@ class MLLMParser:
     def _fail(self, prompt: str, message: str) -> ModelError:
         return ModelError(f"{self.chat.identity}: the {prompt} answer ({self.prompts[prompt].version}) is invalid: {message}")
 
-    def _subjects(self, text: str, vocabulary: Vocabulary) -> tuple[list[tuple[str, str, str]], list[str]]:
-        """(mention, scene name, role) of each subject, the primary first, and the unparsed
-        fragments. The model picks names from the scene's list (with aliases, so a synonym can
-        be read); a mention it leaves unmatched goes through :meth:`Vocabulary.match`."""
+    def _subjects(self, text: str, vocabulary: Vocabulary) -> list[tuple[str, str, str]]:
+        """(mention, scene name, role) of each subject, the primary (listed first) first. The
+        model picks names from the scene's list (with aliases, so a synonym can be read); a
+        mention it leaves unmatched goes through :meth:`Vocabulary.match`, whose error names the
+        closest objects. A subject named twice is one subject."""
         prompt = self.prompts["subjects"]
         objects = "; ".join(
             e.name + (f": {', '.join(e.aliases)}" if e.aliases else "") for e in sorted(vocabulary.entries, key=lambda e: e.name)
         )
         schema = prompt.narrowed(("properties", "subjects", "items", "properties", "name"), enum=[*vocabulary.names, None])
+        schema["properties"]["subjects"]["maxItems"] = min(schema["properties"]["subjects"]["maxItems"], len(vocabulary))
         data = self.chat.complete(prompt.request({"instruction": text.strip(), "objects": objects}, schema=schema)).data
-        found: dict[str, tuple[str, str, str]] = {}
+        found: dict[str, str] = {}
         for i, s in enumerate(data["subjects"]):
             name = s["name"]
             if name is None:
-                name = vocabulary.match(s["mention"])  # InputError naming the closest objects
+                name = vocabulary.match(s["mention"])
             elif name not in vocabulary:
                 raise self._fail(
                     "subjects", f"subjects[{i}].name {clip(repr(name))} is not a scene object; expected one of {vocabulary.names}"
                 )
-            found.setdefault(name, (s["mention"], name, s["role"]))  # a subject named twice is one subject
-        subjects = list(found.values())
-        primary = [s for s in subjects if s[2] == "primary"]
-        if len(primary) != 1:
-            raise self._fail("subjects", f"subjects has {len(primary)} primary subjects; expected exactly one")
-        return primary + [s for s in subjects if s[2] != "primary"], [str(u) for u in data["unparsed"]]
+            found.setdefault(name, s["mention"])
+        return [(mention, name, "secondary" if k else "primary") for k, (name, mention) in enumerate(found.items())]
 
     def _answered_once(self, prompt: str, data: dict, names: list[str]) -> dict[str, dict]:
-        """The answer's entries by subject name; every parsed subject exactly once."""
-        entries: dict[str, dict] = {}
-        for i, entry in enumerate(data["subjects"]):
-            if entry["name"] not in names:
-                raise self._fail(
-                    prompt, f"subjects[{i}].name {clip(repr(entry['name']))} is not a parsed subject; expected {names}"
-                )
-            if entry["name"] in entries:
-                raise self._fail(prompt, f"subjects[{i}].name {entry['name']!r} is answered twice")
-            entries[entry["name"]] = entry
+        """The answer's entries by subject name: exactly the parsed subjects."""
+        entries = data["subjects"]
+        unknown = [n for n in entries if n not in names]
+        if unknown:
+            raise self._fail(prompt, f"subjects.{unknown[0]} is not a parsed subject; expected {names}")
         missing = [n for n in names if n not in entries]
         if missing:
             raise self._fail(prompt, f"subjects has no entry for {missing}")
-        return entries
+        return {n: entries[n] for n in names}
 
     def _layout(self, data: dict, names: list[str]) -> dict[str, tuple]:
         """Per subject: (region, shot, box or None)."""
         out = {}
-        for i, (name, entry) in enumerate(self._answered_once("layout", data, names).items()):
+        for name, entry in self._answered_once("layout", data, names).items():
             box = entry["box"]
             if box is not None:
                 try:
-                    box = check_box(box, f"subjects[{i}].box")
+                    box = check_box(box, f"subjects.{name}.box")
                 except InputError as err:
                     raise self._fail("layout", str(err)) from None
                 region = entry["region"]
@@ -173,7 +162,7 @@ class MLLMParser:
                     x0, y0, x1, y1 = REGIONS[region]
                     if not (x0 <= cx <= x1 and y0 <= cy <= y1):
                         raise self._fail(
-                            "layout", f"subjects[{i}].box is centred at ({cx:.2f}, {cy:.2f}), outside its region {region!r}"
+                            "layout", f"subjects.{name}.box is centred at ({cx:.2f}, {cy:.2f}), outside its region {region!r}"
                         )
             out[name] = (entry["region"], entry["shot"], box)
         return out

@@ -108,8 +108,8 @@ class MLLMQE:
         :attr:`reasons` (rows in ``view_indices`` order) for :meth:`record`."""
         prompt = self.prompts["qe-answers"]
         numbered = "\n".join(f"{k + 1}. {q.text}" for k, q in enumerate(questions))
-        schema = prompt.narrowed(("properties", "answers"), minItems=len(questions), maxItems=len(questions))
-        schema["properties"]["answers"]["items"]["properties"]["question"]["maximum"] = len(questions)
+        numbers = [str(k + 1) for k in range(len(questions))]
+        schema = prompt.keyed(("properties", "answers"), numbers, "answer")
         requests = [
             prompt.request({"questions": numbered}, images=(_image(view_image(self.context, v), self.long_side),), schema=schema)
             for v in view_indices
@@ -118,25 +118,19 @@ class MLLMQE:
         scores = np.zeros((len(view_indices), len(questions)))
         self.reasons = []
         for row, (v, reply) in enumerate(zip(view_indices, replies)):
-            reasons = [""] * len(questions)
-            seen = set()
-            for a in reply.data["answers"]:
-                k = a["question"] - 1
-                if not 0 <= k < len(questions) or k in seen:
+            given = reply.data["answers"]
+            if sorted(given) != sorted(numbers):
+                raise self._fail(
+                    "qe-answers", f"view {self._view_name(v)}: answers {sorted(given)}; expected questions {numbers}"
+                )
+            for k, number in enumerate(numbers):
+                score = given[number]["score"]
+                if not (isinstance(score, (int, float)) and math.isfinite(score) and 0 <= score <= 100):
                     raise self._fail(
-                        "qe-answers", f"view {self._view_name(v)}: question {a['question']} is unknown or answered twice"
+                        "qe-answers", f"view {self._view_name(v)}: answers.{number}.score {clip(repr(score))} is not in [0, 100]"
                     )
-                if not (isinstance(a["score"], (int, float)) and math.isfinite(a["score"]) and 0 <= a["score"] <= 100):
-                    raise self._fail(
-                        "qe-answers", f"view {self._view_name(v)}: score {clip(repr(a['score']))} is not in [0, 100]"
-                    )
-                seen.add(k)
-                scores[row, k] = float(a["score"])
-                reasons[k] = a["reason"]
-            if len(seen) != len(questions):
-                missing = sorted(set(range(1, len(questions) + 1)) - {k + 1 for k in seen})
-                raise self._fail("qe-answers", f"view {self._view_name(v)}: questions {missing} are not answered")
-            self.reasons.append(reasons)
+                scores[row, k] = float(score)
+            self.reasons.append([given[n]["reason"] for n in numbers])
         return scores
 
     def cut(self, scores: np.ndarray, top_k: int) -> list[int]:

@@ -56,6 +56,19 @@ class Prompt:
             max_tokens=self.max_tokens,
         )
 
+    def keyed(self, path: tuple[str, ...], keys: list[str], entry: str) -> dict:
+        """A copy of :attr:`schema` whose sub-schema at ``path`` becomes an object with exactly
+        the properties ``keys``, each a copy of ``$defs[entry]``: one answer per subject or per
+        question by construction, which constrained decoding then guarantees."""
+        value = self.schema["$defs"][entry]
+        return self.narrowed(
+            path,
+            type="object",
+            properties={k: copy.deepcopy(value) for k in keys},
+            required=list(keys),
+            additionalProperties=False,
+        )
+
     def narrowed(self, path: tuple[str, ...], **updates) -> dict:
         """A copy of :attr:`schema` with ``updates`` set on the sub-schema at ``path`` (a key path
         through ``properties`` / ``items``), e.g. an ``enum`` of the scene's names."""
