@@ -454,6 +454,14 @@ def _cmd_models_export(args: argparse.Namespace) -> None:
     export_command(args.backend, args.models, args.output)
 
 
+def _cmd_models_check(args: argparse.Namespace) -> None:
+    from .backends.check import check_models
+
+    faults = check_models(args.models)
+    if faults:
+        raise ModelError(f"{faults} entries of {args.models} failed the check (lines above)")
+
+
 def _perception_options(p: argparse.ArgumentParser) -> None:
     """The backend of every perception role (``capframe.backends.ROLES``), the models config,
     the per-scene cache and the gravity file: options shared by the method's stages."""
@@ -782,7 +790,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm"])
     p.add_argument(
         "--suite",
         default=None,
@@ -803,6 +811,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--models", required=True, help="models config with the backend's weights")
     p.add_argument("-o", "--output", required=True, help="ONNX file to write; name it as the entry's onnx field")
     p.set_defaults(func=_cmd_models_export, outputs={"output": "file"})
+    p = actions.add_parser(
+        "check", help="try every entry of a models config: files exist, endpoints answer, MLLMs answer a tiny schema"
+    )
+    p.add_argument("--models", required=True, help="the models config to check, e.g. config/models.yaml")
+    p.set_defaults(func=_cmd_models_check)
     return parser
 
 

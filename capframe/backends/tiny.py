@@ -202,3 +202,93 @@ def tiny_orient_anything(directory: str | Path, outputs: int = 902, seed: int = 
     weights = directory / "dino_weight.pt"
     torch.save(state, weights)
     return weights, config_dir
+
+
+# Qwen-VL's chat specials, in the order the real vocabulary has them after its text tokens.
+QWEN_SPECIALS = [
+    "<|endoftext|>",
+    "<|im_start|>",
+    "<|im_end|>",
+    "<|vision_start|>",
+    "<|vision_end|>",
+    "<|image_pad|>",
+    "<|video_pad|>",
+]
+# Qwen-VL's chat layout (system, then user turns whose images come as
+# <|vision_start|><|image_pad|><|vision_end|> before or between the text parts): our own template,
+# which also reads OpenAI-style ``image_url`` parts, as ``transformers serve`` passes them on.
+QWEN_CHAT_TEMPLATE = (
+    "{% for message in messages %}<|im_start|>{{ message['role'] }}\n"
+    "{% if message['content'] is string %}{{ message['content'] }}"
+    "{% else %}{% for part in message['content'] %}"
+    "{% if part['type'] in ('image', 'image_url') %}<|vision_start|><|image_pad|><|vision_end|>"
+    "{% elif part['type'] == 'text' %}{{ part['text'] }}{% endif %}"
+    "{% endfor %}{% endif %}<|im_end|>\n{% endfor %}"
+    "{% if add_generation_prompt %}<|im_start|>assistant\n{% endif %}"
+)
+# What tiny_qwen_vl builds: kind -> the vision tower's patch size (pixels).
+TINY_QWEN_VL = {"qwen3-vl": 16, "qwen2.5-vl": 14}
+
+
+def tiny_qwen_vl(directory: str | Path, kind: str = "qwen3-vl", seed: int = 0) -> Path:
+    """Write a tiny random-weight Qwen3-VL or Qwen2.5-VL (``kind``, a key of
+    :data:`TINY_QWEN_VL`) into ``directory``: config, weights, a byte-level tokenizer with
+    Qwen's chat specials and template, and the image processor (images are resized to at most
+    4 x 4 patches, so an image costs 4 tokens after the 2 x 2 merge). About 150k parameters:
+    60 greedy tokens take a few seconds on a CPU. Returns the folder."""
+    import transformers as tf
+    from tokenizers.pre_tokenizers import ByteLevel
+    from transformers.models.qwen2_vl.image_processing_pil_qwen2_vl import Qwen2VLImageProcessorPil
+
+    if kind not in TINY_QWEN_VL:
+        raise ValueError(f"no tiny Qwen-VL {kind!r}; expected one of {list(TINY_QWEN_VL)}")
+    directory = Path(directory)
+    torch.manual_seed(seed)
+    vocab = {piece: i for i, piece in enumerate(sorted(ByteLevel.alphabet()))}
+    tokenizer = tf.Qwen2Tokenizer(vocab=vocab, merges=[], unk_token=None, pad_token="<|endoftext|>", eos_token="<|im_end|>")
+    tokenizer.add_special_tokens({"additional_special_tokens": QWEN_SPECIALS})
+    tokenizer.chat_template = QWEN_CHAT_TEMPLATE
+    ids = {name: tokenizer.convert_tokens_to_ids(name) for name in QWEN_SPECIALS}
+    patch = TINY_QWEN_VL[kind]
+    text = TOWER | {
+        "vocab_size": len(tokenizer),
+        "num_key_value_heads": 2,
+        "head_dim": 8,
+        "max_position_embeddings": 2048,
+        "pad_token_id": ids["<|endoftext|>"],
+        "eos_token_id": ids["<|im_end|>"],
+        "bos_token_id": None,
+    }
+    vision = {"depth": 2, "hidden_size": WIDTH, "intermediate_size": 64, "num_heads": 4, "patch_size": patch}
+    vision |= {"out_hidden_size": WIDTH, "spatial_merge_size": 2}
+    tokens = {
+        "image_token_id": ids["<|image_pad|>"],
+        "video_token_id": ids["<|video_pad|>"],
+        "vision_start_token_id": ids["<|vision_start|>"],
+        "vision_end_token_id": ids["<|vision_end|>"],
+    }
+    if kind == "qwen3-vl":
+        text["rope_parameters"] = {"rope_type": "default", "mrope_section": [2, 1, 1], "mrope_interleaved": True}
+        vision |= {"num_position_embeddings": 64, "deepstack_visual_indexes": [1]}
+        config = tf.Qwen3VLConfig(text_config=text, vision_config=vision, **tokens)
+        model_class = tf.Qwen3VLForConditionalGeneration
+    else:
+        text["rope_parameters"] = {"rope_type": "default", "mrope_section": [2, 1, 1]}
+        vision |= {"window_size": 4 * patch, "fullatt_block_indexes": [1]}
+        config = tf.Qwen2_5_VLConfig(text_config=text, vision_config=vision, **tokens)
+        model_class = tf.Qwen2_5_VLForConditionalGeneration
+    model = model_class(config)
+    model.generation_config.eos_token_id = ids["<|im_end|>"]
+    model.generation_config.pad_token_id = ids["<|endoftext|>"]
+    side = 4 * patch
+    processor = Qwen2VLImageProcessorPil(patch_size=patch, merge_size=2, min_pixels=(2 * patch) ** 2, max_pixels=side * side)
+    with quiet_transformers():
+        model.save_pretrained(directory)
+        tokenizer.save_pretrained(directory)
+        processor.save_pretrained(directory)
+    return directory
+
+
+def tiny_qwen3_vl(directory: str | Path, seed: int = 0) -> Path:
+    """A tiny random-weight Qwen3-VL in ``directory`` (:func:`tiny_qwen_vl`). Returns the folder."""
+    return tiny_qwen_vl(directory, "qwen3-vl", seed)

@@ -76,6 +76,10 @@ def run_bench(
         from .segment import bench_segment
 
         figures = bench_segment(models, segmenter)
+    elif what == "mllm":
+        from .mllm import bench_mllm
+
+        figures = bench_mllm()
     elif what == "models":
         from .models import bench_models
 
