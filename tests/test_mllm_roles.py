@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from capframe.backends import ROLES, BackendContext
+from capframe.backends import ROLES, BackendContext, read_models_config
 from capframe.backends.mllm.chat import ChatReply, ChatRequest, validate_reply
 from capframe.backends.mllm.judge import MLLMJudge, MLLMParaphraser, blind_order
 from capframe.backends.mllm.parser import MLLMParser, named_elevation, view_side
@@ -423,22 +423,20 @@ def test_paraphrases_are_distinct_and_unlike_the_instruction():
 # --- registry ------------------------------------------------------------------------------------
 
 
-def test_registry_names_the_mllm_backends_and_builds_them_on_one_shared_chat_model(views_context, monkeypatch):
-    import capframe.backends.mllm as mllm
-
-    built = []
-
-    def chat_model(context, entry="mllm"):
-        built.append(entry)
-        return ScriptedChat({})
-
-    factory = SimpleNamespace(chat_model=chat_model)
-    monkeypatch.setitem(__import__("sys").modules, "capframe.backends.mllm.factory", factory)
-    monkeypatch.setattr(mllm, "factory", factory, raising=False)
-    assert "mllm" in ROLES["parser"].backends and "mllm" in ROLES["qe"].backends
+def test_registry_builds_the_mllm_backends_on_one_chat_model_per_models_config_entry(tmp_path):
+    models = tmp_path / "models.yaml"
+    server = "{endpoint: 'http://127.0.0.1:9/v1', model: m%s}"
+    models.write_text("\n".join(f"{entry}: {server % k}" for k, entry in enumerate(("mllm", "judge", "judge-2"))))
+    scene = SimpleNamespace(cameras=[])
+    context = BackendContext(scene, np.array([0.0, 0.0, 1.0]), tmp_path / "cache", read_models_config(models))
     assert list(ROLES["judge"].backends) == ["mllm", "mllm-2"]
-    parser = ROLES["parser"].backends["mllm"](views_context)
-    qe = ROLES["qe"].backends["mllm"](views_context)
-    judges = [ROLES["judge"].backends[n](views_context) for n in ("mllm", "mllm-2")]
-    assert parser.chat is qe.chat and judges[0].chat is not judges[1].chat
-    assert built == ["mllm", "judge", "judge-2"]
+    parser = ROLES["parser"].backends["mllm"](context)
+    qe = ROLES["qe"].backends["mllm"](context)
+    judges = [ROLES["judge"].backends[n](context) for n in ("mllm", "mllm-2")]
+    assert parser.chat is qe.chat  # one model (and one cache's counters) per entry and job
+    assert [c.identity for c in (parser.chat, *(j.chat for j in judges))] == [
+        "http://127.0.0.1:9/v1 m0",
+        "http://127.0.0.1:9/v1 m1",
+        "http://127.0.0.1:9/v1 m2",
+    ]
+    assert context.shared_with("mllm-chat:") == [parser.chat, judges[0].chat, judges[1].chat]

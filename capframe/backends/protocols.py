@@ -126,6 +126,11 @@ class BackendContext:
             self._shared[key] = make()
         return self._shared[key]
 
+    def shared_with(self, prefix: str) -> list[Any]:
+        """The shared values whose keys start with ``prefix``, in the order they were made
+        (e.g. every chat model of the job, for its call counts)."""
+        return [value for key, value in self._shared.items() if key.startswith(prefix)]
+
 
 # Scores candidate cameras for one instruction: N cameras in, (N,) scores out (higher is better).
 CameraScorer = Callable[[list["Camera"]], np.ndarray]

@@ -73,15 +73,11 @@ def _orient_anything(context: BackendContext):
 
 
 def _chat(context: BackendContext, entry: str):
-    """The chat model of the models config's ``entry``, built once per job and shared by the
-    roles that read it (the parser and QE both read ``mllm``)."""
+    """The chat model of the models config's ``entry`` (built once per job and shared by the
+    roles that read it: the parser and QE both read ``mllm``)."""
+    from .mllm.factory import chat_model
 
-    def make():
-        from .mllm.factory import chat_model
-
-        return chat_model(context, entry)
-
-    return context.shared(f"chat-model:{entry}", make)
+    return chat_model(context, entry)
 
 
 def _mllm_parser(context: BackendContext):
