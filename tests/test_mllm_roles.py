@@ -99,7 +99,7 @@ def test_parser_requests_carry_version_schema_and_the_scene_names():
     chat = ScriptedChat(bear_answers())
     MLLMParser(chat).parse(BEAR, SCENE)
     versions = [r.prompt_version for r in chat.requests]
-    assert versions == ["subjects-v2", "layout-v2", "orientation-v2"]
+    assert versions == ["subjects-v3", "layout-v2", "orientation-v2"]
     subjects = chat.requests[0]
     assert subjects.schema["properties"]["subjects"]["items"]["properties"]["name"]["enum"] == [*SCENE.names, None]
     assert "plush toy" in subjects.user and BEAR in subjects.user  # aliases shown: a synonym can be read
@@ -118,9 +118,9 @@ def test_a_canned_answer_parses_like_the_rule_parser():
     assert parsed.parser == {
         "backend": "mllm",
         "model": "scripted-model",
-        "prompts": ["subjects-v2", "layout-v2", "orientation-v2"],
+        "prompts": ["subjects-v3", "layout-v2", "orientation-v2"],
     }
-    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v2" and "parser" not in rules.to_dict()
+    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v3" and "parser" not in rules.to_dict()
 
 
 def test_two_subjects_roll_explicit_elevation_and_either_side():
@@ -313,7 +313,7 @@ def test_qe_questions_map_to_our_kinds_with_the_parsed_targets(views_context):
         ("overall", None, {}),
     ]
     request = chat.requests[0]
-    assert request.prompt_version == "qe-questions-v1" and BEAR in request.user
+    assert request.prompt_version == "qe-questions-v2" and BEAR in request.user
     assert "region left" in request.user and "elevation slightly above" in request.user
 
 
@@ -324,7 +324,7 @@ def test_qe_scores_one_request_per_view_with_all_questions_and_records_reasons(v
     qe = MLLMQE(chat, views_context)
     retrieval = rank_kept(parsed, qe, np.zeros(4), [0, 1, 2, 3], top_k=2)
     scoring = chat.requests[1:]
-    assert len(scoring) == 4 and all(r.prompt_version == "qe-answers-v2" for r in scoring)
+    assert len(scoring) == 4 and all(r.prompt_version == "qe-answers-v3" for r in scoring)
     assert scoring[0].schema["properties"]["answers"]["required"] == ["1", "2", "3", "4", "5"]
     assert all(len(r.images) == 1 and r.images[0].shape == (100, 160, 3) for r in scoring)  # long side 160
     assert [int(r.images[0][0, 0, 0]) for r in scoring] == [0, 40, 80, 120]  # each view's own picture
@@ -334,7 +334,7 @@ def test_qe_scores_one_request_per_view_with_all_questions_and_records_reasons(v
     # alone; it lies outside the coarse better half (positions 0, 1) but is kept as the best.
     assert retrieval.top == [2]
     out = retrieval.to_dict([f"view{k}" for k in range(4)])
-    assert out["evaluator"] == {"backend": "mllm", "model": "scripted-model", "prompts": ["qe-questions-v1", "qe-answers-v2"]}
+    assert out["evaluator"] == {"backend": "mllm", "model": "scripted-model", "prompts": ["qe-questions-v2", "qe-answers-v3"]}
     assert out["views"][0]["view"] == "view2" and out["views"][0]["reasons"][0] == "reason 1"
 
 
@@ -348,7 +348,7 @@ def test_qe_scores_one_request_per_view_with_all_questions_and_records_reasons(v
 def test_qe_refuses_an_answer_that_misses_a_question_or_leaves_the_scale(views_context, answer, message):
     parsed = RuleParser().parse(BEAR, SCENE)
     qe = MLLMQE(Unchecked({"qe-questions": QUESTIONS, "qe-answers": answer}), views_context)
-    with pytest.raises(ModelError, match=f"qe-answers answer \\(qe-answers-v2\\) is invalid: view view0: {message}"):
+    with pytest.raises(ModelError, match=f"qe-answers answer \\(qe-answers-v3\\) is invalid: view view0: {message}"):
         qe.answer(qe.questions(parsed), [0])
 
 
