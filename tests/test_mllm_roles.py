@@ -440,3 +440,25 @@ def test_registry_builds_the_mllm_backends_on_one_chat_model_per_models_config_e
         "http://127.0.0.1:9/v1 m2",
     ]
     assert context.shared_with("mllm-chat:") == [parser.chat, judges[0].chat, judges[1].chat]
+
+
+def test_a_rerun_answers_every_role_request_from_the_response_cache(views_context, tmp_path):
+    """The parser and QE through mllm-client's response cache: a second job asks the model nothing,
+    and the stages' progress line says so."""
+    from capframe.backends.mllm.cache import CachedChat
+    from capframe.pipeline.stages import model_calls
+
+    parsed = RuleParser().parse(BEAR, SCENE)
+    script = bear_answers() | {"qe-questions": QUESTIONS, "qe-answers": answers([60, 70, 80, 90, 100])}
+    for run in range(2):
+        context = BackendContext(views_context.scene, views_context.up, tmp_path / "cache")
+        inner = ScriptedChat(script)
+        chat = context.shared("mllm-chat:mllm", lambda inner=inner: CachedChat(inner, tmp_path / "cache" / "mllm"))
+        MLLMParser(chat).parse(BEAR, SCENE)
+        qe = MLLMQE(chat, context)
+        qe.answer(qe.questions(parsed), [0, 1, 2, 3])
+        line = model_calls(SimpleNamespace(backends=SimpleNamespace(context=context)))
+        if run == 0:
+            assert len(inner.requests) == 8 and line.startswith("; mllm: 8 requests, 0 from the cache, 8 asked")
+        else:
+            assert inner.requests == [] and line.startswith("; mllm: 8 requests, 8 from the cache, 0 asked")

@@ -226,8 +226,8 @@ def model_calls(job: Job) -> str:
     stats = [chat.stats() for chat in job.backends.context.shared_with("mllm-chat:") if hasattr(chat, "stats")]
     if not stats:
         return ""
-    hits, misses = sum(s["hits"] for s in stats), sum(s["misses"] for s in stats)
-    seconds = sum(s["seconds"] for s in stats)
+    hits, misses = sum(s["mllm_cache_hits"] for s in stats), sum(s["mllm_cache_misses"] for s in stats)
+    seconds = sum(s["mllm_model_seconds"] for s in stats)
     return f"; mllm: {hits + misses} requests, {hits} from the cache, {misses} asked ({seconds:.1f} s)"
 
 
