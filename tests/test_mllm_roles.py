@@ -462,3 +462,23 @@ def test_a_rerun_answers_every_role_request_from_the_response_cache(views_contex
             assert len(inner.requests) == 8 and line.startswith("; mllm: 8 requests, 0 from the cache, 8 asked")
         else:
             assert inner.requests == [] and line.startswith("; mllm: 8 requests, 8 from the cache, 0 asked")
+
+
+def test_a_model_s_overall_only_questions_are_scored_geometrically_by_the_oracle_s_own():
+    """The baselines rank candidates with the oracle scorer on Retrieve's questions: when a
+    model's questions are all ``overall`` (no geometric answer), it asks its own instead of
+    averaging nothing (which was NaN)."""
+    from capframe.backends.oracle import OracleScorer
+    from capframe.backends.protocols import Question
+    from capframe.retrieve.qe import GeometricQE, questions_for
+
+    parsed = RuleParser().parse(BEAR, SCENE)
+    oracle = OracleScorer.__new__(OracleScorer)  # its label renders are not needed to pick the questions
+    oracle.labels, oracle.long_side = SimpleNamespace(scene=None), 160
+    labels = SimpleNamespace(up=np.array([0.0, 0.0, 1.0]), subjects=[])
+    overall = [Question("overall", "Does it match?"), Question("overall", "Is it nice?")]
+    assert oracle.scorer(parsed, overall, labels).questions == questions_for(parsed)
+    mixed = [Question("visible", "Is the bear there?", "teddy bear", {"shot": "close-up"}), overall[0]]
+    assert oracle.scorer(parsed, mixed, labels).questions == mixed
+    with pytest.raises(InputError, match="overall questions alone have no geometric answer"):
+        GeometricQE(None, {}, labels.up).answer(overall, [0])

@@ -28,6 +28,7 @@ from ..constraints import (
     min_in_frame_fraction,
     view_tolerance_deg,
 )
+from ..errors import InputError
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..measure import box_distance, interval_distance, wrap_deg
 from ..translate.instruction import ParsedInstruction
@@ -104,7 +105,10 @@ class GeometricQE:
 
     def answer(self, questions: list[Question], view_indices: list[int]) -> np.ndarray:
         """(len(view_indices), len(questions)) answers in [0, 100]; ``overall`` is the geometric
-        mean of the view's other answers (one failed aspect makes the whole view a poor match)."""
+        mean of the view's other answers (one failed aspect makes the whole view a poor match), so
+        it needs at least one other question."""
+        if questions and all(q.kind == "overall" for q in questions):
+            raise InputError("overall questions alone have no geometric answer; ask at least one other (visible, region, ...)")
         out = np.zeros((len(view_indices), len(questions)))
         for row, v in enumerate(view_indices):
             for col, q in enumerate(questions):
