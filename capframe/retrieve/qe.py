@@ -240,7 +240,8 @@ def coarse_keep(coarse: np.ndarray) -> list[int]:
 
 def rank_kept(parsed: ParsedInstruction, evaluator, coarse: np.ndarray, kept: list[int], top_k: int = 2) -> Retrieval:
     """Answer the QE questions on the ``kept`` views and keep the top ``top_k`` by mean answer
-    (cut to one when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`).
+    (cut to one when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`), or as
+    the evaluator's own ``cut`` says when it has one (the MLLM's adaptive cut).
 
     Args:
         evaluator: a :class:`~capframe.backends.QuestionEvaluator`.
