@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 TORCH_SPEC ?= torch==2.13.0
 STAMP := $(VENV)/.installed
 
-.PHONY: setup test lint run report sensitivity bench clean
+.PHONY: setup test lint run run-tiny report sensitivity bench clean
 
 setup: $(STAMP)
 
@@ -31,6 +31,18 @@ lint: $(STAMP)
 run: $(STAMP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default
 	$(MAKE) report
+
+# The workflow with the parser and Question-Evaluation on the MLLM backend (config/tiny.yaml): a
+# tiny random-weight Qwen3-VL built offline into .cache/, one scene. Meaningless answers, real
+# plumbing; a second run answers every request from the response cache.
+TINY_MLLM := .cache/tiny-qwen3-vl/config.json
+
+$(TINY_MLLM): $(STAMP)
+	$(BIN)/python -c "from capframe.backends.tiny import tiny_qwen3_vl; tiny_qwen3_vl('$(dir $(TINY_MLLM))')"
+
+run-tiny: $(STAMP) $(TINY_MLLM)
+	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default \
+		--configfile config/config.yaml config/tiny.yaml
 
 # The method's sensitivity variants (config/sensitivity.yaml) on top of a run, then the report.
 sensitivity: $(STAMP)

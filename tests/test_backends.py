@@ -55,9 +55,9 @@ def test_choices_fill_defaults_and_reject_unknown_names_with_the_available_ones(
     chosen = resolve_choices({"associator": "knn", "qe": None})
     assert chosen["associator"] == "knn" and chosen["qe"] == "oracle" and chosen["parser"] == "rules"
     assert "judge" not in chosen  # no backend yet: left out unless chosen
-    with pytest.raises(InputError, match=r"--qe 'mllm' is unknown; available: oracle$"):
-        resolve_choices({"qe": "mllm"})
-    with pytest.raises(InputError, match="--judge 'gpt' is unknown; available: none yet"):
+    with pytest.raises(InputError, match=r"--qe 'gpt' is unknown; available: oracle, mllm$"):
+        resolve_choices({"qe": "gpt"})
+    with pytest.raises(InputError, match="--judge 'gpt' is unknown; available: mllm, mllm-2"):
         resolve_choices({"judge": "gpt"})
 
 

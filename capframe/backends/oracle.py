@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ..retrieve.qe import GeometricQE, SubjectGeometry, coarse_keep, coarse_scores
+from ..retrieve.qe import GeometricQE, SubjectGeometry, coarse_keep, coarse_scores, questions_for
 from ..retrieve.views import VIEWS_LONG_SIDE, cached_view_measurements, measure_views
 from ..scene import Camera
 from ..translate.grounding import ground_by_labels, ground_by_masks
@@ -147,6 +147,11 @@ class OracleScorer:
         self.long_side = long_side
 
     def scorer(self, parsed: ParsedInstruction, questions: list[Question], labels: PseudoLabels) -> QEScorer:
+        """A :class:`QEScorer` of ``questions``; when none of them has a geometric answer (a
+        model's questions may all be ``overall``), of the questions the oracle asks itself
+        (:func:`~capframe.retrieve.qe.questions_for`)."""
+        if all(q.kind == "overall" for q in questions):
+            questions = questions_for(parsed)
         return QEScorer(self.labels.scene, questions, labels, self.long_side)
 
 

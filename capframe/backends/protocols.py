@@ -7,11 +7,15 @@ referred to by their index in the scene's training cameras.
 ==========  ===========================  ============================================
 role        protocol                     embedded backends (offline, CPU)
 ==========  ===========================  ============================================
-parser      :class:`InstructionParser`   ``rules`` (a photographic grammar)
+parser      :class:`InstructionParser`   ``rules`` (a photographic grammar); model
+                                         tier: ``mllm`` (subject, layout and
+                                         orientation parsers)
 coarse      :class:`CoarseScorer`        ``oracle`` (subject visibility from labels);
                                          model tier: ``clip``, ``siglip``, ``fg-clip``,
                                          ``fg-clip2`` (image-text similarity)
-qe          :class:`QuestionEvaluator`   ``oracle`` (answers from label renders)
+qe          :class:`QuestionEvaluator`   ``oracle`` (answers from label renders);
+                                         model tier: ``mllm`` (the model's questions,
+                                         answers and adaptive cut)
 segmenter   :class:`Segmenter`           ``oracle`` (label maps as 2D masks)
 associator  :class:`Associator`          ``oracle`` (label ids), ``knn`` (masks
                                          back-projected, nearest Gaussian means)
@@ -20,7 +24,9 @@ orient      :class:`OrientationEstimator` ``oracle`` (annotated fronts); model t
 scorer      :class:`ImageTextScorer`     ``oracle`` (QE answers of a label render); model
                                          tier: the image-text models of ``coarse``
 diff-scorer :class:`DifferentiableScorer` model tier only: the image-text models
-judge       :class:`Judge`               none yet (model tier)
+judge       :class:`Judge`               model tier only: ``mllm``, ``mllm-2`` (two
+                                         judges, models config entries ``judge`` and
+                                         ``judge-2``)
 ==========  ===========================  ============================================
 
 Model-tier segmenters (user-supplied weights named in the models config): ``grounded-sam``
@@ -120,6 +126,11 @@ class BackendContext:
             self._shared[key] = make()
         return self._shared[key]
 
+    def shared_with(self, prefix: str) -> list[Any]:
+        """The shared values whose keys start with ``prefix``, in the order they were made
+        (e.g. every chat model of the job, for its call counts)."""
+        return [value for key, value in self._shared.items() if key.startswith(prefix)]
+
 
 # Scores candidate cameras for one instruction: N cameras in, (N,) scores out (higher is better).
 CameraScorer = Callable[[list["Camera"]], np.ndarray]
@@ -153,6 +164,11 @@ class QuestionEvaluator(Protocol):
     def answer(self, questions: list[Question], view_indices: list[int]) -> np.ndarray:
         """(len(view_indices), len(questions)) answers in [0, 100]."""
         ...
+
+    # Optional (:func:`capframe.retrieve.qe.rank_kept` uses them when present):
+    # ``cut(scores, top_k) -> list[int]``, the retrieved views' positions among the kept ones
+    # (a model's own adaptive cut), and ``record() -> dict``, what ``retrieval.json`` records of
+    # the evaluator (model, prompt versions, reasons).
 
 
 class Segmenter(Protocol):

@@ -72,6 +72,38 @@ def _orient_anything(context: BackendContext):
     return OrientAnythingOrientation(context)
 
 
+def _chat(context: BackendContext, entry: str):
+    """The chat model of the models config's ``entry`` (built once per job and shared by the
+    roles that read it: the parser and QE both read ``mllm``)."""
+    from .mllm.factory import chat_model
+
+    return chat_model(context, entry)
+
+
+def _mllm_parser(context: BackendContext):
+    from .mllm.parser import MLLMParser
+
+    return MLLMParser(_chat(context, "mllm"))
+
+
+def _mllm_qe(context: BackendContext):
+    from .mllm.qe import MLLMQE
+
+    return MLLMQE(_chat(context, "mllm"), context)
+
+
+def _mllm_judge(entry: str) -> Factory:
+    """A judge reading the models config's ``entry``: two entries, two independent judges."""
+
+    def build(context: BackendContext):
+        from .mllm.judge import MLLMJudge
+
+        return MLLMJudge(_chat(context, entry))
+
+    build.__name__ = f"mllm_judge_{entry}"
+    return build
+
+
 @dataclass(frozen=True)
 class Role:
     """A perception role: its option, what it does, its backends (name -> factory) and default."""
@@ -83,9 +115,9 @@ class Role:
 
 
 ROLES: dict[str, Role] = {
-    "parser": Role("--parser", "instruction parser", {"rules": _rules}, "rules"),
+    "parser": Role("--parser", "instruction parser", {"rules": _rules, "mllm": _mllm_parser}, "rules"),
     "coarse": Role("--coarse-scorer", "coarse scorer of the training views", {"oracle": _oracle("OracleCoarse")}, "oracle"),
-    "qe": Role("--qe", "Question-Evaluation of the kept views", {"oracle": _oracle("OracleQE")}, "oracle"),
+    "qe": Role("--qe", "Question-Evaluation of the kept views", {"oracle": _oracle("OracleQE"), "mllm": _mllm_qe}, "oracle"),
     "segmenter": Role(
         "--segmenter",
         "subject segmenter (2D masks)",
@@ -103,7 +135,8 @@ ROLES: dict[str, Role] = {
         "--scorer", "image-text scorer of candidate cameras (baselines)", {"oracle": _oracle("OracleScorer")}, "oracle"
     ),
     "diff-scorer": Role("--diff-scorer", "differentiable image-text scorer (ChatCam-style)", {}, None),
-    "judge": Role("--judge", "MLLM judge (benchmark)", {}, None),
+    # Two judges (the paper's two): models config entries "judge" and "judge-2".
+    "judge": Role("--judge", "MLLM judge (benchmark)", {"mllm": _mllm_judge("judge"), "mllm-2": _mllm_judge("judge-2")}, None),
 }
 
 # Model-tier backends, appended to their roles.

@@ -219,6 +219,18 @@ def open_job(scene_dir: str | Path, options: GroundOptions) -> Job:
     return Job(scene, up, Backends(options.backends, context))
 
 
+def model_calls(job: Job) -> str:
+    """The job's MLLM requests so far (every chat model's cache counters), for a stage's progress
+    line: how many were answered from the response cache and how many asked a model; empty when
+    no chat model was built."""
+    stats = [chat.stats() for chat in job.backends.context.shared_with("mllm-chat:") if hasattr(chat, "stats")]
+    if not stats:
+        return ""
+    hits, misses = sum(s["mllm_cache_hits"] for s in stats), sum(s["mllm_cache_misses"] for s in stats)
+    seconds = sum(s["mllm_model_seconds"] for s in stats)
+    return f"; mllm: {hits + misses} requests, {hits} from the cache, {misses} asked ({seconds:.1f} s)"
+
+
 def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
     """``text`` parsed against the scene's vocabulary (before any expensive work, so bad input
     fails fast)."""
@@ -227,7 +239,8 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
         "parse",
         ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
         + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else "")
-        + "".join(f"; read {c['said']!r} as {c['read']!r}" for c in parsed.corrected),
+        + "".join(f"; read {c['said']!r} as {c['read']!r}" for c in parsed.corrected)
+        + model_calls(job),
     )
     return parsed
 
@@ -259,7 +272,7 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
     retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, kept, options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
-    clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top))
+    clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top) + model_calls(job))
     return Retrieved(
         coarse.parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], coarse.up
     )
@@ -319,7 +332,8 @@ def translate(
         s.name: (groundings[s.name].gaussians, groundings[s.name].centroid, fronts.get(s.name) if s.needs_front else None)
         for s in parsed.subjects
     }
-    labels = labels_from_constraints(parsed.constraints(), subjects, retrieved.up)
+    boxes = {s.name: s.box for s in parsed.subjects if s.box is not None}
+    labels = labels_from_constraints(parsed.constraints(), subjects, retrieved.up, boxes)
     if options.box_noise or options.front_noise_deg:
         labels = perturbed(labels, options.box_noise, options.front_noise_deg, options.noise_seed)
     clock.done("translate", ", ".join(f"{s.name}: {len(s.gaussians)} Gaussians" for s in labels.subjects))

@@ -13,7 +13,7 @@ miss when no view satisfies a question exactly.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 import torch
@@ -28,6 +28,7 @@ from ..constraints import (
     min_in_frame_fraction,
     view_tolerance_deg,
 )
+from ..errors import InputError
 from ..geometry import any_horizontal, camera_roll, view_angles
 from ..measure import box_distance, interval_distance, wrap_deg
 from ..translate.instruction import ParsedInstruction
@@ -104,7 +105,10 @@ class GeometricQE:
 
     def answer(self, questions: list[Question], view_indices: list[int]) -> np.ndarray:
         """(len(view_indices), len(questions)) answers in [0, 100]; ``overall`` is the geometric
-        mean of the view's other answers (one failed aspect makes the whole view a poor match)."""
+        mean of the view's other answers (one failed aspect makes the whole view a poor match), so
+        it needs at least one other question."""
+        if questions and all(q.kind == "overall" for q in questions):
+            raise InputError("overall questions alone have no geometric answer; ask at least one other (visible, region, ...)")
         out = np.zeros((len(view_indices), len(questions)))
         for row, v in enumerate(view_indices):
             for col, q in enumerate(questions):
@@ -188,6 +192,8 @@ class Retrieval:
         answers: (M, Q) answers of the kept views, rows in ``kept`` order.
         scores: (M,) mean answer per kept view.
         top: indices (into the training views) of the retrieved views, best first.
+        evaluator: what a model evaluator records of itself (model, prompt versions, and
+            ``reasons``: per kept view, in ``kept`` order, a reason per answer); empty otherwise.
     """
 
     coarse: np.ndarray
@@ -196,6 +202,7 @@ class Retrieval:
     answers: np.ndarray
     scores: np.ndarray
     top: list[int]
+    evaluator: dict = field(default_factory=dict)
 
     def ranked(self) -> list[int]:
         """All kept views by QE score, best first (``top`` is a prefix of it)."""
@@ -203,7 +210,8 @@ class Retrieval:
 
     def to_dict(self, view_names: list[str]) -> dict:
         ranked = np.argsort(-self.scores, kind="stable")
-        return {
+        reasons = self.evaluator.get("reasons")
+        out = {
             "questions": [asdict(q) for q in self.questions],
             "views": [
                 {
@@ -213,10 +221,14 @@ class Retrieval:
                     "answers": [float(a) for a in self.answers[i]],
                     "retrieved": self.kept[i] in self.top,
                 }
+                | ({"reasons": list(reasons[i])} if reasons else {})
                 for i in ranked
             ],
             "top": [view_names[v] for v in self.top],
         }
+        if self.evaluator:
+            out["evaluator"] = {k: v for k, v in self.evaluator.items() if k != "reasons"}
+        return out
 
 
 def coarse_keep(coarse: np.ndarray) -> list[int]:
@@ -228,7 +240,8 @@ def coarse_keep(coarse: np.ndarray) -> list[int]:
 
 def rank_kept(parsed: ParsedInstruction, evaluator, coarse: np.ndarray, kept: list[int], top_k: int = 2) -> Retrieval:
     """Answer the QE questions on the ``kept`` views and keep the top ``top_k`` by mean answer
-    (cut to one when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`).
+    (cut to one when the best leads the second by more than :data:`ADAPTIVE_CUT_POINTS`), or as
+    the evaluator's own ``cut`` says when it has one (the MLLM's adaptive cut).
 
     Args:
         evaluator: a :class:`~capframe.backends.QuestionEvaluator`.
@@ -238,13 +251,20 @@ def rank_kept(parsed: ParsedInstruction, evaluator, coarse: np.ndarray, kept: li
     questions = evaluator.questions(parsed)
     answers = evaluator.answer(questions, kept)
     scores = answers.mean(1)
-    order = np.argsort(-scores, kind="stable")
-    top = [kept[order[0]]]
-    for i in order[1:top_k]:
-        if scores[order[0]] - scores[i] > ADAPTIVE_CUT_POINTS:
-            break
-        top.append(kept[i])
-    return Retrieval(coarse, kept, questions, answers, scores, top)
+    # A model evaluator brings its own cut (the paper's adaptive one on the model's scale) and a
+    # record of what answered (model, prompt versions, reasons).
+    cut = getattr(evaluator, "cut", None)
+    if cut is not None:
+        top = [kept[i] for i in cut(scores, top_k)]
+    else:
+        order = np.argsort(-scores, kind="stable")
+        top = [kept[order[0]]]
+        for i in order[1:top_k]:
+            if scores[order[0]] - scores[i] > ADAPTIVE_CUT_POINTS:
+                break
+            top.append(kept[i])
+    record = evaluator.record() if hasattr(evaluator, "record") else {}
+    return Retrieval(coarse, kept, questions, answers, scores, top, record)
 
 
 def retrieve(parsed: ParsedInstruction, scorer, evaluator, top_k: int = 2) -> Retrieval:

@@ -13,7 +13,7 @@ import dataclasses
 from dataclasses import asdict, dataclass, field
 
 from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints, SubjectConstraint
-from ..errors import InputError
+from ..errors import InputError, clip
 from .labels import layout_boxes
 
 
@@ -29,6 +29,10 @@ class ParsedSubject:
         region: key of :data:`~capframe.constraints.REGIONS`, or None.
         shot: key of :data:`~capframe.constraints.SHOT_SIZES`, or None.
         view: key of :data:`~capframe.constraints.VIEW_SIDES`, or None.
+        box: an explicit layout box ``(x0, y0, x1, y1)`` in ``[0, 1]`` (origin top-left) where
+            its mask should sit, or None. A model parser's layout (the paper's layout pseudo
+            label); it replaces the box of ``region`` and ``shot`` in the pseudo labels, while the
+            checker keeps reading the named cues, which the parser sets to the closest ones.
     """
 
     mention: str
@@ -38,15 +42,30 @@ class ParsedSubject:
     region: str | None = None
     shot: str | None = None
     view: str | None = None
+    box: tuple[float, float, float, float] | None = None
 
     def __post_init__(self) -> None:
         # Validation is shared with the constraint vocabulary, so an MLLM's invalid key is named.
         SubjectConstraint(self.name, self.role, self.region, self.shot, self.view)
+        if self.box is not None:
+            self.box = check_box(self.box, f"subject {self.name!r} box")
 
     @property
     def needs_front(self) -> bool:
         """Whether orientation is estimated for it: asymmetric, with a view cue."""
         return self.view is not None and not self.symmetric
+
+
+def check_box(box, what: str) -> tuple[float, float, float, float]:
+    """``box`` as four floats ``x0 < x1``, ``y0 < y1`` inside ``[0, 1]``; :class:`InputError`
+    naming ``what`` otherwise."""
+    try:
+        values = tuple(float(v) for v in box)
+    except (TypeError, ValueError):
+        values = ()
+    if len(values) != 4 or not all(0.0 <= v <= 1.0 for v in values) or not (values[0] < values[2] and values[1] < values[3]):
+        raise InputError(f"{what} is {clip(repr(box))}; expected [x0, y0, x1, y1] in [0, 1] with x0 < x1 and y0 < y1")
+    return values
 
 
 @dataclass
@@ -62,6 +81,8 @@ class ParsedInstruction:
         unparsed: fragments of the text the parser did not understand, in order.
         corrected: names read through a misspelling, ``{"said": "teddy baer", "read": "teddy bear"}``
             each (normalised words), in order.
+        parser: which parser produced it, when a model did (its identity and prompt versions);
+            not part of what was understood, so two parsers' readings compare equal without it.
     """
 
     text: str
@@ -71,6 +92,7 @@ class ParsedInstruction:
     roll_deg: float | None = None
     unparsed: list[str] = field(default_factory=list)
     corrected: list[dict[str, str]] = field(default_factory=list)
+    parser: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         self.constraints()  # validates the named cues and the elevation pair
@@ -87,7 +109,7 @@ class ParsedInstruction:
         if cues is None:
             return self
         if cues == "layout":
-            subjects = [dataclasses.replace(s, region=None, shot=None) for s in self.subjects]
+            subjects = [dataclasses.replace(s, region=None, shot=None, box=None) for s in self.subjects]
             return dataclasses.replace(self, subjects=subjects)
         if cues == "orientation":
             subjects = [dataclasses.replace(s, view=None) for s in self.subjects]
@@ -98,8 +120,11 @@ class ParsedInstruction:
         """JSON-ready form: the fields of :data:`JSON_SCHEMA` plus, per subject, the derived layout
         targets (``layout``) and view offsets (``view_offsets_deg``)."""
         data = asdict(self)
+        if not self.parser:
+            del data["parser"]
         for subject, out in zip(self.subjects, data["subjects"]):
-            region, box, extent = layout_boxes(subject.region, subject.shot)
+            out["box"] = _listed(subject.box)
+            region, box, extent = layout_boxes(subject.region, subject.shot, subject.box)
             out["layout"] = {"region": _listed(region), "box": _listed(box), "extent": _listed(extent)}
             out["view_offsets_deg"] = {
                 "azimuth": list(VIEW_SIDES[subject.view]) if subject.view and not subject.symmetric else None
@@ -120,6 +145,7 @@ class ParsedInstruction:
                 data.get("roll_deg"),
                 list(data.get("unparsed", [])),
                 [{"said": str(c["said"]), "read": str(c["read"])} for c in data.get("corrected", [])],
+                dict(data.get("parser") or {}),
             )
         except (KeyError, TypeError) as err:
             raise InputError(
@@ -127,7 +153,7 @@ class ParsedInstruction:
             ) from None
 
 
-_SUBJECT_KEYS = ("mention", "name", "role", "symmetric", "region", "shot", "view")
+_SUBJECT_KEYS = ("mention", "name", "role", "symmetric", "region", "shot", "view", "box")
 
 
 def _listed(value) -> list | None:
@@ -160,6 +186,13 @@ JSON_SCHEMA: dict = {
                     "region": _nullable_enum(REGIONS),
                     "shot": _nullable_enum(SHOT_SIZES),
                     "view": _nullable_enum(VIEW_SIDES),
+                    "box": {
+                        "type": ["array", "null"],
+                        "description": "explicit layout box [x0, y0, x1, y1], normalised, origin top-left",
+                        "items": {"type": "number", "minimum": 0, "maximum": 1},
+                        "minItems": 4,
+                        "maxItems": 4,
+                    },
                 },
                 "additionalProperties": True,
             },
@@ -168,6 +201,7 @@ JSON_SCHEMA: dict = {
         "elevation_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
         "roll_deg": {"type": ["number", "null"], "minimum": -90, "maximum": 90},
         "unparsed": {"type": "array", "items": {"type": "string"}},
+        "parser": {"type": "object", "description": "the model parser's identity and prompt versions"},
         "corrected": {
             "type": "array",
             "description": "names read through a misspelling",

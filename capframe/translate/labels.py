@@ -119,14 +119,21 @@ def _shrink(box: tuple[float, ...], margin: float) -> tuple[float, float, float,
     return (x0 + mx, y0 + my, x1 - mx, y1 - my)
 
 
-def layout_boxes(region: str | None, shot: str | None) -> tuple[tuple | None, tuple | None, tuple | None]:
-    """Centre region, mask box and extent interval for a subject's region and shot size.
+def layout_boxes(
+    region: str | None, shot: str | None, box: tuple[float, float, float, float] | None = None
+) -> tuple[tuple | None, tuple | None, tuple | None]:
+    """Centre region, mask box and extent interval for a subject's region and shot size, or for
+    an explicit target ``box`` (a model parser's layout, normalised ``[x0, y0, x1, y1]``).
 
     The mask box is a square (in frame fractions) of the shot's extent centred on the region,
     shifted to stay inside the frame; without a shot size it is the region itself. The extent
     interval is the checker's, narrowed by ``SHOT_MARGIN`` (and capped at the frame for a
-    close-up, whose accepted interval is open-ended).
+    close-up, whose accepted interval is open-ended). An explicit box is the mask box itself and,
+    shrunk by ``REGION_MARGIN``, the centre's region (the paper keeps the mask's centroid inside
+    its layout box); the extent still follows the shot size when one is named.
     """
+    if box is not None:
+        return _shrink(box, REGION_MARGIN), tuple(box), _extent(shot)
     region_box = _shrink(REGIONS[region], REGION_MARGIN) if region else None
     if shot is None:
         return region_box, (REGIONS[region] if region else None), None
@@ -134,9 +141,15 @@ def layout_boxes(region: str | None, shot: str | None) -> tuple[tuple | None, tu
     cx, cy = ((region_box[0] + region_box[2]) / 2, (region_box[1] + region_box[3]) / 2) if region_box else (0.5, 0.5)
     cx = min(max(cx, size / 2), 1 - size / 2)
     cy = min(max(cy, size / 2), 1 - size / 2)
+    return region_box, (cx - size / 2, cy - size / 2, cx + size / 2, cy + size / 2), _extent(shot)
+
+
+def _extent(shot: str | None) -> tuple[float, float] | None:
+    """The extent interval Refine aims for with a shot size (see :func:`layout_boxes`)."""
+    if shot is None:
+        return None
     lo, hi = SHOT_SIZES[shot]
-    extent = (lo * (1 + SHOT_MARGIN), min(hi * (1 - SHOT_MARGIN), 0.95))
-    return region_box, (cx - size / 2, cy - size / 2, cx + size / 2, cy + size / 2), extent
+    return (lo * (1 + SHOT_MARGIN), min(hi * (1 - SHOT_MARGIN), 0.95))
 
 
 def view_target(view: str | None, elevation_range: tuple[float, float] | None) -> ViewTarget | None:
@@ -164,7 +177,10 @@ def min_in_frame_share(extent: tuple[float, float] | None) -> float:
 
 
 def labels_from_constraints(
-    constraints: Constraints, subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]], up: np.ndarray
+    constraints: Constraints,
+    subjects: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray | None]],
+    up: np.ndarray,
+    boxes: dict[str, tuple[float, float, float, float]] | None = None,
 ) -> PseudoLabels:
     """Pseudo labels for parsed constraints.
 
@@ -172,6 +188,8 @@ def labels_from_constraints(
         constraints: what the instruction asks.
         subjects: per subject name, its Gaussian indices (M,), centroid (3,) and front (3,) or None.
         up: (3,) world up.
+        boxes: per subject name, an explicit layout box (a model parser's ``ParsedSubject.box``)
+            that replaces the box of its region and shot size.
     """
     roll = constraints.roll_deg or 0.0
     elevation = constraints.elevation_range()
@@ -180,7 +198,7 @@ def labels_from_constraints(
         if subject.name not in subjects:
             raise InputError(f"subject {subject.name!r} has no Gaussians; known: {sorted(subjects)}")
         index, centroid, front = subjects[subject.name]
-        region, box, extent = layout_boxes(subject.region, subject.shot)
+        region, box, extent = layout_boxes(subject.region, subject.shot, (boxes or {}).get(subject.name))
         # The elevation is measured around the primary subject (the first).
         view = view_target(subject.view if front is not None else None, elevation if k == 0 else None)
         labels.append(

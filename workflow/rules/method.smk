@@ -104,7 +104,8 @@ checkpoint parse:
         gravity=gravity_option,
         backends=lambda wc: backend_options(wc.variant, STAGE_ROLES["parse"]),
     shell:
-        "capframe parse {input.scene:q} {params.text:q} -o {output:q} {params.backends:q} {params.gravity:q} > {log:q} 2>&1"
+        "capframe parse {input.scene:q} {params.text:q} -o {output:q} --cache results/views/{wildcards.scene:q} "
+        "{params.backends:q} {params.gravity:q} > {log:q} 2>&1"
 
 
 rule coarse:
