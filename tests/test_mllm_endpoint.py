@@ -514,3 +514,38 @@ def test_bench_mllm_counts_its_calls(monkeypatch):
     assert figures["server requests"] == 16 + 4 + 8
     assert figures["calls through the cache"] == 24 and figures["cache hit rate"] == pytest.approx(2 / 3)
     assert all(value > 0 for value in figures.values())
+
+
+def test_ground_with_its_endpoint_down_fails_in_one_line_and_writes_nothing(tmp_path):
+    """The issue's acceptance: ``capframe ground --parser mllm`` against a server that is down
+    exits with the model error's status in one line, within its timeout and retries, and leaves
+    no result folder."""
+    import subprocess
+    import sys
+
+    import yaml
+    from _synth_helpers import build_scene
+
+    from capframe.scene import SceneMeta
+    from capframe.scene.directory import write_scene_meta
+
+    scene = tmp_path / "scene"
+    truth = build_scene(scene, per_object=40)
+    write_scene_meta(SceneMeta(up=np.asarray(truth["up"]), aligned=True), scene / "scene.json")
+    endpoint = f"http://127.0.0.1:{_free_port()}/v1"
+    models = tmp_path / "models.yaml"
+    models.write_text(yaml.safe_dump({"mllm": {"endpoint": endpoint, "model": "qwen-test", "retries": 1, "timeout_s": 2}}))
+    start = time.monotonic()
+    done = subprocess.run(
+        [sys.executable, "-m", "capframe.cli", "ground", str(scene), "the bear from its left", "-o", str(tmp_path / "out")]
+        + ["--parser", "mllm", "--models", str(models), "--cache", str(tmp_path / "cache")],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert done.returncode == 3, done.stderr
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("capframe: model error:") and endpoint in lines[0], done.stderr
+    assert not (tmp_path / "out").exists()
+    # Start-up and the scene's loading aside, two 2-second attempts and a short back-off.
+    assert time.monotonic() - start < 120
