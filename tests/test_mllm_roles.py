@@ -446,7 +446,7 @@ def test_a_rerun_answers_every_role_request_from_the_response_cache(views_contex
     """The parser and QE through mllm-client's response cache: a second job asks the model nothing,
     and the stages' progress line says so."""
     from capframe.backends.mllm.cache import CachedChat
-    from capframe.pipeline.stages import model_calls
+    from capframe.pipeline.stages import StageClock, model_calls
 
     parsed = RuleParser().parse(BEAR, SCENE)
     script = bear_answers() | {"qe-questions": QUESTIONS, "qe-answers": answers([60, 70, 80, 90, 100])}
@@ -457,11 +457,15 @@ def test_a_rerun_answers_every_role_request_from_the_response_cache(views_contex
         MLLMParser(chat).parse(BEAR, SCENE)
         qe = MLLMQE(chat, context)
         qe.answer(qe.questions(parsed), [0, 1, 2, 3])
-        line = model_calls(SimpleNamespace(backends=SimpleNamespace(context=context)))
+        clock = StageClock(enabled=False)
+        line = model_calls(SimpleNamespace(backends=SimpleNamespace(context=context)), clock)
+        timings = clock.total()  # result.json's timings carry the counters
         if run == 0:
             assert len(inner.requests) == 8 and line.startswith("; mllm: 8 requests, 0 from the cache, 8 asked")
+            assert (timings["mllm_calls"], timings["mllm_cache_hits"], timings["mllm_cache_misses"]) == (8, 0, 8)
         else:
             assert inner.requests == [] and line.startswith("; mllm: 8 requests, 8 from the cache, 0 asked")
+            assert (timings["mllm_cache_hits"], timings["mllm_cache_misses"], timings["mllm_model_seconds"]) == (8, 0, 0)
 
 
 def test_a_model_s_overall_only_questions_are_scored_geometrically_by_the_oracle_s_own():

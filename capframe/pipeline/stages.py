@@ -129,12 +129,15 @@ def default_cache_dir(scene_dir: Path) -> Path:
 
 
 class StageClock:
-    """Each stage's wall time; with ``enabled``, one line per stage on stderr."""
+    """Each stage's wall time; with ``enabled``, one line per stage on stderr. ``counters`` are
+    what the stages' models cost so far (the MLLM response cache's counters), reported with the
+    timings."""
 
     def __init__(self, enabled: bool):
         self.enabled = enabled
         self.start = self.last = time.perf_counter()
         self.timings: dict[str, float] = {}
+        self.counters: dict[str, float] = {}
 
     def done(self, stage: str, message: str = "") -> None:
         now = time.perf_counter()
@@ -144,8 +147,8 @@ class StageClock:
         self.last = now
 
     def total(self) -> dict[str, float]:
-        """The stage timings and ``total_s``, the wall time since the clock started."""
-        return dict(self.timings, total_s=time.perf_counter() - self.start)
+        """The stage timings, ``total_s`` (the wall time since the clock started) and the counters."""
+        return dict(self.timings, total_s=time.perf_counter() - self.start) | self.counters
 
 
 # Two refined poses closer than this are the same candidate.
@@ -219,15 +222,17 @@ def open_job(scene_dir: str | Path, options: GroundOptions) -> Job:
     return Job(scene, up, Backends(options.backends, context))
 
 
-def model_calls(job: Job) -> str:
-    """The job's MLLM requests so far (every chat model's cache counters), for a stage's progress
-    line: how many were answered from the response cache and how many asked a model; empty when
-    no chat model was built."""
+def model_calls(job: Job, clock: StageClock) -> str:
+    """The job's MLLM requests so far (every chat model's cache counters, summed), kept in
+    ``clock.counters`` for the timings and returned for a stage's progress line: how many were
+    answered from the response cache and how many asked a model; empty when no chat model was
+    built."""
     stats = [chat.stats() for chat in job.backends.context.shared_with("mllm-chat:") if hasattr(chat, "stats")]
     if not stats:
         return ""
-    hits, misses = sum(s["mllm_cache_hits"] for s in stats), sum(s["mllm_cache_misses"] for s in stats)
-    seconds = sum(s["mllm_model_seconds"] for s in stats)
+    clock.counters = {key: sum(s[key] for s in stats) for key in stats[0]}
+    hits, misses = clock.counters["mllm_cache_hits"], clock.counters["mllm_cache_misses"]
+    seconds = clock.counters["mllm_model_seconds"]
     return f"; mllm: {hits + misses} requests, {hits} from the cache, {misses} asked ({seconds:.1f} s)"
 
 
@@ -240,7 +245,7 @@ def parse(job: Job, text: str, clock: StageClock) -> ParsedInstruction:
         ", ".join(f"{s.name} ({s.role})" for s in parsed.subjects)
         + (f"; not understood: {parsed.unparsed}" if parsed.unparsed else "")
         + "".join(f"; read {c['said']!r} as {c['read']!r}" for c in parsed.corrected)
-        + model_calls(job),
+        + model_calls(job, clock),
     )
     return parsed
 
@@ -272,7 +277,7 @@ def qe(job: Job, coarse: Coarse, options: GroundOptions, clock: StageClock) -> R
     retrieval = rank_kept(coarse.parsed, job.backends["qe"], scores, kept, options.top_k)
     first = random.Random(options.seed).choice(retrieval.top)
     starts = [first] + [v for v in retrieval.ranked() if v != first]
-    clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top) + model_calls(job))
+    clock.done("retrieve", "top: " + ", ".join(names[v] for v in retrieval.top) + model_calls(job, clock))
     return Retrieved(
         coarse.parsed, retrieval.to_dict(names), [names[v] for v in retrieval.top], [names[v] for v in starts], coarse.up
     )
