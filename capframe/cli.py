@@ -145,7 +145,7 @@ def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
 def _cmd_warm_server(args: argparse.Namespace) -> None:
     from .warm import serve
 
-    serve(args.socket, parent=args.parent)
+    serve(args.socket, main, parent=args.parent)
 
 
 def _cmd_occupancy(args: argparse.Namespace) -> None:

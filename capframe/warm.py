@@ -30,6 +30,7 @@ import socket
 import struct
 import sys
 import traceback
+from collections.abc import Callable
 
 SOCKET_ENV = "CAPFRAME_WARM_SOCKET"
 # Imported once by the server: what the workflow's stage verbs import on their own.
@@ -153,8 +154,9 @@ def _umask() -> int:
 # --- server ---------------------------------------------------------------------------------
 
 
-def serve(path: str, parent: int | None = None) -> None:
-    """Import :data:`PRELOAD`, then run every request on ``path`` until the process ``parent``
+def serve(path: str, main: Callable[[list[str]], int], parent: int | None = None) -> None:
+    """Import :data:`PRELOAD`, then run every request on ``path`` with ``main`` (the ``capframe``
+    command's :func:`capframe.cli.main`) until the process ``parent``
     (default: the one that started the server) has gone, or SIGTERM. Name the parent where it
     may exit before the server starts (its pid would no longer be the server's parent's)."""
     global _DEFAULT_THREADS
@@ -185,7 +187,7 @@ def serve(path: str, parent: int | None = None) -> None:
             connection, _ = listener.accept()
             if os.fork() == 0:
                 listener.close()
-                _monitor(connection)  # never returns
+                _monitor(connection, main)  # never returns
             connection.close()
     finally:
         listener.close()
@@ -208,7 +210,7 @@ def _alive(parent: int) -> bool:
         return True  # no /proc: existence is all we can tell
 
 
-def _monitor(connection: socket.socket) -> None:
+def _monitor(connection: socket.socket, main: Callable[[list[str]], int]) -> None:
     """Fork the worker for the request on ``connection``, tell the client its pid, wait for it and
     send its exit status (128 + N for a worker killed by signal N, as a shell reports it)."""
     status = 1
@@ -221,7 +223,7 @@ def _monitor(connection: socket.socket) -> None:
         worker = os.fork()
         if worker == 0:
             connection.close()
-            _work(request, fds)  # never returns
+            _work(request, fds, main)  # never returns
         for fd in fds:
             os.close(fd)
         _send(connection, {"pid": worker})
@@ -234,7 +236,7 @@ def _monitor(connection: socket.socket) -> None:
     os._exit(0)
 
 
-def _work(request: dict, fds: list[int]) -> None:
+def _work(request: dict, fds: list[int], main: Callable[[list[str]], int]) -> None:
     """Become the client's command: its streams, directory, environment and argv; then run it."""
     code = 1
     try:
@@ -250,8 +252,6 @@ def _work(request: dict, fds: list[int]) -> None:
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
         sys.argv = ["capframe", *request["argv"]]
         _threads_from_environment()
-        from .cli import main
-
         code = main(request["argv"])
     except SystemExit as exit_:
         code = exit_.code if isinstance(exit_.code, int) else (0 if exit_.code is None else 1)

@@ -107,12 +107,10 @@ def per_instruction_cpu(benchmarks: str | Path) -> tuple[float, float]:
 
 def bench_startup(benchmarks: str | Path | None = None, repeats: int = 5) -> dict:
     """The start-up figures (CPU seconds per job; see the module docstring)."""
-    from ..cli import main
-
     with tempfile.TemporaryDirectory(prefix="cfw-") as folder:
         folder = Path(folder)
         scene, path = folder / "scene", folder / "s.sock"
-        main(["synth", str(scene), *SCENE_ARGS])
+        subprocess.run([sys.executable, "-m", "capframe.cli", "synth", str(scene), *SCENE_ARGS], check=True, capture_output=True)
         argv = _command(scene, folder / "parsed.json")
         cold_env = {k: v for k, v in os.environ.items() if k != "CAPFRAME_WARM_SOCKET"}
         cold_cpu, cold_wall = _subprocess(argv, cold_env, repeats)
