@@ -51,6 +51,9 @@ def pseudo_labels(scene, gt, constraints: Constraints):
         (SubjectConstraint("teddy bear", view="back-right", shot="medium", region="right"), "high angle"),
         (SubjectConstraint("teddy bear", view="front", shot="wide", region="lower left"), "eye level"),
         (SubjectConstraint("vase", shot="medium", region="upper left"), "slightly above"),
+        # Below the subject: the ray at the asked distance meets the floor, so the camera slides
+        # in along it until it is above the floor, and looks up.
+        (SubjectConstraint("teddy bear", view="front"), "low angle"),
     ],
 )
 def test_the_first_closed_form_camera_satisfies_the_clauses_as_solved(world, subject, elevation):

@@ -552,7 +552,7 @@ def test_solved_starts_write_no_nan(scene_dir):
     from capframe.scene._io import json_text
 
     camera = load_scene_dir(scene_dir, load_gaussians=False).cameras[0]
-    entry = Candidate(camera, 30.0, float("nan"), 2.0, float("inf"), 0.0, 0.0, "inside geometry").to_dict()
+    entry = Candidate(camera, 30.0, float("nan"), 2.0, float("inf"), 0.0, 0.0, 0.0, "inside geometry").to_dict()
     assert entry["elevation_deg"] is None and entry["clearance"] is None and entry["azimuth_deg"] == 30.0
     assert "NaN" not in json_text(entry, "solved")
 

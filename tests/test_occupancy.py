@@ -107,6 +107,49 @@ def test_segment_blocked_by_the_box(grid):
     assert grid.segment_blocked(np.array([6.0, 0.0, 5.0]), np.array([-6.0, 0.0, 5.0])) == 0
 
 
+def room(walls: tuple[str, ...]) -> GaussianScene:
+    """A floor (half-size 4) with walls 2.5 high on the named sides of the square [-3, 3]^2
+    (``+x``, ``-x``, ``+y``, ``-y``) and a box of side 1 (a sofa, say) standing in its middle."""
+    parts = [plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 4.0, 0.1)]
+    for wall in walls:
+        sign, axis = (1.0 if wall[0] == "+" else -1.0), "xy".index(wall[1])
+        centre = [0.0, 0.0, 1.25]
+        centre[axis] = 3.0 * sign
+        along = (0, 1, 0) if axis == 0 else (1, 0, 0)
+        points = plane(centre, along, (0, 0, 1), 3.0, 0.1)
+        parts.append(points[(points[:, 2] >= 0.0) & (points[:, 2] <= 2.5)])
+    parts += [plane((0, 0, 0.5 + s), (1, 0, 0), (0, 1, 0), 0.5, 0.1) for s in (-0.5, 0.5)]
+    parts += [plane((s, 0, 0.5), (0, 1, 0), (0, 0, 1), 0.5, 0.1) for s in (-0.5, 0.5)]
+    parts += [plane((0, s, 0.5), (1, 0, 0), (0, 0, 1), 0.5, 0.1) for s in (-0.5, 0.5)]
+    means = torch.cat(parts)
+    n = len(means)
+    return GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), torch.full((n, 3), 0.06), torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+
+
+@pytest.mark.parametrize("walls", [("+x", "-x", "+y", "-y"), ("+x", "-x", "+y")])
+def test_a_room_has_a_ceiling_at_its_walls_top(walls):
+    """Closed or open on one side, a camera stays in the room: not over the walls, not behind
+    them; inside, the free space reaches up to the walls' top."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(walls), up, [make_camera(eye=(0.0, -2.0, 1.2), target=(0.0, 0.0, 0.5), up=(0.0, 0.0, -1.0))])
+    assert grid.ceiling > grid.floor_top >= 0
+    over_wall, behind_wall, high_inside, low_inside = grid.clearance(
+        torch.tensor([[0.0, 3.0, 3.0], [0.0, 3.6, 1.2], [1.5, 1.5, 3.2], [1.5, 1.5, 1.8]])
+    ).tolist()
+    assert over_wall < 0 and behind_wall < 0 and high_inside < 0
+    assert low_inside > 0.5
+
+
+def test_no_ceiling_without_walls(grid):
+    """A box standing alone on a floor (the module's world) and a single wall are no room."""
+    assert grid.ceiling == -1
+    up = np.array([0.0, 0.0, 1.0])
+    one_wall = build_occupancy(room(("+y",)), up, [camera_at((0.0, -2.0, 1.2))])
+    assert one_wall.ceiling == -1 and one_wall.clearance(torch.tensor([0.0, 0.0, 3.5])).item() > 0
+
+
 def test_up_frame_is_a_rotation_with_up_last():
     for up in ([0, 0, 1], [0, -1, 0], [0.3, -0.2, 0.93]):
         R = up_frame(np.array(up, dtype=float))

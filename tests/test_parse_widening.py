@@ -236,7 +236,51 @@ POLITE = [
 ]
 
 
-@pytest.mark.parametrize("text, want", check(SIDE_NOUNS + NOT_SUBJECTS + THREE_QUARTER + DEGREES + TWO_ENDS + SIZES + POLITE))
+# Heights said the way people move a camera: getting low or high, pointing it up or down,
+# heights of surfaces and of the ground, relative to eye level.
+HEIGHTS = [
+    ("Crouch down low and photograph the sofa.", parsed(subject(SOFA), elevation="low angle")),
+    ("Point the camera up towards the fridge.", parsed(subject(FRIDGE), elevation="low angle")),
+    ("Aim down at the bear from the left.", parsed(subject(BEAR, view="left"), elevation="high angle")),
+    ("Climb up high and frame the TV.", parsed(subject(TV), elevation="high angle")),
+    ("Look down onto the vase.", parsed(subject(VASE), elevation="high angle")),
+    ("The bear, shot from floor level.", parsed(subject(BEAR), elevation="low angle")),
+    # A named elevation still wins over such a hint.
+    ("A worm's-eye view of the TV from ground level.", parsed(subject(TV), elevation="worm's-eye")),
+    ("The bear with the camera at desk height.", parsed(subject(BEAR), elevation="eye level")),
+    ("The vase from counter level, on the right.", parsed(subject(VASE, region="right"), elevation="eye level")),
+    ("The TV from just below eye level.", parsed(subject(TV), elevation="slightly below")),
+    ("The sofa slightly above eye height.", parsed(subject(SOFA), elevation="slightly above")),
+    ("The fridge from well below eye level.", parsed(subject(FRIDGE), elevation="low angle")),
+]
+
+# A side named alone as a clause, and a camera place opening the sentence.
+CLAUSES = [
+    ("Sofa, rear left.", parsed(subject(SOFA, view="back-left"))),
+    ("Front right, the bear, close up.", parsed(subject(BEAR, shot="close-up", view="front-right"))),
+    ("The TV, three-quarter, front right.", parsed(subject(TV, view="front-right"))),
+    ("The fridge, profile.", parsed(subject(FRIDGE, view="side"))),
+    ("Right in front of the sofa, high angle.", parsed(subject(SOFA, view="front"), elevation="high angle")),
+    ("Squarely behind the TV.", parsed(subject(TV, view="back"))),
+    # A lone left or right there stays a region of the frame; a place later relates two objects.
+    ("The vase, left.", parsed(subject(VASE), unparsed=["left"])),
+    ("The vase with the bear behind it.", parsed(subject(VASE), subject(BEAR), unparsed=["behind"])),
+    ("The sofa big in the picture.", parsed(subject(SOFA, shot="close-up"))),
+]
+
+# Parts of an object and the scene around it are never subjects; they are reported.
+PARTS = [
+    ("A close-up of the armrest of the red chair.", parsed(subject(RED, shot="close-up"), unparsed=["armrest"])),
+    ("Show me the fridge so the door handle is visible.", parsed(subject(FRIDGE), unparsed=["door handle"])),
+    ("A wide shot of the whole space, the bear in the middle.", parsed(subject(BEAR, "center", "wide"), unparsed=["space"])),
+    ("A view of the background with the vase on the right.", parsed(subject(VASE, region="right"), unparsed=["background"])),
+]
+
+
+ROWS = SIDE_NOUNS + NOT_SUBJECTS + THREE_QUARTER + DEGREES + TWO_ENDS + SIZES + POLITE + HEIGHTS + CLAUSES + PARTS
+
+
+@pytest.mark.parametrize("text, want", check(ROWS))
 def test_phrasing(text, want):
     assert structure(text) == want
 
@@ -256,6 +300,10 @@ def test_phrasing(text, want):
         ("A photo of the back, please.", r"no subject in .* \(not understood: \['back'\]\)"),
         ("A photo of the side.", r"no subject in .* \(not understood: \['side'\]\)"),
         ("A photo of the back of the giraffe.", r"subject 'giraffe' is not in this scene"),
+        # An unknown thing opening the sentence is its subject: reported, never replaced by a
+        # known object named later in it.
+        ("The parrot perched on the sofa.", r"subject 'parrot perched' is not in this scene"),
+        ("A hamster next to the bear, close up.", r"subject 'hamster next' is not in this scene"),
     ],
 )
 def test_contradictions_are_still_errors(text, message):

@@ -181,13 +181,18 @@ def write_ground_result(
 
 def feasibility(report: CheckReport, solved: list[Candidate]) -> dict:
     """Which clauses the returned camera fails by its own measure, and why the instruction may be
-    infeasible: every closed-form camera inside geometry (no free space at the asked view) or
-    occluded (something stands between every asked view and the subject). ``feasible`` is False
+    infeasible: every closed-form camera inside geometry (no free space at the asked view),
+    occluded (something stands between every asked view and the subject) or too close (the free
+    space at the asked view is too near the subject to frame it). ``feasible`` is False
     only when a clause fails and the solve found no free, unoccluded camera."""
     failing = [{"constraint": r.constraint, "subject": r.subject, "note": r.note} for r in report.rows if r.satisfied is False]
     reasons = sorted({c.status for c in solved if c.status != "kept"})
     blocked = bool(solved) and all(c.status != "kept" for c in solved)
-    why = {"inside geometry": "no free space at the asked view", "occluded": "the subject is occluded from every asked view"}
+    why = {
+        "inside geometry": "no free space at the asked view",
+        "occluded": "the subject is occluded from every asked view",
+        "too close": "no free space far enough to frame the subject at the asked view",
+    }
     return {
         "feasible": not (failing and blocked),
         "failing": failing,

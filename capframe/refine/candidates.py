@@ -12,11 +12,18 @@ radius ``r``, front ``f``, world up ``u``):
 * **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
   of its region (or layout box).
 
-Each candidate is then checked against the scene's free space (:mod:`capframe.scene.occupancy`):
-a centre inside geometry slides towards the subject until it is free, or the candidate is dropped;
-a line of sight to the subject through other geometry drops it as occluded. The kept ones are
-ranked by how far the other subjects' projected centroids land from their regions (the closed form
-places only the primary), then by how central their angles are in the accepted ranges.
+Each candidate is then checked against the scene's free space (:mod:`capframe.scene.occupancy`)
+and by a low-resolution render of the whole scene: along its ray the centre slides towards the
+subject (:data:`SLIDES`) until it is free, and the subject is seen there as the checker asks
+(:data:`~capframe.constraints.MIN_VISIBLE_FRACTION` of it unhidden by other objects, enough of it
+inside the frame); so an asked elevation below the subject, whose ray meets the floor, puts the
+camera low near the floor, looking up, and a view behind a couch against a wall uses the gap
+between them if one is there. A ray with no free position is dropped as ``inside geometry``, one
+whose free positions all show the subject hidden as ``occluded``, or cut off by the frame as ``too
+close``. The render, not the voxels, judges occlusion: a voxel is coarse next to small subjects
+(a table top a voxel thick, a subject a few voxels wide). The kept ones are ranked by how far the
+other subjects' projected centroids land from their regions (the closed form places only the
+primary), then by how central their angles are in the accepted ranges.
 """
 
 from __future__ import annotations
@@ -27,24 +34,33 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from ..constraints import MIN_VISIBLE_FRACTION
 from ..geometry import look_at, view_angles, view_direction
+from ..render import NEAR_FRACTION, prepare, scene_extent
+from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
-from ..scene.occupancy import Occupancy, dilate
-from ..translate.labels import PseudoLabels, SubjectLabel
+from ..scene.occupancy import Occupancy
+from ..translate.labels import PseudoLabels, SubjectLabel, min_in_frame_share
 
 # The candidate grid: azimuths at these shares of the accepted tolerance around each asked
-# azimuth, elevations at these shares of the accepted interval.
+# azimuth, elevations at these shares of the accepted interval (central first; the ends reach a
+# gentle low angle over a table's edge, or a steep one near the floor).
 AZIMUTH_SPREAD = (0.0, -0.6, 0.6)
-ELEVATION_SPREAD = (0.5, 0.2, 0.8)
+ELEVATION_SPREAD = (0.5, 0.2, 0.8, 0.05, 0.95)
 # Without an asked view side: azimuths around the subject, from the reference view's side.
 AROUND_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
 # Without an asked elevation, the reference view's, within these bounds (degrees).
 NATURAL_ELEVATION_DEG = (5.0, 35.0)
-# A centre inside geometry slides towards the subject by these shares of its distance.
-SLIDES = (1.0, 0.8, 0.65, 0.5)
-# A line of sight with more than this share of its samples in other geometry is occluded.
-MAX_BLOCKED = 0.02
+# A centre slides towards the subject by these shares of its distance until it is free and the
+# subject seen; never nearer than NEAREST_RADII subject radii (the subject's own voxels keep the
+# camera out of it; a tall thin subject seen from the floor needs a camera inside its radius).
+SLIDES = (1.0, 0.85, 0.7, 0.55, 0.4, 0.3, 0.2, 0.12)
+NEAREST_RADII = 0.4
+# Long side (pixels) of the renders that judge occlusion and framing, and how many free
+# positions along one ray are rendered at most (the nearest ones are seldom better).
+CHECK_LONG_SIDE = 64
+RENDERS_PER_RAY = 3
 
 
 @dataclass
@@ -58,10 +74,12 @@ class Candidate:
         elevation_deg: its elevation around the primary subject.
         distance: camera-to-centroid distance (world units).
         clearance: signed clearance of the camera centre (world units; < 0 inside geometry).
-        blocked: share of the line of sight to the subject inside other geometry.
+        visible: share of the subject unhidden by other objects there (0 when not rendered).
+        in_frame: share of the subject's projection inside the frame (0 when not rendered).
         layout_error: summed distance (frame fractions) of the other subjects' projected
             centroids outside their regions (1 for one behind the camera).
-        status: ``kept``, ``inside geometry`` (no free position along its ray) or ``occluded``.
+        status: ``kept``, ``inside geometry`` (no free position along its ray), ``occluded``
+            (hidden at every free one) or ``too close`` (cut off by the frame at every free one).
     """
 
     camera: Camera
@@ -69,7 +87,8 @@ class Candidate:
     elevation_deg: float
     distance: float
     clearance: float
-    blocked: float
+    visible: float
+    in_frame: float
     layout_error: float
     status: str
 
@@ -82,7 +101,8 @@ class Candidate:
                 "elevation_deg": round(self.elevation_deg, 3),
                 "distance": self.distance,
                 "clearance": self.clearance,
-                "blocked": round(self.blocked, 4),
+                "visible": round(self.visible, 4),
+                "in_frame": round(self.in_frame, 4),
                 "layout_error": round(self.layout_error, 4),
                 "status": self.status,
             }
@@ -183,9 +203,7 @@ def solve_candidates(
     else:
         distance = max(float(np.linalg.norm(to_reference)), shot_distance(radius, 0.9, reference))
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
-    margin = occupancy.margin
-    # The subject's own surface voxels and those around it do not count as occluders.
-    ignore = dilate(occupancy.voxelize(gaussians.subset(torch.as_tensor(subject.gaussians, dtype=torch.long))))
+    sight = _Sight(gaussians, subject, reference)
     point = _aim_point(subject)
     out = []
     for rank, (elevation, azimuth) in enumerate((e, a) for e in elevations for a in azimuths):
@@ -196,19 +214,74 @@ def solve_candidates(
             torch.tensor(up, **f64),
         ).numpy()
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
-        centre, clearance = _free_position(occupancy, centroid, direction, along, radius, margin)
-        blocked = occupancy.segment_blocked(centre, centroid + radius * direction, ignore)
-        # Written so that a NaN clearance or blocked share is never kept.
-        status = "inside geometry" if not clearance >= margin else "occluded" if not blocked <= MAX_BLOCKED else "kept"
-        pose = aimed_pose(centre, centroid, point, reference, up, labels.roll_deg)
-        camera = reference.with_pose(pose)
+        camera, clearance, seen, status = _place(occupancy, sight, centroid, direction, along, radius, labels, point, reference)
         camera.name = f"solved-{rank}"
-        distance_out = float(np.linalg.norm(centre - centroid))
+        distance_out = float(np.linalg.norm(camera.center - centroid))
         layout = _layout_error(camera, labels.subjects[1:])
-        out.append(Candidate(camera, azimuth, elevation, distance_out, clearance, blocked, layout, status))
+        out.append(Candidate(camera, azimuth, elevation, distance_out, clearance, seen[0], seen[1], layout, status))
+        # Alone in the frame the first kept ones are the best (the grid is ordered); with other
+        # subjects the ranking by layout needs them all.
+        if len(labels.subjects) == 1 and sum(c.status == "kept" for c in out) >= keep:
+            break
     # A stable sort: the grid order (central angles first) breaks ties.
     kept = sorted((c for c in out if c.status == "kept"), key=lambda c: round(c.layout_error, 2))
     return kept[:keep] + [c for c in out if c.status != "kept"]
+
+
+class _Sight:
+    """How the primary subject is seen from a camera: low-resolution renders of the whole scene
+    and of the subject alone (:func:`~capframe.render.masks.subject_masks`, as the checker
+    measures visibility), prepared once for every candidate."""
+
+    def __init__(self, gaussians: GaussianScene, subject: SubjectLabel, reference: Camera):
+        self.scene = prepare(gaussians)
+        self.near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
+        self.members = torch.zeros(len(gaussians), 1, dtype=torch.bool)
+        self.members[torch.as_tensor(subject.gaussians, dtype=torch.long), 0] = True
+        self.min_in_frame = min_in_frame_share(subject.extent)
+        self.long_side = CHECK_LONG_SIDE
+
+    def __call__(self, camera: Camera) -> tuple[float, float]:
+        """(visible share, in-frame share) of the subject seen by ``camera``."""
+        masks, _ = subject_masks(self.scene, camera.with_long_side(self.long_side), self.members, backend="torch", near=self.near)
+        return masks[0].visible_fraction, masks[0].in_frame
+
+    def sees(self, shares: tuple[float, float]) -> bool:
+        return shares[0] >= MIN_VISIBLE_FRACTION and shares[1] >= self.min_in_frame
+
+
+def _place(
+    occupancy: Occupancy,
+    sight: _Sight,
+    centroid: np.ndarray,
+    direction: np.ndarray,
+    distance: float,
+    radius: float,
+    labels: PseudoLabels,
+    point: tuple[float, float],
+    reference: Camera,
+) -> tuple[Camera, float, tuple[float, float], str]:
+    """The first camera along ``direction`` from ``centroid``, at the :data:`SLIDES` shares of
+    ``distance``, that is free (at least the occupancy's margin of clearance) and sees the
+    subject (of the first :data:`RENDERS_PER_RAY` free ones); else the first free one
+    (``occluded`` or ``too close``), else the farthest (``inside geometry``). Returns it, its
+    clearance, (visible, in-frame) shares and status."""
+    first_free, outermost, renders = None, None, 0
+    for share in SLIDES:
+        if renders == RENDERS_PER_RAY:
+            break
+        centre = centroid + max(share * distance, NEAREST_RADII * radius) * direction
+        clearance = float(occupancy.clearance(torch.as_tensor(centre)))
+        camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
+        outermost = outermost or (camera, clearance, (0.0, 0.0), "inside geometry")
+        if not clearance >= occupancy.margin:  # written so that a NaN clearance is never free
+            continue
+        seen = sight(camera)
+        renders += 1
+        if sight.sees(seen):
+            return camera, clearance, seen, "kept"
+        first_free = first_free or (camera, clearance, seen, "occluded" if seen[0] < MIN_VISIBLE_FRACTION else "too close")
+    return first_free or outermost
 
 
 def _spread_distance(
@@ -251,19 +324,3 @@ def _layout_error(camera: Camera, others: list[SubjectLabel]) -> float:
         u, v, _ = camera.K @ (p / p[2])
         error += box_distance(u / camera.width, v / camera.height, box)
     return error
-
-
-def _free_position(
-    occupancy: Occupancy, centroid: np.ndarray, direction: np.ndarray, distance: float, radius: float, margin: float
-) -> tuple[np.ndarray, float]:
-    """The first centre along ``direction`` from ``centroid`` at the :data:`SLIDES` shares of
-    ``distance`` (never inside the subject's radius) with at least ``margin`` clearance, or the
-    one farthest out when none has; with its clearance."""
-    best = None
-    for share in SLIDES:
-        centre = centroid + max(share * distance, 1.2 * radius) * direction
-        clearance = float(occupancy.clearance(torch.as_tensor(centre)))
-        if clearance >= margin:
-            return centre, clearance
-        best = best or (centre, clearance)
-    return best

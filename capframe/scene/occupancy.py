@@ -8,9 +8,14 @@ Gaussians (:func:`build_occupancy`, cached by :func:`cached_occupancy`):
   floors) leave no holes between their centres;
 * **floor**: the lowest large horizontal layer of occupied voxels, when the scene has one (a room
   floor, the ground of an outdoor scene); everything below its top is solid ground;
-* **free**: empty voxels above the floor that connect (6-neighbourhood) to a training camera, or
-  to the top of the grid for a scene without cameras. The inside of a closed object or of a room's
-  wall is not free, even where no Gaussian sits (Gaussians only cover surfaces).
+* **ceiling**: where walls stand around the scene (a room: most horizontal directions from the
+  middle of the footprint meet a column reaching the top of the occupied heights), a ceiling at
+  the walls' top (:func:`_walls`; a room captured without one has one in reality, and a camera
+  over a wall would leave the room), or -1 without walls;
+* **free**: empty voxels above the floor and below the ceiling that connect (6-neighbourhood) to
+  a training camera, or to the top of the grid for a scene without cameras. The inside of a
+  closed object or of a room's wall is not free, even where no Gaussian sits (Gaussians only
+  cover surfaces), nor is the space behind a room's walls.
 
 :meth:`Occupancy.clearance` is a signed distance in world units, trilinearly interpolated (and
 differentiable with respect to the point): positive in free space (distance to the nearest voxel
@@ -35,12 +40,16 @@ from ..errors import InputError
 from ._io import write_npz
 from .model import Camera, GaussianScene
 
-FORMAT = 1
+FORMAT = 2
 VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
 # A layer is a floor when it covers this share of the occupied footprint (seen from above).
 FLOOR_COVERAGE = 0.3
+# Walls enclose the scene when columns reaching WALL_HEIGHT of the occupied heights above the
+# floor stand in this share of the horizontal directions from the middle of the footprint.
+ENCLOSED_SHARE = 0.6
+WALL_HEIGHT = 0.8
 # A camera keeps this many voxels between itself and any surface (the surface is known to about
 # half a voxel).
 MARGIN_VOXELS = 0.5
@@ -57,6 +66,8 @@ class Occupancy:
         occupied: (X, Y, Z) bool, a solid Gaussian there.
         free: (X, Y, Z) bool, where a camera can be.
         floor_top: index of the floor's highest layer, or -1 without a floor.
+        ceiling: index of the lowest layer above the free space (the walls' top), or -1 without
+            walls.
         sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module).
     """
 
@@ -67,6 +78,7 @@ class Occupancy:
     free: np.ndarray
     floor_top: int
     sdf: np.ndarray
+    ceiling: int = -1
 
     @property
     def margin(self) -> float:
@@ -180,6 +192,46 @@ def _floor_top(occupied: np.ndarray) -> int:
     return top
 
 
+def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple[int, np.ndarray | None]:
+    """The layer just above the top of a scene's walls and the (X, Y) columns inside them, or
+    (-1, None) when no walls enclose the scene.
+
+    From the middle of the occupied footprint, a horizontal ray in each of ``directions``
+    directions crosses the columns holding occupied voxels above the floor; it meets a wall when
+    the outermost of them is tall (it reaches :data:`WALL_HEIGHT` of the occupied heights above
+    the floor) and lower columns lie between it and the middle. The scene is enclosed when
+    :data:`ENCLOSED_SHARE` of the rays meet a wall: three walls around a room are, a box or a
+    tree standing alone, or a table on a lawn, are not. Inside are the columns a ray crosses
+    before its wall (all of them on an open side); the ceiling is the layer above the median top
+    of the walls met."""
+    above = occupied[:, :, floor_top + 1 :]
+    columns = above.any(2)
+    if not columns.any():
+        return -1, None
+    heights = np.flatnonzero(above.any((0, 1)))
+    top = np.where(columns, above.shape[2] - 1 - np.argmax(above[:, :, ::-1], axis=2), -1)  # (X, Y) highest layer
+    tall = top >= heights[0] + WALL_HEIGHT * (heights[-1] - heights[0])
+    xs, ys = np.nonzero(columns)
+    middle = np.array([(xs.min() + xs.max()) / 2, (ys.min() + ys.max()) / 2])
+    reach = np.arange(0.0, float(np.hypot(*columns.shape)), 0.5)
+    inside = np.zeros(columns.shape, dtype=bool)
+    tops = []
+    for angle in np.linspace(0.0, 2.0 * np.pi, directions, endpoint=False):
+        cells = np.round(middle + reach[:, None] * [np.cos(angle), np.sin(angle)]).astype(int)
+        cells = cells[((cells >= 0) & (cells < columns.shape)).all(1)]
+        occupied_at = np.flatnonzero(columns[cells[:, 0], cells[:, 1]])
+        along = tall[cells[:, 0], cells[:, 1]]
+        end = len(cells)
+        # The outermost structure is tall, with lower columns between it and the middle: a wall.
+        if len(occupied_at) and along[occupied_at[-1]] and not along[: np.flatnonzero(along).max()].all():
+            tops.append(top[tuple(cells[occupied_at[-1]])])
+            end = occupied_at[-1] + 1
+        inside[cells[:end, 0], cells[:end, 1]] = True
+    if len(tops) < ENCLOSED_SHARE * directions:
+        return -1, None
+    return floor_top + 1 + int(np.median(tops)) + 1, inside
+
+
 def dilate(mask: np.ndarray) -> np.ndarray:
     """(X, Y, Z) bool ``mask`` grown by one voxel towards its 6 neighbours (nothing wraps around
     the grid's faces)."""
@@ -248,6 +300,12 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
         index = np.floor((centres - lo) / voxel).astype(int)
         index = index[((index >= 0) & (index < np.array(shape))).all(1)]
         seeds[tuple(index.T)] = True
+    if grid.floor_top >= 0:
+        grid.ceiling, inside = _walls(grid.occupied, grid.floor_top)
+    if grid.ceiling >= 0:  # a room: no camera over or behind its walls (nor below a training camera)
+        grid.ceiling = max(grid.ceiling, int(np.flatnonzero(seeds.any((0, 1))).max(initial=-1)) + 1)
+        empty[:, :, grid.ceiling :] = False
+        empty &= inside[:, :, None] | seeds.any(2, keepdims=True)
     if not (seeds & empty).any():  # no camera in free space: the sky is outside everything
         seeds[:, :, -1] = True
     grid.free = _flood(empty, seeds)
@@ -276,7 +334,7 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
-    h = hashlib.sha256(f"{FORMAT}:{VOXELS}:{SOLID_OPACITY}:{PADDING}:{FLOOR_COVERAGE}".encode())
+    h = hashlib.sha256(f"{FORMAT}:{VOXELS}:{SOLID_OPACITY}:{PADDING}:{FLOOR_COVERAGE}:{ENCLOSED_SHARE}:{WALL_HEIGHT}".encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
     for c in cameras:
@@ -287,7 +345,13 @@ def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: lis
 def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussians: str | None = None) -> None:
     """Write ``grid`` as one ``.npz``, atomically; ``gaussians`` is the
     :func:`gaussians_fingerprint` of the Gaussians it was built from."""
-    meta = {"format": FORMAT, "fingerprint": fingerprint, "voxel": grid.voxel, "floor_top": grid.floor_top}
+    meta = {
+        "format": FORMAT,
+        "fingerprint": fingerprint,
+        "voxel": grid.voxel,
+        "floor_top": grid.floor_top,
+        "ceiling": grid.ceiling,
+    }
     if gaussians is not None:
         meta["gaussians"] = gaussians
     write_npz(path, meta, rotation=grid.rotation, origin=grid.origin, occupied=grid.occupied, free=grid.free, sdf=grid.sdf)
@@ -314,10 +378,10 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             if meta.get("format") != FORMAT or fingerprint not in (None, meta.get("fingerprint")):
                 return None
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
-            voxel, floor_top = float(meta["voxel"]), meta["floor_top"]
+            voxel, floor_top, ceiling = float(meta["voxel"]), meta["floor_top"], meta["ceiling"]
     except (OSError, EOFError, ValueError, TypeError, KeyError, zipfile.BadZipFile) as err:
         raise InputError(f"is not an occupancy file ({err}); rebuild it with capframe occupancy", source=source) from None
-    problem = _occupancy_problem(arrays, voxel, floor_top)
+    problem = _occupancy_problem(arrays, voxel, floor_top, ceiling)
     if problem is not None:
         raise InputError(f"{problem}; rebuild it with capframe occupancy", source=source)
     if gaussians is not None and meta.get("gaussians", gaussians) != gaussians:
@@ -326,10 +390,10 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             "rebuild it with capframe occupancy",
             source=source,
         )
-    return Occupancy(voxel=voxel, floor_top=floor_top, **arrays)
+    return Occupancy(voxel=voxel, floor_top=floor_top, ceiling=ceiling, **arrays)
 
 
-def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top) -> str | None:
+def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top, ceiling) -> str | None:
     """What makes the fields of an occupancy file unusable, or None."""
     rotation, origin, sdf = arrays["rotation"], arrays["origin"], arrays["sdf"]
     if not (math.isfinite(voxel) and voxel > 0):
@@ -347,8 +411,9 @@ def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top) -
             return f"{name} holds NaN or infinite numbers; expected finite numbers"
     if np.abs(rotation @ rotation.T - np.eye(3)).max() > 1e-6:
         return "rotation is not a rotation matrix"
-    if isinstance(floor_top, bool) or not isinstance(floor_top, int) or not -1 <= floor_top < sdf.shape[2]:
-        return f"floor_top is {floor_top!r}; expected a layer index of the grid or -1"
+    for name, layer in (("floor_top", floor_top), ("ceiling", ceiling)):
+        if isinstance(layer, bool) or not isinstance(layer, int) or not -1 <= layer <= sdf.shape[2]:
+            return f"{name} is {layer!r}; expected a layer index of the grid or -1"
     return None
 
 

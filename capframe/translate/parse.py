@@ -68,11 +68,17 @@ Mappings that are choices (the phrase tables are the full list):
   "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
   "from directly behind" the back. "Slightly to the left" that names no subject and follows no
   seeing verb or camera ("seen slightly to the left", "the camera a bit to the left") stays a
-  region, the degree word unparsed;
+  region, the degree word unparsed. A side alone as a clause is a view ("bench, rear left"; a
+  lone "left" or "right" there stays a region), and so is a place opening the sentence
+  ("directly behind the bear, ...");
 * elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
   "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
   in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
-  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one.
+  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one. Moving or pointing the
+  camera is a hint too: "get down low", "shoot up at", "from floor level" (low angle), "climb up
+  high", "aim down" (high angle). The height of a surface the subject rests or sits on ("at
+  table height", "from seat level") is eye level; "a little below / above eye level" is slightly
+  below / above, "well below / above" it a low / high angle.
   Slight degree words give slightly above / slightly below ("a bit from below": -30° to -8°);
   "steeply"/"strongly from above" is bird's-eye (60° to 90°); "straight down", "directly above",
   "top-down", "plan view" are top-down (80° to 90°). Of two named elevations one inside the other
@@ -169,7 +175,7 @@ SHOT_CLAUSES = {
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge) in (the )?{FRAME}",
+        "(large|big|huge|tight|close|full) in (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
@@ -301,6 +307,9 @@ VIEW_FRAMES = [
     NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
     NOT_A_RELATION + "{P} {SIDE}( side| profile)?" + NOT_TURNED_AWAY,
 ]
+# A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
+# or a comma's start and the clause's end; a lone left or right there stays a region.
+VIEW_CLAUSE = "((?<=^ )|(?<=, ))(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
@@ -313,6 +322,9 @@ VIEW_PHRASES = {
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         CAMERA + " in front of {obj}",
         SEEN + "from ({STRONG} |right )?in front( of {obj})?",
+        # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
+        # later it may relate two objects ("the cone with the bench in front of it").
+        "(?<=^ )({STRONG} |right )?in front of {obj}",
     ],
     "back": [
         SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
@@ -321,6 +333,7 @@ VIEW_PHRASES = {
         "(stand|standing|go|get|move|walk) (around )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
+        "(?<=^ )({STRONG} |right )?behind {obj}",
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
@@ -403,6 +416,8 @@ ELEVATION_PHRASES = {
         "(at|from) {P} (height|level)",
         "level with {obj}",
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
+        # The height of the surface the subject rests on, or sits on: level with the subject.
+        "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
     ],
     "slightly above": [
         "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
@@ -411,6 +426,7 @@ ELEVATION_PHRASES = {
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
+        "({WEAK} |just )?above eye (level|height)",
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
@@ -418,6 +434,7 @@ ELEVATION_PHRASES = {
         "with the camera (well|high|far) above {obj}",
         "(from )?(a |an )?(high|elevated|raised) (vantage point|viewpoint|position|perspective)",
         "(from )?(well|high|far) above( {obj})?",
+        "(well|far) above eye (level|height)",
     ],
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
@@ -442,6 +459,7 @@ ELEVATION_PHRASES = {
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
+        "(well|far) (below|under|beneath) eye (level|height)",
     ],
     "slightly below": [
         "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
@@ -449,6 +467,7 @@ ELEVATION_PHRASES = {
         "looking {WEAK} up( at {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
+        "({WEAK} |just )?(below|under|beneath) eye (level|height)",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
@@ -461,17 +480,20 @@ ELEVATION_PHRASES = {
 }
 ELEVATION_HINTS = {
     "high angle": [
-        "looking down( (at|on) {obj})?",
+        "(look|looks|looking) down( (at|on|onto) {obj})?",
+        "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
-        "(shooting|pointing|aimed|angled|tilted|tilting) down( (at|on|towards) {obj})?",
+        "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
     ],
     "low angle": [
-        "looking up( at {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath)",
+        "(look|looks|looking) up( (at|to|towards) {obj})?",
+        "{GET} (down )?(low|lower)( down)?",
+        "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
-        "(shooting|pointing|aimed|angled|tilted|tilting) up( (at|towards) {obj})?",
+        "{AIM}( the camera)? up( (at|to|towards) {obj})?",
     ],
 }
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
@@ -765,6 +787,76 @@ DEGREE_WORDS = frozenset(
         "purely",
     }
 )
+# Parts of an object ("so we see the backrest") and the scene around the objects ("a wide view of
+# the room"): never a subject of their own; left unparsed and reported.
+PART_WORDS = frozenset(
+    {
+        "backrest",
+        "armrest",
+        "arm",
+        "arms",
+        "leg",
+        "legs",
+        "seat",
+        "lid",
+        "handle",
+        "screen",
+        "door",
+        "doors",
+        "shade",
+        "lampshade",
+        "trunk",
+        "branch",
+        "branches",
+        "leaf",
+        "leaves",
+        "wheel",
+        "wheels",
+        "head",
+        "ear",
+        "ears",
+        "nose",
+        "detail",
+        "details",
+        "texture",
+        "surface",
+        "shape",
+        "outline",
+        "silhouette",
+    }
+)
+SURROUNDINGS = frozenset(
+    {
+        "room",
+        "space",
+        "area",
+        "place",
+        "setting",
+        "setup",
+        "surroundings",
+        "background",
+        "foreground",
+        "everything",
+        "all",
+        "thing",
+        "things",
+        "stuff",
+        "floor",
+        "ground",
+        "wall",
+        "walls",
+        "ceiling",
+        "sky",
+        "lawn",
+        "grass",
+        "park",
+        "garden",
+        "tabletop",
+        "layout",
+        "arrangement",
+        "interior",
+    }
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -782,6 +874,12 @@ _MACROS = {
     "{WEAK}": "(?:slightly|somewhat|marginally|a little bit|a bit|a little|a tad|a touch)",
     "{STRONG}": "(?:directly|straight|squarely|square|fully|strongly|exactly|dead|completely|perfectly|purely)",
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
+    # Moving the camera or oneself to a height ("get down low", "crouch lower").
+    "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
+    # Pointing the camera ("shoot up at", "aimed down").
+    "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
+    # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
+    "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     "{obj}": r"(?P<ref>it|him|her|them|@\d+)",
 }
@@ -836,6 +934,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
+        if view not in ("left", "right"):
+            rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
     for lat in ("left", "right"):
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
@@ -1012,8 +1112,9 @@ class RuleParser:
 
     def _leftovers(self, tokens: list[str], cues: list[_Cue]) -> list[_Run]:
         """Runs of words no phrase explains, less stopwords at their ends, each marked whether it
-        stands in a subject's place (right after a head, right before a region, or joined to a
-        subject by "and"/"or")."""
+        stands in a subject's place (right after a head, right before a region, joined to a
+        subject by "and"/"or", or opening the sentence as a noun phrase: "the kitten hiding behind
+        the cushion" is about a kitten, not the cushion)."""
         covered = [False] * len(tokens)
         for c in cues:
             covered[c.start : c.end] = [True] * (c.end - c.start)
@@ -1030,6 +1131,7 @@ class RuleParser:
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
+                or _opening_noun_phrase(tokens, span)
             )
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
@@ -1056,10 +1158,25 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
 
 
 def _never_a_name(text: str) -> bool:
-    """Whether ``text`` holds only position and degree words ("back", "left side", "a bit"):
-    never a subject."""
+    """Whether ``text`` holds only position, degree, part and surroundings words ("back", "left
+    side", "a bit", "the backrest", "the room"): never a subject."""
     content = [w for w in text.split() if w not in STOPWORDS]
-    return bool(content) and all(w in POSITION_WORDS or w in DEGREE_WORDS for w in content)
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS
+    return bool(content) and all(w in never for w in content)
+
+
+def _opening_noun_phrase(tokens: list[str], span: list[int]) -> bool:
+    """Whether the run opens the sentence with a determiner and names something other than
+    photographic words ("the horizon level" is not a subject), and is not just words describing
+    the subject named right after it ("the wide sofa")."""
+    if span[0] != 0 or tokens[0] not in MENTION_DETERMINERS:
+        return False
+    words_ = [tokens[k] for k in span[1:]]
+    content = [w for w in words_ if w not in STOPWORDS]
+    describes_next = span[-1] + 1 < len(tokens) and tokens[span[-1] + 1].startswith("@")
+    if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS for w in words_):
+        return False
+    return any(w not in RESERVED for w in content)
 
 
 def _spottable(form: tuple[str, ...]) -> bool:
