@@ -67,6 +67,25 @@ def search_ranking(coarse: list[float], ranked: list[int]) -> list[int]:
     return ranked + [int(v) for v in np.argsort(-np.asarray(coarse), kind="stable") if int(v) not in ranked]
 
 
+@dataclass
+class Search:
+    """What a baseline's pose search reads: the scene, every training view best first (Retrieve's
+    ranking), the pseudo labels, the candidate scorer, the options and the clock; the instruction
+    and the differentiable scorer for ChatCam (None for the others)."""
+
+    scene: SceneDir
+    ranking: list[int]
+    labels: PseudoLabels
+    scorer: CameraScorer
+    options: BaselineOptions
+    clock: StageClock
+    text: str
+    diff: DifferentiableScorer | None = None
+
+    def unpack(self) -> tuple[SceneDir, list[int], PseudoLabels, CameraScorer, BaselineOptions, StageClock]:
+        return self.scene, self.ranking, self.labels, self.scorer, self.options, self.clock
+
+
 def _select(candidates: list[Camera], scorer: CameraScorer, clock: StageClock) -> tuple[Camera, float, list[dict]]:
     """The best candidate, its score and the :data:`TOP_CANDIDATES` best with their scores."""
     best, scores = best_candidate(candidates, scorer)
@@ -133,6 +152,7 @@ def _chatcam(search: Search) -> tuple[Camera, float, dict]:
     anchors = search.diff.view_scores(search.text)
     start = scene.cameras[int(np.argmax(anchors))]
     clock.done("anchor", f"{start.name}: {anchors.max():.3g} (best of {len(anchors)} training pictures)")
+    # The rotations orbit the subjects' centroid, as Refine's and SplaTraj's (the parametrisation only).
     pivot = scene.gaussians.means.detach().double()[np.concatenate([s.gaussians for s in labels.subjects])].mean(0)
     result = chatcam_pose(
         scene.gaussians,
@@ -165,25 +185,6 @@ def _chatcam(search: Search) -> tuple[Camera, float, dict]:
             },
         },
     )
-
-
-@dataclass
-class Search:
-    """What a baseline's pose search reads: the scene, every training view best first (Retrieve's
-    ranking), the pseudo labels, the candidate scorer, the options and the clock; the instruction
-    and the differentiable scorer for ChatCam (None for the others)."""
-
-    scene: SceneDir
-    ranking: list[int]
-    labels: PseudoLabels
-    scorer: CameraScorer
-    options: BaselineOptions
-    clock: StageClock
-    text: str
-    diff: DifferentiableScorer | None = None
-
-    def unpack(self) -> tuple[SceneDir, list[int], PseudoLabels, CameraScorer, BaselineOptions, StageClock]:
-        return self.scene, self.ranking, self.labels, self.scorer, self.options, self.clock
 
 
 SEARCHES = {"ivs": _ivs, "svs": _svs, "splatraj": _splatraj, "chatcam": _chatcam}
