@@ -23,6 +23,7 @@ from capframe.geometry.lie import se3_exp
 from capframe.refine.optimize import RefineConfig
 from capframe.scene import SceneMeta, load_scene_dir
 from capframe.scene.directory import write_scene_meta
+from capframe.translate.instruction import ParsedInstruction
 
 TEXT = "a photo of the teddy bear"
 
@@ -126,6 +127,10 @@ def test_cli_writes_a_result_that_check_reads(setup, tmp_path, capsys):
     assert {"anchor_s", "optimise_s", "total_s"} <= set(result["timings"])
     camera, _ = read_result_camera(out / "result.json")
     np.testing.assert_allclose(camera.T_cw, result["T_cw"])
+    constraints = tmp_path / "constraints.json"
+    constraints.write_text(json.dumps(ParsedInstruction.from_dict(result["instruction"]).constraints().to_dict()))
+    assert main(["check", str(root / "scene"), str(out / "result.json"), "--constraints", str(constraints), "--json"]) == 0
+    assert "all_satisfied" in json.loads(capsys.readouterr().out)
 
 
 @pytest.mark.parametrize(
