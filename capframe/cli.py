@@ -434,10 +434,17 @@ def _cmd_ground(args: argparse.Namespace) -> None:
 
 
 def _cmd_baseline(args: argparse.Namespace) -> None:
+    from .baselines.chatcam import ChatCamConfig
     from .baselines.run import BaselineOptions, run_baseline
+    from .refine.optimize import RefineConfig
     from .scene._io import json_text
 
-    options = BaselineOptions(seed=args.seed, stages=_ground_options(argparse.Namespace(**{**vars(args), "seed": None})))
+    budget = {"iterations": args.chatcam_iterations, "long_side": args.chatcam_long_side}
+    options = BaselineOptions(
+        seed=args.seed,
+        chatcam=ChatCamConfig(RefineConfig(**{k: v for k, v in budget.items() if v is not None})),
+        stages=_ground_options(argparse.Namespace(**{**vars(args), "seed": None})),
+    )
     result = run_baseline(args.method, args.scene, args.instruction, args.output, options, progress=not args.json)
     if args.json:
         keys = ("T_cw", "K", "width", "height", "method", "score", "timings")
@@ -807,17 +814,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, timings, report) instead of progress")
     p.set_defaults(func=_cmd_ground, outputs={"output": "folder"})
 
-    p = verbs.add_parser("baseline", help="find the camera with a baseline pose search: IVS, SVS or SplaTraj-style")
+    p = verbs.add_parser(
+        "baseline", help="find the camera with a baseline pose search: IVS, SVS, SplaTraj-style or ChatCam-style"
+    )
     p.add_argument(
         "method",
-        help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects) "
-        "or splatraj (optimise mask centre, area and uprightness)",
+        help="ivs (interpolate between retrieved views), svs (sample a sphere around the subjects), "
+        "splatraj (optimise mask centre, area and uprightness) or chatcam (optimise the --diff-scorer "
+        "image-text score of the render from the best-scoring training view)",
     )
     p.add_argument("scene", help="scene directory with training cameras (and a semantic sidecar for the oracle backends)")
     p.add_argument("instruction", help='e.g. "a close-up of the teddy bear on the right, seen from its left"')
     p.add_argument("-o", "--output", required=True, help="output folder (must not exist)")
     _perception_options(p)
     p.add_argument("--seed", type=int, default=0, help="seed of the SVS samples")
+    p.add_argument(
+        "--iterations", dest="chatcam_iterations", type=_positive_int, default=None, help="chatcam: Adam steps (default Refine's)"
+    )
+    p.add_argument(
+        "--long-side", dest="chatcam_long_side", type=_positive_int, default=None, help="chatcam: render size (default Refine's)"
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object (camera, score, timings) instead of progress")
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 

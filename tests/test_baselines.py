@@ -158,8 +158,8 @@ def test_cli_writes_a_result_that_check_reads(scene_dir, tmp_path, method, capsy
     "argv, message",
     [
         (
-            ["baseline", "chatcam", "{scene}", INSTRUCTION, "-o", "{out}"],
-            "baseline 'chatcam' is unknown; available: ivs, svs, splatraj",
+            ["baseline", "orbit", "{scene}", INSTRUCTION, "-o", "{out}"],
+            "baseline 'orbit' is unknown; available: ivs, svs, splatraj, chatcam",
         ),
         (["baseline", "ivs", "{missing}", INSTRUCTION, "-o", "{out}"], "missing"),
     ],

@@ -208,6 +208,10 @@ class DifferentiableScorer(Protocol):
         """image (H, W, 3) in [0, 1] -> scalar score, differentiable."""
         ...
 
+    def view_scores(self, text: str) -> np.ndarray:
+        """(V,) scores of the scene's training pictures by the same model (no gradients)."""
+        ...
+
 
 class Judge(Protocol):
     """An MLLM judge: a 1-5 alignment score of an image with an instruction."""

@@ -110,13 +110,23 @@ class ModelDiffScorer:
     embedding (computed once per text)."""
 
     def __init__(self, context: BackendContext, backend: str):
+        self.context = context
         self.model = image_text_model(context, backend)
         self._texts: dict[str, torch.Tensor] = {}
+
+    def _text(self, text: str) -> torch.Tensor:
+        if text not in self._texts:
+            self._texts[text] = self.model.embed_texts([text])
+        return self._texts[text]
+
+    def view_scores(self, text: str) -> np.ndarray:
+        """(V,) scores of the scene's training pictures with ``text`` by the same model, without
+        gradients (their embeddings from the per-scene cache): the ChatCam-style start."""
+        views = torch.from_numpy(view_embeddings(self.model, self.context)).to(self.model.device)
+        return self.model.score(views, self._text(text))[:, 0].cpu().numpy().astype(np.float64)
 
     def score(self, image: torch.Tensor, text: str) -> torch.Tensor:
         """image (H, W, 3) in [0, 1] -> scalar score (the model's convention), with gradients
         to the image."""
-        if text not in self._texts:
-            self._texts[text] = self.model.embed_texts([text])
         embedding = self.model.differentiable_embeddings(image.permute(2, 0, 1)[None])
-        return self.model.score(embedding, self._texts[text])[0, 0]
+        return self.model.score(embedding, self._text(text))[0, 0]

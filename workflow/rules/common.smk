@@ -225,8 +225,12 @@ METHOD_RESULTS = {v: f"results/refine/{v}/{{scene}}/{{instruction}}" for v in VA
 METHOD_RESULTS["oracle"] = "results/refine/oracle/{scene}/{instruction}"
 # The retrieved view Refine starts from, unrefined: the "Retrieve" row against CapFrame's "Refine".
 METHOD_RESULTS["retrieve"] = "results/retrieved/{scene}/{instruction}"
-# The paper's baselines (IVS, SVS, a SplaTraj-style optimiser), scored with the embedded tier.
+# The paper's baselines (IVS, SVS, a SplaTraj-style optimiser), scored with the embedded tier,
+# and the ChatCam-style optimiser only when a differentiable image-text model is configured
+# (`backends: {diff-scorer: ...}` and `models`): the embedded tier has none.
 BASELINES = ("ivs", "svs", "splatraj")
+if config.get("backends", {}).get("diff-scorer") and config.get("models"):
+    BASELINES += ("chatcam",)
 METHOD_RESULTS |= {b: f"results/baselines/{b}/{{scene}}/{{instruction}}" for b in BASELINES}
 
 # Methods shown side by side in the report's image grid.

@@ -298,6 +298,12 @@ rule baseline:
         text=instruction_text,
         gravity=gravity_option,
         backends=lambda wc: backend_options("capframe", BASELINE_ROLES),
+        # ChatCam-style: Refine's step budget and resolution.
+        budget=lambda wc: (
+            ["--iterations", config["refine"]["iterations"], "--long-side", config["refine"]["long_side"]]
+            if wc.baseline == "chatcam"
+            else []
+        ),
     shell:
         "capframe baseline {wildcards.baseline:q} {input.scene:q} {params.text:q} -o {output:q} "
-        "--cache results/views/{wildcards.scene:q} {params.backends:q} {params.gravity:q} > {log:q} 2>&1"
+        "--cache results/views/{wildcards.scene:q} {params.backends:q} {params.budget:q} {params.gravity:q} > {log:q} 2>&1"
