@@ -97,8 +97,9 @@ class ModelsConfig:
     def settings(self, backend: str) -> ModelSettings:
         """The settings of ``backend``; :class:`InputError` when the config has none."""
         if backend not in self.entries:
-            where = self.source or "no models config given (--models)"
-            raise InputError(f"backend {backend!r} needs an entry in the models config; {where} has {sorted(self.entries)}")
+            if self.source is None:
+                raise InputError(f"backend {backend!r} needs an entry in the models config; none was given (--models)")
+            raise InputError(f"backend {backend!r} needs an entry in the models config; {self.source} has {sorted(self.entries)}")
         return self.entries[backend]
 
 
