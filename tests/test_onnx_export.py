@@ -17,7 +17,8 @@ from capframe.backends.export import export_backend
 from capframe.backends.image_text import ImageTextModel
 from capframe.backends.onnx import OnnxEncoder
 from capframe.backends.orient_anything import OrientAnything
-from capframe.backends.tiny import TINY_IMAGE_TEXT
+from capframe.backends.sam import SamBoxes
+from capframe.backends.tiny import TINY_IMAGE_TEXT, tiny_sam
 from capframe.cli import main
 from capframe.errors import InputError
 
@@ -80,6 +81,79 @@ def test_orient_anything_runs_onnxruntime_without_loading_pytorch_weights(config
         assert abs(got.confidence - expected.confidence) <= PARITY
 
 
+# --- SAM: the image encoder on onnxruntime, the prompt encoder and mask decoder on PyTorch --------
+
+
+@pytest.fixture(scope="module")
+def sam(tmp_path_factory):
+    """(models config naming a tiny random-weight SAM, its exported image encoder, the export's
+    largest difference from PyTorch)."""
+    root = tmp_path_factory.mktemp("sam")
+    tiny_sam(root / "sam")
+    config = root / "models.yaml"
+    config.write_text("sam: {weights: sam, batch_size: 2}\n")
+    onnx = root / "sam.onnx"
+    return config, onnx, export_backend("sam", read_models_config(config).settings("sam"), onnx)
+
+
+def test_sam_export_matches_pytorch(sam):
+    _, onnx, difference = sam
+    assert onnx.is_file() and difference <= PARITY, difference
+
+
+def test_sam_backend_runs_onnxruntime_when_configured(sam, monkeypatch):
+    """Same image embeddings as PyTorch (<= 1e-4) and the same masks from the same boxes, with
+    PyTorch's vision encoder never called (and its weights freed)."""
+    from transformers.models.sam.modeling_sam import SamVisionEncoder
+
+    config, onnx, _ = sam
+    settings = read_models_config(config).settings("sam")
+    images = dict(enumerate(pictures((64, 48), (40, 72), (160, 120), seed=7)))
+    boxes = {0: np.array([[4.0, 4.0, 50.0, 40.0], [20, 10, 60, 45]]), 1: np.array([[0.0, 8.0, 39.0, 60.0]])}
+    boxes[2] = np.array([[30.0, 20.0, 150.0, 110.0]])
+    pytorch = SamBoxes(settings)
+    reference = pytorch.masks(images, boxes)
+
+    def no_pytorch(*_, **__):
+        raise AssertionError("PyTorch vision encoder used")
+
+    monkeypatch.setattr(SamVisionEncoder, "forward", no_pytorch)
+    model = SamBoxes(dataclasses.replace(settings, onnx=str(onnx), threads=2))
+    assert model.onnx is not None and model.model.vision_encoder is None
+    masks = model.masks(images, boxes)
+    for key in boxes:
+        difference = (model._embeddings[key][0] - pytorch._embeddings[key][0]).abs().max().item()
+        assert difference <= PARITY, difference
+        assert masks[key].shape == reference[key].shape == (len(boxes[key]), *images[key].shape[:2])
+        assert (masks[key] == reference[key]).all(), (masks[key] != reference[key]).sum()
+    # The masks are not all empty or all full: they depend on the embeddings.
+    assert 0 < sum(m.sum() for m in reference.values()) < sum(m.size for m in reference.values())
+
+
+def test_sam_onnx_files_that_do_not_fit_are_one_line_errors_naming_the_entry(sam, exported, tmp_path):
+    config, _, _ = sam
+    settings = read_models_config(config).settings("sam")
+    (tmp_path / "garbage.onnx").write_bytes(b"not a model")
+    cases = [
+        (tmp_path / "absent.onnx", "ONNX file not found"),
+        (tmp_path / "garbage.onnx", "onnxruntime cannot load it"),
+        (exported["clip"][0], "outputs \\['batch', 16\\]; this SAM's image embeddings are \\['batch', 16, 4, 4\\]"),
+    ]
+    for onnx, match in cases:
+        with pytest.raises(InputError, match=f"^models config entry 'sam': onnx .*{match}") as err:
+            SamBoxes(dataclasses.replace(settings, onnx=str(onnx)))
+        assert "\n" not in str(err.value) and str(onnx) in str(err.value)
+
+
+def test_models_export_command_writes_sam_image_encoder(sam, tmp_path, capsys):
+    config, _, _ = sam
+    out = tmp_path / "sam.onnx"
+    assert main(["models", "export", "sam", "--models", str(config), "-o", str(out)]) == 0
+    line = capsys.readouterr().out
+    assert out.is_file() and "sam image encoder" in line
+    assert float(line.split("= ")[1].split()[0]) <= PARITY
+
+
 def test_sessions_never_spin_and_use_the_configured_threads(exported):
     encoder = OnnxEncoder(exported["clip"][0], ["pixel_values"], threads=2)
     options = encoder.session.get_session_options()
@@ -113,14 +187,13 @@ def test_models_export_command(configs, tmp_path, capsys):
     assert out.is_file() and "max |onnxruntime - PyTorch|" in line
     assert float(line.split("= ")[1].split()[0]) <= PARITY
     assert main(["models", "export", "oracle", "--models", str(configs["fg-clip"]), "-o", str(tmp_path / "x.onnx")]) == 2
-    assert (
-        "has no image encoder to export; exportable: clip, siglip, fg-clip, fg-clip2, orient-anything" in capsys.readouterr().err
-    )
+    exportable = "clip, siglip, fg-clip, fg-clip2, orient-anything, sam"
+    assert f"has no image encoder to export; exportable: {exportable}" in capsys.readouterr().err
 
 
 def test_bench_models_prints_both_runtimes_for_every_tiny_model(capsys):
     assert main(["bench", "models", "--json"]) == 0
     figures = json.loads(capsys.readouterr().out)
-    assert set(figures) == {f"{kind} (tiny)" for kind in [*KINDS, "orient-anything"]}
+    assert set(figures) == {f"{kind} (tiny)" for kind in [*KINDS, "orient-anything", "sam"]}
     for row in figures.values():
         assert row["PyTorch s/image"] > 0 and row["onnxruntime s/image"] > 0 and row["max |difference|"] <= PARITY

@@ -24,6 +24,7 @@ from capframe.backends import BackendContext, Backends, read_models_config
 from capframe.backends.detector import COCO_CLASSES, OnnxDetector, coco_class, letterbox
 from capframe.backends.masks import depth_prior, fill_largest_contour, grabcut_box, resize_mask
 from capframe.backends.sam import SamBoxes, sam_input_boxes
+from capframe.backends.tiny import tiny_sam
 from capframe.cli import main
 from capframe.errors import InputError
 from capframe.scene import SceneMeta, load_scene_dir
@@ -81,47 +82,6 @@ def save_tiny_grounding_dino(path: Path) -> Path:
     return path
 
 
-def save_tiny_sam(path: Path, whole_image: bool) -> Path:
-    """A random-weight SAM (about 57k parameters) with its processor. With ``whole_image`` its
-    last layers are set so that every pixel's logit is positive: its masks are then the whole
-    image whatever the random weights draw, so end-to-end tests do not depend on luck."""
-    from transformers import SamConfig, SamImageProcessorPil, SamModel, SamProcessor
-    from transformers.models.sam.configuration_sam import SamMaskDecoderConfig, SamPromptEncoderConfig, SamVisionConfig
-
-    torch.manual_seed(0)
-    vision = SamVisionConfig(
-        hidden_size=32,
-        num_hidden_layers=2,
-        num_attention_heads=2,
-        image_size=64,
-        patch_size=16,
-        window_size=2,
-        global_attn_indexes=[1],
-        output_channels=16,
-        mlp_dim=64,
-        num_pos_feats=8,  # 2 * 8 = the prompt encoder's width
-    )
-    prompt = SamPromptEncoderConfig(hidden_size=16, image_size=64, patch_size=16, mask_input_channels=4)
-    decoder = SamMaskDecoderConfig(hidden_size=16, num_attention_heads=2, mlp_dim=32, iou_head_hidden_dim=16)
-    model = SamModel(SamConfig(vision_config=vision, prompt_encoder_config=prompt, mask_decoder_config=decoder))
-    if whole_image:
-        with torch.no_grad():
-            model.mask_decoder.upscale_conv2.weight.zero_()
-            model.mask_decoder.upscale_conv2.bias.fill_(1.0)
-            for mlp in model.mask_decoder.output_hypernetworks_mlps:
-                mlp.proj_out.weight.zero_()
-                mlp.proj_out.bias.fill_(1.0)
-    model.save_pretrained(path)
-    image_processor = SamImageProcessorPil(
-        size={"longest_edge": 64},
-        pad_size={"height": 64, "width": 64},
-        mask_size={"longest_edge": 16},
-        mask_pad_size={"height": 16, "width": 16},
-    )
-    SamProcessor(image_processor=image_processor).save_pretrained(path)
-    return path
-
-
 def save_onnx_detector(path: Path, detections: np.ndarray, input_shape=(1, 3, 64, 64), width: int = 6) -> Path:
     """An ONNX "detector" whose ``detections`` output is the constant ``detections`` (N, width),
     with one image input of ``input_shape`` and a second, unused output (as CenterNet has)."""
@@ -153,8 +113,8 @@ def weights(tmp_path_factory):
     root = tmp_path_factory.mktemp("weights")
     return {
         "grounding-dino": save_tiny_grounding_dino(root / "grounding-dino"),
-        "sam": save_tiny_sam(root / "sam", whole_image=True),
-        "sam-random": save_tiny_sam(root / "sam-random", whole_image=False),
+        "sam": tiny_sam(root / "sam", whole_image=True),
+        "sam-random": tiny_sam(root / "sam-random"),
     }
 
 

@@ -1,5 +1,9 @@
 """``capframe models export``: a model backend's image encoder as an ONNX file, checked against
-PyTorch on images of several aspect ratios before it is reported."""
+PyTorch on images of several aspect ratios before it is reported.
+
+SAM's image encoder is its vision encoder with the neck: padded pixel values -> the image
+embeddings its mask decoder reads (``SamModel`` needs nothing else from the image; SAM-HQ's
+intermediate embeddings do not arise, its checkpoints are not ``sam`` ones)."""
 
 from __future__ import annotations
 
@@ -15,8 +19,10 @@ from .models import ModelSettings, read_models_config
 from .onnx import OnnxEncoder, export, parity
 from .orient_anything import BACKEND as ORIENT_ANYTHING
 from .orient_anything import OrientAnything
+from .sam import ENTRY as SAM
+from .sam import SamBoxes
 
-EXPORTABLE = (*FAMILIES, ORIENT_ANYTHING)
+EXPORTABLE = (*FAMILIES, ORIENT_ANYTHING, SAM)
 # Picture sizes (width, height) the parity check runs on: landscape, portrait, square.
 CHECK_SIZES = ((64, 48), (40, 72), (56, 56))
 
@@ -27,16 +33,30 @@ def check_images(seed: int = 0) -> list[np.ndarray]:
     return [rng.integers(0, 256, (h, w, 3), dtype=np.uint8) for w, h in CHECK_SIZES]
 
 
+def encoder_inputs(backend: str, model, images: list[np.ndarray]) -> list[dict[str, torch.Tensor]]:
+    """The image encoder's inputs of (H, W, 3) uint8 ``images``, per batch, as ``model`` (the
+    backend's PyTorch model) prepares them."""
+    if backend == ORIENT_ANYTHING:
+        return [{"pixel_values": model.pixel_values(images)}]
+    if backend == SAM:
+        return [{"pixel_values": model.processor(images=images, return_tensors="pt")["pixel_values"]}]
+    return [batch for _, batch in model.model_inputs(images)]
+
+
 def encoder_of(backend: str, settings: ModelSettings):
     """(model, its weights module, its encoder function, input names, per-batch inputs of the
     check images) of ``backend`` loaded in float32 on the CPU with PyTorch (what is exported)."""
     settings = dataclasses.replace(settings, onnx=None, device="cpu", dtype="float32")
-    images = check_images()
     if backend == ORIENT_ANYTHING:
         model = OrientAnything(settings)
-        return model, model.net, model.net.forward, ["pixel_values"], [{"pixel_values": model.pixel_values(images)}]
-    model = ImageTextModel(backend, settings)
-    return model, model.model, model.image_features, list(model.inputs), [b for _, b in model.model_inputs(images)]
+        module, forward, names = model.net, model.net.forward, ["pixel_values"]
+    elif backend == SAM:
+        model = SamBoxes(settings)
+        module, forward, names = model.model, model.model.get_image_embeddings, ["pixel_values"]
+    else:
+        model = ImageTextModel(backend, settings)
+        module, forward, names = model.model, model.image_features, list(model.inputs)
+    return model, module, forward, names, encoder_inputs(backend, model, check_images())
 
 
 def example_inputs(model, names: list[str], batch: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:

@@ -322,3 +322,52 @@ def tiny_qwen3(directory: str | Path, seed: int = 0) -> Path:
         model.save_pretrained(directory)
         tokenizer.save_pretrained(directory)
     return directory
+
+
+def tiny_sam(directory: str | Path, whole_image: bool = False, seed: int = 0) -> Path:
+    """A tiny SAM (about 57k parameters: vision hidden 32, 2 layers, 64 px, patch 16; prompt
+    encoder and mask decoder hidden 16) with its processor (long side 64, masks 16 px), in a
+    ``save_pretrained`` folder. With ``whole_image`` its mask decoder's last layers are set so
+    that every pixel's logit is positive: its masks are then the whole image whatever the random
+    weights draw, so end-to-end tests do not depend on luck. Returns the folder."""
+    from transformers import SamConfig, SamImageProcessorPil, SamModel, SamProcessor
+    from transformers.models.sam.configuration_sam import SamMaskDecoderConfig, SamPromptEncoderConfig, SamVisionConfig
+
+    torch.manual_seed(seed)
+    vision = SamVisionConfig(
+        hidden_size=WIDTH,
+        num_hidden_layers=2,
+        num_attention_heads=2,
+        image_size=64,
+        patch_size=16,
+        window_size=2,
+        global_attn_indexes=[1],
+        output_channels=16,
+        mlp_dim=64,
+        num_pos_feats=8,  # 2 * 8 = the prompt encoder's width
+        initializer_range=0.02,  # SAM's default, 1e-10, makes the image embeddings vanish
+    )
+    prompt = SamPromptEncoderConfig(hidden_size=16, image_size=64, patch_size=16, mask_input_channels=4)
+    decoder = SamMaskDecoderConfig(hidden_size=16, num_attention_heads=2, mlp_dim=32, iou_head_hidden_dim=16)
+    model = SamModel(SamConfig(vision_config=vision, prompt_encoder_config=prompt, mask_decoder_config=decoder))
+    with torch.no_grad():  # initialised to zeros: random, so that the export carries them
+        for name, parameter in model.vision_encoder.named_parameters():
+            if name == "pos_embed" or "rel_pos" in name:
+                parameter.normal_(std=0.02)
+    if whole_image:
+        with torch.no_grad():
+            model.mask_decoder.upscale_conv2.weight.zero_()
+            model.mask_decoder.upscale_conv2.bias.fill_(1.0)
+            for mlp in model.mask_decoder.output_hypernetworks_mlps:
+                mlp.proj_out.weight.zero_()
+                mlp.proj_out.bias.fill_(1.0)
+    image_processor = SamImageProcessorPil(
+        size={"longest_edge": 64},
+        pad_size={"height": 64, "width": 64},
+        mask_size={"longest_edge": 16},
+        mask_pad_size={"height": 16, "width": 16},
+    )
+    with quiet_transformers():
+        model.save_pretrained(directory)
+        SamProcessor(image_processor=image_processor).save_pretrained(directory)
+    return Path(directory)

@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from ..backends.export import EXPORTABLE, ORIENT_ANYTHING, encoder_of, export_backend
+from ..backends.export import EXPORTABLE, ORIENT_ANYTHING, SAM, encoder_inputs, encoder_of, export_backend
 from ..backends.models import ModelSettings, read_models_config
 from ..backends.onnx import OnnxEncoder
-from ..backends.tiny import TINY_IMAGE_TEXT, tiny_image_text, tiny_orient_anything
+from ..backends.tiny import TINY_IMAGE_TEXT, tiny_image_text, tiny_orient_anything, tiny_sam
 
 BATCH = 8
 REPEATS = 5
@@ -46,10 +46,7 @@ def time_encoder(backend: str, settings: ModelSettings, folder: Path) -> dict:
     model, _, forward, names, _ = encoder_of(backend, settings)
     rng = np.random.default_rng(0)
     pictures = [rng.integers(0, 256, (*PICTURE, 3), dtype=np.uint8) for _ in range(BATCH)]
-    if backend == ORIENT_ANYTHING:
-        batch = {"pixel_values": model.pixel_values(pictures)}
-    else:
-        [(_, batch)] = model.model_inputs(pictures)
+    [batch] = encoder_inputs(backend, model, pictures)
     encoder = OnnxEncoder(folder / f"{backend}.onnx", names, threads)
     default = torch.get_num_threads()
     torch.set_num_threads(threads)
@@ -78,6 +75,7 @@ def bench_models(models: str | Path | None = None) -> dict:
             cases.append((f"{kind} (tiny)", backend, ModelSettings(weights=str(tiny_image_text(folder / kind, kind)))))
         weights, config = tiny_orient_anything(folder / ORIENT_ANYTHING)
         cases.append((f"{ORIENT_ANYTHING} (tiny)", ORIENT_ANYTHING, ModelSettings(weights=str(weights), config=str(config))))
+        cases.append((f"{SAM} (tiny)", SAM, ModelSettings(weights=str(tiny_sam(folder / SAM)))))
         configured = read_models_config(models)
         cases += [(name, name, configured.entries[name]) for name in configured.entries if name in EXPORTABLE]
         for label, backend, settings in cases:
