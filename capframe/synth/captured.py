@@ -5,11 +5,12 @@ copied into the repository) brought into the catalog's local frame (up = +z, fro
 z = 0, metres), in four steps:
 
 1. **clean**: keep the largest connected cluster of Gaussians (:func:`capframe.scene.stats.floater_mask`);
-2. **upright**: turn the file's up axis onto +z, then its front azimuth onto +x;
-3. **scale**: to the annotated real height or width of the cleaned means;
-4. **thin**: keep the ``target * density`` Gaussians of largest ``opacity * s1 * s2`` (the two
+2. **thin**: keep the ``target * density`` Gaussians of largest ``opacity * s1 * s2`` (the two
    largest standard deviations: the splat's footprint), which carry nearly all of the rendered
-   colour; the faint, tiny remainder costs render time and shows little.
+   colour; the faint, tiny remainder costs render time and shows little;
+3. **upright**: turn the file's up axis onto +z, then its front azimuth onto +x;
+4. **scale**: to the annotated real height or width of the kept means (between their 0.5 %
+   and 99.5 % quantiles per axis, :func:`robust_box`), so the size holds at any density.
 
 Colours are the SH DC term (synthetic scenes are SH degree 0); the capture's lighting is already
 in them. Run ``python -m capframe.synth.captured --views DIR`` to render every entry from four
@@ -37,6 +38,7 @@ from ..scene.stats import floater_mask
 REPO_ROOT = Path(__file__).resolve().parents[2]
 CONFIG = REPO_ROOT / "config" / "captured.yaml"
 _AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0), "+z": (0, 0, 1), "-z": (0, 0, -1)}
+BOX_QUANTILE = 0.005  # the size is measured between these quantiles of the means
 _FIELDS = ("name", "aliases", "file", "up", "front_deg", "size_m", "measure", "color", "target", "credits")
 
 
@@ -139,27 +141,33 @@ def captured_arrays(source: CapturedSource, density: float = 1.0) -> dict[str, n
     K = min(N, round(target * density)) of the N cleaned Gaussians.
     """
     (means, quats, scales, opacities, rgb), _ = _decoded(source.path)
-    R = upright_rotation(source.up, source.front_deg)
-    means = means @ R.T
-    lo, hi = means.min(0), means.max(0)
-    extent = hi[2] - lo[2] if source.measure == "height" else float(np.max(hi[:2] - lo[:2]))
-    factor = source.size_m / extent
     keep = min(len(means), max(1, round(source.target * density)))
     area = opacities * np.prod(np.sort(scales, axis=1)[:, 1:], axis=1)
-    pick = np.sort(np.argsort(-area, kind="stable")[:keep])
+    pick = np.sort(np.argsort(-area, kind="stable")[:keep])  # a ranking no turn or scale changes
+    R = upright_rotation(source.up, source.front_deg)
+    means = means[pick] @ R.T
+    lo, hi = robust_box(means)
+    extent = hi[2] - lo[2] if source.measure == "height" else float(np.max(hi[:2] - lo[:2]))
+    factor = source.size_m / extent
     q = quat_multiply(rotmat_to_quat(torch.from_numpy(R)).expand(keep, 4), torch.from_numpy(quats[pick])).numpy()
     q = q / np.linalg.norm(q, axis=1, keepdims=True)
     rot = quat_to_rotmat(torch.from_numpy(q)).numpy()
     normals = rot[np.arange(keep), :, np.argmin(scales[pick], axis=1)]
-    centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, lo[2]])
+    centre = np.array([(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, 0.0])
     return {
-        "means": (means[pick] - centre) * factor,
+        "means": (means - centre) * factor,
         "quats": q,
         "scales": scales[pick] * factor,
         "opacities": opacities[pick],
         "rgb": rgb[pick],
         "normals": normals,
     }
+
+
+def robust_box(means: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Corners (3,), (3,) of the box between the 0.5 % and 99.5 % quantiles of the (N, 3) means
+    per axis: the object's size, unmoved by the faint outermost splats that thinning drops."""
+    return np.quantile(means, BOX_QUANTILE, axis=0), np.quantile(means, 1.0 - BOX_QUANTILE, axis=0)
 
 
 def floater_fraction(source: CapturedSource) -> float:
