@@ -786,7 +786,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (default, full, heldout) or a suite file; "
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout) or a suite file; "
         "heldout's instructions are committed, its figures are full success and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")

@@ -194,7 +194,8 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
-    assert "--suite 'nosuch' is neither a file nor a suite name; known: ['default', 'full', 'heldout']" in err and "\n" not in err
+    known = "known: ['captured', 'default', 'full', 'heldout']"
+    assert f"--suite 'nosuch' is neither a file nor a suite name; {known}" in err and "\n" not in err
     assert main(["bench", "refine", "--suite", "heldout"]) == 2
     assert "bench refine needs generated instructions" in capsys.readouterr().err
 
