@@ -208,7 +208,7 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
     known = f"known: {sorted(p.stem for p in SUITES.glob('*.yaml'))}"
-    assert {"default", "full", "heldout", "heldout2"} <= {p.stem for p in SUITES.glob("*.yaml")}
+    assert {"captured", "default", "full", "heldout", "heldout2"} <= {p.stem for p in SUITES.glob("*.yaml")}
     assert f"--suite 'nosuch' is neither a file nor a suite name; {known}" in err and "\n" not in err
     assert main(["bench", "refine", "--suite", "heldout"]) == 2
     assert "bench refine needs generated instructions" in capsys.readouterr().err

@@ -43,6 +43,15 @@ def test_dry_run_schedules_every_scene_of_the_suite(tmp_path):
         assert f"results/scenes/{scene}" in out and f"results/instructions/{scene}/constraints.json" in out
 
 
+def test_captured_suite_is_picked_by_the_config_switch(tmp_path):
+    # `--config suite=config/suites/captured.yaml` runs the captured objects' suite (issue 19);
+    # its scenes name the captured objects, passed to capframe synth as one quoted list.
+    out = dry_run(tmp_path, "--config", "suite=config/suites/captured.yaml", "--forceall", "--printshellcmds")
+    scenes = re.findall(r"capframe synth results/scenes/(cap-[a-z-]+) ", out)
+    assert len(set(scenes)) == 6 and not any(f"results/scenes/{scene}" in out for scene in SCENES)
+    assert "--objects 'tarot box,donut,mug,toy car'" in out
+
+
 def test_bad_config_is_rejected_by_the_schema(tmp_path):
     env = dict(os.environ, PATH=f"{Path(sys.executable).parent}:{os.environ.get('PATH', '')}")
     cmd = [

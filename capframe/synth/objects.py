@@ -27,6 +27,8 @@ import torch
 
 from ..errors import InputError
 from ..geometry import rotmat_to_quat
+from .captured import CONFIG as CAPTURED_CONFIG
+from .captured import CapturedSource, captured_arrays, load_captured
 
 # --- colours -------------------------------------------------------------------------------------
 
@@ -613,9 +615,12 @@ class ObjectSpec:
         symmetric: True when the object has no canonical front.
         colors: colour names an instance may take (the instance's colour becomes an attribute).
         target: number of Gaussians at density 1.
-        design: fills a :class:`ShapeBuilder` given the instance's base colour and an RNG.
+        design: fills a :class:`ShapeBuilder` given the instance's base colour and an RNG
+            (None for a captured object).
         wall: prefers to stand with its back against a wall (rooms).
         front_description: what marks the front (docs and error messages).
+        captured: the real 3DGS file a captured object is read from (``config/captured.yaml``);
+            None for a parametric object.
     """
 
     name: str
@@ -623,9 +628,10 @@ class ObjectSpec:
     symmetric: bool
     colors: tuple[str, ...]
     target: int
-    design: Design = field(repr=False)
+    design: Design | None = field(repr=False)
     wall: bool = False
     front_description: str = ""
+    captured: CapturedSource | None = None
 
 
 def _teddy_bear(b: ShapeBuilder, fur: np.ndarray, rng) -> None:
@@ -1059,11 +1065,37 @@ CATALOG: dict[str, ObjectSpec] = {
         ObjectSpec("traffic cone", ("cone", "safety cone"), True, ("orange", "yellow"), 1500, _traffic_cone),
     )
 }
+PARAMETRIC = tuple(sorted(CATALOG))
+
+
+def _captured_spec(source: CapturedSource) -> ObjectSpec:
+    front = "" if source.front_deg is None else f"annotated in config/captured.yaml ({source.front_deg:g} degrees)"
+    return ObjectSpec(
+        source.name,
+        source.aliases,
+        source.front_deg is None,
+        (source.color,),
+        source.target,
+        None,
+        front_description=front,
+        captured=source,
+    )
+
+
+# Captured objects join when the repository's config/captured.yaml is there (an installed
+# package without the repository has the parametric catalog only); their files are read at synth time.
+if CAPTURED_CONFIG.is_file():
+    for _source in load_captured(CAPTURED_CONFIG):
+        if _source.name in CATALOG:
+            raise InputError(f"{CAPTURED_CONFIG}: captured object {_source.name!r} has a parametric object's name")
+        CATALOG[_source.name] = _captured_spec(_source)
 
 
 def catalog_names() -> list[str]:
-    """Canonical names of the catalog, sorted."""
-    return sorted(CATALOG)
+    """Canonical names of the catalog: the parametric ones sorted, then the captured ones
+    sorted. The generator keys each object's random stream by this index, so adding captured
+    objects leaves the parametric objects (and the scenes made of them) unchanged."""
+    return list(PARAMETRIC) + sorted(set(CATALOG) - set(PARAMETRIC))
 
 
 def _normalise(name: str) -> str:
@@ -1127,6 +1159,26 @@ class BuiltObject:
         return self.spec.name
 
 
+def _captured_gaussians(spec: ObjectSpec, density: float) -> ObjectGaussians:
+    """A captured object's Gaussians (:func:`capframe.synth.captured.captured_arrays`). Its
+    colours are the capture's, lighting included: every Gaussian is marked emissive so that
+    :func:`bake_lighting` leaves it. The front feature is its front half: the Gaussians in front
+    of the median along +x (what a camera at azimuth 0 sees, and one behind it does not)."""
+    a = captured_arrays(spec.captured, density)
+    x = a["means"][:, 0]
+    front = np.zeros(len(x), dtype=bool) if spec.symmetric else x > np.median(x)
+    return ObjectGaussians(
+        means=a["means"],
+        quats=a["quats"],
+        scales=a["scales"],
+        opacities=a["opacities"],
+        rgb=a["rgb"],
+        front_feature=front,
+        normals=a["normals"],
+        emissive=np.ones(len(x), dtype=bool),
+    )
+
+
 def build_object(
     name: str,
     *,
@@ -1153,9 +1205,12 @@ def build_object(
         raise InputError(f"unknown colour {color!r}; expected one of {', '.join(sorted(COLORS))}")
     if not (density > 0 and math.isfinite(density)):
         raise InputError(f"density {density!r}; expected a positive number")
-    builder = ShapeBuilder()
-    spec.design(builder, _rgb(color), rng)
-    gaussians = builder.build(max(1, round(spec.target * density)), rng)
+    if spec.captured is not None:
+        gaussians = _captured_gaussians(spec, density)
+    else:
+        builder = ShapeBuilder()
+        spec.design(builder, _rgb(color), rng)
+        gaussians = builder.build(max(1, round(spec.target * density)), rng)
     if size != 1.0:
         gaussians = gaussians.scaled(size)
     gaussians.means[:, 2] -= gaussians.means[:, 2].min()  # stand on z = 0
@@ -1180,6 +1235,7 @@ def build_object(
 
 __all__ = [
     "CATALOG",
+    "PARAMETRIC",
     "COLORS",
     "LIGHT_DIRECTION",
     "ObjectSpec",
