@@ -373,7 +373,7 @@ def test_compiled_backend_matches_torch_on_stiff_scenes(seed):
         out, pose, params = _render_with_gradients(scene, camera, "compiled")
     assert 0 < out.stats["visible"] < len(scene) - 20 and float(out.alpha.detach().max()) > 0.99
     for name in ("rgb", "alpha", "depth"):
-        assert float((getattr(out, name) - getattr(ref, name)).abs().max()) <= 1e-5, name
+        assert float((getattr(out, name) - getattr(ref, name)).abs().max().detach()) <= 1e-5, name
     assert float((pose - ref_pose).abs().max()) <= 1e-5 * max(1.0, float(ref_pose.abs().max()))
     for got, want in zip(params, ref_params):
         assert float((got - want).abs().max()) <= 1e-5 * max(1.0, float(want.abs().max()))
