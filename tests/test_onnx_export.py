@@ -197,3 +197,23 @@ def test_bench_models_prints_both_runtimes_for_every_tiny_model(capsys):
     assert set(figures) == {f"{kind} (tiny)" for kind in [*KINDS, "orient-anything", "sam"]}
     for row in figures.values():
         assert row["PyTorch s/image"] > 0 and row["onnxruntime s/image"] > 0 and row["max |difference|"] <= PARITY
+
+
+def test_weights_over_the_limit_go_to_one_external_data_file(configs, exported, tmp_path):
+    """A model over protobuf's 2 GiB (SAM ViT-H's encoder) cannot be one file: past the limit the
+    weights go to ``<name>.data`` beside the graph. Forced here with a limit of 0 bytes: same
+    features as the single-file export, the graph file itself holds no weights."""
+    from capframe.backends import export as exports
+    from capframe.backends.onnx import export
+
+    backend, settings = entry(configs, "clip")
+    model, module, forward, names, batches = exports.encoder_of(backend, settings)
+    path = tmp_path / "split.onnx"
+    export(module, forward, exports.example_inputs(model, names, batches[0]), path, external_data_bytes=0)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["split.onnx", "split.onnx.data"]
+    single, _ = exported["clip"]
+    assert path.stat().st_size < (tmp_path / "split.onnx.data").stat().st_size
+    for batch in batches:
+        feed = {name: batch[name] for name in names}
+        split, whole = OnnxEncoder(path, names)(feed), OnnxEncoder(single, names)(feed)
+        assert np.array_equal(split, whole)

@@ -16,6 +16,7 @@ cores between calls) and use the configured number of intra-op threads.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -115,11 +116,18 @@ class _Encoder(torch.nn.Module):
         return self.encode(*inputs)
 
 
+# A protobuf message cannot exceed 2 GiB: weights above this go to one external data file beside
+# the model (``<name>.data``), which onnxruntime reads from the model's folder (SAM ViT-H's image
+# encoder alone is ~2.5 GB in float32).
+EXTERNAL_DATA_BYTES = 2**31 - 2**26
+
+
 def export(
     module: torch.nn.Module,
     forward: Callable[..., torch.Tensor],
     example: dict[str, torch.Tensor],
     path: str | Path,
+    external_data_bytes: int = EXTERNAL_DATA_BYTES,
 ) -> None:
     """Write ``forward`` (the image encoder of ``module``, taking ``example``'s tensors in order)
     to ``path`` as ONNX with a dynamic batch axis, atomically. NaFlex inputs (a
@@ -131,28 +139,45 @@ def export(
         forward: inputs -> (B, D) features.
         example: input name -> an example tensor (batch of 1 or more).
         path: the ONNX file to write.
+        external_data_bytes: weights larger than this in all are written to ``<path>.data``
+            beside ``path`` (which then holds the graph only), written before the model file.
     """
-    import io
+    import tempfile
     import warnings
 
+    import onnx
+
+    path = Path(path)
     names = list(example)
     axes = {name: {0: "batch"} for name in [*names, OUTPUT]}
-    buffer = io.BytesIO()
-    with warnings.catch_warnings(), torch.no_grad():
-        # The TorchScript exporter warns about traced Python conditions: the model's shape checks.
-        warnings.simplefilter("ignore")
-        torch.onnx.export(
-            # In eval mode: the exporter restores the wrapper's mode, and with it the model's, afterwards.
-            _Encoder(module, forward).eval(),
-            tuple(example.values()),
-            buffer,
-            dynamo=False,
-            opset_version=OPSET,
-            input_names=names,
-            output_names=[OUTPUT],
-            dynamic_axes=axes,
+    with tempfile.TemporaryDirectory(dir=path.parent, prefix=f".{path.name}.") as folder:
+        # A file, not a buffer: for a model over 2 GiB the exporter itself writes external data.
+        traced = Path(folder) / "traced.onnx"
+        with warnings.catch_warnings(), torch.no_grad():
+            # The TorchScript exporter warns about traced Python conditions: the model's shape checks.
+            warnings.simplefilter("ignore")
+            torch.onnx.export(
+                # In eval mode: the exporter restores the wrapper's mode, and with it the model's, afterwards.
+                _Encoder(module, forward).eval(),
+                tuple(example.values()),
+                str(traced),
+                dynamo=False,
+                opset_version=OPSET,
+                input_names=names,
+                output_names=[OUTPUT],
+                dynamic_axes=axes,
+            )
+        model = onnx.load(str(traced))
+        weights = sum(tensor.ByteSize() for tensor in model.graph.initializer)
+        if weights <= external_data_bytes:
+            atomic_write(path, model.SerializeToString())
+            return
+        data = Path(folder) / f"{path.name}.data"
+        onnx.save_model(
+            model, str(Path(folder) / path.name), save_as_external_data=True, all_tensors_to_one_file=True, location=data.name
         )
-    atomic_write(path, buffer.getvalue())
+        os.replace(data, path.parent / data.name)
+        os.replace(Path(folder) / path.name, path)
 
 
 def parity(encoder: OnnxEncoder, forward: Callable[..., torch.Tensor], batch: dict[str, torch.Tensor]) -> float:
