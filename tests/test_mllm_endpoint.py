@@ -12,6 +12,7 @@ import io
 import json
 import logging
 import socket
+import sys
 import threading
 import time
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
@@ -142,7 +143,15 @@ class Server:
             def log_message(self, *args):
                 pass
 
-        self.httpd = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.errors: list[BaseException] = []
+
+        class Quiet(ThreadingHTTPServer):
+            def handle_error(self, request, client_address):
+                # A client that gives up (a timeout, a closed connection) is part of what is
+                # tested; socketserver would print its traceback into the stderr under test.
+                server.errors.append(sys.exc_info()[1])
+
+        self.httpd = Quiet(("127.0.0.1", 0), Handler)
         self.httpd.daemon_threads = True
         threading.Thread(target=self.httpd.serve_forever, args=(0.05,), daemon=True).start()
 

@@ -5,6 +5,7 @@ and a missing or dead server falls back to running the command in place."""
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -46,6 +47,7 @@ def server():
         process.terminate()
         process.wait(timeout=30)
     assert not path.exists(), "the server left its socket behind"
+    shutil.rmtree(folder)
 
 
 @pytest.fixture(scope="module")
@@ -115,7 +117,8 @@ def test_without_a_server_the_command_runs_in_place(scene_dir, tmp_path):
 
 
 def test_the_server_stops_when_its_parent_is_gone(tmp_path):
-    path = Path(tempfile.mkdtemp(prefix="cfw-")) / "s.sock"
+    folder = Path(tempfile.mkdtemp(prefix="cfw-"))
+    path = folder / "s.sock"
     # A parent that starts the server and exits at once, as a killed Snakemake would.
     starter = (
         "import os, subprocess; "
@@ -128,6 +131,7 @@ def test_the_server_stops_when_its_parent_is_gone(tmp_path):
         assert time.monotonic() < deadline, "an orphaned warm server kept running"
         time.sleep(0.2)
     assert not path.exists()
+    shutil.rmtree(folder)
 
 
 def _running(pid: int) -> bool:
