@@ -101,12 +101,20 @@ def load_transformers(entry: str, settings: ModelSettings, model_type: str, mode
         except (OSError, ValueError, TypeError, KeyError) as err:
             message = str(err).splitlines()[0] if str(err) else type(err).__name__
             raise InputError(f"has no readable processor files (preprocessor/tokenizer): {message}", source=str(root)) from None
-        try:
-            model, info = model_class.from_pretrained(root, local_files_only=True, output_loading_info=True, dtype=dtype)
-        except (OSError, RuntimeError, ValueError) as err:
-            mismatch = "size mismatch" in str(err) or "ignore_mismatched_sizes" in str(err)
-            why = "the weights' shapes disagree with config.json" if mismatch else str(err).splitlines()[0]
-            raise InputError(f"cannot be loaded as {model_class.__name__}: {why}", source=str(root)) from None
+        model = load_pretrained(model_class, root, dtype)
+    return model.to(device).eval(), processor
+
+
+def load_pretrained(model_class: type, root: Path, dtype) -> Any:
+    """``model_class`` from the checkpoint directory ``root``, every tensor loaded:
+    :class:`InputError` naming the folder when it cannot be loaded, or when config.json and the
+    weights disagree (missing or misshapen tensors, which transformers would leave random)."""
+    try:
+        model, info = model_class.from_pretrained(root, local_files_only=True, output_loading_info=True, dtype=dtype)
+    except (OSError, RuntimeError, ValueError) as err:
+        mismatch = "size mismatch" in str(err) or "ignore_mismatched_sizes" in str(err)
+        why = "the weights' shapes disagree with config.json" if mismatch else str(err).splitlines()[0]
+        raise InputError(f"cannot be loaded as {model_class.__name__}: {why}", source=str(root)) from None
     missing = sorted(info["missing_keys"]) + sorted(k for k, *_ in info["mismatched_keys"])
     if missing:
         raise InputError(
@@ -114,7 +122,7 @@ def load_transformers(entry: str, settings: ModelSettings, model_type: str, mode
             f"config.json and the weights disagree",
             source=str(root),
         )
-    return model.to(device).eval(), processor
+    return model
 
 
 def onnx_session(entry: str, settings: ModelSettings):

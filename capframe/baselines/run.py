@@ -25,6 +25,7 @@ from ..backends import CameraScorer, DifferentiableScorer, Question, backend_nam
 from ..errors import InputError
 from ..pipeline import GroundOptions, Job, StageClock, open_job, stages
 from ..pipeline.outputs import write_camera_result
+from ..refine.optimize import RefineResult
 from ..render import render
 from ..scene import Camera, SceneDir, scene_scale
 from ..scene._io import atomic_directory
@@ -126,25 +127,10 @@ def _splatraj(search: Search) -> tuple[Camera, float, dict]:
     scene, ranking, labels, scorer, options, clock = search.unpack()
     start = scene.cameras[ranking[0]]
     result = splatraj_pose(scene.gaussians, start, labels, scene_scale(scene.cameras, scene.gaussians.means), options.splatraj)
-    camera = start.with_pose(result.T_cw)
     clock.done(
         "optimise", f"from {start.name}: {result.iterations} iterations, loss {result.losses[0]:.3g} -> {result.losses.min():.3g}"
     )
-    score = float(scorer([camera])[0])
-    clock.done("score", f"{score:.1f} (not used by the search)")
-    return (
-        camera,
-        score,
-        {
-            "init_view": start.name,
-            "iterations": result.iterations,
-            "stop_reason": result.stop_reason,
-            "loss_initial": float(result.losses[0]),
-            "loss": float(result.losses.min()),
-            "loss_terms": result.terms,
-            "config": dataclasses.asdict(options.splatraj),
-        },
-    )
+    return _optimised(start, result, scorer, clock, {"init_view": start.name}, dataclasses.asdict(options.splatraj))
 
 
 def _chatcam(search: Search) -> tuple[Camera, float, dict]:
@@ -163,28 +149,32 @@ def _chatcam(search: Search) -> tuple[Camera, float, dict]:
         scene_scale(scene.cameras, scene.gaussians.means),
         options.chatcam,
     )
-    camera = start.with_pose(result.T_cw)
     clock.done("optimise", f"{result.iterations} iterations, 1 - score {result.losses[0]:.3g} -> {result.losses.min():.3g}")
+    config = {
+        "iterations": options.chatcam.descent.iterations,
+        "long_side": options.chatcam.descent.long_side,
+        "upright": options.chatcam.upright,
+    }
+    return _optimised(start, result, scorer, clock, {"init_view": start.name, "init_view_score": float(anchors.max())}, config)
+
+
+def _optimised(
+    start: Camera, result: RefineResult, scorer: CameraScorer, clock: StageClock, init: dict, config: dict
+) -> tuple[Camera, float, dict]:
+    """An optimiser baseline's answer: the camera at ``result``'s pose, its candidate score
+    (reported, not used by the search) and the record of the run (``init``: its start)."""
+    camera = start.with_pose(result.T_cw)
     score = float(scorer([camera])[0])
     clock.done("score", f"{score:.1f} (not used by the search)")
-    return (
-        camera,
-        score,
-        {
-            "init_view": start.name,
-            "init_view_score": float(anchors.max()),
-            "iterations": result.iterations,
-            "stop_reason": result.stop_reason,
-            "loss_initial": float(result.losses[0]),
-            "loss": float(result.losses.min()),
-            "loss_terms": result.terms,
-            "config": {
-                "iterations": options.chatcam.descent.iterations,
-                "long_side": options.chatcam.descent.long_side,
-                "upright": options.chatcam.upright,
-            },
-        },
-    )
+    record = init | {
+        "iterations": result.iterations,
+        "stop_reason": result.stop_reason,
+        "loss_initial": float(result.losses[0]),
+        "loss": float(result.losses.min()),
+        "loss_terms": result.terms,
+        "config": config,
+    }
+    return camera, score, record
 
 
 SEARCHES = {"ivs": _ivs, "svs": _svs, "splatraj": _splatraj, "chatcam": _chatcam}

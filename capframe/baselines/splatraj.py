@@ -127,13 +127,4 @@ def splatraj_pose(
         T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=False)
     finally:
         torch.set_num_threads(threads)
-    return RefineResult(
-        T_cw=T.numpy(),
-        iterations=run.steps,
-        stop_reason=run.stop_reason,
-        terms=run.best_terms,
-        trajectory=np.stack(run.trajectory),
-        losses=np.asarray(run.losses),
-        history={k: np.asarray(v) for k, v in run.history.items()},
-        seconds=time.perf_counter() - start,
-    )
+    return run.result(T, start)

@@ -354,16 +354,7 @@ def _refine(
             # Scan again, now with the whole scene in the objective: it finds an orbit position
             # where nothing stands in front of the subject (the current pose is one candidate).
             T = run.descend(T, remaining, scan=True)
-    return RefineResult(
-        T_cw=T.numpy(),
-        iterations=run.steps,
-        stop_reason=run.stop_reason,
-        terms=run.best_terms,
-        trajectory=np.stack(run.trajectory),
-        losses=np.asarray(run.losses),
-        history={k: np.asarray(v) for k, v in run.history.items()},
-        seconds=time.perf_counter() - start,
-    )
+    return run.result(T, start)
 
 
 class PoseDescent:
@@ -377,6 +368,20 @@ class PoseDescent:
         self.best_terms: dict[str, float] = {}
         self.stop_reason = "max_iterations"
         self.steps = 0  # Adam steps over all phases
+
+    def result(self, T: Tensor, start: float) -> RefineResult:
+        """The run as a :class:`RefineResult` with ``T`` its best pose (``start``: its
+        ``time.perf_counter()`` at the beginning)."""
+        return RefineResult(
+            T_cw=T.numpy(),
+            iterations=self.steps,
+            stop_reason=self.stop_reason,
+            terms=self.best_terms,
+            trajectory=np.stack(self.trajectory),
+            losses=np.asarray(self.losses),
+            history={k: np.asarray(v) for k, v in self.history.items()},
+            seconds=time.perf_counter() - start,
+        )
 
     def descend(self, T0: Tensor, iterations: int, scan: bool) -> Tensor:
         """Optimise from ``T0`` for at most ``iterations`` steps, after a yaw scan if ``scan``;

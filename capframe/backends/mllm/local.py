@@ -33,7 +33,7 @@ import numpy as np
 
 from ...errors import InputError, ModelError
 from ..models import ModelSettings
-from ..weights import WEIGHT_FILES, quiet_transformers, torch_device_dtype
+from ..weights import WEIGHT_FILES, load_pretrained, quiet_transformers, torch_device_dtype
 from .chat import FEEDBACK, ChatReply, ChatRequest, validate_reply
 from .images import downscale
 
@@ -290,20 +290,7 @@ def _load(root: Path, dtype):
         except (OSError, ValueError, TypeError, KeyError) as err:
             message = str(err).splitlines()[0] if str(err) else type(err).__name__
             raise InputError(f"has no readable tokenizer or image processor files: {message}", source=str(root)) from None
-        model_class = getattr(transformers, MODEL_CLASSES[model_type])
-        try:
-            model, info = model_class.from_pretrained(root, local_files_only=True, output_loading_info=True, dtype=dtype)
-        except (OSError, RuntimeError, ValueError) as err:
-            mismatch = "size mismatch" in str(err) or "ignore_mismatched_sizes" in str(err)
-            why = "the weights' shapes disagree with config.json" if mismatch else str(err).splitlines()[0]
-            raise InputError(f"cannot be loaded as {model_class.__name__}: {why}", source=str(root)) from None
-    missing = sorted(info["missing_keys"]) + sorted(k for k, *_ in info["mismatched_keys"])
-    if missing:
-        raise InputError(
-            f"the weights lack or misshape {len(missing)} of the model's tensors (e.g. {missing[0]}); "
-            f"config.json and the weights disagree",
-            source=str(root),
-        )
+        model = load_pretrained(getattr(transformers, MODEL_CLASSES[model_type]), root, dtype)
     if tokenizer.chat_template is None:
         tokenizer.chat_template = _legacy_chat_template(root)
     return tokenizer, image_processor, model
