@@ -154,6 +154,15 @@ def _umask() -> int:
 # --- server ---------------------------------------------------------------------------------
 
 
+def server_environment(environment: dict[str, str]) -> dict[str, str]:
+    """``environment`` for starting a server: its imports fix the BLAS and OpenMP pools, so one
+    thread each, as a one-thread job gets them (a job's own thread count is applied per command);
+    never itself a client."""
+    env = dict(environment, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    env.pop(SOCKET_ENV, None)
+    return env
+
+
 def serve(path: str, main: Callable[[list[str]], int], parent: int | None = None) -> None:
     """Import :data:`PRELOAD`, then run every request on ``path`` with ``main`` (the ``capframe``
     command's :func:`capframe.cli.main`) until the process ``parent``

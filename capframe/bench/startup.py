@@ -28,6 +28,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from ..warm import SOCKET_ENV, request, server_environment
+
 INSTRUCTION = "the teddy bear seen from its left, slightly above"
 # A small tabletop scene, generated without photos (the parse stage reads its vocabulary).
 SCENE_ARGS = ["--seed", "1", "--preset", "tabletop", "--capture", "orbit", "--views", "8", "--no-images"]
@@ -56,8 +58,6 @@ def _subprocess(argv: list[str], env: dict, repeats: int) -> tuple[float, float]
 
 def _worker_cpu(path: Path, argv: list[str], repeats: int) -> float:
     """Median CPU seconds of the worker the server forks for ``argv``."""
-    from ..warm import request
-
     samples = []
     for _ in range(repeats):
         with open(os.devnull, "w") as null:
@@ -75,9 +75,8 @@ def _worker_cpu(path: Path, argv: list[str], repeats: int) -> float:
 
 
 def _start_server(path: Path) -> subprocess.Popen:
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
     command = [sys.executable, "-m", "capframe.cli", "warm-server", str(path), "--parent", str(os.getpid())]
-    server = subprocess.Popen(command, env=env, stdin=subprocess.DEVNULL, start_new_session=True)
+    server = subprocess.Popen(command, env=server_environment(os.environ), stdin=subprocess.DEVNULL, start_new_session=True)
     deadline = time.monotonic() + START_TIMEOUT_S
     while not path.exists():
         if server.poll() is not None or time.monotonic() > deadline:
@@ -112,11 +111,11 @@ def bench_startup(benchmarks: str | Path | None = None, repeats: int = 5) -> dic
         scene, path = folder / "scene", folder / "s.sock"
         subprocess.run([sys.executable, "-m", "capframe.cli", "synth", str(scene), *SCENE_ARGS], check=True, capture_output=True)
         argv = _command(scene, folder / "parsed.json")
-        cold_env = {k: v for k, v in os.environ.items() if k != "CAPFRAME_WARM_SOCKET"}
+        cold_env = {k: v for k, v in os.environ.items() if k != SOCKET_ENV}
         cold_cpu, cold_wall = _subprocess(argv, cold_env, repeats)
         server = _start_server(path)
         try:
-            warm_env = cold_env | {"CAPFRAME_WARM_SOCKET": str(path)}
+            warm_env = cold_env | {SOCKET_ENV: str(path)}
             client_cpu, warm_wall = _subprocess(argv, warm_env, repeats)
             worker_cpu = _worker_cpu(path, argv, repeats)
             idle_client_cpu, _ = _subprocess(["--version"], warm_env, repeats)

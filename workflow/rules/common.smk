@@ -12,7 +12,7 @@ from snakemake.utils import validate
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
 from capframe.backends.registry import MASK_ORIENTERS
 from capframe.synth.suite import SAFE_NAME, is_safe_name, load_suite
-from capframe.warm import SOCKET_ENV
+from capframe.warm import SOCKET_ENV, server_environment
 
 validate(config, "../schemas/config.schema.yaml")
 
@@ -251,15 +251,11 @@ def start_warm_server():
     if not config.get("warm_start", False) or executable is None:
         return
     path = os.path.join(tempfile.gettempdir(), f"capframe-warm-{os.getpid()}.sock")
-    # The server's imports fix the BLAS and OpenMP pools; one thread each, as a one-thread job
-    # gets them. A job's own thread count is applied per command (capframe.warm).
-    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
-    env.pop(SOCKET_ENV, None)
     os.makedirs("results/logs", exist_ok=True)
     with open("results/logs/warm-server.log", "w") as log:
         WARM_SERVER["process"] = subprocess.Popen(
             [executable, "warm-server", path, "--parent", str(os.getpid())],
-            env=env,
+            env=server_environment(os.environ),
             stdin=subprocess.DEVNULL,
             stdout=log,
             stderr=subprocess.STDOUT,
