@@ -118,10 +118,11 @@ def render_page(key: Key) -> str:
 <body>
 <h1>Camera viewpoint study</h1>
 <p>Each of the {len(key.groups)} groups below gives a photographer's instruction and
-{len(key.groups[0].methods)} images taken by following it. Rate how well each image follows the
-instruction, from 1 (not at all) to 5 (perfectly), then pick the image that follows it best.
-There is no right answer; please judge every group on its own. When every group is answered,
-press <em>Download answers</em> at the bottom and send the file it saves.</p>
+{len(key.groups[0].methods)} images. Rate how well each image's content matches the instruction,
+from 1 (very poor match) to 5 (excellent match), then pick the image that matches it best overall.
+Judge only the match between the image and the text: disregard visual artifacts that have nothing
+to do with where the camera is (blur, holes, stray specks). When every group is answered, press
+<em>Download answers</em> at the bottom and send the file it saves.</p>
 <form id="study" data-questionnaire="{escape(key.questionnaire)}" onsubmit="return false">
 <p><label for="participant">Participant id:</label> <input id="participant" name="participant" required></p>
 {groups}
@@ -142,13 +143,13 @@ def _group_html(group: Group, total: int) -> str:
         ratings = "".join(f'<label><input type="radio" name="rating-{g}-{label}" value="{r}"> {r}</label>' for r in RATINGS)
         figures.append(
             f'<figure><img src="{escape(image)}" alt="Image {label}"><figcaption>Image {label}</figcaption>'
-            f"<fieldset><legend>How well does image {label} follow the instruction? (1 = not at all, "
-            f"5 = perfectly)</legend>{ratings}</fieldset></figure>"
+            f"<fieldset><legend>How well does image {label} match the instruction? (1 = very poor match, "
+            f"5 = excellent match)</legend>{ratings}</fieldset></figure>"
         )
     best = "".join(f'<label><input type="radio" name="best-{g}" value="{label}"> {label}</label>' for label in group.images)
     return (
         f'<section class="group" id="group-{g}" data-group="{g}" data-images="{",".join(group.images)}">'
         f"<h2>Group {g} of {total}</h2><blockquote>{escape(group.text)}</blockquote>"
         f'<div class="images">{"".join(figures)}</div>'
-        f"<fieldset><legend>Which image follows the instruction best?</legend>{best}</fieldset></section>"
+        f"<fieldset><legend>Which image matches the instruction best?</legend>{best}</fieldset></section>"
     )
