@@ -131,7 +131,8 @@ def test_the_draw_is_seeded_over_instructions_with_every_render_and_balances_the
         (["capframe", "oracle", "ivs"], {}, "no results for 'ivs'"),
         (["capframe", "oracle", "svs"], {"groups": 9}, "only 8 instructions have a render.png of every method"),
         (["capframe", "oracle"], {"groups": 2}, "--per-group 3: expected 2 to 2"),
-        (["capframe", "oracle", "oracle"], {"groups": 2}, "expected distinct"),
+        (["capframe", "oracle", "oracle"], {"groups": 2}, "expected two or more distinct"),
+        (["capframe"], {"per_group": 1}, "expected two or more distinct"),
         (["capframe", "oracle", "group"], {"groups": 2}, "would hold the method name 'group'"),
     ],
 )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import io
 import random
@@ -102,7 +103,7 @@ def make_questionnaire(
             )
         )
     draft = Key("", nonce, seed, tuple(methods), tuple(drawn))
-    key = Key(questionnaire_id(draft.content()), nonce, seed, tuple(methods), tuple(drawn))
+    key = dataclasses.replace(draft, questionnaire=questionnaire_id(draft.content()))
     with atomic_directory(output) as tmp:
         for group in key.groups:
             for label, image in group.images.items():
@@ -114,8 +115,8 @@ def make_questionnaire(
 
 
 def _check_choice(methods: list[str], groups: int, per_group: int) -> None:
-    if len(set(methods)) != len(methods) or not all(methods):
-        raise InputError(f"--methods {','.join(methods)!r}: expected distinct, non-empty method names")
+    if len(set(methods)) != len(methods) or not all(methods) or len(methods) < 2:
+        raise InputError(f"--methods {','.join(methods)!r}: expected two or more distinct, non-empty method names")
     if not 2 <= per_group <= min(len(methods), len(LABELS)):
         raise InputError(f"--per-group {per_group}: expected 2 to {min(len(methods), len(LABELS))} (the number of --methods)")
     if groups < 1:
