@@ -78,7 +78,7 @@ def make_questionnaire(
     if len(candidates) < groups:
         raise InputError(
             f"only {len(candidates)} instructions have a render.png of every method {methods} (and name none of them); "
-            f"expected --groups {groups} or fewer",
+            f"--groups {groups} asks for more; expected {len(candidates)} or fewer",
             source=str(results),
         )
     rng = random.Random(seed)
