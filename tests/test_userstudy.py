@@ -129,7 +129,7 @@ def test_the_draw_is_seeded_over_instructions_with_every_render_and_balances_the
     "methods, options, message",
     [
         (["capframe", "oracle", "ivs"], {}, "no results for 'ivs'"),
-        (["capframe", "oracle", "svs"], {"groups": 9}, "only 8 instructions have a render.png of every method"),
+        (["capframe", "oracle", "svs"], {"groups": 9}, "--groups 9 asks for more; expected 8 or fewer"),
         (["capframe", "oracle"], {"groups": 2}, "--per-group 3: expected 2 to 2"),
         (["capframe", "oracle", "oracle"], {"groups": 2}, "expected two or more distinct"),
         (["capframe"], {"per_group": 1}, "expected two or more distinct"),
@@ -364,3 +364,13 @@ def test_a_scripted_click_through_in_headless_chromium_imports_to_the_implied_ta
         assert table.loc[method, "rating_n"] == len(ratings[method])
         assert table.loc[method, "rating_mean"] == pytest.approx(np.mean(ratings[method]))
         assert table.loc[method, "preference_share"] == pytest.approx(picked[method] / shown[method])
+
+
+def test_the_import_verb_prints_a_refusal_as_one_line_and_writes_nothing(tmp_path, capsys):
+    key = hand_key(tmp_path / "key.json")
+    (tmp_path / "p1.csv").write_text(answers_csv(key, "p1", _replace(P1, 2, rating=9)))
+    out = tmp_path / "userstudy.csv"
+    assert main(["userstudy", "import", "--key", str(tmp_path / "key.json"), str(tmp_path / "p1.csv"), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"capframe: error: {tmp_path / 'p1.csv'}: line 4: rating is '9'; expected a whole number from 1 to 5\n"
+    assert not out.exists()
