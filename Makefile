@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 TORCH_SPEC ?= torch==2.13.0
 STAMP := $(VENV)/.installed
 
-.PHONY: setup test lint run run-tiny report sensitivity bench clean
+.PHONY: setup browser test lint run run-tiny report sensitivity bench clean
 
 setup: $(STAMP)
 
@@ -18,7 +18,16 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e ".[test,vision,mllm]"
 	touch $(STAMP)
 
-test: $(STAMP)
+# The questionnaire's click-through test (tests/test_userstudy.py) drives Debian's Chromium through
+# Playwright (the test extra; no browser download). As root, install it when missing (about 30 s
+# here); otherwise, or if apt cannot, that one test skips and says why.
+CHROMIUM := /usr/bin/chromium
+
+browser:
+	@test -x $(CHROMIUM) || [ "$$(id -u)" != 0 ] || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+		apt-get install -y -qq --no-install-recommends chromium >/dev/null; } || echo "make: could not install chromium"
+
+test: $(STAMP) browser
 	$(BIN)/python -m pytest -q
 
 # ruff (lint + format check), snakefmt, and the import layers of pyproject.toml (import-linter).

@@ -485,6 +485,24 @@ def _cmd_models_check(args: argparse.Namespace) -> None:
         raise ModelError(f"{faults} entries of {args.models} failed the check (lines above)")
 
 
+def _cmd_userstudy_make(args: argparse.Namespace) -> None:
+    from .userstudy import make_questionnaire
+
+    methods = [m.strip() for m in args.methods.split(",")]
+    key = make_questionnaire(args.results, methods, args.output, groups=args.groups, per_group=args.per_group, seed=args.seed)
+    print(
+        f"{args.output}/site/index.html: questionnaire {key.questionnaire}, {len(key.groups)} groups of {args.per_group} images; "
+        f"the key {args.output}/key.json stays with you"
+    )
+
+
+def _cmd_userstudy_import(args: argparse.Namespace) -> None:
+    from .userstudy import import_answers
+
+    table = import_answers(args.key, args.answers, args.output)
+    print(f"{args.output}: {len(args.answers)} answer files, {int(table['rating_n'].sum())} ratings of {len(table)} methods")
+
+
 def _perception_options(p: argparse.ArgumentParser) -> None:
     """The backend of every perception role (``capframe.backends.ROLES``), the models config,
     the per-scene cache and the gravity file: options shared by the method's stages."""
@@ -859,6 +877,24 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--reference", default=None, help="colmap: the photos' published Inria cameras.json")
     p.add_argument("--points", default=None, help="colmap: the published COLMAP points3D.bin (plane up; optional)")
     p.set_defaults(func=_cmd_bench)
+
+    p = verbs.add_parser("userstudy", help="the user study: a static questionnaire of a run's renders, and its answers' table")
+    actions = p.add_subparsers(dest="action", required=True)
+    p = actions.add_parser(
+        "make", help="a questionnaire (OUT/site/, no method names) of drawn instructions and its key (OUT/key.json)"
+    )
+    p.add_argument("--results", default="results", help="the results folder of a finished run")
+    p.add_argument("--methods", required=True, help="comma-separated methods, e.g. capframe,oracle,svs")
+    p.add_argument("-o", "--output", required=True, help="folder to write (must not exist or be empty)")
+    p.add_argument("--groups", type=_positive_int, default=12, help="instructions asked")
+    p.add_argument("--per-group", type=_positive_int, default=3, help="methods shown per instruction")
+    p.add_argument("--seed", type=int, default=0, help="draws the instructions, the methods shown and their order")
+    p.set_defaults(func=_cmd_userstudy_make, outputs={"output": "folder"})
+    p = actions.add_parser("import", help="the participants' answer CSVs -> method, rating_mean, rating_n, preference_share")
+    p.add_argument("answers", nargs="+", help="answer CSVs saved by the questionnaire's page")
+    p.add_argument("--key", required=True, help="key.json written by capframe userstudy make")
+    p.add_argument("-o", "--output", required=True, help="CSV to write, e.g. results/tables/userstudy.csv")
+    p.set_defaults(func=_cmd_userstudy_import, outputs={"output": "file"})
 
     p = verbs.add_parser("models", help="model backends' files")
     actions = p.add_subparsers(dest="action", required=True)
