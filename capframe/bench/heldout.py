@@ -1,13 +1,13 @@
 """Ground benchmark on a suite with hand-written specs (committed instructions: the held-out
 sets, issue #15).
 
-``capframe bench ground --suite heldout`` (or ``heldout2``, or any suite file naming a ``specs``
-folder): every scene of the suite is generated (when absent) and prepared as the workflow would
-(COLMAP without poses, gravity when not aligned), its view cache is warmed, then every committed
-instruction text goes through ``capframe ground`` (Retrieve -> Translate -> Refine, embedded
-defaults) and the returned camera is judged against the instruction's hand-written spec with the
-ground-truth checker (:func:`capframe.evaluate.spec.judge`) and the clearance verdict
-(:func:`capframe.evaluate.spec.clearance`).
+``capframe bench ground --suite heldout`` (or ``heldout2``, ``heldout3``, or any suite file naming
+a ``specs`` folder): every scene of the suite is generated (when absent) and prepared as the
+workflow would (COLMAP without poses, gravity when not aligned), its view cache is warmed, then
+every committed instruction text goes through ``capframe ground`` (Retrieve -> Translate ->
+Refine, embedded defaults) and the returned camera is judged against the instruction's
+hand-written spec with the ground-truth checker (:func:`capframe.evaluate.spec.judge`) and the
+clearance verdict (:func:`capframe.evaluate.spec.clearance`).
 
 Printed: full success on the feasible instructions (every row of the spec satisfied; and the same
 with a camera in free space), how the infeasible ones were handled (refused, reported by a
