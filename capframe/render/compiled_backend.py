@@ -222,47 +222,38 @@ def _visible_table(kept, row, geometry, opacities, features, tile_size, tiles_x,
         boxes[i, 4] = max(boxes[i, 1] - boxes[i, 0] + 1, 0) * max(boxes[i, 3] - boxes[i, 2] + 1, 0)
 
 
-@njit(cache=True)
-def _edge_min(ha, b, hc, fixed, lo, hi, fixed_is_y):
-    """Minimum of ``sigma = ha dx^2 + b dx dy + hc dy^2`` along a rectangle edge: one offset
-    fixed, the other in ``[lo, hi]``."""
-    if fixed_is_y:
-        s = min(max(-0.5 * b * fixed / ha, lo), hi)
-        return ha * s * s + b * s * fixed + hc * fixed * fixed
-    s = min(max(-0.5 * b * fixed / hc, lo), hi)
-    return ha * fixed * fixed + b * fixed * s + hc * s * s
-
-
-@njit(cache=True)
-def _touches(table, reach, i, tx, ty, tile_size):
-    """Whether some pixel centre of tile ``(tx, ty)`` lies inside Gaussian ``i``'s cut-off
-    ellipse ``sigma <= reach`` (reach holds a margin against rounding). Sigma is convex: its
-    minimum over the offset rectangle is zero when it holds the mean, else on an edge."""
-    x0 = tx * tile_size + 0.5 - float(table[i, 0])
-    y0 = ty * tile_size + 0.5 - float(table[i, 1])
-    x1, y1 = x0 + tile_size - 1, y0 + tile_size - 1
-    if x0 <= 0.0 <= x1 and y0 <= 0.0 <= y1:
-        return True
-    ha, b, hc, r = float(table[i, 2]), float(table[i, 3]), float(table[i, 4]), reach[i]
-    return (
-        _edge_min(ha, b, hc, y0, x0, x1, True) <= r
-        or _edge_min(ha, b, hc, y1, x0, x1, True) <= r
-        or _edge_min(ha, b, hc, x0, y0, y1, False) <= r
-        or _edge_min(ha, b, hc, x1, y0, y1, False) <= r
-    )
-
-
 @njit(cache=True, parallel=True)
 def _list_tiles(table, reach, boxes, first, tile_size, tiles_x, pair_tile, listed):
-    """Per Gaussian ``i`` (depth order), the tiles it touches into ``pair_tile`` from
-    ``first[i]`` on (room for its whole box), their number into ``listed[i]``."""
+    """Per Gaussian ``i`` (depth order), the tiles where some pixel centre lies inside its
+    cut-off ellipse ``sigma <= reach`` (reach holds a margin against rounding) into
+    ``pair_tile`` from ``first[i]`` on (room for its whole box), their number into ``listed[i]``.
+
+    Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
+    ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
+    tile. With ``D = ac - b^2`` the right edge at height ``dy`` is
+    ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``, concave in ``dy``, so its maximum over the
+    band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
     for i in prange(len(table)):
+        mx, my = float(table[i, 0]), float(table[i, 1])
+        a, b, c = 2.0 * float(table[i, 2]), float(table[i, 3]), 2.0 * float(table[i, 4])
+        det, two_k = a * c - b * b, 2.0 * reach[i]
+        y_reach = math.sqrt(two_k * a / det)  # |dy| on the ellipse
+        dy_right = -b * math.sqrt(two_k / (c * det))  # the rightmost point's; the leftmost is its mirror
         count = first[i]
         for ty in range(boxes[i, 2], boxes[i, 3] + 1):
-            for tx in range(boxes[i, 0], boxes[i, 1] + 1):
-                if _touches(table, reach, i, tx, ty, tile_size):
-                    pair_tile[count] = ty * tiles_x + tx
-                    count += 1
+            band = ty * tile_size + 0.5 - my
+            lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
+            if lo > hi:
+                continue
+            dr, dl = min(max(dy_right, lo), hi), min(max(-dy_right, lo), hi)
+            right = mx + (-b * dr + math.sqrt(max(two_k * a - det * dr * dr, 0.0))) / a
+            left = mx + (-b * dl - math.sqrt(max(two_k * a - det * dl * dl, 0.0))) / a
+            # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
+            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[i, 0])
+            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[i, 1])
+            for tx in range(tx0, tx1 + 1):
+                pair_tile[count] = ty * tiles_x + tx
+                count += 1
         listed[i] = count - first[i]
 
 
