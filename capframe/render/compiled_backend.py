@@ -9,7 +9,7 @@ Gaussians' parameters to the image and back:
   sort, and each gets one row of the compositing table (2D mean, half conic, log-opacity,
   cut-off threshold, composited values) and its box of candidate tiles;
 * **tile binning**: each Gaussian is listed in every ``tile_size`` square tile where some pixel
-  centre lies inside its cut-off ellipse (exact ellipse-rectangle test), then a stable counting
+  centre lies inside its cut-off ellipse (its exact x-range over each tile row), then a stable counting
   sort by tile keeps each tile's list in depth order;
 * **compositing**: per pixel, front to back over its tile's list, with the torch backend's rules
   (3-sigma ellipse and alpha >= 1/255, alpha clamped at 0.999, stop before the transmittance
