@@ -1,23 +1,31 @@
 """Compiled CPU rasteriser (numba): the torch backend's rules, one Gaussian or pixel at a time.
 
-Every stage is a compiled kernel with its analytic backward:
+One autograd function, :class:`_Render`, runs every stage as a compiled kernel, from the
+Gaussians' parameters to the image and back:
 
 * **projection**: the torch backend's EWA projection and culling
-  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, with its backward to
-  the means, the covariance factors and the pose; the depth sort uses the torch backend's key;
-* **tile binning**: each depth-sorted Gaussian is listed in every ``tile_size`` square tile where
-  some pixel centre lies inside its cut-off ellipse (exact ellipse-rectangle test), in depth
-  order;
+  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, in float64; the kept
+  Gaussians are put in the torch backend's depth order (its own sort key, stable) by a radix
+  sort, and each gets one row of the compositing table (2D mean, half conic, log-opacity,
+  cut-off threshold, composited values) and its box of candidate tiles;
+* **tile binning**: each Gaussian is listed in every ``tile_size`` square tile where some pixel
+  centre lies inside its cut-off ellipse (its exact x-range over each tile row), then a stable counting
+  sort by tile keeps each tile's list in depth order;
 * **compositing**: per pixel, front to back over its tile's list, with the torch backend's rules
   (3-sigma ellipse and alpha >= 1/255, alpha clamped at 0.999, stop before the transmittance
-  would fall to 1e-4);
-* **its backward** to the 2D means, conics, opacities and composited values, recomputing the
-  forward's per-pixel state front to back (no per-pixel state is stored).
+  would fall to 1e-4). Each (tile, Gaussian) pair records which of the tile's pixels it was
+  composited into (a bit mask), so
+* **its backward** to the 2D means, conics, opacities and composited values visits only the
+  composited (Gaussian, pixel) pairs, front to back, recomputing their alphas;
+* **the projection's backward** to the means, covariance factors and pose, scattered straight
+  into the inputs' rows.
 
 Tiles are split into one contiguous group per thread, balanced by their pair counts; groups run
 in parallel and the backward accumulates each group's gradients in its own buffer, summed in a
-fixed order, so results do not depend on scheduling. Arithmetic inside the kernels is float64
-whatever the render dtype.
+fixed order, so results do not depend on scheduling (images do not depend on the thread count
+either; gradients only up to rounding, through the number of groups). Compositing computes in
+the render dtype (float32 vectorises twice as wide; float64 renders stay float64 throughout);
+the projection and the pose gradient's sums are float64 whatever the render dtype.
 """
 
 from __future__ import annotations
@@ -31,9 +39,10 @@ import numba
 import numpy as np
 import torch
 from numba import njit, prange
+from numba.cpython.unsafe.numbers import trailing_zeros  # an LLVM intrinsic (cttz)
 from torch import Tensor
 
-from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE_MIN, _GatherRows
+from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE_MIN
 
 # numba's OpenMP layer leaves its threads spinning after each kernel, where they take the cores
 # from torch's own threads (a render alternates between the two): 3-6x slower end to end on two
@@ -48,268 +57,12 @@ LOG_ALPHA_MIN = math.log(ALPHA_MIN)
 # Binning margin on the cut-off exponent: a tile is listed when sigma <= reach + this somewhere on
 # its pixel-centre rectangle, so rounding never drops a pixel the per-pixel test keeps.
 _REACH_MARGIN = 1e-4
-
-
-@njit(cache=True)
-def _edge_min(a, b, c, fixed, lo, hi, fixed_is_y):
-    """Minimum of ``sigma = a dx^2/2 + b dx dy + c dy^2/2`` along a rectangle edge: one offset
-    fixed, the other in ``[lo, hi]``."""
-    if fixed_is_y:
-        t = min(max(-b * fixed / a, lo), hi)
-        return 0.5 * a * t * t + b * t * fixed + 0.5 * c * fixed * fixed
-    t = min(max(-b * fixed / c, lo), hi)
-    return 0.5 * a * fixed * fixed + b * fixed * t + 0.5 * c * t * t
-
-
-@njit(cache=True)
-def _tile_min_sigma(a, b, c, x0, x1, y0, y1):
-    """Minimum of sigma over the offset rectangle ``[x0, x1] x [y0, y1]`` (offsets from the mean):
-    zero when it holds the mean, else the least of its four edges (sigma is convex)."""
-    if x0 <= 0.0 <= x1 and y0 <= 0.0 <= y1:
-        return 0.0
-    m = min(_edge_min(a, b, c, y0, x0, x1, True), _edge_min(a, b, c, y1, x0, x1, True))
-    return min(m, min(_edge_min(a, b, c, x0, y0, y1, False), _edge_min(a, b, c, x1, y0, y1, False)))
-
-
-@njit(cache=True)
-def _touches(means2d, conics, reach, g, tx, ty, tile_size):
-    """Whether some pixel centre of tile ``(tx, ty)`` lies inside Gaussian ``g``'s cut-off
-    ellipse ``sigma <= reach`` (with a margin against rounding)."""
-    x0 = tx * tile_size + 0.5 - means2d[g, 0]
-    y0 = ty * tile_size + 0.5 - means2d[g, 1]
-    sigma = _tile_min_sigma(conics[g, 0], conics[g, 1], conics[g, 2], x0, x0 + tile_size - 1, y0, y0 + tile_size - 1)
-    return sigma <= reach[g] + _REACH_MARGIN
-
-
-@njit(cache=True)
-def _bin_tiles(means2d, conics, reach, extents, tile_size, tiles_x, tiles_y):
-    """Depth-ordered Gaussian lists of every tile.
-
-    Args:
-        means2d (G, 2), conics (G, 3), reach (G,) cut-off on sigma, extents (G, 2) pixel
-            half-widths of the footprint box; Gaussians nearest first.
-    Returns:
-        tile_start (tiles + 1,) offsets into tile_gaussian (pairs,).
-    """
-    num_tiles, num = tiles_x * tiles_y, len(means2d)
-    boxes = np.empty((num, 4), np.int64)
-    candidates = 0
-    for g in range(num):
-        boxes[g, 0] = max(int(math.floor((means2d[g, 0] - extents[g, 0]) / tile_size)), 0)
-        boxes[g, 1] = min(int(math.floor((means2d[g, 0] + extents[g, 0]) / tile_size)), tiles_x - 1)
-        boxes[g, 2] = max(int(math.floor((means2d[g, 1] - extents[g, 1]) / tile_size)), 0)
-        boxes[g, 3] = min(int(math.floor((means2d[g, 1] + extents[g, 1]) / tile_size)), tiles_y - 1)
-        candidates += max(boxes[g, 1] - boxes[g, 0] + 1, 0) * max(boxes[g, 3] - boxes[g, 2] + 1, 0)
-    # (tile, Gaussian) pairs in Gaussian order, then a stable counting sort by tile: each tile's
-    # list stays in depth order.
-    pair_tile = np.empty(candidates, np.int64)
-    pair_gaussian = np.empty(candidates, np.int64)
-    counts = np.zeros(num_tiles, np.int64)
-    pairs = 0
-    for g in range(num):
-        for ty in range(boxes[g, 2], boxes[g, 3] + 1):
-            for tx in range(boxes[g, 0], boxes[g, 1] + 1):
-                if _touches(means2d, conics, reach, g, tx, ty, tile_size):
-                    t = ty * tiles_x + tx
-                    pair_tile[pairs], pair_gaussian[pairs] = t, g
-                    counts[t] += 1
-                    pairs += 1
-    tile_start = np.zeros(num_tiles + 1, np.int64)
-    tile_start[1:] = np.cumsum(counts)
-    cursor = tile_start[:num_tiles].copy()
-    tile_gaussian = np.empty(pairs, np.int64)
-    for k in range(pairs):
-        t = pair_tile[k]
-        tile_gaussian[cursor[t]] = pair_gaussian[k]
-        cursor[t] += 1
-    return tile_start, tile_gaussian
-
-
-# Columns of a tile's gathered Gaussians: mean x, mean y, a/2, b, c/2, log(opacity), threshold, values.
+# Columns of the compositing table before the composited values: mean x, mean y, a/2, b, c/2,
+# log(opacity), threshold (a pixel counts where log(opacity) - sigma >= threshold). The values
+# that follow are the features, the camera z and 1 (whose composite is the alpha).
 _COLUMNS = 7
-
-
-@njit(cache=True)
-def _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end):
-    """Copy the Gaussians of one tile's list into consecutive rows of ``local`` (n, 7 + D): the
-    pixel loops then read memory in order."""
-    for k in range(end - start):
-        g = tile_gaussian[start + k]
-        local[k, 0], local[k, 1] = means2d[g, 0], means2d[g, 1]
-        local[k, 2], local[k, 3], local[k, 4] = 0.5 * conics[g, 0], conics[g, 1], 0.5 * conics[g, 2]
-        local[k, 5], local[k, 6] = log_opacity[g], threshold[g]
-        for ch in range(values.shape[1]):
-            local[k, _COLUMNS + ch] = values[g, ch]
-
-
-@njit(cache=True)
-def _tile_pixels(tile, tiles_x, tile_size, width, height, px, py):
-    """Pixel centres of one tile (clipped to the image) into ``px, py``, row-major; their count."""
-    ty, tx = tile // tiles_x, tile % tiles_x
-    count = 0
-    for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
-        for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
-            px[count], py[count] = x + 0.5, y + 0.5
-            count += 1
-    return count
-
-
-@njit(cache=True)
-def _exponents(local, k, px, py, count, q):
-    """``q = log(opacity) - sigma`` of listed Gaussian ``k`` at the tile's ``count`` pixels: one
-    branch-free loop (vectorised), since most pixels of a tile fail the cut-offs."""
-    mx, my, half_a, b, half_c, log_opacity = local[k, 0], local[k, 1], local[k, 2], local[k, 3], local[k, 4], local[k, 5]
-    for p in range(count):
-        dx, dy = px[p] - mx, py[p] - my
-        q[p] = log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)
-
-
-@njit(cache=True, parallel=True)
-def _forward(means2d, conics, log_opacity, threshold, values, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out):
-    """Composite ``values`` (G, D) into ``out`` (H, W, D) (zeros on entry); returns the number of
-    composited (Gaussian, pixel) pairs.
-
-    At each pixel, Gaussian ``k`` counts where ``q = log(opacity) - sigma >= threshold`` (the
-    cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
-    to 1e-4. A tile's pixels advance together through its list, each with its own state."""
-    height, width, channels = out.shape
-    longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
-    composited = np.zeros(len(group_start) - 1, np.int64)
-    pixels = tile_size * tile_size
-    for group in prange(len(group_start) - 1):
-        local = np.empty((longest, _COLUMNS + channels))
-        acc = np.empty((pixels, channels))
-        px, py, q, T = np.empty(pixels), np.empty(pixels), np.empty(pixels), np.empty(pixels)
-        alive = np.empty(pixels, np.bool_)
-        for tile in range(group_start[group], group_start[group + 1]):
-            start, end = tile_start[tile], tile_start[tile + 1]
-            if start == end:
-                continue
-            _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
-            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
-            acc[:count] = 0.0
-            T[:count] = 1.0
-            alive[:count] = True
-            remaining = count
-            for k in range(end - start):
-                _exponents(local, k, px, py, count, q)
-                threshold_k = local[k, 6]
-                for p in range(count):
-                    if q[p] < threshold_k or not alive[p]:
-                        continue
-                    alpha = min(ALPHA_MAX, math.exp(q[p]))
-                    next_T = T[p] * (1.0 - alpha)
-                    if next_T <= TRANSMITTANCE_MIN:
-                        alive[p] = False
-                        remaining -= 1
-                        continue
-                    w = alpha * T[p]
-                    for ch in range(channels):
-                        acc[p, ch] += w * local[k, _COLUMNS + ch]
-                    T[p] = next_T
-                    composited[group] += 1
-                if remaining == 0:
-                    break
-            for p in range(count):
-                y, x = int(py[p]), int(px[p])
-                for ch in range(channels):
-                    out[y, x, ch] = acc[p, ch]
-    return composited.sum()
-
-
-@njit(cache=True, parallel=True)
-def _backward(
-    means2d,
-    conics,
-    log_opacity,
-    threshold,
-    values,
-    tile_start,
-    tile_gaussian,
-    group_start,
-    tile_size,
-    tiles_x,
-    out,
-    grad_out,
-    grad_geometry,
-    grad_values,
-):
-    """Gradients of ``sum(grad_out * out)``: per group, (groups, G, 6) to
-    ``[mean x, mean y, a, b, c, opacity]`` and (groups, G, D) to the values.
-
-    Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
-    ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
-    and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
-    The forward's per-pixel state is recomputed in the same order; each tile sums its pixels'
-    gradients per listed Gaussian first, then adds them to the group's.
-    """
-    height, width, channels = out.shape
-    longest = np.max(tile_start[1:] - tile_start[:-1]) if len(tile_start) > 1 else 0
-    pixels = tile_size * tile_size
-    for group in prange(len(group_start) - 1):
-        local = np.empty((longest, _COLUMNS + channels))
-        grads = np.empty((longest, 6 + channels))  # per listed Gaussian: mean x, y, a, b, c, log(opacity), values
-        pixel_grad = np.empty((pixels, channels))
-        px, py, q, T = np.empty(pixels), np.empty(pixels), np.empty(pixels), np.empty(pixels)
-        total, done = np.empty(pixels), np.empty(pixels)
-        alive = np.empty(pixels, np.bool_)
-        for tile in range(group_start[group], group_start[group + 1]):
-            start, end = tile_start[tile], tile_start[tile + 1]
-            if start == end:
-                continue
-            n = end - start
-            _gather(local, means2d, conics, log_opacity, threshold, values, tile_gaussian, start, end)
-            grads[:n] = 0.0
-            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
-            for p in range(count):
-                y, x = int(py[p]), int(px[p])
-                total[p] = 0.0
-                for ch in range(channels):
-                    pixel_grad[p, ch] = grad_out[y, x, ch]
-                    total[p] += pixel_grad[p, ch] * out[y, x, ch]
-            T[:count] = 1.0
-            done[:count] = 0.0
-            alive[:count] = True
-            remaining = count
-            for k in range(n):
-                _exponents(local, k, px, py, count, q)
-                threshold_k = local[k, 6]
-                for p in range(count):
-                    if q[p] < threshold_k or not alive[p]:
-                        continue
-                    alpha = min(ALPHA_MAX, math.exp(q[p]))
-                    next_T = T[p] * (1.0 - alpha)
-                    if next_T <= TRANSMITTANCE_MIN:
-                        alive[p] = False
-                        remaining -= 1
-                        continue
-                    w = alpha * T[p]
-                    contrib = 0.0
-                    for ch in range(channels):
-                        contrib += pixel_grad[p, ch] * local[k, _COLUMNS + ch]
-                        grads[k, 6 + ch] += w * pixel_grad[p, ch]
-                    done[p] += w * contrib
-                    if alpha < ALPHA_MAX:
-                        grad_q = alpha * (T[p] * contrib - (total[p] - done[p]) / (1.0 - alpha))
-                        # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
-                        dx, dy = px[p] - local[k, 0], py[p] - local[k, 1]
-                        half_a, b, half_c = local[k, 2], local[k, 3], local[k, 4]
-                        grads[k, 0] += grad_q * (2.0 * half_a * dx + b * dy)
-                        grads[k, 1] += grad_q * (b * dx + 2.0 * half_c * dy)
-                        grads[k, 2] -= grad_q * 0.5 * dx * dx
-                        grads[k, 3] -= grad_q * dx * dy
-                        grads[k, 4] -= grad_q * 0.5 * dy * dy
-                        grads[k, 5] += grad_q
-                    T[p] = next_T
-                if remaining == 0:
-                    break
-            for k in range(n):
-                g = tile_gaussian[start + k]
-                for j in range(5):
-                    grad_geometry[group, g, j] += grads[k, j]
-                grad_geometry[group, g, 5] += grads[k, 5] * math.exp(-log_opacity[g])  # d log(o) / d o
-                for ch in range(channels):
-                    grad_values[group, g, ch] += grads[k, 6 + ch]
+# Bits per word of a pair's pixel mask.
+_MASK_BITS = 32
 
 
 @njit(cache=True)
@@ -353,16 +106,25 @@ def _camera_point(R, t, m):
     )
 
 
+@njit(cache=True)
+def _all_finite(L):
+    for i in range(3):
+        for j in range(3):
+            if not math.isfinite(L[i, j]):
+                return False
+    return True
+
+
 @njit(cache=True, parallel=True)
 def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d, limit, out, flags):
-    """Per Gaussian: ``out`` (N, 8) = ``[u, v, a, b, c, z, extent x, extent y]``; ``flags`` (N,):
-    1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen, degenerate).
-    ``limit`` is the render dtype's largest value: what would overflow it counts as non-finite,
-    as in the torch backend."""
+    """Per Gaussian: ``out`` (N, 8) = ``[u, v, a, b, c, z, extent x, extent y]`` (float64);
+    ``flags`` (N,): 1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen,
+    degenerate). ``limit`` is the render dtype's largest value: what would overflow it counts as
+    non-finite, as in the torch backend."""
     for n in prange(len(means)):
         flags[n] = 0
         L = factors[n]
-        if not np.isfinite(L).all():
+        if not _all_finite(L):
             flags[n] = 2
             continue
         x, y, z = _camera_point(R, t, means[n])
@@ -376,7 +138,7 @@ def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d
             flags[n] = 2
             continue
         det = c00 * c11 - c01 * c01
-        level = 2.0 * math.log(max(opacities[n], ALPHA_MIN) / ALPHA_MIN)
+        level = 2.0 * math.log(max(float(opacities[n]), ALPHA_MIN) / ALPHA_MIN)
         k = math.sqrt(min(max(level, 0.0), 2.0 * SIGMA_MAX))
         ex, ey = k * math.sqrt(c00), k * math.sqrt(c11)
         if det > 0 and ex > 0 and ey > 0 and u + ex > 0 and v + ey > 0 and u - ex < width and v - ey < height:
@@ -386,17 +148,346 @@ def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d
             out[n, 5], out[n, 6], out[n, 7] = z, ex, ey
 
 
+def _sortable(key: np.ndarray) -> np.ndarray:
+    """Unsigned integers (N,) ordered as the floats ``key`` (N,) (float32 or float64)."""
+    bits = key.view(np.uint32 if key.itemsize == 4 else np.uint64)
+    top = bits.dtype.type(1) << bits.dtype.type(8 * key.itemsize - 1)
+    return np.where(bits & top, ~bits, bits | top)
+
+
+@njit(cache=True)
+def _depth_order(flags, keys):
+    """The kept Gaussians (``flags == 1``) in the order of ``keys`` (N,) (unsigned integers),
+    ties in index order (a stable least-significant-byte-first radix sort): their indices
+    ``kept`` (G,) in index order and ``row`` (G,), the rank of each in depth order."""
+    num = 0
+    for n in range(len(flags)):
+        num += flags[n] == 1
+    kept, key = np.empty(num, np.int64), np.empty(num, keys.dtype)
+    j = 0
+    for n in range(len(flags)):
+        if flags[n] == 1:
+            kept[j], key[j] = n, keys[n]
+            j += 1
+    order, order_out, key_out = np.arange(num), np.empty(num, np.int64), np.empty_like(key)
+    counts = np.empty(256, np.int64)
+    byte_mask = keys.dtype.type(255)
+    for byte in range(keys.itemsize):
+        shift = keys.dtype.type(8 * byte)
+        counts[:] = 0
+        for j in range(num):
+            counts[(key[j] >> shift) & byte_mask] += 1
+        if counts.max() == num:  # all keys share this byte
+            continue
+        total = 0
+        for b in range(256):
+            counts[b], total = total, total + counts[b]
+        for j in range(num):
+            d = (key[j] >> shift) & byte_mask
+            order_out[counts[d]], key_out[counts[d]] = order[j], key[j]
+            counts[d] += 1
+        order, order_out = order_out, order
+        key, key_out = key_out, key
+    row = np.empty(num, np.int64)
+    for i in range(num):
+        row[order[i]] = i
+    return kept, row
+
+
 @njit(cache=True, parallel=True)
-def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad, chunks, grad_means, grad_factors, grad_pose):
-    """Backward of :func:`_project` for the kept Gaussians ``index`` (G,), given ``grad`` (G, 6)
-    to ``[u, v, a, b, c, z]``: (G, 3) to the means, (G, 3, 3) to the factors (skipped when
-    ``grad_factors`` is empty), and per chunk of
-    ``index`` (chunks, 12) to ``[R (row-major), t]``."""
+def _visible_table(kept, row, geometry, opacities, features, tile_size, tiles_x, tiles_y, table, reach, boxes):
+    """The compositing table's rows (G, 7 + D + 2) of the Gaussians ``kept`` (G,) at ``row``
+    (G,), their cut-off ``reach`` on sigma (G,) and ``boxes`` (G, 5): the first and last tile
+    column and row their footprint box spans and the number of tiles in it. The Gaussians are
+    read in index order, the rows written in depth order (scattered writes stall less than
+    scattered reads)."""
+    ft = table.dtype.type
+    channels = features.shape[1]
+    for j in prange(len(kept)):
+        n, i = kept[j], row[j]
+        table[i, 0], table[i, 1] = geometry[n, 0], geometry[n, 1]
+        table[i, 2], table[i, 3], table[i, 4] = ft(0.5) * ft(geometry[n, 2]), geometry[n, 3], ft(0.5) * ft(geometry[n, 4])
+        log_opacity = math.log(max(opacities[n], ft(1e-30)))
+        # Cut-offs: sigma <= 4.5 (the 3-sigma ellipse) and alpha >= 1/255, as q >= threshold.
+        table[i, 5], table[i, 6] = log_opacity, max(log_opacity - ft(SIGMA_MAX), ft(LOG_ALPHA_MIN))
+        for ch in range(channels):
+            table[i, _COLUMNS + ch] = features[n, ch]
+        table[i, _COLUMNS + channels], table[i, _COLUMNS + channels + 1] = geometry[n, 5], 1.0
+        reach[i] = min(float(log_opacity) - LOG_ALPHA_MIN, SIGMA_MAX) + _REACH_MARGIN
+        u, v, ex, ey = float(table[i, 0]), float(table[i, 1]), geometry[n, 6], geometry[n, 7]
+        boxes[i, 0] = max(int(math.floor((u - ex) / tile_size)), 0)
+        boxes[i, 1] = min(int(math.floor((u + ex) / tile_size)), tiles_x - 1)
+        boxes[i, 2] = max(int(math.floor((v - ey) / tile_size)), 0)
+        boxes[i, 3] = min(int(math.floor((v + ey) / tile_size)), tiles_y - 1)
+        boxes[i, 4] = max(boxes[i, 1] - boxes[i, 0] + 1, 0) * max(boxes[i, 3] - boxes[i, 2] + 1, 0)
+
+
+@njit(cache=True, parallel=True)
+def _list_tiles(table, reach, boxes, first, tile_size, tiles_x, pair_tile, listed):
+    """Per Gaussian ``i`` (depth order), the tiles where some pixel centre lies inside its
+    cut-off ellipse ``sigma <= reach`` (reach holds a margin against rounding) into
+    ``pair_tile`` from ``first[i]`` on (room for its whole box), their number into ``listed[i]``.
+
+    Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
+    ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
+    tile. With ``D = ac - b^2`` the right edge at height ``dy`` is
+    ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``, concave in ``dy``, so its maximum over the
+    band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
+    for i in prange(len(table)):
+        mx, my = float(table[i, 0]), float(table[i, 1])
+        a, b, c = 2.0 * float(table[i, 2]), float(table[i, 3]), 2.0 * float(table[i, 4])
+        det, two_k = a * c - b * b, 2.0 * reach[i]
+        y_reach = math.sqrt(two_k * a / det)  # |dy| on the ellipse
+        dy_right = -b * math.sqrt(two_k / (c * det))  # the rightmost point's; the leftmost is its mirror
+        count = first[i]
+        for ty in range(boxes[i, 2], boxes[i, 3] + 1):
+            band = ty * tile_size + 0.5 - my
+            lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
+            if lo > hi:
+                continue
+            dr, dl = min(max(dy_right, lo), hi), min(max(-dy_right, lo), hi)
+            right = mx + (-b * dr + math.sqrt(max(two_k * a - det * dr * dr, 0.0))) / a
+            left = mx + (-b * dl - math.sqrt(max(two_k * a - det * dl * dl, 0.0))) / a
+            # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
+            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[i, 0])
+            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[i, 1])
+            for tx in range(tx0, tx1 + 1):
+                pair_tile[count] = ty * tiles_x + tx
+                count += 1
+        listed[i] = count - first[i]
+
+
+@njit(cache=True)
+def _sort_by_tile(pair_tile, first, listed, num_tiles):
+    """Stable counting sort of the listed (tile, Gaussian) pairs by tile: each tile's list stays
+    in depth order. Returns tile_start (tiles + 1,) offsets into tile_gaussian (pairs,)."""
+    tile_start = np.zeros(num_tiles + 1, np.int64)
+    for i in range(len(listed)):
+        for k in range(first[i], first[i] + listed[i]):
+            tile_start[pair_tile[k] + 1] += 1
+    for t in range(num_tiles):
+        tile_start[t + 1] += tile_start[t]
+    cursor = tile_start[:num_tiles].copy()
+    tile_gaussian = np.empty(tile_start[num_tiles], np.int32)
+    for i in range(len(listed)):
+        for k in range(first[i], first[i] + listed[i]):
+            t = pair_tile[k]
+            tile_gaussian[cursor[t]] = i
+            cursor[t] += 1
+    return tile_start, tile_gaussian
+
+
+@njit(cache=True)
+def _tile_pixels(tile, tiles_x, tile_size, width, height, px, py):
+    """Pixel centres of one tile (clipped to the image) into ``px, py``, row-major; their count."""
+    ty, tx = tile // tiles_x, tile % tiles_x
+    count = 0
+    for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
+        for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
+            px[count], py[count] = x + 0.5, y + 0.5
+            count += 1
+    return count
+
+
+@njit(cache=True, parallel=True)
+def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out, masks):
+    """Composite the table's values into ``out`` (H, W, C) (zeros on entry) and mark in
+    ``masks`` (pairs, words) (zeros on entry) the pixels each pair was composited into; returns
+    the number of composited (Gaussian, pixel) pairs.
+
+    At each pixel, Gaussian ``g`` counts where ``q = log(opacity) - sigma >= threshold`` (the
+    cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
+    to 1e-4. A tile's pixels advance together through its list, each with its own state; the
+    cut-off test is one vectorised pass per pair, then only the passing pixels are visited.
+    ``masks`` (pairs, words): bit ``j`` of word ``w`` of a pair is the tile's pixel ``32 w + j``."""
+    height, width, channels = out.shape
+    ft = table.dtype.type
+    alpha_max, t_min, one = ft(ALPHA_MAX), ft(TRANSMITTANCE_MIN), ft(1.0)
+    pixels, words = tile_size * tile_size, masks.shape[1]
+    composited = np.zeros(len(group_start) - 1, np.int64)
+    for group in prange(len(group_start) - 1):
+        acc = np.empty((pixels, channels), table.dtype)
+        live, values = np.empty(words, np.int64), np.empty(channels, table.dtype)
+        px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+        q, T = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+        count_pairs = 0  # a local count: neighbouring groups' counters would share a cache line
+        for tile in range(group_start[group], group_start[group + 1]):
+            start, end = tile_start[tile], tile_start[tile + 1]
+            if start == end:
+                continue
+            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            acc[:count] = 0.0
+            T[:count] = 1.0
+            for word in range(words):  # bit j of word w: pixel 32 w + j is still compositing
+                live[word] = (np.int64(1) << min(_MASK_BITS, max(count - word * _MASK_BITS, 0))) - 1
+            remaining = count
+            for pair in range(start, end):
+                g = tile_gaussian[pair]
+                mx, my, half_a, b, half_c, log_opacity, threshold = (
+                    table[g, 0],
+                    table[g, 1],
+                    table[g, 2],
+                    table[g, 3],
+                    table[g, 4],
+                    table[g, 5],
+                    table[g, 6],
+                )
+                for ch in range(channels):
+                    values[ch] = table[g, _COLUMNS + ch]
+                for p in range(count):  # branch-free, vectorised: most pixels fail the cut-offs
+                    dx, dy = px[p] - mx, py[p] - my
+                    q[p] = log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)
+                for word in range(words):
+                    first = word * _MASK_BITS
+                    bits = 0
+                    for j in range(min(_MASK_BITS, count - first)):
+                        bits |= np.int64(q[first + j] >= threshold) << j
+                    bits &= live[word]
+                    done = 0
+                    while bits != 0:  # the pixels inside the cut-offs, not stopped
+                        j = trailing_zeros(bits)
+                        bits &= bits - 1
+                        p = first + j
+                        alpha = min(alpha_max, math.exp(q[p]))
+                        next_T = T[p] * (one - alpha)
+                        if next_T <= t_min:
+                            live[word] &= ~(np.int64(1) << j)
+                            remaining -= 1
+                            continue
+                        w = alpha * T[p]
+                        for ch in range(channels):
+                            acc[p, ch] += w * values[ch]
+                        T[p] = next_T
+                        done |= np.int64(1) << j
+                        count_pairs += 1
+                    masks[pair, word] = done
+                if remaining == 0:
+                    break
+            for p in range(count):
+                y, x = int(py[p]), int(px[p])
+                for ch in range(channels):
+                    out[y, x, ch] = acc[p, ch]
+        composited[group] = count_pairs
+    return composited.sum()
+
+
+@njit(cache=True, parallel=True)
+def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out, grad_out, masks, grads):
+    """Gradients of ``sum(grad_out * out)``: per group, (groups, G, 6 + C) to the table's
+    ``[mean x, mean y, a, b, c, log(opacity)]`` and values.
+
+    Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
+    ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
+    and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
+    Only the pairs' masked pixels are visited, front to back, so ``T_i`` is rebuilt exactly.
+    """
+    height, width, channels = out.shape
+    ft = table.dtype.type
+    alpha_max, one = ft(ALPHA_MAX), ft(1.0)
+    pixels = tile_size * tile_size
+    words = masks.shape[1]
+    for group in prange(len(group_start) - 1):
+        pixel_grad = np.empty((pixels, channels), table.dtype)
+        px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+        T, total, done = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+        row = grads[group]
+        for tile in range(group_start[group], group_start[group + 1]):
+            start, end = tile_start[tile], tile_start[tile + 1]
+            if start == end:
+                continue
+            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            for p in range(count):
+                y, x = int(py[p]), int(px[p])
+                total[p] = 0.0
+                for ch in range(channels):
+                    pixel_grad[p, ch] = grad_out[y, x, ch]
+                    total[p] += pixel_grad[p, ch] * out[y, x, ch]
+            T[:count] = 1.0
+            done[:count] = 0.0
+            for pair in range(start, end):
+                g = tile_gaussian[pair]
+                mx, my, half_a, b, half_c, log_opacity = (
+                    table[g, 0],
+                    table[g, 1],
+                    table[g, 2],
+                    table[g, 3],
+                    table[g, 4],
+                    table[g, 5],
+                )
+                g_mx, g_my, g_a, g_b, g_c, g_q = ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0)
+                for word in range(words):
+                    bits = np.int64(masks[pair, word])
+                    while bits != 0:
+                        p = word * _MASK_BITS + trailing_zeros(bits)
+                        bits &= bits - 1
+                        dx, dy = px[p] - mx, py[p] - my
+                        alpha = min(alpha_max, math.exp(log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)))
+                        w = alpha * T[p]
+                        contrib = ft(0.0)
+                        for ch in range(channels):
+                            contrib += pixel_grad[p, ch] * table[g, _COLUMNS + ch]
+                            row[g, 6 + ch] += w * pixel_grad[p, ch]
+                        done[p] += w * contrib
+                        if alpha < alpha_max:
+                            grad_q = alpha * (T[p] * contrib - (total[p] - done[p]) / (one - alpha))
+                            # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
+                            g_mx += grad_q * (ft(2.0) * half_a * dx + b * dy)
+                            g_my += grad_q * (b * dx + ft(2.0) * half_c * dy)
+                            g_a -= grad_q * ft(0.5) * dx * dx
+                            g_b -= grad_q * dx * dy
+                            g_c -= grad_q * ft(0.5) * dy * dy
+                            g_q += grad_q
+                        T[p] *= one - alpha
+                row[g, 0] += g_mx
+                row[g, 1] += g_my
+                row[g, 2] += g_a
+                row[g, 3] += g_b
+                row[g, 4] += g_c
+                row[g, 5] += g_q
+
+
+@njit(cache=True, parallel=True)
+def _project_backward(
+    means,
+    factors,
+    opacities,
+    R,
+    t,
+    K,
+    width,
+    height,
+    eps2d,
+    kept,
+    row,
+    grads,
+    chunks,
+    grad_means,
+    grad_factors,
+    grad_opacities,
+    grad_features,
+    grad_pose,
+):
+    """Backward of the projection and the table for the ``kept`` Gaussians (G,) at ``row`` (G,)
+    of the table, given the groups' ``grads`` (groups, G, 6 + D + 2) to the table
+    (:func:`_composite_backward`), in index order: into
+    the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors (skipped when
+    ``grad_factors`` is empty), (N,) the opacities, (N, D) the features, and per chunk of
+    ``kept`` (chunks, 12) to ``[R (row-major), t]``."""
     fx, fy = K[0, 0], K[1, 1]
+    channels = grad_features.shape[1]
     for chunk in prange(len(chunks) - 1):
         gj = np.empty((2, 3))  # gradient to the rows of J R
-        for i in range(chunks[chunk], chunks[chunk + 1]):
-            n = index[i]
+        grad = np.empty(7)  # [u, v, a, b, c, log(opacity), z]
+        for j in range(chunks[chunk], chunks[chunk + 1]):
+            n, i = kept[j], row[j]
+            grad[:] = 0.0
+            for group in range(len(grads)):
+                for j in range(6):
+                    grad[j] += grads[group, i, j]
+                grad[6] += grads[group, i, 6 + channels]
+                for ch in range(channels):
+                    grad_features[n, ch] += grads[group, i, 6 + ch]
+            grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
             m, L = means[n], factors[n]
             x, y, z = _camera_point(R, t, m)
             j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
@@ -405,7 +496,7 @@ def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad
             det = c00 * c11 - c01 * c01
             q00, q01, q11 = c11 / det, -c01 / det, c00 / det
             # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
-            g00, g01, g11 = grad[i, 2], 0.5 * grad[i, 3], grad[i, 4]
+            g00, g01, g11 = grad[2], 0.5 * grad[3], grad[4]
             h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
             h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
             s00 = -(q00 * h00 + q01 * h10)
@@ -416,16 +507,16 @@ def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad
             for col in range(3):
                 gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
                 gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
-                for row in range(3):
+                for r in range(3):
                     if len(grad_factors):
-                        grad_factors[i, row, col] = j0[row] * gm0 + j1[row] * gm1
-                    gj[0, row] += L[row, col] * gm0
-                    gj[1, row] += L[row, col] * gm1
+                        grad_factors[n, r, col] = j0[r] * gm0 + j1[r] * gm1
+                    gj[0, r] += L[r, col] * gm0
+                    gj[1, r] += L[r, col] * gm1
             # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
             ax, ay = fx / z, fy / z
             g_tx, g_ty = 0.0, 0.0
             gj0, gj1 = gj[0], gj[1]
-            g_z = grad[i, 5] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
+            g_z = grad[6] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
             for col in range(3):
                 grad_pose[chunk, col] += ax * gj0[col]
                 grad_pose[chunk, 3 + col] += ay * gj1[col]
@@ -433,16 +524,16 @@ def _project_backward(means, factors, R, t, K, width, height, eps2d, index, grad
                 g_tx -= ax * R[2, col] * gj0[col]
                 g_ty -= ay * R[2, col] * gj1[col]
             # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
-            g_u, g_v = grad[i, 0] * ax + (g_tx / z if free_x else 0.0), grad[i, 1] * ay + (g_ty / z if free_y else 0.0)
-            g_x, g_y = g_u, g_v
-            g_z -= (g_u * x + g_v * y) / z
+            g_x = grad[0] * ax + (g_tx / z if free_x else 0.0)
+            g_y = grad[1] * ay + (g_ty / z if free_y else 0.0)
+            g_z -= (g_x * x + g_y * y) / z
             # p = R m + t.
             g_p = (g_x, g_y, g_z)
-            for row in range(3):
-                grad_means[i, row] = R[0, row] * g_x + R[1, row] * g_y + R[2, row] * g_z
+            for r in range(3):
+                grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
                 for col in range(3):
-                    grad_pose[chunk, 3 * row + col] += g_p[row] * m[col]
-                grad_pose[chunk, 9 + row] += g_p[row]
+                    grad_pose[chunk, 3 * r + col] += g_p[r] * m[col]
+                grad_pose[chunk, 9 + r] += g_p[r]
 
 
 def _balanced_groups(tile_start: np.ndarray, groups: int) -> np.ndarray:
@@ -461,7 +552,7 @@ def _threads() -> int:
 
 
 def _numpy(x: Tensor) -> np.ndarray:
-    """The values of ``x``, in its dtype: the kernels compute in float64 whatever they read."""
+    """The values of ``x``, in its dtype, without a copy where it is contiguous."""
     return x.detach().contiguous().numpy()
 
 
@@ -469,93 +560,78 @@ def _float64(x: Tensor) -> np.ndarray:
     return x.detach().to(torch.float64).contiguous().numpy()
 
 
-class _Project(torch.autograd.Function):
-    """Compiled :func:`~capframe.render.torch_backend.project_gaussians`: differentiable to the
-    means, the factors and the pose; returns the kept Gaussians' ``index``, means2d, conics and
-    depths (nearest first) and their extents (no gradient)."""
+class _Render(torch.autograd.Function):
+    """Projection, binning and compositing with their analytic backward: differentiable to the
+    means, the factors, the opacities, the features and the pose. Returns the (H, W, D + 2)
+    composite of ``[features, camera z, 1]``."""
 
     @staticmethod
-    def forward(ctx, means, factors, opacities, T_cw, K, width, height, near, far, sort_key):
-        m, L, R, t, k = _numpy(means), _numpy(factors), _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
-        out = np.empty((len(m), 8))
+    def forward(ctx, means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, stats):
+        m, L, o, f = _numpy(means), _numpy(factors), _numpy(opacities), _numpy(features)
+        R, t, k = _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
+        tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
+        geometry = np.empty((len(m), 8))
         flags = np.empty(len(m), np.int8)
         limit = float(torch.finfo(means.dtype).max)
+        threads = _threads()
         with _LAUNCH:
-            _project(m, L, _float64(opacities), R, t, k, width, height, near, far, EPS2D, limit, out, flags)
+            _project(m, L, o, R, t, k, width, height, near, far, EPS2D, limit, geometry, flags)
+            # The sort key is the torch backend's own (render dtype), so both order ties alike.
+            kept, row = _depth_order(flags, _sortable(sort_key))
+            table = np.empty((len(kept), _COLUMNS + f.shape[1] + 2), m.dtype)
+            reach, boxes = np.empty(len(kept)), np.empty((len(kept), 5), np.int64)
+            _visible_table(kept, row, geometry, o, f, tile_size, tiles_x, tiles_y, table, reach, boxes)
+            first = np.zeros(len(kept) + 1, np.int64)
+            np.cumsum(boxes[:, 4], out=first[1:])
+            pair_tile, listed = np.empty(first[-1], np.int32), np.empty(len(kept), np.int64)
+            _list_tiles(table, reach, boxes, first, tile_size, tiles_x, pair_tile, listed)
+            tile_start, tile_gaussian = _sort_by_tile(pair_tile, first, listed, tiles_x * tiles_y)
+            groups = _balanced_groups(tile_start, threads)
+            out = np.zeros((height, width, table.shape[1] - _COLUMNS), m.dtype)
+            masks = np.zeros((len(tile_gaussian), -(-tile_size * tile_size // _MASK_BITS)), np.uint32)
+            composited = _composite(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, masks)
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
-        kept = np.flatnonzero(flags == 1)
-        # The sort key is the torch backend's own (render dtype), so both order ties alike.
-        index = kept[np.argsort(sort_key[kept], kind="stable")]
-        ctx.arrays = (m, L, R, t, k, width, height, index)
-        ctx.num = len(m)
-        kept_out = out[index]
-        means2d, conics, depths, extents = (
-            torch.from_numpy(np.ascontiguousarray(kept_out[:, cols])).to(means.dtype)
-            for cols in (slice(0, 2), slice(2, 5), 5, slice(6, 8))
-        )
-        index = torch.from_numpy(index)
-        ctx.mark_non_differentiable(index, extents)
-        return index, means2d, conics, depths, extents
+        stats.update(visible=len(kept), pairs=len(tile_gaussian), composited=int(composited))
+        ctx.arrays = (m, L, o, R, t, k, width, height, kept, row, table, tile_start, tile_gaussian, groups, tile_size, masks)
+        ctx.num_features = f.shape[1]
+        image = torch.from_numpy(out)
+        ctx.save_for_backward(image)  # the backward reads it: in-place edits must raise
+        return image
 
     @staticmethod
-    def backward(ctx, _, grad_means2d, grad_conics, grad_depths, __):
-        m, L, R, t, k, width, height, index = ctx.arrays
+    def backward(ctx, grad_image):
+        (image,) = ctx.saved_tensors
+        m, L, o, R, t, k, width, height, kept, row, table, tile_start, tile_gaussian, groups, tile_size, masks = ctx.arrays
         ctx.arrays = None
-        grad = np.concatenate([_float64(grad_means2d), _float64(grad_conics), _float64(grad_depths)[:, None]], 1)
-        chunks = np.linspace(0, len(index), _threads() + 1).astype(np.int64)
-        grad_means = np.zeros((len(index), 3))
-        with_factors = ctx.needs_input_grad[1]
-        grad_factors = np.zeros((len(index) if with_factors else 0, 3, 3))
+        dtype, num, tiles_x = m.dtype, len(m), -(-width // tile_size)
+        grads = np.zeros((len(groups) - 1, len(kept), table.shape[1] - 1), dtype)
+        chunks = np.linspace(0, len(kept), _threads() + 1).astype(np.int64)
+        grad_means, grad_opacities = np.zeros((num, 3), dtype), np.zeros(num, dtype)
+        grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
+        grad_features = np.zeros((num, ctx.num_features), dtype)
         grad_pose = np.zeros((len(chunks) - 1, 12))
         with _LAUNCH:
-            _project_backward(m, L, R, t, k, width, height, EPS2D, index, grad, chunks, grad_means, grad_factors, grad_pose)
-        dtype, rows = grad_means2d.dtype, torch.from_numpy(index)
-        means = torch.zeros(ctx.num, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_means).to(dtype))
-        factors = None
-        if with_factors:
-            factors = torch.zeros(ctx.num, 3, 3, dtype=dtype).index_add_(0, rows, torch.from_numpy(grad_factors).to(dtype))
-        pose = torch.zeros(4, 4, dtype=dtype)
-        total = torch.from_numpy(grad_pose.sum(0)).to(dtype)
+            _composite_backward(
+                table, tile_start, tile_gaussian, groups, tile_size, tiles_x, image.numpy(), _numpy(grad_image), masks, grads
+            )
+            _project_backward(
+                m, L, o, R, t, k, width, height, EPS2D, kept, row, grads, chunks,
+                grad_means, grad_factors, grad_opacities, grad_features, grad_pose,
+            )  # fmt: skip
+        pose = torch.zeros(4, 4, dtype=grad_image.dtype)
+        total = torch.from_numpy(grad_pose.sum(0)).to(grad_image.dtype)
         pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
-        return means, factors, None, pose, None, None, None, None, None, None
-
-
-class _Rasterize(torch.autograd.Function):
-    """Tile-binned compositing of depth-sorted Gaussians with its analytic backward."""
-
-    @staticmethod
-    def forward(ctx, means2d, conics, opacities, values, extents, width, height, tile_size, stats):
-        dtype = values.dtype
-        m, cn, v, o = _numpy(means2d), _numpy(conics), _numpy(values), _float64(opacities)
-        log_opacity = np.log(np.maximum(o, 1e-30))
-        # Cut-offs: sigma <= 4.5 (the 3-sigma ellipse) and alpha >= 1/255, as q >= threshold.
-        threshold = np.maximum(log_opacity - SIGMA_MAX, LOG_ALPHA_MIN)
-        reach = np.minimum(log_opacity - LOG_ALPHA_MIN, SIGMA_MAX)
-        tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
-        tile_start, tile_gaussian = _bin_tiles(m, cn, reach, _numpy(extents), tile_size, tiles_x, tiles_y)
-        groups = _balanced_groups(tile_start, _threads())
-        out = np.zeros((height, width, v.shape[1]))
-        state = (m, cn, log_opacity, threshold, v, tile_start, tile_gaussian, groups, tile_size, tiles_x)
-        with _LAUNCH:
-            stats["composited"] = int(_forward(*state, out))
-        ctx.state, ctx.out = state, out
-        stats["pairs"] = len(tile_gaussian)
-        return torch.from_numpy(out).to(dtype)
-
-    @staticmethod
-    def backward(ctx, grad_out):
-        state, out = ctx.state, ctx.out
-        groups, num = len(state[7]) - 1, len(state[0])
-        grad_geometry = np.zeros((groups, num, 6))
-        grad_values = np.zeros((groups, num, out.shape[2]))
-        with _LAUNCH:
-            _backward(*state, out, _numpy(grad_out), grad_geometry, grad_values)
-        ctx.state = ctx.out = None
-        geometry = torch.from_numpy(grad_geometry.sum(0)).to(grad_out.dtype)
-        values = torch.from_numpy(grad_values.sum(0)).to(grad_out.dtype)
-        return geometry[:, :2], geometry[:, 2:5], geometry[:, 5], values, None, None, None, None, None
+        factors = torch.from_numpy(grad_factors) if ctx.needs_input_grad[1] else None
+        return (
+            torch.from_numpy(grad_means),
+            factors,
+            torch.from_numpy(grad_opacities),
+            torch.from_numpy(grad_features),
+            pose,
+            *[None] * 8,
+        )
 
 
 def rasterize_compiled(
@@ -583,14 +659,7 @@ def rasterize_compiled(
     if means.device.type != "cpu":
         raise ValueError(f"the compiled render backend runs on the CPU; got tensors on {means.device}")
     with torch.no_grad():
-        sort_key = (means @ T_cw[2, :3] + T_cw[2, 3]).double().numpy()  # as project_gaussians sorts
-    index, means2d, conics, depths, extents = _Project.apply(
-        means, factors, opacities.detach(), T_cw, K, width, height, near, far, sort_key
-    )
-    # The alpha is composited as a channel of ones, after the depth.
-    values = torch.cat([_GatherRows.apply(features, index), depths[:, None], torch.ones_like(depths)[:, None]], -1)
-    stats = {"visible": len(index)}
-    image = _Rasterize.apply(
-        means2d, conics, _GatherRows.apply(opacities, index), values, extents, width, height, tile_size, stats
-    )
+        sort_key = (means @ T_cw[2, :3] + T_cw[2, 3]).numpy()  # as project_gaussians sorts
+    stats: dict = {}
+    image = _Render.apply(means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, stats)
     return image[..., :-2], image[..., -1], image[..., -2], stats
