@@ -485,3 +485,14 @@ def test_compiled_backend_orders_equal_depths_as_the_reference(dtype):
     reordered = gaussians(means[::-1], scales[::-1], [0.6, 0.7, 0.8, 0.5, 0.9, 0.7][::-1], colors[::-1], dtype=dtype)
     flipped = render(reordered, axis_camera(), backend="compiled", dtype=dtype)
     assert float((flipped.rgb - outs[1].rgb).abs().max()) > 0.01  # the test sees the order
+
+
+def test_compiled_lowest_set_bit_on_every_position_and_mixed_words():
+    """The de Bruijn count of trailing zeros that walks a pair's pixel mask: a wrong table entry
+    would composite the wrong pixel."""
+    from capframe.render.compiled_backend import _lowest_bit
+
+    rng = np.random.default_rng(0)
+    words = [1 << k for k in range(32)] + [int(w) | 1 << 31 for w in rng.integers(1, 2**31, 200)]
+    for word in words:
+        assert _lowest_bit(np.int64(word)) == (word & -word).bit_length() - 1, hex(word)

@@ -39,7 +39,6 @@ import numba
 import numpy as np
 import torch
 from numba import njit, prange
-from numba.cpython.unsafe.numbers import trailing_zeros  # an LLVM intrinsic (cttz)
 from torch import Tensor
 
 from .torch_backend import ALPHA_MAX, ALPHA_MIN, EPS2D, SIGMA_MAX, TRANSMITTANCE_MIN
@@ -63,6 +62,19 @@ _REACH_MARGIN = 1e-4
 _COLUMNS = 7
 # Bits per word of a pair's pixel mask.
 _MASK_BITS = 32
+# Index of the lowest set bit of a 32-bit word by a de Bruijn multiply (numba has no public
+# count-trailing-zeros): the isolated bit times this constant puts a unique 5-bit pattern on top.
+_DE_BRUIJN = 0x077CB531
+_DE_BRUIJN_BIT = np.array(
+    [0, 1, 28, 2, 29, 14, 24, 3, 30, 22, 20, 15, 25, 17, 4, 8, 31, 27, 13, 23, 21, 19, 16, 7, 26, 12, 18, 6, 11, 5, 10, 9],
+    dtype=np.int64,
+)
+
+
+@njit(cache=True, inline="always")
+def _lowest_bit(bits):
+    """Index of the lowest set bit of ``bits`` (nonzero, below ``2**32``)."""
+    return _DE_BRUIJN_BIT[(((bits & -bits) * _DE_BRUIJN) & 0xFFFFFFFF) >> 27]
 
 
 @njit(cache=True)
@@ -345,7 +357,7 @@ def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x
                     bits &= live[word]
                     done = 0
                     while bits != 0:  # the pixels inside the cut-offs, not stopped
-                        j = trailing_zeros(bits)
+                        j = _lowest_bit(bits)
                         bits &= bits - 1
                         p = first + j
                         alpha = min(alpha_max, math.exp(q[p]))
@@ -418,7 +430,7 @@ def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size
                 for word in range(words):
                     bits = np.int64(masks[pair, word])
                     while bits != 0:
-                        p = word * _MASK_BITS + trailing_zeros(bits)
+                        p = word * _MASK_BITS + _lowest_bit(bits)
                         bits &= bits - 1
                         dx, dy = px[p] - mx, py[p] - my
                         alpha = min(alpha_max, math.exp(log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)))
