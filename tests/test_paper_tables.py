@@ -17,7 +17,7 @@ from test_tables import pose, write_result, write_scene
 from capframe.backends.mllm.chat import ChatReply
 from capframe.backends.mllm.judge import MLLMJudge, blind_order
 from capframe.errors import InputError
-from capframe.evaluate.judging import judge_scene, read_judgements
+from capframe.evaluate.judging import judge_command, judge_scene, read_judgements
 from capframe.evaluate.metrics import metrics_command, metrics_table
 from capframe.evaluate.quantitative import quantitative_table
 from capframe.evaluate.tables import group_table, mllm_per_scene, mllm_records, sensitivity_markdown, sensitivity_table
@@ -326,3 +326,25 @@ def test_mllm_counters_are_summed_per_scene_and_stage(tmp_path):
     )
     with pytest.raises(InputError, match="are not numbers"):
         mllm_records(tmp_path)
+
+
+def test_judge_needs_a_judge_entry_and_a_judge_record(tmp_path):
+    constraints = tmp_path / "constraints.json"
+    constraints.write_text(json.dumps({"s-000": {"text": TEXTS["s-000"], "constraints": {}}}))
+    models = tmp_path / "models.yaml"
+    models.write_text("metrics-clip: {weights: clip}\n")
+    args = (
+        "s",
+        str(constraints),
+        [f"capframe={tmp_path}", f"ivs={tmp_path}"],
+        str(models),
+        str(tmp_path),
+        str(tmp_path / "j.json"),
+    )
+    with pytest.raises(InputError, match=r"has no judge entry \(judge, judge-2\)"):
+        judge_command(*args)
+    assert not (tmp_path / "j.json").exists()
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"format": 1, "scene": "s", "instructions": {"s-000": {"judges": {"judge": {"best": "ivs"}}}}}))
+    with pytest.raises(InputError, match="bad.json: not a capframe judge record: KeyError 'ratings'"):
+        read_judgements([bad])

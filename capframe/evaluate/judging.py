@@ -135,19 +135,22 @@ def read_judgements(paths: list[str | Path]) -> pd.DataFrame:
         record = read_json(path)
         if not isinstance(record, dict) or record.get("format") != FORMAT or "instructions" not in record:
             raise InputError("not a capframe judge record (format 1)", source=str(path))
-        for key, entry in record["instructions"].items():
-            for judge, verdict in entry["judges"].items():
-                for method, rating in verdict["ratings"].items():
-                    rows.append(
-                        {
-                            "judge": judge,
-                            "scene": record["scene"],
-                            "instruction": key,
-                            "method": method,
-                            "rating": float(rating),
-                            "picked": verdict["best"] == method,
-                        }
-                    )
+        try:
+            for key, entry in record["instructions"].items():
+                for judge, verdict in entry["judges"].items():
+                    for method, rating in verdict["ratings"].items():
+                        rows.append(
+                            {
+                                "judge": judge,
+                                "scene": record["scene"],
+                                "instruction": key,
+                                "method": method,
+                                "rating": float(rating),
+                                "picked": verdict["best"] == method,
+                            }
+                        )
+        except (KeyError, TypeError, AttributeError, ValueError) as err:
+            raise InputError(f"not a capframe judge record: {type(err).__name__} {err}", source=str(path)) from None
     return pd.DataFrame(rows, columns=["judge", "scene", "instruction", "method", "rating", "picked"])
 
 

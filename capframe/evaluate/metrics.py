@@ -106,7 +106,7 @@ def metrics_table(
         entry, backend = METRICS[column]
         model = ImageTextModel(backend, models.settings(entry))
         frame[column] = pair_scores(model, images, [texts[i] for _, i, _ in rows]) if rows else []
-        del model
+        del model  # one model in memory at a time (ViT-H/14 and SigLIP 2 so400m are large)
     return frame
 
 
