@@ -41,6 +41,7 @@ class FakeJudgeChat:
 
     def __init__(self):
         self.requests = []
+        self.batches = []
 
     def complete(self, request):
         self.requests.append(request)
@@ -51,6 +52,7 @@ class FakeJudgeChat:
         return ChatReply(data=data, text=json.dumps(data), model=self.identity)
 
     def complete_many(self, requests):
+        self.batches.append(len(requests))
         return [self.complete(r) for r in requests]
 
 
@@ -71,6 +73,8 @@ def test_judge_messages_never_name_a_method(tmp_path):
     chat = FakeJudgeChat()
     judge_scene({"judge": MLLMJudge(chat)}, TEXTS, write_renders(tmp_path), seed=0)
     assert len(chat.requests) == len(TEXTS) * (len(METHODS) + 1)
+    # an instruction's ratings are asked together (a local model batches them, an endpoint runs them concurrently)
+    assert chat.batches == [len(METHODS)] * len(TEXTS)
     for request in chat.requests:
         words = (request.system + "\n" + request.user).lower()
         assert not [m for m in METHODS if m in words], words

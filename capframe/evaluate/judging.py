@@ -46,14 +46,11 @@ def judge_instruction(judge, text: str, frames: dict, seed: int) -> dict:
     Returns ``{"ratings", "reasons", "best", "best_image", "reason"}``: ``best_image`` is the
     1-based number of the picture the judge answered, in the order it was shown
     (:func:`blind_order` of the methods, the text and the seed)."""
-    ratings, reasons = {}, {}
-    for method, image in frames.items():
-        rating = judge.assess(image, text)
-        ratings[method], reasons[method] = rating.score, rating.reason
+    ratings = dict(zip(frames, judge.assess_many(list(frames.values()), text)))
     pick = judge.pick(frames, text, seed)
     return {
-        "ratings": ratings,
-        "reasons": reasons,
+        "ratings": {method: r.score for method, r in ratings.items()},
+        "reasons": {method: r.reason for method, r in ratings.items()},
         "best": pick.best,
         "best_image": pick.order.index(pick.best) + 1,
         "reason": pick.reason,
