@@ -41,15 +41,28 @@ run: $(STAMP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default
 	$(MAKE) report
 
-# The workflow with the parser and Question-Evaluation on the MLLM backend (config/tiny.yaml): a
-# tiny random-weight Qwen3-VL built offline into .cache/, one scene. Meaningless answers, real
+# The workflow with Question-Evaluation on the MLLM backend, the image-text metrics and the two
+# MLLM judges (config/tiny.yaml, config/models-tiny.yaml): tiny random-weight Qwen3-VL (two seeds),
+# CLIP and SigLIP 2 built offline into .cache/, one scene. Meaningless answers and scores, real
 # plumbing; a second run answers every request from the response cache.
 TINY_MLLM := .cache/tiny-qwen3-vl/config.json
+TINY_JUDGE := .cache/tiny-qwen3-vl-2/config.json
+TINY_CLIP := .cache/tiny-clip/config.json
+TINY_SIGLIP := .cache/tiny-siglip2/config.json
 
 $(TINY_MLLM): $(STAMP)
 	$(BIN)/python -c "from capframe.backends.tiny import tiny_qwen3_vl; tiny_qwen3_vl('$(dir $(TINY_MLLM))')"
 
-run-tiny: $(STAMP) $(TINY_MLLM)
+$(TINY_JUDGE): $(STAMP)
+	$(BIN)/python -c "from capframe.backends.tiny import tiny_qwen3_vl; tiny_qwen3_vl('$(dir $(TINY_JUDGE))', seed=1)"
+
+$(TINY_CLIP): $(STAMP)
+	$(BIN)/python -c "from capframe.backends.tiny import tiny_image_text; tiny_image_text('$(dir $(TINY_CLIP))', 'clip')"
+
+$(TINY_SIGLIP): $(STAMP)
+	$(BIN)/python -c "from capframe.backends.tiny import tiny_image_text; tiny_image_text('$(dir $(TINY_SIGLIP))', 'siglip')"
+
+run-tiny: $(STAMP) $(TINY_MLLM) $(TINY_JUDGE) $(TINY_CLIP) $(TINY_SIGLIP)
 	PATH="$(CURDIR)/$(BIN):$$PATH" $(BIN)/snakemake --workflow-profile workflow/profiles/default \
 		--configfile config/config.yaml config/tiny.yaml
 

@@ -15,6 +15,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/synth.smk"
 include: "workflow/rules/method.smk"
 include: "workflow/rules/refine.smk"
+include: "workflow/rules/paper.smk"
 include: "workflow/rules/evaluate.smk"
 include: "workflow/rules/report.smk"
 
@@ -44,3 +45,4 @@ rule all:
         [per_instruction(pattern) for pattern in METHOD_RESULTS.values()],
         [per_instruction(f"results/check/{method}/{{scene}}/{{instruction}}.json") for method in METHOD_RESULTS],
         "results/tables/runtime.csv",
+        "results/tables/quantitative.csv",

@@ -232,13 +232,31 @@ def _cmd_compare(args: argparse.Namespace) -> None:
 def _cmd_sensitivity(args: argparse.Namespace) -> None:
     from .evaluate.tables import sensitivity_command
 
-    sensitivity_command(args.reference, args.variant, args.checks_root, args.scenes_root, args.output)
+    sensitivity_command(args.reference, args.variant, args.checks_root, args.scenes_root, args.output, args.metrics)
 
 
 def _cmd_groups(args: argparse.Namespace) -> None:
     from .evaluate.tables import group_table_command
 
-    group_table_command(args.tables, args.group, args.output)
+    group_table_command(args.tables, args.group, args.output, args.metrics)
+
+
+def _cmd_metrics(args: argparse.Namespace) -> None:
+    from .evaluate.metrics import metrics_command
+
+    metrics_command(args.scene, args.constraints, args.method, args.models, args.output)
+
+
+def _cmd_judge(args: argparse.Namespace) -> None:
+    from .evaluate.judging import judge_command
+
+    judge_command(args.scene, args.constraints, args.method, args.models, args.cache, args.output, seed=args.seed)
+
+
+def _cmd_quantitative(args: argparse.Namespace) -> None:
+    from .evaluate.quantitative import quantitative_command
+
+    quantitative_command(args.tables, args.metrics, args.judgements, args.userstudy, args.output)
 
 
 def _cmd_scene_table(args: argparse.Namespace) -> None:
@@ -250,7 +268,7 @@ def _cmd_scene_table(args: argparse.Namespace) -> None:
 def _cmd_runtime(args: argparse.Namespace) -> None:
     from .evaluate.tables import runtime_command
 
-    runtime_command(args.benchmarks, args.output, args.methods_table)
+    runtime_command(args.benchmarks, args.output, args.methods_table, args.results_root)
 
 
 def _ground_options(args: argparse.Namespace):
@@ -288,7 +306,8 @@ def _stage_job(args: argparse.Namespace):
     from .pipeline import StageClock, open_job
 
     options = _ground_options(args)
-    return options, StageClock(True), open_job(args.scene, options)
+    args.clock = StageClock(True)  # its timings and model counters go to the stage's sidecar (_stage_verb)
+    return options, args.clock, open_job(args.scene, options)
 
 
 def _cmd_parse(args: argparse.Namespace) -> None:
@@ -540,10 +559,28 @@ def _stage_verb(verbs, name: str, help_text: str, output: str, func) -> argparse
     perception options; the caller adds the stage's own inputs."""
     p = verbs.add_parser(name, help=f"{help_text}: {output}")
     p.add_argument("scene")
-    p.add_argument("-o", "--output", required=True, help=f"{output} to write")
+    p.add_argument("-o", "--output", required=True, help=f"{output} to write (and its timing sidecar, .timings.json)")
     _perception_options(p)
-    p.set_defaults(func=func, outputs={"output": "file"})
+    p.set_defaults(func=_with_timings(func), outputs={"output": "file"})
     return p
+
+
+def _with_timings(func):
+    """``func`` followed by the stage's timing sidecar (DESIGN §7): ``<output stem>.timings.json``,
+    the stage clock's seconds and its models' counters (MLLM calls, cache hits, tokens, seconds),
+    which ``capframe runtime`` sums per stage and scene. Written only after the output."""
+
+    def run(args: argparse.Namespace) -> None:
+        from pathlib import Path
+
+        from .scene._io import write_json
+
+        func(args)
+        clock = getattr(args, "clock", None)
+        if clock is not None:
+            write_json(Path(args.output).with_suffix(".timings.json"), clock.total())
+
+    return run
 
 
 class _Parser(argparse.ArgumentParser):
@@ -724,8 +761,35 @@ def build_parser() -> argparse.ArgumentParser:
     p = verbs.add_parser("groups", help="success per method and dataset group (Retrieve against Refine and the rest)")
     p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate, rows in this order")
     p.add_argument("--group", nargs="+", required=True, metavar="SCENE=GROUP", help="every scene's dataset group")
+    p.add_argument("--metrics", nargs="*", default=[], help="capframe metrics CSVs: adds the mean SigLIP 2 and CLIP scores")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
     p.set_defaults(func=_cmd_groups, outputs={"output": "file"})
+
+    p = verbs.add_parser("metrics", help="CLIP and SigLIP 2 scores of every method's final frame against its instruction")
+    p.add_argument("--scene", required=True, help="the scene's id (the table's scene column)")
+    p.add_argument("--constraints", required=True, help="the scene's constraints.json (instruction ids and texts)")
+    p.add_argument("--method", nargs="+", required=True, metavar="NAME=DIR", help="methods' result folders: DIR/<id>/render.png")
+    p.add_argument("--models", required=True, help="models config with metrics-clip and/or metrics-siglip")
+    p.add_argument("-o", "--output", required=True, help="CSV to write")
+    p.set_defaults(func=_cmd_metrics, outputs={"output": "file"})
+
+    p = verbs.add_parser("judge", help="MLLM judges: 1-5 alignment score of every method's frame and a blind best pick")
+    p.add_argument("--scene", required=True, help="the scene's id")
+    p.add_argument("--constraints", required=True, help="the scene's constraints.json (instruction ids and texts)")
+    p.add_argument("--method", nargs="+", required=True, metavar="NAME=DIR", help="methods' result folders: DIR/<id>/render.png")
+    p.add_argument("--models", required=True, help="models config with judge and/or judge-2")
+    p.add_argument("--cache", required=True, help="the scene's cache folder (the response cache is <cache>/mllm)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the order the pictures are shown in (with the instruction)")
+    p.add_argument("-o", "--output", required=True, help="JSON record to write")
+    p.set_defaults(func=_cmd_judge, outputs={"output": "file"})
+
+    p = verbs.add_parser("quantitative", help="the paper's Table 1: methods by metrics, judges, user study, ground truth")
+    p.add_argument("tables", nargs="+", help="per-instruction CSVs written by capframe aggregate, rows in this order")
+    p.add_argument("--metrics", nargs="*", default=[], help="capframe metrics CSVs")
+    p.add_argument("--judgements", nargs="*", default=[], help="capframe judge records")
+    p.add_argument("--userstudy", default=None, help="userstudy.csv of capframe userstudy import")
+    p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
+    p.set_defaults(func=_cmd_quantitative, outputs={"output": "file"})
 
     p = verbs.add_parser("sensitivity", help="pose deviation and success change of method variants against the default method")
     p.add_argument("--reference", required=True, help="the default method's result folders, e.g. results/refine/capframe")
@@ -738,6 +802,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--checks-root", default="results/check", help="check reports: CHECKS_ROOT/<method>/<scene>/<id>.json")
     p.add_argument("--scenes-root", default="results/scenes", help="scene directories (ground_truth.json scale)")
+    p.add_argument("--metrics", nargs="*", default=[], help="capframe metrics CSVs: adds ΔCLIP and ΔSigLIP 2")
     p.add_argument("-o", "--output", required=True, help="CSV; .md is written beside it")
     p.set_defaults(func=_cmd_sensitivity, outputs={"output": "file"})
 
@@ -754,6 +819,11 @@ def build_parser() -> argparse.ArgumentParser:
         "--methods-table",
         default=None,
         help="capframe compare's CSV: adds the error-against-run-time points and plot (<stem>_pareto.csv, .png)",
+    )
+    p.add_argument(
+        "--results-root",
+        default=None,
+        help="results folder: adds the MLLM counters per scene and stage (stage sidecars, result.json, judges; <stem>_mllm.csv)",
     )
     p.add_argument("-o", "--output", required=True, help="per-scene CSV; <stem>_methods.csv and .md are written beside it")
     p.set_defaults(func=_cmd_runtime, outputs={"output": "file"})

@@ -235,11 +235,13 @@ def _planned_jobs(plan: str) -> list[tuple[list[str], list[str]]]:
     return jobs
 
 
-def _fake_completed_run(work: Path) -> None:
+def _fake_completed_run(work: Path, configure=None) -> None:
     """Create every output the workflow plans, each newer than its inputs, as a completed run
-    leaves them. Paths without a suffix are directory outputs, dated by Snakemake's
-    ``.snakemake_timestamp`` marker."""
+    leaves them (after ``configure(work)`` edits the config, if given). Paths without a suffix
+    are directory outputs, dated by Snakemake's ``.snakemake_timestamp`` marker."""
     _fake_generated_suite(work)
+    if configure is not None:
+        configure(work)
     pending = _planned_jobs(planned_outputs(work))
     stamp = time.time() - 10_000.0
     for stage in ("scenes", "instructions"):  # the scenes, then their sheets
@@ -276,11 +278,67 @@ def test_deleting_one_result_reruns_only_what_is_built_from_it(tmp_path):
         "aggregate": 1,
         "compare": 1,
         "groups": 1,
+        "quantitative": 1,
         "runtime": 1,
         "all": 1,
     }
     assert "results/check/capframe/room-forward/room-forward-000.json" in plan
     assert "results/report/grid/room-forward/room-forward-000.png" in plan
+
+
+def _with_models(work: Path, entries: str) -> None:
+    """A models config with ``entries`` (YAML), named by the workflow config."""
+    import yaml
+
+    (work / "config" / "models-test.yaml").write_text(entries)
+    config = yaml.safe_load((work / "config" / "config.yaml").read_text())
+    config["models"] = "config/models-test.yaml"
+    (work / "config" / "config.yaml").write_text(yaml.safe_dump(config))
+
+
+METRIC_AND_JUDGE_MODELS = (
+    "metrics-clip: {weights: clip}\nmetrics-siglip: {weights: siglip}\njudge: {weights: qwen}\n"
+    "judge-2: {endpoint: http://127.0.0.1:8000/v1, model: m}\n"
+)
+
+
+def test_metrics_and_judges_run_only_when_their_models_are_configured(tmp_path):
+    """Without models the tables hold the ground-truth columns and no metrics or judges job is
+    planned; with the entries, one metrics and one judges job per scene feed Table 1 (and the
+    metrics Tables 2 and 3), the judges seeing the runnable methods only."""
+    _fake_generated_suite(tmp_path)
+    _fake_method_run(tmp_path)
+    bare = _jobs(planned_outputs(tmp_path))
+    assert "metrics" not in bare and "judge" not in bare and bare["quantitative"] == 1
+    _with_models(tmp_path, "metrics-siglip: {weights: siglip}\n")
+    plan = planned_outputs(tmp_path, "--printshellcmds")
+    assert _jobs(plan)["metrics"] == 4 and "judge" not in _jobs(plan)
+    _with_models(tmp_path, METRIC_AND_JUDGE_MODELS)
+    plan = planned_outputs(tmp_path, "--printshellcmds")
+    jobs = _jobs(plan)
+    assert jobs["metrics"] == jobs["judge"] == 4
+    [table] = [inputs for inputs, outputs in _planned_jobs(plan) if "results/tables/quantitative.csv" in outputs]
+    assert {f"results/metrics/{s}.csv" for s in SCENES} | {f"results/judges/{s}.json" for s in SCENES} <= set(table)
+    [groups] = [inputs for inputs, outputs in _planned_jobs(plan) if "results/tables/groups.csv" in outputs]
+    assert "results/metrics/room-forward.csv" in groups and not any("judges" in i for i in groups)
+    [judge] = re.findall(r"capframe judge --scene room-forward .*", plan)
+    methods = re.findall(r"(\w[\w-]*)=results/", judge)
+    assert methods == ["capframe", "ivs", "svs", "splatraj"]
+    [metrics] = re.findall(r"capframe metrics --scene room-forward .*", plan)
+    assert "retrieve=results/retrieved/room-forward" in metrics and "oracle=results/refine/oracle/room-forward" in metrics
+
+
+def test_a_second_run_with_the_paper_tables_has_nothing_to_do(tmp_path):
+    """After a completed run with metrics and judges, nothing is to be done; the user study's
+    table, once imported, reruns Table 1 (and the runtime table that follows it) only."""
+    _fake_completed_run(tmp_path, lambda work: _with_models(work, METRIC_AND_JUDGE_MODELS))
+    assert (tmp_path / "results/judges/tabletop-orbit.json").exists()
+    assert "Nothing to be done" in planned_outputs(tmp_path)
+    time.sleep(0.05)
+    (tmp_path / "results/tables/userstudy.csv").write_text("method,rating_mean,rating_n,preference_share\n")
+    plan = planned_outputs(tmp_path)
+    assert _jobs(plan) == {"quantitative": 1, "runtime": 1, "all": 1}
+    assert "--userstudy" in planned_outputs(tmp_path, "--printshellcmds")
 
 
 def test_slurm_profile_plans_the_same_jobs(tmp_path):

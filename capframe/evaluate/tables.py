@@ -37,6 +37,7 @@ from ..errors import InputError
 from ..scene._io import IMAGE_SUFFIXES, atomic_write, read_json
 from ..scene.ply import _parse_header
 from .ground_truth import read_ground_truth
+from .metrics import METRIC_HINT, METRIC_NAMES, METRICS, read_metrics
 
 DEFAULT_METHOD = "capframe"
 
@@ -153,7 +154,11 @@ def _success(checks_root: Path, method: str, scene: str, instruction: str) -> bo
 
 
 def sensitivity_table(
-    reference: str | Path, variants: list[tuple[str, Path]], checks_root: str | Path, scenes_root: str | Path
+    reference: str | Path,
+    variants: list[tuple[str, Path]],
+    checks_root: str | Path,
+    scenes_root: str | Path,
+    metrics: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """One row per variant (grouped as in the paper): mean ΔR (deg) and Δt (/ scene scale) against
     the reference over the instructions both have results for, and the full-success rates.
@@ -162,6 +167,9 @@ def sensitivity_table(
     method name in ``checks_root`` (``<checks_root>/<method>/<scene>/<id>.json``). The success
     rates are taken over the compared instructions that have a check report for both methods
     (``checked``); ``full_success_change`` is the variant's rate minus the reference's there.
+    With ``metrics`` (``capframe metrics`` rows, methods named as the folders), ``delta_<metric>``
+    is the mean of the variant's score minus the reference's over the compared instructions both
+    have a score for (the paper's ΔCLIP and ΔSigLIP 2).
     """
     from .check import read_result_camera
 
@@ -178,6 +186,8 @@ def sensitivity_table(
             cameras[path] = read_result_camera(path)[0]
         return cameras[path]
 
+    columns = [c for c in METRICS if metrics is not None and c in metrics.columns]
+    scores = {c: metrics.set_index(["method", "scene", "instruction"])[c].dropna().to_dict() for c in columns}
     rows = []
     for order, (name, folder) in enumerate(variants):
         var_results = result_folders(folder, f"variant {name!r}")
@@ -214,6 +224,13 @@ def sensitivity_table(
                 "_order": order,
             }
         )
+        for column, score in scores.items():
+            deltas = [
+                score[(folder.name, *key)] - score[(reference.name, *key)]
+                for key in common
+                if (folder.name, *key) in score and (reference.name, *key) in score
+            ]
+            rows[-1][f"delta_{column}"] = float(np.mean(deltas)) if deltas else math.nan
     frame = pd.DataFrame(rows)
     frame["_group"] = frame["group"].map(SENSITIVITY_GROUPS.index)
     return frame.sort_values(["_group", "_order"], kind="stable").drop(columns=["_group", "_order"]).reset_index(drop=True)
@@ -233,17 +250,27 @@ def sensitivity_markdown(frame: pd.DataFrame) -> str:
             "Δ full success": frame["full_success_change"],
         }
     )
-    return markdown_table(view, {"ΔR (deg)": ".2f", "Δt (/ scale)": ".3f", "Full success": ".3f", "Δ full success": "+.3f"})
+    formats = {"ΔR (deg)": ".2f", "Δt (/ scale)": ".3f", "Full success": ".3f", "Δ full success": "+.3f"}
+    notes = []
+    for column in METRICS:
+        if f"delta_{column}" in frame.columns:
+            view[f"Δ{METRIC_NAMES[column]}"] = frame[f"delta_{column}"]
+            formats[f"Δ{METRIC_NAMES[column]}"] = "+.3f"
+        else:
+            notes.append(f"Δ{METRIC_NAMES[column]}: not measured ({METRIC_HINT[column]}).")
+    return "\n\n".join([markdown_table(view, formats), *notes])
 
 
-def sensitivity_command(reference: str, variants: list[str], checks_root: str, scenes_root: str, output: str) -> pd.DataFrame:
-    """``capframe sensitivity``: :func:`sensitivity_table` for ``NAME=DIR`` variant specs, written
-    to ``output`` (CSV) and ``<stem>.md``, and printed."""
+def sensitivity_command(
+    reference: str, variants: list[str], checks_root: str, scenes_root: str, output: str, metrics: list[str] = ()
+) -> pd.DataFrame:
+    """``capframe sensitivity``: :func:`sensitivity_table` for ``NAME=DIR`` variant specs (and
+    ``capframe metrics`` CSVs), written to ``output`` (CSV) and ``<stem>.md``, and printed."""
     specs = [parse_variant_spec(v) for v in variants]
     names = [n for n, _ in specs]
     if len(set(names)) != len(names):
         raise InputError(f"variant names {names} repeat; give each variant its own NAME")
-    frame = sensitivity_table(reference, specs, checks_root, scenes_root)
+    frame = sensitivity_table(reference, specs, checks_root, scenes_root, read_metrics(list(metrics)) if metrics else None)
     _write_tables(output, frame, sensitivity_markdown(frame))
     return frame
 
@@ -261,10 +288,11 @@ def parse_group_spec(spec: str) -> tuple[str, str]:
     return scene.strip(), group.strip()
 
 
-def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFrame:
+def group_table(tables: list[str | Path], groups: dict[str, str], metrics: pd.DataFrame | None = None) -> pd.DataFrame:
     """Per method (in the order of ``tables``) and dataset group, then over every group
-    (``group = ALL_GROUPS``): instructions, full-success rate, and the mean share of each
-    instruction's constraints satisfied.
+    (``group = ALL_GROUPS``): instructions, full-success rate, the mean share of each
+    instruction's constraints satisfied and, with ``metrics`` (``capframe metrics`` rows), the
+    mean of each metric column it has (``siglip``: the paper's table; ``clip``).
 
     ``tables`` are per-instruction CSVs of ``capframe aggregate`` (with ``scene``,
     ``all_satisfied`` and ``constraints_satisfied`` columns); ``groups`` maps every scene in them
@@ -286,6 +314,11 @@ def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFram
     if not frames:
         raise InputError("no tables given; expected capframe aggregate's per-instruction CSVs")
     frame = pd.concat(frames, ignore_index=True)
+    columns = [c for c in METRICS if metrics is not None and c in metrics.columns]
+    if columns:
+        keys = ["method", "scene", "instruction"]
+        frame["instruction"] = frame["instruction"].astype(str)
+        frame = frame.merge(metrics[keys + columns], on=keys, how="left")
     frame = pd.concat([frame, frame.assign(group=ALL_GROUPS)], ignore_index=True)
     methods = list(dict.fromkeys(frame["method"]))
     order = list(dict.fromkeys(groups.values())) + [ALL_GROUPS]
@@ -296,6 +329,7 @@ def group_table(tables: list[str | Path], groups: dict[str, str]) -> pd.DataFram
             fully_satisfied=("all_satisfied", "sum"),
             full_success=("all_satisfied", "mean"),
             constraints_satisfied=("constraints_satisfied", "mean"),
+            **{column: (column, "mean") for column in columns},
         )
         .reset_index()
     )
@@ -315,23 +349,31 @@ def group_markdown(frame: pd.DataFrame) -> str:
         rows = [{"method": m, **{g: cell(cells[(m, g)]) if (m, g) in cells else "" for g in groups}} for m in methods]
         return markdown_table(pd.DataFrame(rows, columns=["method", *groups]))
 
-    return (
+    text = (
         "Instructions fully satisfied, per dataset group\n\n"
         + table(lambda r: f"{r.full_success:.3f} ({r.fully_satisfied}/{r.instructions})")
         + "\n\nMean share of an instruction's constraints satisfied, per dataset group\n\n"
         + table(lambda r: f"{r.constraints_satisfied:.3f}")
     )
+    for column in ("siglip", "clip"):
+        if column in frame.columns:
+            text += f"\n\nMean {METRIC_NAMES[column]} score, per dataset group\n\n" + table(
+                lambda r, c=column: "" if pd.isna(getattr(r, c)) else f"{getattr(r, c):.3f}"
+            )
+        else:
+            text += f"\n\n{METRIC_NAMES[column]}: not measured ({METRIC_HINT[column]})."
+    return text
 
 
-def group_table_command(tables: list[str], groups: list[str], output: str) -> pd.DataFrame:
-    """``capframe groups``: :func:`group_table` for ``SCENE=GROUP`` specs, written to ``output``
-    (CSV) and ``<stem>.md``, and printed."""
+def group_table_command(tables: list[str], groups: list[str], output: str, metrics: list[str] = ()) -> pd.DataFrame:
+    """``capframe groups``: :func:`group_table` for ``SCENE=GROUP`` specs (and ``capframe
+    metrics`` CSVs), written to ``output`` (CSV) and ``<stem>.md``, and printed."""
     pairs = [parse_group_spec(g) for g in groups]
     mapping = dict(pairs)
     clashes = sorted({s for s, g in pairs if mapping[s] != g})
     if clashes:
         raise InputError(f"scenes {clashes} are given more than one group")
-    frame = group_table(tables, mapping)
+    frame = group_table(tables, mapping, read_metrics(list(metrics)) if metrics else None)
     _write_tables(output, frame, group_markdown(frame))
     return frame
 
@@ -772,11 +814,87 @@ def pareto_plot(points: pd.DataFrame) -> bytes:
     return buffer.getvalue()
 
 
-def runtime_command(benchmarks: str, output: str, methods_table: str | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
+# The MLLM counters of a job (capframe.backends.mllm.cache.CachedChat.stats), as its stage clock
+# records them (StageClock.counters: a stage's timing sidecar, a result's ``timings``).
+MLLM_COUNTERS = (
+    "mllm_calls",
+    "mllm_cache_hits",
+    "mllm_cache_misses",
+    "mllm_prompt_tokens",
+    "mllm_completion_tokens",
+    "mllm_model_seconds",
+)
+# Folders of ``results/`` whose per-instruction jobs record MLLM counters, and the stage each is:
+# the stage verbs' sidecars ``<folder>/<method>/<scene>/<id>.timings.json`` and the methods'
+# ``<folder>/<method>/<scene>/<id>/result.json``.
+SIDECAR_STAGES = {
+    "parse": "parse",
+    "coarse": "coarse",
+    "retrieve": "qe",
+    "segment": "segment",
+    "associate": "associate",
+    "orient": "orient",
+}
+RESULT_STAGES = {"refine": "refine", "baselines": "baseline"}
+
+
+def _counters(values: dict, source: str) -> dict | None:
+    """The MLLM counters of a timings mapping; None when it has none (no MLLM ran)."""
+    if not isinstance(values, dict) or "mllm_calls" not in values:
+        return None
+    bad = [k for k in MLLM_COUNTERS if not isinstance(values.get(k), (int, float)) or isinstance(values.get(k), bool)]
+    if bad:
+        raise InputError(f"MLLM counters {bad} are not numbers", source=source)
+    return {k: values[k] for k in MLLM_COUNTERS}
+
+
+def mllm_records(root: str | Path) -> pd.DataFrame:
+    """Every job's MLLM counters under a results folder ``root`` as rows (stage, method, scene,
+    counters...): the stage verbs' timing sidecars (:data:`SIDECAR_STAGES`), the methods'
+    ``result.json`` timings (:data:`RESULT_STAGES`) and the judges' records
+    (``judges/<scene>.json``, one stage ``judge/<entry>`` per judge)."""
+    root = Path(root)
+    rows = []
+    for folder, stage in SIDECAR_STAGES.items():
+        for path in sorted((root / folder).glob("*/*/*.timings.json")):
+            counters = _counters(read_json(path), str(path))
+            if counters is not None:
+                rows.append({"stage": stage, "method": path.parts[-3], "scene": path.parts[-2]} | counters)
+    for folder, stage in RESULT_STAGES.items():
+        for path in sorted((root / folder).glob("*/*/*/result.json")):
+            counters = _counters(read_json(path).get("timings", {}), str(path))
+            if counters is not None:
+                rows.append({"stage": stage, "method": path.parts[-4], "scene": path.parts[-3]} | counters)
+    for path in sorted((root / "judges").glob("*.json")):
+        record = read_json(path)
+        for entry, info in record.get("judges", {}).items():
+            counters = _counters(info.get("mllm", {}), str(path))
+            if counters is not None:
+                rows.append({"stage": f"judge/{entry}", "method": None, "scene": record.get("scene", path.stem)} | counters)
+    return pd.DataFrame(rows, columns=["stage", "method", "scene", *MLLM_COUNTERS])
+
+
+def mllm_per_scene(records: pd.DataFrame) -> pd.DataFrame:
+    """Per scene and stage (``<stage>/<method>`` for a method's stage): the MLLM counters summed
+    over the jobs, and the share of requests answered from the response cache."""
+    records = records.assign(column=[_column(s, m) for s, m in zip(records["stage"], records["method"])])
+    out = records.groupby(["scene", "column"], sort=True)[list(MLLM_COUNTERS)].sum().reset_index()
+    out = out.rename(columns={"column": "stage"})
+    calls = out["mllm_calls"].where(out["mllm_calls"] > 0)
+    out["cache_hit_rate"] = out["mllm_cache_hits"] / calls
+    for column in MLLM_COUNTERS[:-1]:
+        out[column] = out[column].astype(int)
+    return out
+
+
+def runtime_command(
+    benchmarks: str, output: str, methods_table: str | None = None, results_root: str | None = None
+) -> tuple[pd.DataFrame, pd.DataFrame]:
     """``capframe runtime``: the per-scene table to ``output`` (CSV), the per-method table to
     ``<stem>_methods.csv``, both in ``<stem>.md``; prints the Markdown. With ``methods_table``
     (``capframe compare``'s CSV) also the error-against-run-time points (``<stem>_pareto.csv``,
-    in the Markdown) and their plot (``<stem>_pareto.png``)."""
+    in the Markdown) and their plot (``<stem>_pareto.png``). With ``results_root`` also the MLLM
+    counters per scene and stage (:func:`mllm_records`: ``<stem>_mllm.csv``, in the Markdown)."""
     records = benchmark_records(benchmarks)
     per_scene, per_method = runtime_per_scene(records), runtime_per_method(records)
     out = Path(output)
@@ -793,5 +911,17 @@ def runtime_command(benchmarks: str, output: str, methods_table: str | None = No
             "\n\nError against run time (median end-to-end seconds per instruction; front: on the Pareto front)\n\n"
             + markdown_table(points, {"median_s": ".2f", PARETO_ERROR: ".1f"})
         )
+    if results_root is not None:
+        calls = mllm_records(results_root)
+        if calls.empty:
+            markdown += "\n\nMLLM requests: none (no stage ran an MLLM backend)"
+            table = pd.DataFrame(columns=["scene", "stage", *MLLM_COUNTERS, "cache_hit_rate"])
+        else:
+            table = mllm_per_scene(calls)
+            markdown += (
+                "\n\nMLLM requests per scene and stage (calls, answered from the response cache, asked of the model, "
+                "tokens, the model's seconds)\n\n" + markdown_table(table, {"mllm_model_seconds": ".1f", "cache_hit_rate": ".3f"})
+            )
+        atomic_write(out.with_name(out.stem + "_mllm.csv"), table.to_csv(index=False))
     _write_tables(out, per_scene, markdown)
     return per_scene, per_method

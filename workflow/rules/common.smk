@@ -11,6 +11,9 @@ from snakemake.utils import validate
 
 from capframe.backends.registry import MASK_ASSOCIATORS, ROLES, resolve_choices
 from capframe.backends.registry import MASK_ORIENTERS
+from capframe.backends.models import read_models_config
+from capframe.evaluate.judging import JUDGE_HINT, configured_judges
+from capframe.evaluate.metrics import METRIC_HINT, METRIC_NAMES, configured_metrics
 from capframe.synth.suite import SAFE_NAME, is_safe_name, load_suite
 from capframe.warm import SOCKET_ENV, server_environment
 
@@ -232,6 +235,48 @@ BASELINES = ("ivs", "svs", "splatraj")
 if config.get("backends", {}).get("diff-scorer") and config.get("models"):
     BASELINES += ("chatcam",)
 METHOD_RESULTS |= {b: f"results/baselines/{b}/{{scene}}/{{instruction}}" for b in BASELINES}
+
+# The paper's learned-model evaluation (workflow/rules/paper.smk): image-text metrics and MLLM
+# judges, each only when its models-config entries exist.
+MODELS = read_models_config(config.get("models"))
+METRIC_COLUMNS = configured_metrics(MODELS)
+JUDGES = configured_judges(MODELS)
+# Metrics score every method and variant (Table 2 compares Retrieve with Refine, Table 3 the
+# variants); the judges compare the methods a user can run (the paper's Table 1 rows).
+METRIC_METHODS = list(METHOD_RESULTS)
+JUDGED_METHODS = ["capframe", *BASELINES]
+# Table 1's rows: the methods, then Retrieve alone and Refine from oracle labels for reference.
+TABLE1_METHODS = [*JUDGED_METHODS, "retrieve", "oracle"]
+METRIC_FILES = [f"results/metrics/{scene}.csv" for scene in SCENES] if METRIC_COLUMNS else []
+JUDGE_FILES = [f"results/judges/{scene}.json" for scene in SCENES] if JUDGES else []
+# What each absent column needs (the tables' captions).
+MISSING_COLUMNS = [f"{METRIC_NAMES[c]}: {METRIC_HINT[c]}" for c in METRIC_HINT if c not in METRIC_COLUMNS]
+MISSING_COLUMNS += [] if JUDGES else [f"judge AS and WR: {JUDGE_HINT}"]
+# The user study's table, written by `capframe userstudy import` (another tool; optional input).
+USERSTUDY = "results/tables/userstudy.csv"
+USERSTUDY_NOTE = "user-study rating and preference: run `capframe userstudy import` to add them"
+
+
+def scene_results(methods):
+    """Input function: the result folder of each of ``methods`` for every instruction of the scene."""
+
+    def folders(wildcards):
+        ids = instruction_ids(wildcards.scene)
+        return [METHOD_RESULTS[m].format(scene=wildcards.scene, instruction=i) for m in methods for i in ids]
+
+    return folders
+
+
+def method_specs(methods):
+    """Params function: ``NAME=DIR`` per method, DIR holding the scene's ``<id>/render.png`` folders."""
+    return lambda wc: [f"{m}={os.path.dirname(METHOD_RESULTS[m].format(scene=wc.scene, instruction='x'))}" for m in methods]
+
+
+def userstudy_input(wildcards):
+    """The user study's table when `capframe userstudy import` has written it: optional, so the
+    workflow never asks for it (and reruns Table 1 once it appears)."""
+    return [USERSTUDY] if os.path.exists(USERSTUDY) else []
+
 
 # Methods shown side by side in the report's image grid.
 REPORT_METHODS = ["retrieve", "capframe", *BASELINES, "oracle"]

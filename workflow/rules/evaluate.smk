@@ -58,7 +58,8 @@ rule compare:
 
 rule groups:
     input:
-        expand("results/tables/{method}.csv", method=GROUP_METHODS),
+        tables=expand("results/tables/{method}.csv", method=GROUP_METHODS),
+        metrics=METRIC_FILES,
     output:
         table=report("results/tables/groups.csv", caption="../report/groups.rst", category="Tables"),
         markdown="results/tables/groups.md",
@@ -68,8 +69,10 @@ rule groups:
         "results/benchmarks/tables/groups.tsv"
     params:
         groups=[f"{scene}={SCENES[scene].group}" for scene in SCENES],
+        metrics=["--metrics", *METRIC_FILES] if METRIC_FILES else [],
+        missing=MISSING_COLUMNS,
     shell:
-        "capframe groups {input:q} --group {params.groups:q} -o {output.table:q} > {log:q} 2>&1"
+        "capframe groups {input.tables:q} --group {params.groups:q} {params.metrics:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 VARIANT_NAMES = [v for v in VARIANTS if v != "capframe"]
@@ -80,6 +83,7 @@ rule sensitivity:
         constraints=CONSTRAINTS,
         checks=lambda wc: [c for v in VARIANTS for c in per_instruction(f"results/check/{v}/{{scene}}/{{instruction}}.json")(wc)],
         results=lambda wc: [r for v in VARIANTS for r in per_instruction(METHOD_RESULTS[v])(wc)],
+        metrics=METRIC_FILES,
     output:
         table=report("results/tables/sensitivity.csv", caption="../report/sensitivity.rst", category="Tables"),
         markdown="results/tables/sensitivity.md",
@@ -89,9 +93,11 @@ rule sensitivity:
         "results/benchmarks/tables/sensitivity.tsv"
     params:
         variants=[f"{v}=results/refine/{v}" for v in VARIANT_NAMES],
+        metrics=["--metrics", *METRIC_FILES] if METRIC_FILES else [],
+        missing=MISSING_COLUMNS,
     shell:
         "capframe sensitivity --reference results/refine/capframe --variant {params.variants:q} --checks-root results/check "
-        "--scenes-root results/scenes -o {output.table:q} > {log:q} 2>&1"
+        "--scenes-root results/scenes {params.metrics:q} -o {output.table:q} > {log:q} 2>&1"
 
 
 rule scene_table:
@@ -116,6 +122,7 @@ rule runtime:
         # Last: every job's benchmark file exists once these do.
         "results/tables/groups.csv",
         "results/tables/scenes.csv",
+        "results/tables/quantitative.csv",
         ["results/tables/sensitivity.csv"] if VARIANT_NAMES else [],
         per_instruction("results/report/grid/{scene}/{instruction}.png"),
         CONSTRAINTS,
@@ -124,6 +131,7 @@ rule runtime:
         table=report("results/tables/runtime.csv", caption="../report/runtime.rst", category="Tables"),
         methods="results/tables/runtime_methods.csv",
         markdown="results/tables/runtime.md",
+        mllm=report("results/tables/runtime_mllm.csv", caption="../report/runtime_mllm.rst", category="Tables"),
         points="results/tables/runtime_pareto.csv",
         plot=report("results/tables/runtime_pareto.png", caption="../report/pareto.rst", category="Tables"),
     log:
@@ -131,4 +139,5 @@ rule runtime:
     benchmark:
         "results/benchmarks/tables/runtime.tsv"
     shell:
-        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods:q} -o {output.table:q} > {log:q} 2>&1"
+        "capframe runtime --benchmarks results/benchmarks --methods-table {input.methods:q} --results-root results "
+        "-o {output.table:q} > {log:q} 2>&1"

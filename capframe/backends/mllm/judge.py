@@ -84,11 +84,19 @@ class MLLMJudge:
 
     def assess(self, image: np.ndarray, text: str) -> Rating:
         """:meth:`rate` with the reason, the model and the prompt version."""
+        return self.assess_many([image], text)[0]
+
+    def assess_many(self, images: list[np.ndarray], text: str) -> list[Rating]:
+        """:meth:`assess` of each of ``images`` (one request per picture, as :meth:`assess` asks
+        it), sent together: a local model batches them, an endpoint answers them concurrently."""
         prompt = self.prompts["judge-rate"]
-        data = self.chat.complete(prompt.request({"instruction": text.strip()}, images=(image,))).data
-        if not 1 <= data["score"] <= 5:
-            raise self._fail("judge-rate", f"score {data['score']!r} is not 1 to 5")
-        return Rating(int(data["score"]), data["reason"], self.chat.identity, prompt.version)
+        requests = [prompt.request({"instruction": text.strip()}, images=(image,)) for image in images]
+        ratings = []
+        for reply in self.chat.complete_many(requests):
+            if not 1 <= reply.data["score"] <= 5:
+                raise self._fail("judge-rate", f"score {reply.data['score']!r} is not 1 to 5")
+            ratings.append(Rating(int(reply.data["score"]), reply.data["reason"], self.chat.identity, prompt.version))
+        return ratings
 
     def pick(self, images: dict[str, np.ndarray], text: str, seed: int) -> Pick:
         """The best of ``images`` (name -> (H, W, 3) uint8) for ``text``, shown blind in
