@@ -16,7 +16,7 @@ from capframe.constraints import Constraints, SubjectConstraint
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
 from capframe.pipeline.outputs import feasibility
-from capframe.refine.candidates import SLIDES, aimed_pose, farthest_free, shot_distance, solve_candidates
+from capframe.refine.candidates import aimed_pose, shot_distance, solve_candidates
 from capframe.refine.optimize import RefineConfig, free_space_loss, refine_pose
 from capframe.scene import GaussianScene, load_scene_dir
 from capframe.scene.occupancy import build_occupancy
@@ -158,43 +158,3 @@ def test_free_space_loss_gradient_matches_finite_differences():
     h = 1e-5
     numeric = [(loss(t.detach() + h * e) - loss(t.detach() - h * e)).item() / (2 * h) for e in torch.eye(3, dtype=torch.float64)]
     np.testing.assert_allclose(t.grad.numpy(), numeric, rtol=1e-4, atol=1e-6)
-
-
-def test_a_low_angle_from_afar_fits_between_the_subject_and_the_floor():
-    """Seen from 12 units away, every share of the ray 12 degrees below the ball is in or too near
-    the floor (the nearest, 0.12 x 12, is 0.3 below the ball's centre, which is 0.4 up); the camera
-    is put between the ball and the floor instead, in free space, looking up at the asked angle."""
-    gaussians, index, up = walled_scene()
-    centroid = gaussians.means[:400].double().mean(0).numpy()
-    subjects = {"ball": (index, centroid, np.array([0.0, -1.0, 0.0]))}
-    far = make_camera(eye=(0.0, -12.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    occupancy = build_occupancy(gaussians, up, [far])
-    labels = labels_from_constraints(
-        Constraints(subjects=[SubjectConstraint("ball", view="front")], elevation_deg=-12.0), subjects, up
-    )
-    solved = solve_candidates(gaussians, labels, far, occupancy)
-    central = [c for c in solved if c.elevation_deg == pytest.approx(-12.0)]
-    e = math.radians(-12.0)
-    nearest_share = centroid + SLIDES[-1] * np.linalg.norm(far.center - centroid) * np.array([0.0, -math.cos(e), math.sin(e)])
-    assert central and float(occupancy.clearance(torch.as_tensor(nearest_share))) < occupancy.margin
-    for c in central + [c for c in solved if c.status == "kept"]:
-        centre = c.camera.center
-        assert c.status != "inside geometry" and float(occupancy.clearance(torch.as_tensor(centre))) >= occupancy.margin
-        below = math.degrees(math.asin((centroid[2] - centre[2]) / np.linalg.norm(centre - centroid)))
-        assert below == pytest.approx(-c.elevation_deg, abs=1e-6)
-    assert any(c.status == "kept" for c in solved)
-
-
-def test_farthest_free_is_the_end_of_the_first_free_stretch():
-    """Out from the ball at -14 degrees: inside the ball, then free, then the floor. The point
-    returned is free and one voxel farther is not; with the whole ray inside geometry, None."""
-    gaussians, _, up = walled_scene()
-    centroid = gaussians.means[:400].double().mean(0).numpy()
-    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -12.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))])
-    e = math.radians(-14.0)
-    direction = np.array([0.0, -math.cos(e), math.sin(e)])
-    t = farthest_free(occupancy, centroid, direction, 0.0, 12.0)
-    assert t is not None and 0.3 < t < 0.4 / math.sin(-e)
-    assert float(occupancy.clearance(torch.as_tensor(centroid + t * direction))) >= occupancy.margin
-    assert float(occupancy.clearance(torch.as_tensor(centroid + (t + occupancy.voxel) * direction))) < occupancy.margin
-    assert farthest_free(occupancy, centroid, np.array([0.0, 0.0, -1.0]), 0.0, 12.0) is None  # straight into the floor

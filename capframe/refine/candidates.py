@@ -18,10 +18,7 @@ subject (:data:`SLIDES`) until it is free, and the subject is seen there as the 
 (:data:`~capframe.constraints.MIN_VISIBLE_FRACTION` of it unhidden by other objects, enough of it
 inside the frame); so an asked elevation below the subject, whose ray meets the floor, puts the
 camera low near the floor, looking up, and a view behind a couch against a wall uses the gap
-between them if one is there. When no share gives such a camera, the farthest free point of the
-ray's first free stretch out from the subject is tried too (:func:`farthest_free`): a low angle
-on a small subject seen from afar has every share under the ground, yet the camera fits between
-the subject and the point where its ray meets the ground. A ray with no free position is dropped as ``inside geometry``, one
+between them if one is there. A ray with no free position is dropped as ``inside geometry``, one
 whose free positions all show the subject hidden as ``occluded``, or cut off by the frame as ``too
 close``. The render, not the voxels, judges occlusion: a voxel is coarse next to small subjects
 (a table top a voxel thick, a subject a few voxels wide). The kept ones are ranked by how far the
@@ -64,9 +61,6 @@ NEAREST_RADII = 0.4
 # positions along one ray are rendered at most (the nearest ones are seldom better).
 CHECK_LONG_SIDE = 64
 RENDERS_PER_RAY = 3
-# Samples per voxel edge when marching a ray for its farthest free point (bounded in number).
-RAY_SAMPLES_PER_VOXEL = 2
-MAX_RAY_SAMPLES = 512
 
 
 @dataclass
@@ -272,13 +266,11 @@ def _place(
     subject (of the first :data:`RENDERS_PER_RAY` free ones); else the first free one
     (``occluded`` or ``too close``), else the farthest (``inside geometry``). Returns it, its
     clearance, (visible, in-frame) shares and status."""
-    first_free, outermost, renders, farthest_tried = None, None, 0, 0.0
-    nearest = NEAREST_RADII * radius
+    first_free, outermost, renders = None, None, 0
     for share in SLIDES:
         if renders == RENDERS_PER_RAY:
             break
-        along = max(share * distance, nearest)
-        centre = centroid + along * direction
+        centre = centroid + max(share * distance, NEAREST_RADII * radius) * direction
         clearance = float(occupancy.clearance(torch.as_tensor(centre)))
         camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
         outermost = outermost or (camera, clearance, (0.0, 0.0), "inside geometry")
@@ -286,41 +278,10 @@ def _place(
             continue
         seen = sight(camera)
         renders += 1
-        farthest_tried = max(farthest_tried, along)
-        if sight.sees(seen):
-            return camera, clearance, seen, "kept"
-        first_free = first_free or (camera, clearance, seen, "occluded" if seen[0] < MIN_VISIBLE_FRACTION else "too close")
-    # Between two shares, or short of the nearest one, the ray may still hold a free point
-    # farther out than any tried: the far end of its first free stretch.
-    along = farthest_free(occupancy, centroid, direction, nearest, distance)
-    if along is not None and along > farthest_tried + 0.5 * occupancy.voxel:
-        centre = centroid + along * direction
-        clearance = float(occupancy.clearance(torch.as_tensor(centre)))
-        camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
-        seen = sight(camera)
         if sight.sees(seen):
             return camera, clearance, seen, "kept"
         first_free = first_free or (camera, clearance, seen, "occluded" if seen[0] < MIN_VISIBLE_FRACTION else "too close")
     return first_free or outermost
-
-
-def farthest_free(occupancy: Occupancy, centroid: np.ndarray, direction: np.ndarray, near: float, far: float) -> float | None:
-    """The far end, within [``near``, ``far``], of the first free stretch (at least the
-    occupancy's margin of clearance) met going out from ``centroid`` along ``direction`` ((3,)
-    unit): the farthest camera distance short of the floor, a wall or another object. None when
-    no sample of the ray is free."""
-    if not far > near:
-        return None
-    count = int(min(max(math.ceil((far - near) / occupancy.voxel * RAY_SAMPLES_PER_VOXEL), 2), MAX_RAY_SAMPLES))
-    t = torch.linspace(near, far, count, dtype=torch.float64)
-    points = torch.as_tensor(centroid, dtype=torch.float64) + t[:, None] * torch.as_tensor(direction, dtype=torch.float64)
-    free = (occupancy.clearance(points) >= occupancy.margin).numpy()
-    if not free.any():
-        return None
-    first = int(free.argmax())
-    blocked = np.flatnonzero(~free[first:])
-    last = first + int(blocked[0]) - 1 if len(blocked) else count - 1
-    return float(t[last])
 
 
 def _spread_distance(
