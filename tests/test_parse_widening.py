@@ -324,6 +324,8 @@ def test_phrasing(text, want):
         # known object named later in it.
         ("The parrot perched on the sofa.", r"subject 'parrot perched' is not in this scene"),
         ("A hamster next to the bear, close up.", r"subject 'hamster next' is not in this scene"),
+        ("The parrot beside the sofa.", r"subject 'parrot beside' is not in this scene"),
+        ("A dog basket alongside the red chair.", r"subject 'dog basket alongside' is not in this scene"),
     ],
 )
 def test_contradictions_are_still_errors(text, message):

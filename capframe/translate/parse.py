@@ -872,6 +872,10 @@ SURROUNDINGS = frozenset(
         "interior",
     }
 )
+# Prepositions of place that are not stopwords: "the kitten beside the sofa" is about a kitten.
+PLACE_PREPOSITIONS = frozenset(
+    {"beside", "below", "above", "beneath", "underneath", "against", "alongside", "between", "among", "inside", "outside", "atop"}
+)
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
@@ -1193,7 +1197,7 @@ def _opening_noun_phrase(tokens: list[str], span: list[int]) -> bool:
     words_ = [tokens[k] for k in span[1:]]
     content = [w for w in words_ if w not in STOPWORDS]
     describes_next = span[-1] + 1 < len(tokens) and tokens[span[-1] + 1].startswith("@")
-    if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS for w in words_):
+    if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS or w in PLACE_PREPOSITIONS for w in words_):
         return False
     return any(w not in RESERVED for w in content)
 
