@@ -68,6 +68,14 @@ SIDE_NOUNS = [
     ("The bear in profile.", parsed(subject(BEAR, view="side"))),
     ("A side view of the TV, from the right.", parsed(subject(TV, view="right"))),
     ("The sofa, its back left.", parsed(subject(SOFA, view="back-left"))),
+    # Other words for the back.
+    ("The sofa's backside, from slightly above.", parsed(subject(SOFA, view="back"), elevation="slightly above")),
+    ("Show me the rear end of the fridge.", parsed(subject(FRIDGE, view="back"))),
+    ("The bear's behind.", parsed(subject(BEAR, view="back"))),
+    # Closing in on a side names the side, not a relation ("on its face" is not "on its left").
+    ("The TV, close on its front.", parsed(subject(TV, shot="close-up", view="front"))),
+    ("Zoom in on the bear's back.", parsed(subject(BEAR, shot="close-up", view="back"))),
+    ("Tight on the sofa's left side.", parsed(subject(SOFA, shot="close-up", view="left"))),
 ]
 
 # A side word after a preposition of place is a relation between objects: not understood, and
@@ -82,6 +90,9 @@ NOT_SUBJECTS = [
     ("A photo of the left, the bear.", parsed(subject(BEAR), unparsed=["left"])),
     ("Frame the bear and the back.", parsed(subject(BEAR), unparsed=["back"])),
     ("Frame the left side and the sofa.", parsed(subject(SOFA), unparsed=["left side"])),
+    # A generic noun with attributes names nothing.
+    ("The bear and that small thing.", parsed(subject(BEAR), unparsed=["small thing"])),
+    ("The big object behind the sofa.", parsed(subject(SOFA), unparsed=["big object behind"])),
 ]
 
 # --- three-quarter with a side --------------------------------------------------------------------
@@ -209,6 +220,8 @@ SIZES = [
     ("The fridge from further back.", parsed(subject(FRIDGE, shot="wide"))),
     ("The bear, quite small in the frame.", parsed(subject(BEAR, shot="wide"))),
     ("The vase, only a small part of the frame.", parsed(subject(VASE, shot="wide"))),
+    ("The vase as a tiny dot on the left.", parsed(subject(VASE, region="left", shot="wide"))),
+    ("Back off until the TV is just a little speck.", parsed(subject(TV, shot="wide"), unparsed=["back off until"])),
     # A size word as an attribute is not a shot size.
     ("The wide sofa.", parsed(subject(SOFA), unparsed=["wide"])),
 ]
@@ -252,6 +265,11 @@ HEIGHTS = [
     ("The TV from just below eye level.", parsed(subject(TV), elevation="slightly below")),
     ("The sofa slightly above eye height.", parsed(subject(SOFA), elevation="slightly above")),
     ("The fridge from well below eye level.", parsed(subject(FRIDGE), elevation="low angle")),
+    ("The fridge, shot from low.", parsed(subject(FRIDGE), elevation="low angle")),
+    # A height alone as a clause; "low in the frame" stays a region.
+    ("The sofa from behind, low.", parsed(subject(SOFA, view="back"), elevation="low angle")),
+    ("The bear, high.", parsed(subject(BEAR), elevation="high angle")),
+    ("The vase low in the frame.", parsed(subject(VASE, region="bottom"))),
 ]
 
 # A side named alone as a clause, and a camera place opening the sentence.
@@ -299,11 +317,15 @@ def test_phrasing(text, want):
         # A side or position word is never the subject: without a subject there is nothing to frame.
         ("A photo of the back, please.", r"no subject in .* \(not understood: \['back'\]\)"),
         ("A photo of the side.", r"no subject in .* \(not understood: \['side'\]\)"),
+        # A vague subject is refused with the scene's names, never guessed.
+        ("A photo of that little thing on the left.", r"no subject in .*; name one of the scene's objects: \['blue armchair'"),
         ("A photo of the back of the giraffe.", r"subject 'giraffe' is not in this scene"),
         # An unknown thing opening the sentence is its subject: reported, never replaced by a
         # known object named later in it.
         ("The parrot perched on the sofa.", r"subject 'parrot perched' is not in this scene"),
         ("A hamster next to the bear, close up.", r"subject 'hamster next' is not in this scene"),
+        ("The parrot beside the sofa.", r"subject 'parrot beside' is not in this scene"),
+        ("A dog basket alongside the red chair.", r"subject 'dog basket alongside' is not in this scene"),
     ],
 )
 def test_contradictions_are_still_errors(text, message):
@@ -326,6 +348,10 @@ def test_contradictions_are_still_errors(text, message):
         ("The red armchiar from behind.", RED, "red armchiar", "red armchair"),
         ("The blue armchiars.", BLUE, "blue armchiars", "blue armchair"),  # plural: read singular
         ("The settea, zoomed out.", SOFA, "settea", "settee"),  # an alias
+        # Four-letter names are read from a swap of two adjacent letters only.
+        ("The bera on the left.", BEAR, "bera", "bear"),
+        ("A photo of the sfoa.", SOFA, "sfoa", "sofa"),
+        ("The teddy bera, close up.", BEAR, "teddy bera", "teddy bear"),
     ],
 )
 def test_a_name_one_edit_away_is_read_and_reported(text, name, said, read):
@@ -351,6 +377,7 @@ def test_a_head_noun_one_edit_away_is_read():
         ("beer", "bear", True),  # substitution
         ("bear", "bear", False),  # no edit is not a correction
         ("abcd", "badc", False),  # two swaps
+        ("bera", "bear", True),  # a swap at the end
         ("telivison", "television", False),  # two edits
     ],
 )
@@ -365,9 +392,12 @@ def test_correct_names_report_no_correction():
 @pytest.mark.parametrize(
     "text, message",
     [
-        # Names shorter than five letters are not corrected: "bera" may be anything.
-        ("The bera on the left.", r"subject 'bera' is not in this scene; closest: \['teddy bear'\]"),
-        ("A photo of the sfoa.", r"subject 'sfoa' is not in this scene; closest: \['sofa'\]"),
+        # A four-letter name is not read from a substitution ("beer" is a word of its own), a
+        # letter too many or too few, or two swaps.
+        ("The beer on the left.", r"subject 'beer' is not in this scene; closest: \['teddy bear'\]"),
+        ("A photo of the sofas.", None),
+        ("A photo of the sfa.", r"subject 'sfa' is not in this scene"),
+        ("A photo of the ebra.", r"subject 'ebra' is not in this scene"),
         # Two edits away is not a misspelling this reads.
         ("A photo of the telivison.", r"subject 'telivison' is not in this scene; closest: \['television'\]"),
         # Corrected, the name is still ambiguous: the error says so rather than guess.
@@ -375,8 +405,18 @@ def test_correct_names_report_no_correction():
     ],
 )
 def test_misspellings_that_are_not_read(text, message):
+    if message is None:  # a plural is the name itself, not a misspelling
+        assert parse_instruction(text, SCENE).corrected == []
+        return
     with pytest.raises(InputError, match=message):
         parse_instruction(text, SCENE)
+
+
+def test_three_letter_names_are_not_read_from_a_swap():
+    """ "arc" is "car" with two letters swapped, and a word of its own."""
+    scene = Vocabulary.from_semantics([SemanticObject(0, "car", [], False), SemanticObject(1, "sofa", [], False)])
+    with pytest.raises(InputError, match=r"subject 'arc' is not in this scene"):
+        parse_instruction("A photo of the arc.", scene)
 
 
 def test_a_misspelling_of_two_names_is_not_read():

@@ -11,7 +11,8 @@ How a sentence is read:
 2. the scene's names and aliases are spotted (longest first) together with the attribute words and
    determiner just before them ("the big red chair") and matched to one scene name each. Where
    no name is spelt right, a run of words one edit from exactly one name, alias or head noun of
-   five letters or more ("teddy baer", "televison") is read as it
+   five letters or more ("teddy baer", "televison"), or two adjacent letters swapped in one of
+   four ("bera"), is read as it
    (:meth:`~capframe.translate.vocabulary.Vocabulary.correction`; never a word the phrase tables
    use) and reported in ``corrected``;
 3. the phrase tables below are matched against what is left; where matches overlap the longest
@@ -29,7 +30,8 @@ How a sentence is read:
    they are a subject when they (partly) name a scene object ("the teddy"), and after a
    determiner they must ("a photo of the giraffe" is an :class:`~capframe.errors.InputError`
    naming the closest names). Words naming only a part or position (:data:`POSITION_WORDS`:
-   "the top", "the back") or a degree (:data:`DEGREE_WORDS`: "a bit") are never a subject;
+   "the top", "the back"), a degree (:data:`DEGREE_WORDS`: "a bit") or nothing in particular
+   (:data:`GENERIC_NOUNS`, with attributes: "that small thing") are never a subject;
    "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries
    all its unexplained words.
 
@@ -40,8 +42,9 @@ Mappings that are choices (the phrase tables are the full list):
   "zoom in on", "up close", "as big as possible" -> close-up (more than half the frame); "mid",
   "full shot" (the whole subject with little room, uncropped), "not too close" -> medium; "long",
   "extreme wide", "establishing", "zoomed out", "step back", "from far away", "small in the
-  frame" -> wide. "Tight", "close" and "wide" alone are a size only as a clause of their own
-  ("the bear, tight."), not as an attribute ("the wide sofa");
+  frame", "(is) just a small thing", "as a tiny dot" -> wide. "Tight", "close" and "wide" alone
+  are a size only as a clause of their own ("the bear, tight."), not as an attribute ("the wide
+  sofa");
 * polite and chatty openings ("could you show me", "I'd like", "let's see", "how about") are heads:
   they introduce the subject and ask nothing; "please", "thanks", "maybe" are stopwords;
 * view sides are the subject's own (DESIGN §3): "from the left" is from the subject's left side.
@@ -49,7 +52,9 @@ Mappings that are choices (the phrase tables are the full list):
   looks along the subject's right axis ``r`` (z = r, y = -u), so image right is
   x = y × z = -u × r = -f and the subject's front points to image left; "facing right" is view
   ``right``. A side word in a noun phrase is a view side of the subject it belongs to, never a
-  subject: "the sofa's left side", "the back of the chair", "its rear", "the bear's face" (front);
+  subject: "the sofa's left side", "the back of the chair", "its rear", "its backside", "the
+  rear end of", "the bear's face" (front); closing in on one too ("close on its face", "zoom in
+  on the bear's back": the close-up and the front or back);
   after a preposition of place ("the vase on its left", "to the left of the bear") it is a
   relation between objects and stays unparsed, as does "with its back to the wall"; said of the
   camera it is the view ("camera positioned to the right of the bear", "put the camera behind
@@ -75,8 +80,9 @@ Mappings that are choices (the phrase tables are the full list):
   "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
   in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
   ground looking up" is a worm's-eye view, "aerial" a bird's-eye one. Moving or pointing the
-  camera is a hint too: "get down low", "shoot up at", "from floor level" (low angle), "climb up
-  high", "aim down" (high angle). The height of a surface the subject rests or sits on ("at
+  camera is a hint too: "get down low", "shoot up at", "from floor level", "shot from low" (low
+  angle), "climb up high", "aim down" (high angle); so is "low" or "high" alone as a clause ("the
+  car from behind, low"; "low in the frame" is a region). The height of a surface the subject rests or sits on ("at
   table height", "from seat level") is eye level; "a little below / above eye level" is slightly
   below / above, "well below / above" it a low / high angle.
   Slight degree words give slightly above / slightly below ("a bit from below": -30° to -8°);
@@ -183,7 +189,9 @@ SHOT_CLAUSES = {
         "(move|moving|come|coming|go|going|push|pushing|get|getting) in( close| closer| tight)?( on {obj})?",
         "(close|closing) in on {obj}",
         "(from )?(very )?close (by|to {obj})",
-        "((keep|keeping) (it |{obj} )?|nice and |really |very )?tight on {obj}",
+        "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on {obj}",
+        # "close on its face": the possessive and its part stay a cue of their own (a view side).
+        "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close)"),
     ],
@@ -207,6 +215,8 @@ SHOT_CLAUSES = {
         "(from )?(much )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        # The subject said to be "just a small thing" ("so the vase is just a small thing").
+        "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
@@ -262,8 +272,8 @@ CAMERA = (
     "( (placed|positioned|located|set|standing|put|kept))?"
 )
 VIEW_SIDE_WORDS = {
-    "front": ["front", "face"],
-    "back": ["back", "rear"],
+    "front": ["front", "face", "front end"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -295,8 +305,12 @@ VIEW_SIDE_WORDS = {
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
-# back to the wall").
-NOT_A_RELATION = "(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
+# back to the wall"). Closing in on a side is no relation ("close on its face", "zoom in on its
+# back").
+NOT_A_RELATION = (
+    "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )"
+    "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
+)
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     SEEN + "({STRONG} )?from (the|{P}) (far |extreme )?{SIDE}( side| corner)?( of {obj})?",
@@ -486,12 +500,16 @@ ELEVATION_HINTS = {
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
+        ALONE.replace("{WORD}", "(high|high up)"),
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards) {obj})?",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (down )?(low|lower)( down)?",
+        # A height alone as a clause ("the car from behind, low").
+        ALONE.replace("{WORD}", "(low|low down)"),
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
     ],
@@ -838,9 +856,6 @@ SURROUNDINGS = frozenset(
         "foreground",
         "everything",
         "all",
-        "thing",
-        "things",
-        "stuff",
         "floor",
         "ground",
         "wall",
@@ -857,6 +872,12 @@ SURROUNDINGS = frozenset(
         "interior",
     }
 )
+# Prepositions of place that are not stopwords: "the kitten beside the sofa" is about a kitten.
+PLACE_PREPOSITIONS = frozenset(
+    {"beside", "below", "above", "beneath", "underneath", "against", "alongside", "between", "among", "inside", "outside", "atop"}
+)
+# Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
+GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -881,7 +902,8 @@ _MACROS = {
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
-    "{obj}": r"(?P<ref>it|him|her|them|@\d+)",
+    # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
+    "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
 }
 
 
@@ -1158,10 +1180,11 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
 
 
 def _never_a_name(text: str) -> bool:
-    """Whether ``text`` holds only position, degree, part and surroundings words ("back", "left
-    side", "a bit", "the backrest", "the room"): never a subject."""
-    content = [w for w in text.split() if w not in STOPWORDS]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS
+    """Whether ``text`` holds only position, degree, part, surroundings and generic words, with
+    attributes ("back", "left side", "a bit", "the backrest", "the room", "that small thing"):
+    never a subject. An attribute alone ("the red") is not such a run."""
+    content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
     return bool(content) and all(w in never for w in content)
 
 
@@ -1174,7 +1197,7 @@ def _opening_noun_phrase(tokens: list[str], span: list[int]) -> bool:
     words_ = [tokens[k] for k in span[1:]]
     content = [w for w in words_ if w not in STOPWORDS]
     describes_next = span[-1] + 1 < len(tokens) and tokens[span[-1] + 1].startswith("@")
-    if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS for w in words_):
+    if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS or w in PLACE_PREPOSITIONS for w in words_):
         return False
     return any(w not in RESERVED for w in content)
 

@@ -14,8 +14,10 @@ symmetric). A *mention* such as "the big red chair" is matched to exactly one ob
 
 A misspelt name is read as a name only by the parser, and only when a run of the instruction's
 words is one edit (:func:`one_edit`) from exactly one name or alias, or the head noun of one, of at
-least :data:`MIN_CORRECTED_LETTERS` letters (:meth:`Vocabulary.correction`); the parser reports
-each such reading. :meth:`Vocabulary.match` itself never corrects.
+least :data:`MIN_CORRECTED_LETTERS` letters, or two adjacent letters swapped (:func:`transposed`,
+Damerau's fourth kind of edit) in one of :data:`MIN_TRANSPOSED_LETTERS` ("bera" for "bear")
+(:meth:`Vocabulary.correction`); the parser reports each such reading. :meth:`Vocabulary.match`
+itself never corrects.
 
 A colour word in the mention that contradicts the colour words of an object's names excludes that
 object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
@@ -328,7 +330,7 @@ class Vocabulary:
         ``words`` (normalised, singular) misspell by one edit; None when none or several do."""
         text = " ".join(words)
         targets = self.forms() | {f[-1:] for f in self.forms()}
-        found = {f for f in targets if sum(map(len, f)) >= MIN_CORRECTED_LETTERS and one_edit(text, " ".join(f))}
+        found = {f for f in targets if _near(text, " ".join(f))}
         return found.pop() if len(found) == 1 else None
 
     def match(self, mention: str) -> str:
@@ -391,6 +393,28 @@ class Vocabulary:
 
 # Shorter names are one edit from too many ordinary words ("bear"/"beer", "mug"/"mud").
 MIN_CORRECTED_LETTERS = 5
+# A swap of two adjacent letters seldom turns a four-letter name into another word ("bera",
+# "sfoa", "lmap" are none), where a substitution often does; three letters are too few ("arc"
+# is "car" swapped).
+MIN_TRANSPOSED_LETTERS = 4
+
+
+def _near(said: str, name: str) -> bool:
+    """Whether ``said`` is read as ``name``: one edit from a name of :data:`MIN_CORRECTED_LETTERS`
+    letters or more, or one swap from one of :data:`MIN_TRANSPOSED_LETTERS` (spaces not counted)."""
+    letters = len(name.replace(" ", ""))
+    return (letters >= MIN_CORRECTED_LETTERS and one_edit(said, name)) or (
+        letters >= MIN_TRANSPOSED_LETTERS and transposed(said, name)
+    )
+
+
+def transposed(a: str, b: str) -> bool:
+    """Whether ``a`` becomes ``b`` by swapping two adjacent, different characters ("bera" ->
+    "bear")."""
+    if len(a) != len(b) or a == b:
+        return False
+    i = next(k for k in range(len(a)) if a[k] != b[k])
+    return a[i : i + 2] == b[i : i + 2][::-1] and a[i + 2 :] == b[i + 2 :]
 
 
 def one_edit(a: str, b: str) -> bool:
@@ -403,7 +427,7 @@ def one_edit(a: str, b: str) -> bool:
     i = next((k for k in range(len(a)) if a[k] != b[k]), len(a))
     if len(a) < len(b):
         return a[i:] == b[i + 1 :]
-    return a[i + 1 :] == b[i + 1 :] or (a[i : i + 2] == b[i : i + 2][::-1] and a[i + 2 :] == b[i + 2 :])
+    return a[i + 1 :] == b[i + 1 :] or transposed(a, b)
 
 
 def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
