@@ -374,6 +374,35 @@ def test_an_invalid_answer_is_fed_back_then_the_valid_one_kept(serve, bad, fault
     assert feedback["role"] == "user" and fault in feedback["content"]
 
 
+@pytest.mark.parametrize("dialect", ["vllm", "none"])
+def test_a_subject_outside_the_scene_s_names_is_fed_back_with_the_closest_then_parsed(serve, dialect):
+    """The subject parser over a server: the schema it sends lists the scene's names (an enum the
+    server's decoder may ignore, as ``none`` does); an answer outside it is rejected here and asked
+    again with the fault, naming the closest names, fed back; the valid second answer is parsed."""
+    from capframe.backends.mllm.parser import MLLMParser
+    from capframe.scene import SemanticObject
+    from capframe.translate.vocabulary import Vocabulary
+
+    scene = Vocabulary.from_semantics([SemanticObject(i, n, [], False) for i, n in enumerate(("teddy bear", "mug", "toy car"))])
+    outside = {"subjects": [{"mention": "the teddy", "name": "teddy"}]}
+    inside = {"subjects": [{"mention": "the teddy", "name": "teddy bear"}]}
+    layout = {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": None}}}
+    orientation = {"subjects": {"teddy bear": {"symmetric": False, "azimuth_deg": None, "either_side": False}}}
+    orientation |= {"elevation_deg": None, "elevation_explicit": False, "roll_deg": None}
+    server = serve(*(chat(json.dumps(a)) for a in (outside, inside, layout, orientation)))
+    parsed = MLLMParser(client(server, dialect=dialect, concurrency=1)).parse("the teddy on the left", scene)
+    assert [(s.name, s.region) for s in parsed.subjects] == [("teddy bear", "left")]
+    first, second = (r["body"] for r in server.received[:2])
+    names = {"enum": ["mug", "teddy bear", "toy car", "unknown"]}
+    if dialect == "vllm":
+        assert first["structured_outputs"]["json"]["properties"]["subjects"]["items"]["properties"]["name"] == names
+    else:
+        assert "structured_outputs" not in first and "response_format" not in first
+    assert second["messages"][-2] == {"role": "assistant", "content": json.dumps(outside)}
+    feedback = second["messages"][-1]["content"]
+    assert 'at subjects/0/name: "teddy" is not one of the 4 allowed values; closest: "teddy bear", ' in feedback
+
+
 def test_an_always_invalid_answer_fails_after_exactly_one_plus_retries_requests(serve):
     server = serve(chat(json.dumps({"score": "high"})))
     with pytest.raises(ModelError) as err:

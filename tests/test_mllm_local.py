@@ -232,3 +232,36 @@ def test_through_the_factory_and_the_cache(weights, tmp_path, one_by_one):
     first, again = chat.complete(REQUESTS[4]), chat.complete(REQUESTS[4])
     assert first.text == again.text == one_by_one[4].text and not first.cached and again.cached
     assert chat.stats()["mllm_cache_hits"] == 1
+
+
+def test_the_parser_under_xgrammar_answers_only_the_scene_s_objects_and_cues_the_pipeline_takes(weights):
+    """The subject, layout and orientation parsers on the tiny random model: its subject names can
+    only come from the scene's enum and its layout and angles only from bounds the pipeline takes,
+    so every instruction parses (into a random subject of the scene with random cues)."""
+    from capframe.backends.mllm.parser import MLLMParser
+    from capframe.scene import SemanticObject
+    from capframe.translate.vocabulary import Vocabulary
+
+    class Recording:
+        def __init__(self, inner):
+            self.inner, self.identity, self.replies = inner, inner.identity, []
+
+        def complete(self, request):
+            return self.complete_many([request])[0]
+
+        def complete_many(self, requests):
+            replies = self.inner.complete_many(requests)
+            self.replies += [(r.prompt_version, reply.data) for r, reply in zip(requests, replies)]
+            return replies
+
+    chat = Recording(LocalChat(ModelSettings(weights=str(weights), max_new_tokens=1024)))
+    scene = Vocabulary.from_semantics(
+        [SemanticObject(i, n, [], n == "mug") for i, n in enumerate(("teddy bear", "mug", "toy car"))]
+    )
+    for text in ("A close-up of the teddy bear on the left, seen from its right", "the toy car from behind, wide shot"):
+        parsed = MLLMParser(chat).parse(text, scene)
+        assert parsed.subjects and {s.name for s in parsed.subjects} <= set(scene.names)
+        assert all(s.box is None or (0 <= s.box[0] < s.box[2] <= 1 and 0 <= s.box[1] < s.box[3] <= 1) for s in parsed.subjects)
+    said = [s["name"] for version, data in chat.replies if version.startswith("subjects-") for s in data["subjects"]]
+    assert said and set(said) <= set(scene.names)
+    assert [v.split("-v")[0] for v, _ in chat.replies] == ["subjects", "layout", "orientation"] * 2

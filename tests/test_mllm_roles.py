@@ -15,7 +15,7 @@ from PIL import Image
 from capframe.backends import ROLES, BackendContext, read_models_config
 from capframe.backends.mllm.chat import ChatReply, ChatRequest, validate_reply
 from capframe.backends.mllm.judge import MLLMJudge, MLLMParaphraser, blind_order
-from capframe.backends.mllm.parser import MLLMParser, named_elevation, view_side
+from capframe.backends.mllm.parser import UNKNOWN, MLLMParser, frame_box, layout_entry, named_elevation, view_side
 from capframe.backends.mllm.prompts import NAMES, load
 from capframe.backends.mllm.qe import MLLMQE, adaptive_cut
 from capframe.constraints import REGIONS, SHOT_SIZES
@@ -60,6 +60,9 @@ class ScriptedChat:
         return [self.complete(r) for r in requests]
 
 
+BOX_KEYS = ("center_x", "center_y", "width", "height")
+
+
 def bear_answers(box=None, azimuth=90.0, region="left", elevation=20.0, explicit=False) -> dict:
     """Answers for "A close-up of the teddy bear on the left, seen from its right, from slightly above"."""
     return {
@@ -99,15 +102,17 @@ def test_parser_requests_carry_version_schema_and_the_scene_names():
     chat = ScriptedChat(bear_answers())
     MLLMParser(chat).parse(BEAR, SCENE)
     versions = [r.prompt_version for r in chat.requests]
-    assert versions == ["subjects-v3", "layout-v2", "orientation-v2"]
+    assert versions == ["subjects-v4", "layout-v3", "orientation-v2"]
     subjects = chat.requests[0]
-    assert subjects.schema["properties"]["subjects"]["items"]["properties"]["name"]["enum"] == [*SCENE.names, None]
+    assert subjects.schema["properties"]["subjects"]["items"]["properties"]["name"] == {"enum": [*SCENE.names, UNKNOWN]}
     assert "plush toy" in subjects.user and BEAR in subjects.user  # aliases shown: a synonym can be read
     assert subjects.schema["properties"]["subjects"]["maxItems"] == 3  # no more subjects than objects
     for r in chat.requests[1:]:  # one entry per parsed subject, by construction
         keyed = r.schema["properties"]["subjects"]
         assert list(keyed["properties"]) == keyed["required"] == ["teddy bear"] and keyed["additionalProperties"] is False
         assert r.images == ()
+    layout = chat.requests[1].schema["properties"]["subjects"]["properties"]["teddy bear"]
+    assert [b["properties"]["region"] for b in layout["anyOf"]] == [*({"const": r} for r in REGIONS), {"type": "null"}]
 
 
 def test_a_canned_answer_parses_like_the_rule_parser():
@@ -118,9 +123,9 @@ def test_a_canned_answer_parses_like_the_rule_parser():
     assert parsed.parser == {
         "backend": "mllm",
         "model": "scripted-model",
-        "prompts": ["subjects-v3", "layout-v2", "orientation-v2"],
+        "prompts": ["subjects-v4", "layout-v3", "orientation-v2"],
     }
-    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v3" and "parser" not in rules.to_dict()
+    assert parsed.to_dict()["parser"]["prompts"][0] == "subjects-v4" and "parser" not in rules.to_dict()
 
 
 def test_two_subjects_roll_explicit_elevation_and_either_side():
@@ -175,39 +180,114 @@ def test_a_synonym_the_model_reads_is_reported_and_an_unknown_subject_names_the_
     parsed = MLLMParser(ScriptedChat(answers)).parse("a close-up of the stuffed animal on the left", SCENE)
     assert parsed.subjects[0].name == "teddy bear"
     assert parsed.corrected == [{"said": "stuffed animal", "read": "teddy bear"}]
-    answers["subjects"] = {"subjects": [{"name": None, "mention": "the teddy baer"}]}
+    answers["subjects"] = {"subjects": [{"name": UNKNOWN, "mention": "the teddy baer"}]}
     with pytest.raises(InputError, match=r"subject 'the teddy baer' is not in this scene; closest: \['teddy bear'\]"):
         MLLMParser(ScriptedChat(answers)).parse("the teddy baer", SCENE)
 
 
+def test_the_subject_schema_lists_exactly_the_scene_s_names_or_is_free_without_any():
+    objects = ["armchair", "coffee table", "red mug", "lamp"]
+    scene = Vocabulary.from_semantics([SemanticObject(i, n, [], False) for i, n in enumerate(objects)])
+    chat = ScriptedChat(bear_answers() | {"subjects": {"subjects": [{"name": "lamp", "mention": "the lamp"}]}})
+    with pytest.raises(ValueError, match="'lamp' is a required property"):  # the scripted layout is the bear's
+        MLLMParser(chat).parse("the lamp", scene)
+    name = chat.requests[0].schema["properties"]["subjects"]["items"]["properties"]["name"]
+    assert name == {"enum": sorted(objects) + ["unknown"]}
+    # Open vocabulary (a scene without names, grounded by name): a short free string.
+    answers = {
+        "subjects": {"subjects": [{"name": "Giraffe ", "mention": "the giraffe"}]},
+        "layout": {"subjects": {"giraffe": {"region": None, "shot": "wide", "box": None}}},
+        "orientation": {
+            "subjects": {"giraffe": {"symmetric": False, "azimuth_deg": 0, "either_side": False}},
+            "elevation_deg": None,
+            "elevation_explicit": False,
+            "roll_deg": None,
+        },
+    }
+    chat = ScriptedChat(answers)
+    parsed = MLLMParser(chat).parse("a wide shot of the giraffe from the front", Vocabulary([]))
+    assert chat.requests[0].schema["properties"]["subjects"]["items"]["properties"]["name"] == {
+        "type": "string",
+        "minLength": 1,
+        "maxLength": 40,
+    }
+    assert "none listed" in chat.requests[0].user
+    assert [(s.name, s.shot, s.view) for s in parsed.subjects] == [("giraffe", "wide", "front")] and parsed.corrected == []
+
+
+def _layout_answers(rng: np.random.Generator) -> list[dict]:
+    """Layout answers at every corner of every branch's bounds, and random ones inside them."""
+    out = []
+    for branch in layout_entry(load("layout").schema["$defs"]["subject"])["anyOf"]:
+        region = branch["properties"]["region"].get("const")
+        bounds = next(b for b in branch["properties"]["box"]["anyOf"] if b.get("type") == "object")["properties"]
+        ranges = [(bounds[k]["minimum"], bounds[k]["maximum"]) for k in BOX_KEYS]
+        corners = [[r[(c >> k) & 1] for k, r in enumerate(ranges)] for c in range(16)]
+        drawn = [[rng.uniform(*r) for r in ranges] for _ in range(8)]
+        out += [{"region": region, "shot": None, "box": dict(zip(BOX_KEYS, v))} for v in corners + drawn]
+    return out + [{"region": None, "shot": None, "box": None}]  # no cue at all
+
+
+def test_every_layout_answer_the_schema_admits_is_a_box_the_pipeline_takes():
+    """The schema alone keeps a box inside the frame, ordered and centred in its region: every
+    answer it admits (its bounds' corners, random draws) parses, and the box keeps its centre."""
+    chat = ScriptedChat(bear_answers())
+    MLLMParser(chat).parse(BEAR, SCENE)
+    schema = chat.requests[1].schema
+    for entry in _layout_answers(np.random.default_rng(0)):
+        answer = {"subjects": {"teddy bear": entry}}
+        assert validate_reply(json.dumps(answer), schema) == answer
+        subject = MLLMParser(ScriptedChat(bear_answers() | {"layout": answer})).parse(BEAR, SCENE).subjects[0]
+        assert subject.region == entry["region"]
+        if entry["box"] is None:
+            assert subject.box is None
+            continue
+        x0, y0, x1, y1 = subject.box
+        assert 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1
+        given = entry["box"]
+        assert (x0 + x1) / 2 == pytest.approx(given["center_x"], abs=1e-12)
+        assert (y0 + y1) / 2 == pytest.approx(given["center_y"], abs=1e-12)
+        if entry["region"] is not None:
+            rx0, ry0, rx1, ry1 = REGIONS[entry["region"]]
+            assert rx0 <= given["center_x"] <= rx1 and ry0 <= given["center_y"] <= ry1
+    # A box past the frame's edge is shrunk about its centre; one inside is kept as it is.
+    assert frame_box(0.25, 0.5, 0.25, 0.5) == (0.125, 0.25, 0.375, 0.75)
+    assert frame_box(0.25, 0.75, 1.0, 1.0) == (0.0, 0.5, 0.5, 1.0)
+
+
 @pytest.mark.parametrize(
-    "field, answer, message",
+    "field, answer, fault",
     [
-        ("subjects", {"subjects": [{"name": "giraffe", "mention": "the bear"}]}, None),
-        ("layout", {"subjects": {}}, None),
         (
-            "layout",
-            {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": [0.4, 0.1, 0.2, 0.5]}}},
-            r"subjects\.teddy bear\.box is .*x0 < x1",
+            "subjects",
+            {"subjects": [{"name": "teddy", "mention": "the bear"}]},
+            r"at subjects/0/name: \"teddy\" is not one of the 4 allowed values; closest: \"teddy bear\"",
+        ),
+        ("layout", {"subjects": {}}, r"at subjects: 'teddy bear' is a required property"),
+        (
+            "layout",  # centred at x = 0.75, outside its region: no branch of the schema admits it
+            {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": dict(zip(BOX_KEYS, (0.75, 0.3, 0.3, 0.4)))}}},
+            r"at subjects/teddy bear",
         ),
         (
-            "layout",
-            {"subjects": {"teddy bear": {"region": "left", "shot": None, "box": [0.6, 0.1, 0.9, 0.5]}}},
-            r"subjects\.teddy bear\.box is centred at \(0\.75, 0\.30\), outside its region 'left'",
+            "orientation",
+            {"subjects": {"teddy bear": {"symmetric": False, "azimuth_deg": 200, "either_side": False}}}
+            | {"elevation_deg": None, "elevation_explicit": False, "roll_deg": None},
+            r"at subjects/teddy bear/azimuth_deg: 200 is greater than the maximum of 180",
         ),
     ],
 )
-def test_a_meaningless_answer_is_one_line_naming_the_field(field, answer, message):
-    answers = bear_answers() | {field: answer}
-    parser = MLLMParser(ScriptedChat(answers))
-    if message is None:  # outside the schema: the model's own validation refuses it
-        with pytest.raises(ValueError, match=r"does not match the schema at subjects"):
-            parser.parse(BEAR, SCENE)
-        return
-    version = load(field).version
-    with pytest.raises(ModelError, match=f"^scripted-model: the {field} answer \\({version}\\) is invalid: {message}") as err:
-        parser.parse(BEAR, SCENE)
-    assert "\n" not in str(err.value)
+def test_an_answer_the_pipeline_would_refuse_is_outside_the_schema(field, answer, fault):
+    """What the parser must refuse is said by the schema, so the chat model's validation refuses
+    it (and feeds the fault back to the model on a retry), naming the field."""
+    with pytest.raises(ValueError, match=f"^the answer does not match the schema {fault}"):
+        MLLMParser(ScriptedChat(bear_answers() | {field: answer})).parse(BEAR, SCENE)
+
+
+def test_not_a_number_is_not_json():
+    for word in ("NaN", "Infinity", "-Infinity"):
+        with pytest.raises(ValueError, match=f"^the answer is not JSON \\({word} is not a JSON number\\)$"):
+            validate_reply(f'{{"azimuth_deg": {word}}}', {"type": "object"})
 
 
 class Unchecked(ScriptedChat):
@@ -236,8 +316,8 @@ def test_a_meaningless_answer_is_refused_even_from_a_model_that_does_not_validat
 
 
 def test_a_box_round_trips_through_the_stage_file_and_becomes_the_labels_mask_box(tmp_path):
-    box = [0.05, 0.2, 0.4, 0.8]
-    parsed = MLLMParser(ScriptedChat(bear_answers(box=box))).parse(BEAR, SCENE)
+    box = [0.125, 0.25, 0.375, 0.75]  # centre (0.25, 0.5), size 0.25 x 0.5: exact in binary
+    parsed = MLLMParser(ScriptedChat(bear_answers(box=dict(zip(BOX_KEYS, (0.25, 0.5, 0.25, 0.5)))))).parse(BEAR, SCENE)
     assert parsed.subjects[0].box == tuple(box)
     write_parsed(parsed, tmp_path / "parsed.json")
     back = read_parsed(tmp_path / "parsed.json")

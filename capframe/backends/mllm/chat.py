@@ -9,14 +9,19 @@ on our side, whatever the model or server promised.
 
 from __future__ import annotations
 
+import difflib
 import json
 from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
 
+from ...errors import clip
+
 # The user turn that answers a model's invalid answer on a retry (both backends).
 FEEDBACK = "Your previous answer was rejected: {error}. Reply again with only a JSON value that matches the schema, nothing else."
+# How many of an enum's values an answer outside it is told (the nearest in spelling).
+ENUM_CLOSEST = 3
 
 
 @dataclass(frozen=True)
@@ -88,16 +93,28 @@ def validate_reply(text: str, schema: dict) -> dict:
 
     Raises:
         ValueError: one line naming the first fault (not JSON, or the schema path that fails);
-            the caller feeds it back to the model on a retry.
+            the caller feeds it back to the model on a retry. A value outside an enum (a scene
+            object's name) is told the closest allowed values, not the whole list.
     """
     import jsonschema
 
     try:
-        data = json.loads(text)
+        data = json.loads(text, parse_constant=_not_a_number)
     except json.JSONDecodeError as err:
         raise ValueError(f"the answer is not JSON ({err.msg} at character {err.pos})") from None
     error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(schema).iter_errors(data))
     if error is not None:
         where = "/".join(str(p) for p in error.absolute_path) or "the top level"
-        raise ValueError(f"the answer does not match the schema at {where}: {error.message}")
+        message = error.message
+        if error.validator == "enum":
+            allowed = [json.dumps(v) for v in error.validator_value]
+            closest = difflib.get_close_matches(json.dumps(error.instance), allowed, n=ENUM_CLOSEST, cutoff=0.0)
+            said = clip(json.dumps(error.instance))
+            message = f"{said} is not one of the {len(allowed)} allowed values; closest: {', '.join(closest)}"
+        raise ValueError(f"the answer does not match the schema at {where}: {message}")
     return data
+
+
+def _not_a_number(word: str):
+    """``json.loads``' hook for ``NaN`` and ``Infinity``, which Python reads and JSON forbids."""
+    raise ValueError(f"the answer is not JSON ({word} is not a JSON number)")

@@ -4,11 +4,23 @@ the same :class:`~capframe.translate.instruction.ParsedInstruction` as the rule 
 Three requests per instruction (prompts ``subjects``, ``layout``, ``orientation``): first the
 subjects, each matched to one name of the scene's vocabulary (the main subject listed first);
 then, for those subjects, their layout and the camera's angles (these two are sent together, each
-answer keyed by subject name, so every subject is answered exactly once by construction). Every
-answer has passed its JSON schema in the :class:`~.chat.ChatModel`; here it is also checked for
-meaning, and a meaningless answer is a one-line :class:`~capframe.errors.ModelError` naming the
-field: names outside the scene's list or the parsed subjects, a box not ordered or not inside
-``[0, 1]``, a box not centred in the region the same answer names.
+answer keyed by subject name, so every subject is answered exactly once by construction).
+
+The schemas say everything the pipeline requires of an answer, so that a constrained decoder
+(xgrammar locally; a server's structured output) can only produce one the pipeline takes, and the
+validation in the :class:`~.chat.ChatModel` refuses, and feeds back, any other:
+
+* a subject's name is one of the scene's names or :data:`UNKNOWN` (an enum, which is part of the
+  request and so of the cache key); a scene without names (an open vocabulary, grounded by name)
+  gets a short free string instead;
+* a layout box is its centre and size, the centre bounded to the region the same answer names
+  (one schema branch per region, :func:`layout_entry`) and at least half the smallest box from
+  the frame's edge; :func:`frame_box` shrinks it about its centre to fit the frame;
+* angles are bounded (azimuth -180 to 180, elevation and roll -90 to 90) and null is "no cue".
+
+An answer that is not a schema-valid one (a model that does not validate) is still refused here
+in one line (:class:`~capframe.errors.ModelError`) where it would mislead: names outside the
+scene's list or the parsed subjects.
 
 How numbers become the parsed instruction's cues (DESIGN §3 conventions):
 
@@ -20,21 +32,24 @@ How numbers become the parsed instruction's cues (DESIGN §3 conventions):
   elevation whose interval holds it with the nearest centre (:func:`named_elevation`);
 * a roll is the roll, in degrees.
 
-A mention the model leaves unmatched (``name`` null) is matched by the vocabulary's own rules,
-whose error names the closest known objects, as the rule parser's does.
+A mention the model leaves unmatched (``name`` :data:`UNKNOWN`) is matched by the vocabulary's
+own rules, whose error names the closest known objects, as the rule parser's does.
 """
 
 from __future__ import annotations
 
-import math
+import copy
 
 from ...constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES
 from ...errors import InputError, ModelError, clip
 from ...measure import wrap_deg
-from ...translate.instruction import ParsedInstruction, ParsedSubject, check_box
+from ...translate.instruction import ParsedInstruction, ParsedSubject
 from ...translate.vocabulary import Vocabulary, key
 from .chat import ChatModel
 from .prompts import load
+
+# The subject parser's name for a subject that is none of the scene's objects.
+UNKNOWN = "unknown"
 
 # Views whose accepted azimuths are their own mirror images: the answers for "either side".
 _MIRRORED = {k: v for k, v in VIEW_SIDES.items() if {round(wrap_deg(-a), 6) for a in v} == {round(wrap_deg(a), 6) for a in v}}
@@ -55,6 +70,44 @@ def named_elevation(elevation_deg: float) -> str:
     return min(holding, key=lambda k: abs(sum(ELEVATIONS[k]) / 2 - elevation_deg))
 
 
+def subject_name_schema(vocabulary: Vocabulary) -> dict:
+    """The JSON schema of a subject's ``name``: one of the scene's names or :data:`UNKNOWN`, or
+    for a scene that names no objects (an open vocabulary) the prompt file's short free string."""
+    if not len(vocabulary):
+        return copy.deepcopy(load("subjects").schema["properties"]["subjects"]["items"]["properties"]["name"])
+    return {"enum": [*vocabulary.names, *([] if UNKNOWN in vocabulary else [UNKNOWN])]}
+
+
+def layout_entry(subject: dict) -> dict:
+    """The layout prompt's per-subject schema ``subject`` as one branch per region (and one for
+    none): the region's value fixed and the box's centre bounded to the region, so that a box
+    centred outside the region it is said to be in cannot be decoded."""
+    branches = []
+    for region in [*REGIONS, None]:
+        branch = copy.deepcopy(subject)
+        branch["properties"]["region"] = {"type": "null"} if region is None else {"const": region}
+        box = next(b for b in branch["properties"]["box"]["anyOf"] if b.get("type") == "object")["properties"]
+        x0, y0, x1, y1 = (0.0, 0.0, 1.0, 1.0) if region is None else REGIONS[region]
+        for axis, lo, hi in (("center_x", x0, x1), ("center_y", y0, y1)):
+            box[axis]["minimum"] = max(box[axis]["minimum"], lo)
+            box[axis]["maximum"] = min(box[axis]["maximum"], hi)
+        branches.append(branch)
+    return {"anyOf": branches}
+
+
+def frame_box(center_x: float, center_y: float, width: float, height: float) -> tuple[float, float, float, float]:
+    """The box ``(x0, y0, x1, y1)`` of a layout answer's centre and size, shrunk about its centre
+    where it reaches past the frame ``[0, 1]`` (so its centre, the region's cue, is kept)."""
+    half_x = min(width / 2, center_x, 1 - center_x)
+    half_y = min(height / 2, center_y, 1 - center_y)
+    return (
+        max(0.0, center_x - half_x),
+        max(0.0, center_y - half_y),
+        min(1.0, center_x + half_x),
+        min(1.0, center_y + half_y),
+    )
+
+
 class MLLMParser:
     """:class:`~capframe.backends.InstructionParser` through a chat model.
 
@@ -65,21 +118,22 @@ class MLLMParser:
     def __init__(self, chat: ChatModel):
         self.chat = chat
         self.prompts = {name: load(name) for name in ("subjects", "layout", "orientation")}
+        self._layout_entry = layout_entry(self.prompts["layout"].schema["$defs"]["subject"])
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
-        """``text`` as a :class:`ParsedInstruction` with subjects from ``vocabulary``."""
+        """``text`` as a :class:`ParsedInstruction` with subjects from ``vocabulary`` (any the
+        model names when the vocabulary is empty: an open-vocabulary scene)."""
         if not text or not text.strip():
             raise InputError("the instruction is empty; expected e.g. 'a close-up of the teddy bear on the left'")
-        if not len(vocabulary):
-            raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
         subjects = self._subjects(text, vocabulary)
         listing = "; ".join(f"{name} (said: {mention!r})" for mention, name, _ in subjects)
         fields = {"instruction": text.strip(), "subjects": listing, "regions": ", ".join(REGIONS), "shots": ", ".join(SHOT_SIZES)}
         names = [name for _, name, _ in subjects]
+        entries = {"layout": self._layout_entry, "orientation": None}
         layout, orientation = self.chat.complete_many(
             [
-                self.prompts[p].request(fields, schema=self.prompts[p].keyed(("properties", "subjects"), names, "subject"))
-                for p in ("layout", "orientation")
+                self.prompts[p].request(fields, schema=self.prompts[p].keyed(("properties", "subjects"), names, "subject", value))
+                for p, value in entries.items()
             ]
         )
         boxes = self._layout(layout.data, names)
@@ -95,7 +149,7 @@ class MLLMParser:
         corrected = [
             {"said": " ".join(key(mention)), "read": name}
             for mention, name, _ in subjects
-            if name not in vocabulary.candidates(mention)
+            if len(vocabulary) and name not in vocabulary.candidates(mention)
         ]
         return ParsedInstruction(
             text,
@@ -114,19 +168,28 @@ class MLLMParser:
     def _subjects(self, text: str, vocabulary: Vocabulary) -> list[tuple[str, str, str]]:
         """(mention, scene name, role) of each subject, the primary (listed first) first. The
         model picks names from the scene's list (with aliases, so a synonym can be read); a
-        mention it leaves unmatched goes through :meth:`Vocabulary.match`, whose error names the
-        closest objects. A subject named twice is one subject."""
+        mention it leaves unmatched (:data:`UNKNOWN`) goes through :meth:`Vocabulary.match`,
+        whose error names the closest objects. With an empty vocabulary the model's own name is
+        the subject's (lower case, single spaces). A subject named twice is one subject."""
         prompt = self.prompts["subjects"]
         objects = "; ".join(
             e.name + (f": {', '.join(e.aliases)}" if e.aliases else "") for e in sorted(vocabulary.entries, key=lambda e: e.name)
         )
-        schema = prompt.narrowed(("properties", "subjects", "items", "properties", "name"), enum=[*vocabulary.names, None])
-        schema["properties"]["subjects"]["maxItems"] = min(schema["properties"]["subjects"]["maxItems"], len(vocabulary))
-        data = self.chat.complete(prompt.request({"instruction": text.strip(), "objects": objects}, schema=schema)).data
+        schema = copy.deepcopy(prompt.schema)
+        listed = schema["properties"]["subjects"]
+        listed["items"]["properties"]["name"] = subject_name_schema(vocabulary)
+        if len(vocabulary):
+            listed["maxItems"] = min(listed["maxItems"], len(vocabulary))
+        fields = {"instruction": text.strip(), "objects": objects or "none listed (name each subject yourself)"}
+        data = self.chat.complete(prompt.request(fields, schema=schema)).data
         found: dict[str, str] = {}
         for i, s in enumerate(data["subjects"]):
             name = s["name"]
-            if name is None:
+            if not len(vocabulary):
+                name = " ".join(name.lower().split())
+                if not name:
+                    raise self._fail("subjects", f"subjects[{i}].name is blank; expected the object's name")
+            elif name == UNKNOWN and UNKNOWN not in vocabulary:
                 name = vocabulary.match(s["mention"])
             elif name not in vocabulary:
                 raise self._fail(
@@ -147,24 +210,11 @@ class MLLMParser:
         return {n: entries[n] for n in names}
 
     def _layout(self, data: dict, names: list[str]) -> dict[str, tuple]:
-        """Per subject: (region, shot, box or None)."""
+        """Per subject: (region, shot, box ``(x0, y0, x1, y1)`` or None)."""
         out = {}
         for name, entry in self._answered_once("layout", data, names).items():
             box = entry["box"]
-            if box is not None:
-                try:
-                    box = check_box(box, f"subjects.{name}.box")
-                except InputError as err:
-                    raise self._fail("layout", str(err)) from None
-                region = entry["region"]
-                cx, cy = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
-                if region is not None:
-                    x0, y0, x1, y1 = REGIONS[region]
-                    if not (x0 <= cx <= x1 and y0 <= cy <= y1):
-                        raise self._fail(
-                            "layout", f"subjects.{name}.box is centred at ({cx:.2f}, {cy:.2f}), outside its region {region!r}"
-                        )
-            out[name] = (entry["region"], entry["shot"], box)
+            out[name] = (entry["region"], entry["shot"], None if box is None else frame_box(**box))
         return out
 
     def _orientation(self, data: dict, names: list[str]) -> dict[str, tuple[bool, str | None]]:
@@ -172,7 +222,5 @@ class MLLMParser:
         out = {}
         for name, entry in self._answered_once("orientation", data, names).items():
             azimuth = entry["azimuth_deg"]
-            if azimuth is not None and not math.isfinite(azimuth):
-                raise self._fail("orientation", f"{name}: azimuth_deg {azimuth!r} is not finite")
             out[name] = (entry["symmetric"], None if azimuth is None else view_side(azimuth, entry["either_side"]))
         return out

@@ -56,11 +56,12 @@ class Prompt:
             max_tokens=self.max_tokens,
         )
 
-    def keyed(self, path: tuple[str, ...], keys: list[str], entry: str) -> dict:
+    def keyed(self, path: tuple[str, ...], keys: list[str], entry: str, value: dict | None = None) -> dict:
         """A copy of :attr:`schema` whose sub-schema at ``path`` becomes an object with exactly
-        the properties ``keys``, each a copy of ``$defs[entry]``: one answer per subject or per
-        question by construction, which constrained decoding then guarantees."""
-        value = self.schema["$defs"][entry]
+        the properties ``keys``, each a copy of ``$defs[entry]`` (or of ``value``, a role's
+        rewrite of it): one answer per subject or per question by construction, which
+        constrained decoding then guarantees."""
+        value = self.schema["$defs"][entry] if value is None else value
         return self.narrowed(
             path,
             type="object",
