@@ -289,10 +289,11 @@ class Occluders:
     the 2D dilation and one pixel per axis (``|L|_F``: the root of the summed squared scales,
     ``t``: the projection's clamped slope). A pixel's ray at that depth therefore passes within
     ``sqrt(2) (3 sqrt(1 + t^2) |L|_F + z (3 sqrt(eps2d) + 1) / f)`` of the Gaussian's mean, its
-    *reach*. The rays through the subjects' pixels, from any centre in the ball, stay within twice
-    the subjects' bounding sphere widened by their reach (:attr:`body`) of the segment from the
-    culling centre to the sphere's centre; every Gaussian within its own reach of that capsule is
-    kept, the rest skipped. Subjects are always kept.
+    *reach*. The rays through the subjects' pixels, from any centre in the ball, run inside the
+    convex hull of the ball and the subjects' bounding sphere widened by their reach (:attr:`body`),
+    and on beyond the sphere's centre within twice that radius of it (to the subjects' far side);
+    every Gaussian within its own reach of that region is kept, the rest skipped. Subjects are
+    always kept.
     """
 
     def __init__(self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float):
@@ -328,30 +329,31 @@ class Occluders:
         return self.gaussians, self.membership
 
     def _cull(self, centre: Tensor) -> None:
-        distance = float((self.target - centre).norm())
-        self.reach = 0.25 * self.sphere
+        axis = self.target - centre
+        distance = float(axis.norm())
+        self.reach = 0.1 * self.sphere
         self.body = self.sphere + self.reach_per_depth * (distance + self.reach + self.sphere)
         self.centre = centre
+        # The convex hull of the ball and the subjects' sphere: radius reach at the centre growing
+        # linearly to body at the target, over the cosine of the cone's half-angle.
+        slope = min((self.body - self.reach) / max(distance, 1e-300), 0.99)
+        widen = 1.0 / math.sqrt(1.0 - slope**2)
         keep = []
         for start in range(0, len(self.means), CULL_CHUNK):
             means = self.means[start : start + CULL_CHUNK]
-            gap = segment_distance(means, centre, self.target)
-            depth = (means - centre).norm(dim=1) + self.reach
-            bound = 2.0 * self.body + self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * depth
-            keep.append(start + ((gap <= bound) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
+            offset = means - centre
+            t = offset @ axis / max(distance**2, 1e-300)
+            gap = (offset - t.clamp(0.0, 1.0)[:, None] * axis).norm(dim=1)
+            radius = widen * (self.reach + (self.body - self.reach) * t.clamp(0.0, 1.0))
+            radius = torch.where(t > 1.0, torch.full_like(t, 2.0 * self.body), radius)
+            own = self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
+            keep.append(start + ((gap <= radius + own) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
         index = torch.cat(keep)
         self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
         owner = self.owner[index]
         self.membership = torch.zeros(len(index), self.subjects, dtype=self.dtype)
         inside = owner >= 0
         self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0
-
-
-def segment_distance(points: Tensor, a: Tensor, b: Tensor) -> Tensor:
-    """Distance of each of ``points`` (N, 3) to the segment from ``a`` to ``b`` (3,): (N,)."""
-    ab = b - a
-    t = ((points - a) @ ab / (ab @ ab).clamp_min(1e-300)).clamp(0.0, 1.0)
-    return (points - a - t[:, None] * ab).norm(dim=1)
 
 
 def free_space_loss(T_cw: Tensor, occupancy: Occupancy) -> Tensor:
