@@ -72,7 +72,8 @@ class PeakMemory:
     """Peak resident memory of this process per phase: ``VmHWM`` reset through
     ``/proc/self/clear_refs`` (Linux) at each phase's start."""
 
-    def __init__(self):
+    def __init__(self, label: str = ""):
+        self.label = label  # progress lines on stderr name the phase after it
         self.peaks: dict[str, float] = {}
         self.seconds: dict[str, float] = {}
 
@@ -95,8 +96,10 @@ class PeakMemory:
         self._reset()
         start = time.perf_counter()
         yield
-        self.seconds[name] = self.seconds.get(name, 0.0) + time.perf_counter() - start
-        self.peaks[name] = max(self.peaks.get(name, 0.0), self.high_water_gb())
+        seconds, peak = time.perf_counter() - start, self.high_water_gb()
+        self.seconds[name] = self.seconds.get(name, 0.0) + seconds
+        self.peaks[name] = max(self.peaks.get(name, 0.0), peak)
+        print(f"  {name}{self.label}: {seconds:.1f} s, peak {peak:.2f} GB", file=sys.stderr, flush=True)
 
 
 def prepare_scenes(sizes: list[int], root: Path) -> tuple[dict, list[str], dict[int, Path]]:
@@ -157,7 +160,7 @@ def measure_size(scene_dir: Path, texts: list[str], work: Path) -> dict:
     rows, first = [], None
     for q, text in enumerate(texts):
         clock = stages.StageClock(False)
-        per = PeakMemory()
+        per = PeakMemory(f" (query {q + 1})")
         with per.phase("retrieve"):
             parsed = stages.parse(job, text, clock)
             coarse = stages.coarse(job, parsed, clock)
