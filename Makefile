@@ -7,7 +7,7 @@ BIN := $(VENV)/bin
 TORCH_SPEC ?= torch==2.13.0
 STAMP := $(VENV)/.installed
 
-.PHONY: setup browser test lint run run-tiny report sensitivity bench clean
+.PHONY: setup browser test lint run run-tiny report sensitivity bench bench-scale clean
 
 setup: $(STAMP)
 
@@ -83,6 +83,10 @@ bench: $(STAMP)
 	$(BIN)/capframe bench ground
 	$(BIN)/capframe bench models
 	$(BIN)/capframe bench startup
+
+# Not in bench: 0.3M to 3M Gaussians take tens of minutes on two cores.
+bench-scale: $(STAMP)
+	$(BIN)/capframe bench scale
 
 clean:
 	rm -rf results/* .snakemake

@@ -487,6 +487,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         photos=args.photos,
         reference=args.reference,
         points=args.points,
+        sizes=args.sizes,
     )
 
 
@@ -926,7 +927,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup", "colmap"])
+    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup", "colmap", "scale"])
     p.add_argument(
         "--suite",
         default=None,
@@ -946,6 +947,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--photos", default=None, help="colmap: folder of photos (default: the real capture in ../shared/data/real)")
     p.add_argument("--reference", default=None, help="colmap: the photos' published Inria cameras.json")
     p.add_argument("--points", default=None, help="colmap: the published COLMAP points3D.bin (plane up; optional)")
+    p.add_argument("--sizes", default=None, help="scale: counts of Gaussians, comma-separated (default 0.3M,1M,3M)")
     p.set_defaults(func=_cmd_bench)
 
     p = verbs.add_parser("userstudy", help="the user study: a static questionnaire of a run's renders, and its answers' table")

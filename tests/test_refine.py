@@ -196,3 +196,42 @@ def test_requested_roll_is_reached():
     result, labels = run(scene, camera, Constraints([SubjectConstraint("blob", region="center")], roll_deg=20.0))
     m = measure(scene, camera, result.T_cw, labels.subjects[0].centroid)
     assert abs(m["roll"] - 20) < 5
+
+
+def test_occlusion_phase_visible_shares_match_the_whole_scene():
+    """The occlusion phase's visible shares (rendered from its culled occluders) equal the shares
+    measured on a whole-scene render, with a wall half in front of the subject and clutter away
+    from the line of sight."""
+    from capframe.refine.optimize import _Objective
+    from capframe.render import render
+
+    subject = blob()
+    g = torch.Generator().manual_seed(5)
+    wall = blob(centre=(1.2, 0.55, 0.4), n=300, seed=1)
+    clutter = blob(centre=(0.0, 0.0, 0.4), n=3000, seed=2)
+    clutter = GaussianScene(
+        clutter.means * 8.0 + torch.randn(3000, 3, generator=g) * 0.5,
+        clutter.quats,
+        clutter.log_scales,
+        clutter.opacity_logits,
+        clutter.sh,
+    )
+    parts = [subject, wall, clutter]
+    scene = GaussianScene(
+        *(torch.cat([getattr(p, f) for p in parts]) for f in ("means", "quats", "log_scales", "opacity_logits", "sh"))
+    )
+    camera = camera_looking((2.5, 0.3, 0.6), (0, 0, 0.4))
+    c = Constraints([SubjectConstraint("blob", region="center")])
+    labels = labels_from_constraints(c, subjects_of(scene, {"blob": slice(0, 400)}, {"blob": FRONT}), UP)
+    objective = _Objective(scene, camera, labels, CONFIG, f64)
+    objective.prepare_occlusion(scene)
+    T = torch.as_tensor(camera.T_cw)
+    shares = objective.visible_shares(T)
+    members = torch.zeros(len(scene), 1, dtype=f64)
+    members[:400] = 1.0
+    full = render(scene, objective.camera, T_cw=T, extra=members, colors=False, dtype=f64, backend="cpu")
+    own = render(scene, objective.camera, T_cw=T, subset=torch.arange(400), colors=False, dtype=f64, backend="cpu")
+    expected = float(full.extra.sum() / own.alpha.sum())
+    assert 0.05 < expected < 0.95  # the wall hides part of the subject
+    assert shares[0] == pytest.approx(expected, rel=1e-9)
+    assert len(objective.occluders.gaussians) < 0.8 * len(scene)  # clutter off the line of sight is culled

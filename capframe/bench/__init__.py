@@ -1,7 +1,8 @@
 """Benchmarks printed by ``capframe bench WHAT`` (and ``make bench``): a table by default, one
 JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``ground`` (a name in
 ``config/suites`` or a path; default: the default suite); ``colmap`` takes ``--photos``,
-``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``);
+``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``); ``scale``
+takes ``--sizes`` (counts of Gaussians, e.g. ``0.3M,1M,3M``);
 ``ground`` on a suite whose instructions are committed (hand-written specs: the held-out sets) is
 :mod:`capframe.bench.heldout`. The benchmarks that run the method write under ``results/bench``
 (checked before any work, as every verb's outputs are); figures not measured are null in the JSON."""
@@ -44,17 +45,20 @@ def run_bench(
     photos: str | None = None,
     reference: str | None = None,
     points: str | None = None,
+    sizes: str | None = None,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
     image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder;
-    ``colmap`` runs on ``photos`` against ``reference`` and ``points``."""
+    ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
     if (photos, reference, points) != (None, None, None) and what != "colmap":
         raise InputError("--photos, --reference and --points apply to bench colmap only")
-    if what in ("refine", "ground", "segment", "colmap"):
+    if sizes is not None and what != "scale":
+        raise InputError("--sizes applies to bench scale only")
+    if what in ("refine", "ground", "segment", "colmap", "scale"):
         OUTPUTS["into"].check(RESULTS)
     if what == "render":
         from .render import bench_render
@@ -96,6 +100,10 @@ def run_bench(
         from .colmap import bench_colmap
 
         figures = bench_colmap(photos, reference, points, RESULTS / "colmap")
+    elif what == "scale":
+        from .scale import bench_scale
+
+        figures = bench_scale(sizes, RESULTS / "scale")
     elif what == "models":
         from .models import bench_models
 
@@ -104,6 +112,10 @@ def run_bench(
         raise ValueError(f"unknown benchmark {what!r}")
     if as_json:
         print(json_text(finite_or_null(figures), "the figures", indent=None))
+    elif "sizes" in figures:
+        from .scale import format_scale
+
+        print(format_scale(figures))
     elif "per_kind" in figures:
         from .heldout import format_summary
 

@@ -243,7 +243,7 @@ class _Sight:
 
     def __call__(self, camera: Camera) -> tuple[float, float]:
         """(visible share, in-frame share) of the subject seen by ``camera``."""
-        masks, _ = subject_masks(self.scene, camera.with_long_side(self.long_side), self.members, backend="torch", near=self.near)
+        masks, _ = subject_masks(self.scene, camera.with_long_side(self.long_side), self.members, backend="cpu", near=self.near)
         return masks[0].visible_fraction, masks[0].in_frame
 
     def sees(self, shares: tuple[float, float]) -> bool:

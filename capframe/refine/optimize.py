@@ -26,7 +26,8 @@ from torch import Tensor
 
 from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
-from ..render import prepare, render, scene_extent
+from ..render import PreparedGaussians, prepare, render, scene_extent
+from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, min_in_frame_share
@@ -122,6 +123,8 @@ class RefineResult:
         losses: (E,) total loss per evaluation.
         history: per loss term, (iterations + 1,) unweighted values per step.
         seconds: wall time of the optimisation.
+        occlusion_seconds: the part of ``seconds`` spent on the occlusion phase: the visibility
+            check at the end of the first phase and, when a subject was hidden, the second phase.
     """
 
     T_cw: np.ndarray
@@ -132,6 +135,10 @@ class RefineResult:
     losses: np.ndarray
     history: dict[str, np.ndarray]
     seconds: float
+    occlusion_seconds: float = 0.0
+
+
+CULL_CHUNK = 1 << 20  # Gaussians per chunk of the occluder cull: bounds its float64 temporaries
 
 
 class _Objective:
@@ -179,7 +186,7 @@ class _Objective:
             for s, c in zip(labels.subjects, self.centroids)
         ]
         self.fronts = [None if s.front is None else torch.as_tensor(s.front, dtype=torch.float64) for s in labels.subjects]
-        self.full_scene = None  # set by prepare_occlusion
+        self.occluders: Occluders | None = None  # set by prepare_occlusion
         self.penalise_occlusion = False
 
     def clauses_hold(self, terms: dict[str, Tensor]) -> bool:
@@ -251,17 +258,14 @@ class _Objective:
         return total, terms
 
     def prepare_occlusion(self, scene: GaussianScene) -> None:
-        """Prepare the whole scene, for :meth:`visible_shares` and the occlusion term."""
-        self.full_scene = prepare(scene, self.dtype, extent=self.subjects.extent)
-        self.full_membership = torch.zeros(len(scene), len(self.labels.subjects), dtype=self.dtype)
-        for k, label in enumerate(self.labels.subjects):
-            self.full_membership[torch.as_tensor(label.gaussians, dtype=torch.long), k] = 1.0
+        """Keep the whole scene for :meth:`visible_shares` and the occlusion term, which render
+        only its possible occluders (:class:`Occluders`)."""
+        self.occluders = Occluders(scene, self.labels, self.camera, self.dtype, self.subjects.extent)
 
     def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
         """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
-        full = render(
-            self.full_scene, self.camera, T_cw=T_cw, extra=self.full_membership, colors=False, dtype=self.dtype, backend="cpu"
-        )
+        gaussians, membership = self.occluders.around(camera_center(T_cw.detach()))
+        full = render(gaussians, self.camera, T_cw=T_cw, extra=membership, colors=False, dtype=self.dtype, backend="cpu")
         return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
 
     def visible_shares(self, T_cw: Tensor) -> list[float]:
@@ -271,6 +275,85 @@ class _Objective:
                 self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu"
             )
             return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
+
+
+class Occluders:
+    """The Gaussians that can change the subjects' visible shares for any camera centre within
+    ``reach`` of the centre they were culled for: culled once, again only when the camera leaves
+    that ball (the occlusion phase moves it little), so its steps render the Gaussians between the
+    camera and the subjects instead of the whole scene.
+
+    A Gaussian changes a subject's composited mask only where its footprint covers a pixel of the
+    subject's footprint. The footprint box of a Gaussian at camera depth ``z`` is that of
+    :func:`~capframe.render.torch_backend.may_touch_frame`: ``3 sqrt(1 + t^2) |L|_F f / z`` plus
+    the 2D dilation and one pixel per axis (``|L|_F``: the root of the summed squared scales,
+    ``t``: the projection's clamped slope). A pixel's ray at that depth therefore passes within
+    ``sqrt(2) (3 sqrt(1 + t^2) |L|_F + z (3 sqrt(eps2d) + 1) / f)`` of the Gaussian's mean, its
+    *reach*. The rays through the subjects' pixels, from any centre in the ball, run inside the
+    convex hull of the ball and the subjects' bounding sphere widened by their reach (:attr:`body`),
+    and on beyond the sphere's centre within twice that radius of it (to the subjects' far side);
+    every Gaussian within its own reach of that region is kept, the rest skipped. Subjects are
+    always kept.
+    """
+
+    def __init__(self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float):
+        self.scene, self.dtype, self.extent = scene, dtype, extent
+        K, W, H = camera.K, camera.width, camera.height
+        # The largest clamped slope of the canvas (clamped_slopes: 30% beyond the borders).
+        slope = max(
+            (max(K[0, 2], W - K[0, 2]) + 0.15 * W) / K[0, 0],
+            (max(K[1, 2], H - K[1, 2]) + 0.15 * H) / K[1, 1],
+        )
+        sigmas = math.sqrt(2.0 * SIGMA_MAX) * 1.01
+        with torch.no_grad():
+            self.means = scene.means.detach().to(torch.float64)
+            spread = scene.scales.detach().to(torch.float64).norm(dim=1)
+            self.reach_fixed = math.sqrt(2.0) * sigmas * math.sqrt(1.0 + slope**2) * spread  # (N,)
+        # Reach per unit of depth: the dilation and the one-pixel slack at the smallest focal length.
+        self.reach_per_depth = math.sqrt(2.0) * (sigmas * math.sqrt(EPS2D) + 1.0) / float(min(K[0, 0], K[1, 1]))
+        self.owner = torch.full((len(scene),), -1, dtype=torch.long)
+        for k, label in enumerate(labels.subjects):
+            self.owner[torch.as_tensor(label.gaussians, dtype=torch.long)] = k
+        self.subjects = len(labels.subjects)
+        members = self.owner >= 0
+        lo, hi = self.means[members].min(0).values, self.means[members].max(0).values
+        self.target = (lo + hi) / 2
+        self.sphere = float(((self.means[members] - self.target).norm(dim=1) + self.reach_fixed[members]).max())
+        self.centre: Tensor | None = None
+
+    def around(self, centre: Tensor) -> tuple[PreparedGaussians, Tensor]:
+        """The prepared occluders (subjects included) for a camera at ``centre`` (3,) and their
+        (M, subjects) membership, culled again when ``centre`` left the last ball."""
+        if self.centre is None or float((centre - self.centre).norm()) > self.reach:
+            self._cull(centre.to(torch.float64))
+        return self.gaussians, self.membership
+
+    def _cull(self, centre: Tensor) -> None:
+        axis = self.target - centre
+        distance = float(axis.norm())
+        self.reach = 0.1 * self.sphere
+        self.body = self.sphere + self.reach_per_depth * (distance + self.reach + self.sphere)
+        self.centre = centre
+        # The convex hull of the ball and the subjects' sphere: radius reach at the centre growing
+        # linearly to body at the target, over the cosine of the cone's half-angle.
+        slope = min((self.body - self.reach) / max(distance, 1e-300), 0.99)
+        widen = 1.0 / math.sqrt(1.0 - slope**2)
+        keep = []
+        for start in range(0, len(self.means), CULL_CHUNK):
+            means = self.means[start : start + CULL_CHUNK]
+            offset = means - centre
+            t = offset @ axis / max(distance**2, 1e-300)
+            gap = (offset - t.clamp(0.0, 1.0)[:, None] * axis).norm(dim=1)
+            radius = widen * (self.reach + (self.body - self.reach) * t.clamp(0.0, 1.0))
+            radius = torch.where(t > 1.0, torch.full_like(t, 2.0 * self.body), radius)
+            own = self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
+            keep.append(start + ((gap <= radius + own) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
+        index = torch.cat(keep)
+        self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
+        owner = self.owner[index]
+        self.membership = torch.zeros(len(index), self.subjects, dtype=self.dtype)
+        inside = owner >= 0
+        self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0
 
 
 def free_space_loss(T_cw: Tensor, occupancy: Occupancy) -> Tensor:
@@ -347,6 +430,7 @@ def _refine(
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
     remaining = min(config.occlusion_iterations, config.iterations - run.steps)
+    occlusion_start = time.perf_counter()
     if remaining > 0:
         objective.prepare_occlusion(scene)
         if min(objective.visible_shares(T)) < config.min_visible:
@@ -354,7 +438,7 @@ def _refine(
             # Scan again, now with the whole scene in the objective: it finds an orbit position
             # where nothing stands in front of the subject (the current pose is one candidate).
             T = run.descend(T, remaining, scan=True)
-    return run.result(T, start)
+    return run.result(T, start, time.perf_counter() - occlusion_start)
 
 
 class PoseDescent:
@@ -369,9 +453,9 @@ class PoseDescent:
         self.stop_reason = "max_iterations"
         self.steps = 0  # Adam steps over all phases
 
-    def result(self, T: Tensor, start: float) -> RefineResult:
+    def result(self, T: Tensor, start: float, occlusion_seconds: float = 0.0) -> RefineResult:
         """The run as a :class:`RefineResult` with ``T`` its best pose (``start``: its
-        ``time.perf_counter()`` at the beginning)."""
+        ``time.perf_counter()`` at the beginning; ``occlusion_seconds``: the occlusion phase's share)."""
         return RefineResult(
             T_cw=T.numpy(),
             iterations=self.steps,
@@ -381,6 +465,7 @@ class PoseDescent:
             losses=np.asarray(self.losses),
             history={k: np.asarray(v) for k, v in self.history.items()},
             seconds=time.perf_counter() - start,
+            occlusion_seconds=occlusion_seconds,
         )
 
     def descend(self, T0: Tensor, iterations: int, scan: bool) -> Tensor:

@@ -13,6 +13,7 @@ of 1e4 units and more) as accurate as scenes at the origin.
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import os
 from dataclasses import dataclass, field
@@ -27,6 +28,11 @@ from .sh import eval_sh_colors
 
 DEPTH_ALPHA_MIN = 1e-4  # below this accumulated alpha the normalised depth is undefined
 NEAR_FRACTION = 1e-4  # default near plane as a fraction of the scene extent (scale invariant)
+# Scenes of at least this many Gaussians are culled to the frame before the colours are evaluated
+# and the backend runs (:func:`frame_index`): a captured scene of millions seen from inside holds
+# most of them outside any one view. Below, the backend's own culling costs less than the pass.
+PRECULL_MIN = 1 << 17
+CULL_CHUNK = 1 << 20  # Gaussians per chunk of that pass: bounds its float64 temporaries
 
 
 @dataclass
@@ -165,6 +171,37 @@ def prepare(scene: GaussianScene, dtype: torch.dtype = torch.float32, extent: fl
     )
 
 
+def frame_index(
+    gaussians: PreparedGaussians,
+    pose: Tensor,
+    K: Tensor,
+    width: int,
+    height: int,
+    near: float,
+    far: float,
+    chunk: int = CULL_CHUNK,
+) -> Tensor:
+    """Indices (M,) of the Gaussians that may touch the frame of a camera at ``pose`` (4, 4)
+    with intrinsics ``K`` (3, 3): the others are ones every backend culls (mean outside
+    ``(near, far)`` or footprint box certainly off the frame,
+    :func:`~capframe.render.torch_backend.may_touch_frame`). A 1e-3 relative slack on the depth
+    bounds absorbs the render dtype's rounding. Computed ``chunk`` Gaussians at a time, in float64,
+    without gradient."""
+    from .torch_backend import may_touch_frame
+
+    with torch.no_grad():
+        pose = pose.detach().to(torch.float64)
+        R, centre, K = pose[:3, :3], camera_center(pose), K.to(torch.float64)
+        kept = []
+        for start in range(0, len(gaussians), chunk):
+            local = (gaussians.means[start : start + chunk].detach() - centre) @ R.T
+            z = local[:, 2]
+            front = ((z > near * (1.0 - 1e-3)) & (z < far * (1.0 + 1e-3))).nonzero()[:, 0]
+            factors = gaussians.factors[start : start + chunk][front].detach().to(torch.float64)
+            kept.append(start + front[may_touch_frame(local[front], factors, K, width, height)])
+        return torch.cat(kept) if kept else torch.zeros(0, dtype=torch.long)
+
+
 def render(
     scene: GaussianScene | PreparedGaussians,
     camera: Camera,
@@ -179,6 +216,7 @@ def render(
     near: float | None = None,
     far: float = float("inf"),
     dtype: torch.dtype = torch.float32,
+    precull: bool | None = None,
     **backend_options,
 ) -> RenderOutput:
     """Render ``scene`` from ``camera``.
@@ -196,6 +234,9 @@ def render(
         near: near plane in scene units; default ``1e-4`` of the scene extent.
         dtype: render precision (float64 for gradient checks).
         backend: ``auto``, ``cpu``, ``torch``, ``compiled`` or ``gsplat`` (:func:`resolve_backend`).
+        precull: cull to the frame (:func:`frame_index`) before evaluating colours and calling the
+            backend; the image and gradients are the same either way. Default: for scenes of
+            at least :data:`PRECULL_MIN` Gaussians.
         backend_options: passed to the backend (torch: ``tile_size``, ``max_chunk_elements``;
             compiled: ``tile_size``).
     Returns:
@@ -207,17 +248,23 @@ def render(
     gaussians = scene if isinstance(scene, PreparedGaussians) else prepare(scene, dtype)
     if near is None:
         near = NEAR_FRACTION * gaussians.extent
+    if not colors:  # no SH coefficients to copy along with a subset
+        gaussians = dataclasses.replace(gaussians, sh=gaussians.sh[:, :0])
     if subset is not None:
         gaussians = gaussians.subset(subset)
         extra = extra[subset] if extra is not None else None
     pose = torch.as_tensor(camera.T_cw, device=device) if T_cw is None else T_cw
     pose = pose.to(device=device, dtype=torch.float64)
+    K = torch.as_tensor(camera.K, dtype=dtype, device=device)
+    if precull or (precull is None and len(gaussians) >= PRECULL_MIN):
+        index = frame_index(gaussians, pose, K, camera.width, camera.height, near, far, CULL_CHUNK)
+        gaussians = gaussians.subset(index)
+        extra = extra[index] if extra is not None else None
     centre = camera_center(pose)
     means_local = (gaussians.means - centre).to(dtype)  # camera centre at the origin
     view = torch.zeros(4, 4, dtype=dtype, device=device)
     view[:3, :3] = pose[:3, :3].to(dtype)
     view[3, 3] = 1.0
-    K = torch.as_tensor(camera.K, dtype=dtype, device=device)
 
     parts = [eval_sh_colors(gaussians.sh, means_local, sh_degree)] if colors else []
     if extra is not None:
@@ -261,6 +308,7 @@ __all__ = [
     "PreparedGaussians",
     "RenderOutput",
     "check_render_memory",
+    "frame_index",
     "prepare",
     "render",
     "resolve_backend",
