@@ -602,6 +602,13 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _add_frames_of_scene(p: argparse.ArgumentParser) -> None:
+    """The arguments of the verbs that score every method's final frame of one scene."""
+    p.add_argument("--scene", required=True, help="the scene's id (the table's scene column)")
+    p.add_argument("--constraints", required=True, help="the scene's constraints.json (instruction ids and texts)")
+    p.add_argument("--method", nargs="+", required=True, metavar="NAME=DIR", help="methods' result folders: DIR/<id>/render.png")
+
+
 def build_parser() -> argparse.ArgumentParser:
     from . import __version__
 
@@ -767,17 +774,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_groups, outputs={"output": "file"})
 
     p = verbs.add_parser("metrics", help="CLIP and SigLIP 2 scores of every method's final frame against its instruction")
-    p.add_argument("--scene", required=True, help="the scene's id (the table's scene column)")
-    p.add_argument("--constraints", required=True, help="the scene's constraints.json (instruction ids and texts)")
-    p.add_argument("--method", nargs="+", required=True, metavar="NAME=DIR", help="methods' result folders: DIR/<id>/render.png")
+    _add_frames_of_scene(p)
     p.add_argument("--models", required=True, help="models config with metrics-clip and/or metrics-siglip")
     p.add_argument("-o", "--output", required=True, help="CSV to write")
     p.set_defaults(func=_cmd_metrics, outputs={"output": "file"})
 
     p = verbs.add_parser("judge", help="MLLM judges: 1-5 alignment score of every method's frame and a blind best pick")
-    p.add_argument("--scene", required=True, help="the scene's id")
-    p.add_argument("--constraints", required=True, help="the scene's constraints.json (instruction ids and texts)")
-    p.add_argument("--method", nargs="+", required=True, metavar="NAME=DIR", help="methods' result folders: DIR/<id>/render.png")
+    _add_frames_of_scene(p)
     p.add_argument("--models", required=True, help="models config with judge and/or judge-2")
     p.add_argument("--cache", required=True, help="the scene's cache folder (the response cache is <cache>/mllm)")
     p.add_argument("--seed", type=int, default=0, help="seed of the order the pictures are shown in (with the instruction)")
