@@ -240,10 +240,14 @@ def test_an_oversized_image_is_downscaled_before_sending(serve):
 
 
 def test_complete_many_keeps_order_and_bounds_concurrency(serve):
-    # each answer echoes the question's number, after a short wait so that requests overlap
+    # each answer echoes the question's number; the first answers wait (up to 5 s) until three
+    # requests are in flight at once, so that a loaded machine's slow thread start cannot hide
+    # the concurrency, while a client that sent fewer at once would still show fewer
     def echo(h):
         number = int(h.body["messages"][1]["content"].split()[-1])
-        time.sleep(0.05)
+        deadline = time.monotonic() + 5.0
+        while server.most_in_flight < 3 and time.monotonic() < deadline:
+            time.sleep(0.01)
         chat(json.dumps({"score": number, "reason": "n"}))(h)
 
     server = serve(echo)
