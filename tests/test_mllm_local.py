@@ -223,7 +223,8 @@ def test_greedy_whatever_the_checkpoints_generation_config(chat, one_by_one):
 
 def test_through_the_factory_and_the_cache(weights, tmp_path, one_by_one):
     """A models-config entry with weights builds a LocalChat behind the response cache: the
-    first ask runs the model, the second is answered from the cache."""
+    first ask runs the model, the second is answered from the cache, and a job whose every ask
+    is cached never loads the weights."""
     from capframe.backends.mllm.factory import build_chat
 
     settings = ModelSettings(weights=str(weights), image_side=IMAGE_SIDE, max_new_tokens=128)
@@ -232,6 +233,11 @@ def test_through_the_factory_and_the_cache(weights, tmp_path, one_by_one):
     first, again = chat.complete(REQUESTS[4]), chat.complete(REQUESTS[4])
     assert first.text == again.text == one_by_one[4].text and not first.cached and again.cached
     assert chat.stats()["mllm_cache_hits"] == 1
+    # A later job over the same cache answers without loading the weights at all.
+    rerun = build_chat(settings, "mllm", tmp_path / "cache")
+    assert rerun.complete(REQUESTS[4]).text == first.text and rerun.inner.loaded is None
+    rerun.complete(REQUESTS[3])
+    assert rerun.inner.loaded is not None  # the first miss loads them
 
 
 def test_the_parser_under_xgrammar_answers_only_the_scene_s_objects_and_cues_the_pipeline_takes(weights):

@@ -38,10 +38,40 @@ def build_chat(settings: ModelSettings, entry: str, cache_folder: str | Path) ->
 
         inner = EndpointChat(settings, entry)
     else:
-        from .local import LocalChat  # transformers and xgrammar load only for local weights
-
-        inner = LocalChat(settings, entry)
+        inner = _LocalOnFirstMiss(settings, entry)
     tag = f"image_side={settings.image_side} max_new_tokens={settings.max_new_tokens}"
     if settings.weights is not None:
         tag += f" device={settings.device} dtype={settings.dtype}"  # a local model's numerics
     return CachedChat(inner, cache_folder, tag=tag)
+
+
+class _LocalOnFirstMiss:
+    """Local weights loaded on the first request the cache cannot answer, so that a rerun answered
+    wholly from the cache never loads the model (tens of seconds per job for a real one).
+
+    Attributes:
+        identity: the weights folder (absolute), known without loading: the cache key needs it.
+        loaded: the :class:`~.local.LocalChat` once built, else None.
+    """
+
+    def __init__(self, settings: ModelSettings, entry: str):
+        from ..weights import torch_device_dtype
+        from .local import qwen_folder
+
+        self.settings, self.entry = settings, entry
+        self.identity = str(qwen_folder(settings.weights, entry))  # the folder's faults, now
+        torch_device_dtype(entry, settings)  # and the device's (a CUDA device on a machine without one)
+        self.loaded = None
+
+    def _chat(self):
+        if self.loaded is None:
+            from .local import LocalChat  # transformers and xgrammar load only for local weights
+
+            self.loaded = LocalChat(self.settings, self.entry)
+        return self.loaded
+
+    def complete(self, request):
+        return self._chat().complete(request)
+
+    def complete_many(self, requests):
+        return self._chat().complete_many(requests)

@@ -76,7 +76,7 @@ class LocalChat:
     def __init__(self, settings: ModelSettings, entry_name: str = "mllm"):
         self.settings = settings
         self.entry = entry_name
-        self.root = _qwen_folder(settings.weights, entry_name)
+        self.root = qwen_folder(settings.weights, entry_name)
         self.identity = str(self.root)
         self.device, dtype = torch_device_dtype(entry_name, settings)
         self.tokenizer, self.image_processor, self.model = _load(self.root, dtype)
@@ -252,7 +252,7 @@ class _MaskTokens:
         return scores
 
 
-def _qwen_folder(weights: str | None, entry: str) -> Path:
+def qwen_folder(weights: str | None, entry: str) -> Path:
     """The entry's weights folder, checked for a Qwen-VL ``config.json`` and a weights file."""
     if weights is None:
         raise InputError(f"models config entry {entry!r} needs weights (a local Qwen3-VL or Qwen2.5-VL folder) or an endpoint")
