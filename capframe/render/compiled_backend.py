@@ -72,6 +72,12 @@ _DE_BRUIJN_BIT = np.array(
 
 
 @njit(cache=True, inline="always")
+def _footprint(table, g):
+    """Row ``g`` of the compositing table: mean x, mean y, a/2, b, c/2, log(opacity)."""
+    return table[g, 0], table[g, 1], table[g, 2], table[g, 3], table[g, 4], table[g, 5]
+
+
+@njit(cache=True, inline="always")
 def _lowest_bit(bits):
     """Index of the lowest set bit of ``bits`` (nonzero, below ``2**32``)."""
     return _DE_BRUIJN_BIT[(((bits & -bits) * _DE_BRUIJN) & 0xFFFFFFFF) >> 27]
@@ -335,15 +341,8 @@ def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x
             remaining = count
             for pair in range(start, end):
                 g = tile_gaussian[pair]
-                mx, my, half_a, b, half_c, log_opacity, threshold = (
-                    table[g, 0],
-                    table[g, 1],
-                    table[g, 2],
-                    table[g, 3],
-                    table[g, 4],
-                    table[g, 5],
-                    table[g, 6],
-                )
+                mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
+                threshold = table[g, 6]
                 for ch in range(channels):
                     values[ch] = table[g, _COLUMNS + ch]
                 for p in range(count):  # branch-free, vectorised: most pixels fail the cut-offs
@@ -418,14 +417,7 @@ def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size
             done[:count] = 0.0
             for pair in range(start, end):
                 g = tile_gaussian[pair]
-                mx, my, half_a, b, half_c, log_opacity = (
-                    table[g, 0],
-                    table[g, 1],
-                    table[g, 2],
-                    table[g, 3],
-                    table[g, 4],
-                    table[g, 5],
-                )
+                mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
                 g_mx, g_my, g_a, g_b, g_c, g_q = ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0)
                 for word in range(words):
                     bits = np.int64(masks[pair, word])
