@@ -1016,12 +1016,32 @@ def main(argv: list[str] | None = None) -> int:
     except ModelError as err:
         print(f"capframe: model error: {err}", file=sys.stderr)
         return 3
+    except Exception as err:
+        if not _interrupted(err):
+            raise
+        return _report_interrupt()
     except KeyboardInterrupt:
-        # Every output is written atomically, so nothing partial is left to mention; the shell's
-        # convention for a SIGINT exit is 128 + 2.
-        print("capframe: interrupted; nothing was written for this command", file=sys.stderr)
-        return 130
+        return _report_interrupt()
     return 0
+
+
+def _interrupted(err: BaseException | None) -> bool:
+    """Whether ``err`` comes from a Ctrl-C: compiled code turns a KeyboardInterrupt raised inside
+    it (numba's dispatcher while it compiles or loads a kernel) into a SystemError caused by it."""
+    seen = set()
+    while err is not None and id(err) not in seen:
+        if isinstance(err, KeyboardInterrupt):
+            return True
+        seen.add(id(err))
+        err = err.__cause__ or err.__context__
+    return False
+
+
+def _report_interrupt() -> int:
+    # Every output is written atomically, so nothing partial is left to mention; the shell's
+    # convention for a SIGINT exit is 128 + 2.
+    print("capframe: interrupted; nothing was written for this command", file=sys.stderr)
+    return 130
 
 
 if __name__ == "__main__":

@@ -62,3 +62,30 @@ def test_malformed_ply_is_a_one_line_error(tmp_path, capsys):
     code = main(["render", str(tmp_path / "bad.ply"), "--camera", str(tmp_path / "camera.json"), "-o", str(tmp_path / "out.png")])
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and "bad.ply" in err
+
+
+def test_an_interrupt_inside_compiled_code_exits_as_an_interrupt(tmp_path, capsys, monkeypatch):
+    """Ctrl-C while numba compiles or loads a kernel reaches Python as a SystemError caused by the
+    KeyboardInterrupt: the command still ends as interrupted (status 130, one line), while any
+    other error still propagates."""
+    import pytest
+
+    import capframe.cli as cli
+
+    def compiled_code_interrupted(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as interrupt:
+            raise SystemError("CPUDispatcher(...) returned a result with an exception set") from interrupt
+
+    argv = ["compare", str(tmp_path / "a.csv"), "-o", str(tmp_path / "out.csv")]
+    monkeypatch.setattr(cli, "_cmd_compare", compiled_code_interrupted)
+    assert main(argv) == 130
+    assert capsys.readouterr().err.strip() == "capframe: interrupted; nothing was written for this command"
+
+    def broken(args):
+        raise SystemError("a real fault")
+
+    monkeypatch.setattr(cli, "_cmd_compare", broken)
+    with pytest.raises(SystemError, match="a real fault"):
+        main(argv)
