@@ -12,21 +12,10 @@ from __future__ import annotations
 import numpy as np
 import torch
 
-from ..errors import InputError
 from ..render import PreparedGaussians, prepare, render
+from ..render.image import read_rgb
 from ..scene import Camera
 from .protocols import BackendContext
-
-
-def _read_image(path: str) -> np.ndarray:
-    """(H, W, 3) uint8 RGB of the image file at ``path``."""
-    from PIL import Image, UnidentifiedImageError
-
-    try:
-        with Image.open(path) as image:
-            return np.asarray(image.convert("RGB"))
-    except (OSError, UnidentifiedImageError) as err:
-        raise InputError(f"cannot read the training image ({err})", source=path) from None
 
 
 def _prepared(context: BackendContext) -> PreparedGaussians:
@@ -41,7 +30,7 @@ def view_image(context: BackendContext, view: int) -> np.ndarray:
     def make() -> np.ndarray:
         camera = context.scene.cameras[view]
         if camera.image_path is not None:
-            return _read_image(camera.image_path)
+            return read_rgb(camera.image_path, "training image")
         with torch.no_grad():
             rgb = render(_prepared(context), camera).rgb
         return (rgb.clamp(0.0, 1.0).cpu().numpy() * 255.0 + 0.5).astype(np.uint8)

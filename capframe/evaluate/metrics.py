@@ -25,6 +25,7 @@ import numpy as np
 import pandas as pd
 
 from ..errors import InputError
+from ..render.image import read_rgb
 from ..scene._io import atomic_write, read_json
 
 # Column -> (models config entry, image-text backend whose convention the score follows).
@@ -42,13 +43,7 @@ def configured_metrics(models) -> list[str]:
 
 def read_render(path: Path) -> np.ndarray:
     """(H, W, 3) uint8 pixels of a result's ``render.png``; :class:`InputError` naming it otherwise."""
-    from PIL import Image, UnidentifiedImageError
-
-    try:
-        with Image.open(path) as image:
-            return np.asarray(image.convert("RGB"))
-    except (OSError, UnidentifiedImageError) as err:
-        raise InputError(f"cannot read the render ({err})", source=str(path)) from None
+    return read_rgb(path, "render")
 
 
 def pair_scores(model, images: list[np.ndarray], texts: list[str]) -> np.ndarray:
@@ -62,12 +57,19 @@ def pair_scores(model, images: list[np.ndarray], texts: list[str]) -> np.ndarray
     return scores[np.arange(len(texts)), [distinct.index(t) for t in texts]].astype(np.float64)
 
 
+def parse_pair(spec: str, what: str, form: str, example: str) -> tuple[str, str]:
+    """A command-line ``KEY=VALUE`` (``form`` names the two, e.g. ``NAME=DIR``) as the stripped
+    (key, value); :class:`InputError` naming the spec as ``what`` otherwise."""
+    key, sep, value = spec.partition("=")
+    if not sep or not key.strip() or not value.strip():
+        raise InputError(f"{what} {spec!r}: expected {form}, e.g. {example}")
+    return key.strip(), value.strip()
+
+
 def parse_method_spec(spec: str) -> tuple[str, Path]:
     """``NAME=DIR`` as (method, folder holding ``<id>/render.png``)."""
-    name, sep, folder = spec.partition("=")
-    if not sep or not name.strip() or not folder.strip():
-        raise InputError(f"method {spec!r}: expected NAME=DIR, e.g. capframe=results/refine/capframe/<scene>")
-    return name.strip(), Path(folder.strip())
+    name, folder = parse_pair(spec, "method", "NAME=DIR", "capframe=results/refine/capframe/<scene>")
+    return name, Path(folder)
 
 
 def instruction_texts(constraints: str | Path) -> dict[str, str]:

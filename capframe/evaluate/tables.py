@@ -37,7 +37,7 @@ from ..errors import InputError
 from ..scene._io import IMAGE_SUFFIXES, atomic_write, read_json
 from ..scene.ply import _parse_header
 from .ground_truth import read_ground_truth
-from .metrics import METRIC_HINT, METRIC_NAMES, METRICS, read_metrics
+from .metrics import METRIC_HINT, METRIC_NAMES, METRICS, parse_pair, read_metrics
 
 DEFAULT_METHOD = "capframe"
 
@@ -120,10 +120,8 @@ def variant_label(name: str) -> tuple[str, str]:
 
 def parse_variant_spec(spec: str) -> tuple[str, Path]:
     """``NAME=DIR`` as (name, folder); :class:`InputError` naming the spec otherwise."""
-    name, sep, folder = spec.partition("=")
-    if not sep or not name.strip() or not folder.strip():
-        raise InputError(f"variant {spec!r}: expected NAME=DIR, e.g. top3=results/refine/capframe-top3")
-    return name.strip(), Path(folder.strip())
+    name, folder = parse_pair(spec, "variant", "NAME=DIR", "top3=results/refine/capframe-top3")
+    return name, Path(folder)
 
 
 def result_folders(root: str | Path, what: str) -> dict[tuple[str, str], Path]:
@@ -282,10 +280,7 @@ ALL_GROUPS = "all"
 
 def parse_group_spec(spec: str) -> tuple[str, str]:
     """``SCENE=GROUP`` as (scene, group); :class:`InputError` naming the spec otherwise."""
-    scene, sep, group = spec.partition("=")
-    if not sep or not scene.strip() or not group.strip():
-        raise InputError(f"group {spec!r}: expected SCENE=GROUP, e.g. m360-garden=mipnerf360")
-    return scene.strip(), group.strip()
+    return parse_pair(spec, "group", "SCENE=GROUP", "m360-garden=mipnerf360")
 
 
 def group_table(tables: list[str | Path], groups: dict[str, str], metrics: pd.DataFrame | None = None) -> pd.DataFrame:

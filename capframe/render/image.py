@@ -1,4 +1,4 @@
-"""Writing rendered images."""
+"""Reading and writing images."""
 
 from __future__ import annotations
 
@@ -9,7 +9,20 @@ import numpy as np
 import torch
 from PIL import Image
 
+from ..errors import InputError
 from ..scene._io import atomic_write
+
+
+def read_rgb(path: str | Path, what: str) -> np.ndarray:
+    """(H, W, 3) uint8 RGB of the image file at ``path``; :class:`InputError` naming it and
+    ``what`` it was expected to be otherwise."""
+    from PIL import UnidentifiedImageError
+
+    try:
+        with Image.open(path) as image:
+            return np.asarray(image.convert("RGB"))
+    except (OSError, UnidentifiedImageError) as err:
+        raise InputError(f"cannot read the {what} ({err})", source=str(path)) from None
 
 
 def to_uint8(image: torch.Tensor) -> np.ndarray:
