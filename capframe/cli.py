@@ -934,8 +934,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2, heldout3) or a suite "
-        "file; a suite with hand-written specs (heldout, heldout2, heldout3) prints full success and failures per kind",
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout4) or a suite "
+        "file; a suite with hand-written specs (the heldout sets) prints full success and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
