@@ -46,6 +46,7 @@ def run_bench(
     reference: str | None = None,
     points: str | None = None,
     sizes: str | None = None,
+    parse_only: bool = False,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
@@ -58,6 +59,8 @@ def run_bench(
         raise InputError("--photos, --reference and --points apply to bench colmap only")
     if sizes is not None and what != "scale":
         raise InputError("--sizes applies to bench scale only")
+    if parse_only and what != "ground":
+        raise InputError("--parse-only applies to bench ground only")
     if what in ("refine", "ground", "segment", "colmap", "scale"):
         OUTPUTS["into"].check(RESULTS)
     if what == "render":
@@ -73,6 +76,10 @@ def run_bench(
                 f"bench refine needs generated instructions (oracle labels); {path.name} commits its own", source=str(path)
             )
         figures = bench_refine(path)
+    elif what == "ground" and parse_only:
+        from .parse_only import bench_parse_only
+
+        figures = bench_parse_only(path)
     elif what == "ground":
         from ..synth.heldout import has_committed_instructions
 
@@ -116,6 +123,10 @@ def run_bench(
         from .scale import format_scale
 
         print(format_scale(figures))
+    elif "median_parse_ms" in figures:
+        from .parse_only import format_parse_summary
+
+        print(format_parse_summary(figures))
     elif "per_kind" in figures:
         from .heldout import format_summary
 
