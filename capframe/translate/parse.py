@@ -113,6 +113,7 @@ from .vocabulary import (
     ATTRIBUTES,
     DEGREE_SCALE,
     DETERMINERS,
+    FILLER_WORDS,
     HEAD_ON_WORDS,
     HEIGHT_ANCHORS,
     PLENTY_WORDS,
@@ -1226,6 +1227,8 @@ class RuleParser:
         i = 0
         while i < len(tokens):
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
+            if n == 1 and _height_anchor(tokens, i):
+                n = 0
             read = tokens[i : i + n]
             misspelt = self._misspelt(keys, i, n, longest + 1, vocabulary)
             if misspelt is not None:
@@ -1334,10 +1337,19 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
     return [span]
 
 
+def _height_anchor(tokens: list[str], i: int) -> bool:
+    """Whether ``tokens[i]`` names a height rather than an object: a surface or body word
+    before "height"/"level" ("at table height" in a scene with a coffee table called "table")."""
+    return tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")
+
+
 def _never_a_name(text: str) -> bool:
     """Whether ``text`` holds only position, degree, part, surroundings and generic words, with
     attributes ("back", "left side", "a bit", "the backrest", "the room", "that small thing"):
-    never a subject. An attribute alone ("the red") is not such a run."""
+    never a subject; nor is filler alone ("a nice": :data:`~capframe.translate.vocabulary.FILLER_WORDS`).
+    An attribute alone ("the red") is not such a run."""
+    if all(w in FILLER_WORDS for w in text.split()):
+        return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
     never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
     return bool(content) and all(w in never for w in content)

@@ -212,7 +212,7 @@ FILLER_WORDS = frozenset(
     classic decent proper quick some one
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give
-    too well visible included inside""".split()
+    too well visible included inside until while when because""".split()
 )
 
 
@@ -366,7 +366,7 @@ NAME_SYNONYMS = (
     ("television", "tv", "telly", "tv set", "television set", "telie"),
     ("sofa", "couch", "settee", "loveseat", "divan"),
     ("refrigerator", "fridge", "icebox", "fridge freezer"),
-    ("teddy bear", "teddy", "teddybear", "stuffed bear", "plush bear", "soft toy"),
+    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy"),
     ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot"),
     ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand"),
     ("toy car", "car", "model car", "matchbox car", "toy vehicle"),
@@ -537,7 +537,7 @@ class Vocabulary:
             owners = {e.name for e in self.entries for f in found if f in e.forms or any(g[-1:] == f for g in e.forms)}
             # Several forms of one object ("arm chair", "armchair") are one reading: the closest.
             best = min(found, key=lambda f: (edit_distance(text, " ".join(f), 3), f), default=None)
-            self._corrections[text] = best if len(owners) == 1 else None
+            self._corrections[text] = best if len(found) == 1 or len(owners) == 1 else None
         return self._corrections[text]
 
     def _targets(self) -> frozenset[tuple[str, ...]]:
@@ -564,14 +564,17 @@ class Vocabulary:
         return sorted(self._by_forms(tokens) or self._by_parts(tokens))
 
     def closest(self, mention: str, n: int = 3) -> list[str]:
-        """Up to ``n`` object names whose names or aliases look most like ``mention``."""
+        """Up to ``n`` object names whose names or aliases look most like ``mention`` (and
+        about as much as the closest one)."""
         text = " ".join(key(mention))
         scored: dict[str, float] = {}
         for e in self.entries:
             for form in e.forms:
                 ratio = difflib.SequenceMatcher(None, text, " ".join(form)).ratio()
                 scored[e.name] = max(scored.get(e.name, 0.0), ratio)
-        return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= 0.5][:n]
+        best = max(scored.values(), default=0.0)
+        # Names about as close as the best one: "tedy" names the teddy bear, not also the telly.
+        return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= max(0.5, best - 0.15)][:n]
 
     def _compatible(self, entry: VocabularyEntry, tokens: tuple[str, ...]) -> bool:
         """False when the mention asks for a colour the object's names contradict."""
