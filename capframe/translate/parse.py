@@ -416,7 +416,8 @@ VIEW_PHRASES = {
         SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         CAMERA + " behind {obj}",
-        "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle) (a?round |over )?behind( {obj})?",
+        "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
+        " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
         "(?<=^ )({STRONG} |right )?behind {obj}",
@@ -1091,7 +1092,9 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for region, areas in REGION_AREAS.items():
         template = f"{REGION_LEAD}{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
-        template = f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        template = (
+            f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        )
         rows.append(("region", region, template, False))
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").

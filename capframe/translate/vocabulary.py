@@ -503,7 +503,9 @@ class Vocabulary:
         synonyms = _synonym_forms([forms for _, forms in entries])
         return cls(
             [
-                VocabularyEntry(o.name, bool(o.symmetric), tuple(o.aliases), tuple(sorted(forms | extra, key=lambda f: (-len(f), f))))
+                VocabularyEntry(
+                    o.name, bool(o.symmetric), tuple(o.aliases), tuple(sorted(forms | extra, key=lambda f: (-len(f), f)))
+                )
                 for (o, forms), extra in zip(entries, synonyms)
             ]
         )
@@ -627,15 +629,20 @@ MIN_TWO_EDIT_LETTERS = 8
 # "sfoa", "lmap" are none), where a substitution often does; three letters are too few ("arc"
 # is "car" swapped).
 MIN_TRANSPOSED_LETTERS = 4
+# A letter typed twice is a slip of the finger, not another word, even in a three-letter name.
+MIN_DOUBLED_LETTERS = 3
 
 
 def _near(said: str, name: str) -> bool:
     """Whether ``said`` is read as ``name``: one edit from a name of :data:`MIN_CORRECTED_LETTERS`
-    letters or more; one swap or one doubled (or undoubled) letter from one of
-    :data:`MIN_TRANSPOSED_LETTERS` ("bera", "sofaa", "bal" is not one: "ball" has four); two
-    edits keeping the first letter from one of :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
+    letters or more; one swap or one letter written once where the name has it twice from one of
+    :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"); one letter doubled from one of
+    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); two edits keeping the first letter from one of
+    :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
     letters = len(name.replace(" ", ""))
-    if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(said, name) or doubled(name, said)):
+    if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
+        return True
+    if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(name, said)):
         return True
     if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
         return True
