@@ -112,6 +112,10 @@ NUMBERS = [
     # The horizon (the picture) turning one way is the camera rolled the other (DESIGN §3).
     ("rotate the picture 4 degrees counterclockwise, sofa centred", want(s(SOFA, region="center"), roll=4.0)),
     ("the bench, horizon dead level", want(s(BENCH), roll=0.0)),
+    ("the table, looking down on it at roughly 40 degrees", want(s(TABLE), elevation_deg=40.0)),
+    ("the fridge's right flank", want(s(FRIDGE, view="right"))),
+    ("a profile of the chair from its left", want(s(CHAIR, view="left"))),
+    ("tv, front three-quarters from the right", want(s(TV, view="front-right"))),
 ]
 
 

@@ -392,7 +392,8 @@ VIEW_FRAMES = [
     "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
-    NOT_A_RELATION + "{P} {SIDE}( side| profile)?" + NOT_TURNED_AWAY,
+    # "its left flank", "the bench's right end": a side's part names that side.
+    NOT_A_RELATION + "{P} {SIDE}( side| profile| flank| end| hand end| arm)?" + NOT_TURNED_AWAY,
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
@@ -424,9 +425,9 @@ VIEW_PHRASES = {
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "side": ["in profile", "(seen )?side on", "from (either|one|a) side"],
+    "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
     "three-quarter": [
-        "(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
+        "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
@@ -626,6 +627,7 @@ ELEVATION_HINTS = {
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(floor|ground|grass|lawn)(?! (level|height) )",
+        "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
@@ -646,7 +648,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( at {obj})? (at|from|by) (an angle of )?{d}",
+        "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)",
         "elevated (by )?{d}",
