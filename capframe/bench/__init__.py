@@ -4,7 +4,8 @@ JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``gro
 ``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``); ``scale``
 takes ``--sizes`` (counts of Gaussians, e.g. ``0.3M,1M,3M``);
 ``ground`` on a suite whose instructions are committed (hand-written specs: the held-out sets) is
-:mod:`capframe.bench.heldout`. The benchmarks that run the method write under ``results/bench``
+:mod:`capframe.bench.heldout`; ``ground --parse-only`` parses a suite's instructions without
+placing any camera (:mod:`capframe.bench.parse_only`). The benchmarks that run the method write under ``results/bench``
 (checked before any work, as every verb's outputs are); figures not measured are null in the JSON."""
 
 from __future__ import annotations
@@ -51,7 +52,8 @@ def run_bench(
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
     image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder;
-    ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``."""
+    ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``;
+    ``parse_only`` turns ``ground`` into the parse-only check."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)

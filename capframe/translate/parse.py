@@ -97,7 +97,17 @@ Mappings that are choices (the phrase tables are the full list):
   magnitude); "rolled 10 degrees" without a direction is clockwise; "tilted" is a roll only with
   a direction or a side ("tilted 10 degrees to the left"): "tilted up/down" is a pitch, read as a
   low/high-angle hint. The *horizon* or picture rotated clockwise means the camera rolled
-  counter-clockwise (negative). "Level", "straight horizon" -> 0.
+  counter-clockwise (negative). "Level", "straight horizon" -> 0. Number, direction and noun come
+  in any order ("8 degree counter-clockwise roll", "dutch angle 10", "roll 5 degrees CCW");
+* word families are tables of :mod:`capframe.translate.vocabulary`, each used wherever it fits:
+  the degree scale (``DEGREE_SCALE``: "a touch high", "looking down a bit", "a hair to its right",
+  "way up", "square on"), height anchors (``HEIGHT_ANCHORS``: "chest height" is eye level, "knee
+  height" a low angle), size words and idioms (``SIZE_WORDS``, ``SIZE_IDIOMS``, ``PLENTY_WORDS``:
+  "punch in", "head to toe", "X and all", "loads of room around it", "the cup small, ..."), the
+  three-quarter diagonal in any order ("3/4 front-left", "three quarter rear right"), an explicit
+  azimuth ("45 degrees round to its right": the side nearest it), a region straight after its
+  subject ("bench left third, tree right third") and "the whole group" (every object joins as a
+  secondary subject).
 """
 
 from __future__ import annotations
