@@ -115,6 +115,9 @@ NUMBERS = [
     ("the table, looking down on it at roughly 40 degrees", want(s(TABLE), elevation_deg=40.0)),
     ("the fridge's right flank", want(s(FRIDGE, view="right"))),
     ("a profile of the chair from its left", want(s(CHAIR, view="left"))),
+    ("camera rolled a touch clockwise on the bear", want(s(BEAR), roll=10.0)),
+    ("the mug with a 10 degree roll to the left", want(s(MUG), roll=-10.0)),
+    ("the horizon tilted anti-clockwise 8 degrees, tv centred", want(s(TV, region="center"), roll=8.0)),
     ("tv, front three-quarters from the right", want(s(TV, view="front-right"))),
 ]
 
@@ -172,6 +175,8 @@ SIZES = [
     ("the sofa with heaps of floor around it", want(s(SOFA, shot="wide"))),
     ("the mug tiny in the lower half", want(s(MUG, region="bottom", shot="wide"))),
     ("pull out from the tree", want(s(TREE, shot="wide"))),
+    ("the whole fridge, nothing cropped", want(s(FRIDGE, shot="medium"))),
+    ("tv, get back from it", want(s(TV, shot="wide"))),
 ]
 
 
@@ -193,6 +198,11 @@ REGIONS = [
     ("fridge tucked into the lower right corner", want(s(FRIDGE, region="lower right"))),
     ("sofa taking up the left half", want(s(SOFA, region="left"))),
     ("the bench way over on the right side", want(s(BENCH, region="right"))),
+    (
+        "bear top left, cup bottom right, tree centre",
+        want(s(BEAR, region="upper left"), s(MUG, region="lower right"), s(TREE, region="center")),
+    ),
+    ("the chair in the lower third", want(s(CHAIR, region="bottom"))),
 ]
 
 

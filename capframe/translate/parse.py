@@ -126,6 +126,7 @@ from .vocabulary import (
     FILLER_WORDS,
     HEAD_ON_WORDS,
     HEIGHT_ANCHORS,
+    NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
     SIZE_IDIOMS,
@@ -300,8 +301,30 @@ REGION_AREAS = {
     "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
     "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
-    "top": ["top", "top half", "upper half", "upper part", "top part", "top edge", "upper side", "top side"],
-    "bottom": ["bottom", "bottom half", "lower half", "lower part", "bottom part", "bottom edge", "lower side", "bottom side"],
+    "top": [
+        "top",
+        "top half",
+        "upper half",
+        "upper part",
+        "top part",
+        "top edge",
+        "upper side",
+        "top side",
+        "top third",
+        "upper third",
+    ],
+    "bottom": [
+        "bottom",
+        "bottom half",
+        "lower half",
+        "lower part",
+        "bottom part",
+        "bottom edge",
+        "lower side",
+        "bottom side",
+        "bottom third",
+        "lower third",
+    ],
     "left third": ["left third", "leftmost third", "first third", "left third line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right third line", "right hand third"],
@@ -694,13 +717,15 @@ ROLL_PHRASES = {
         # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
         # 10", "roll 5 degrees CCW").
         "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
+        "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
         "(roll|cant|rotate|rotated|rotating|turn|turned)( the camera)? (by )?{d} {dir}",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
-        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}( by {d})?",
+        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
@@ -1046,6 +1071,7 @@ _MACROS = {
     "{ANCHOR_EYE}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["eye level"], key=len, reverse=True)) + ")",
     "{ANCHOR_LOW}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["low angle"], key=len, reverse=True)) + ")",
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
+    "{WEAKROLL}": "(?P<weak>" + "|".join(sorted(DEGREE_SCALE["slight"], key=len, reverse=True)) + ")",
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     # Pointing the camera ("shoot up at", "aimed down").
@@ -1110,7 +1136,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("region", region, template, False))
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").
-        named = [a for a in areas if " " in a and a.split()[-1] not in ("side", "hand", "edge", "part")]
+        named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
         if named:
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
@@ -1365,6 +1391,8 @@ def _never_a_name(text: str) -> bool:
     An attribute alone ("the red") is not such a run."""
     if all(w in FILLER_WORDS for w in text.split()):
         return True
+    if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
+        return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
     never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
     return bool(content) and all(w in never for w in content)
@@ -1426,7 +1454,8 @@ def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
     sign = -1.0 if groups.get("dir") == "counterclockwise" or groups.get("side") == "left" else 1.0
     if groups.get("d") is not None:
         return multiplier * sign * float(groups["d"]), False
-    return multiplier * sign * DUTCH_SIZE_DEG.get(groups.get("mod") or "", DUTCH_DEFAULT_DEG), True
+    size = "slight" if groups.get("weak") else groups.get("mod") or ""  # "rolled a touch clockwise"
+    return multiplier * sign * DUTCH_SIZE_DEG.get(size, DUTCH_DEFAULT_DEG), True
 
 
 def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocabulary: Vocabulary) -> list[ParsedSubject]:

@@ -340,6 +340,9 @@ SIZE_IDIOMS = {
         "the entire thing",
         "uncropped",
         "nothing cut off",
+        "nothing cropped",
+        "not cropped",
+        "without cropping",
     ),
     "wide": (
         "pull back",
@@ -349,6 +352,7 @@ SIZE_IDIOMS = {
         "back away",
         "stand back",
         "stay back",
+        "get back",
         "step back",
         "step away",
         "zoom out",
