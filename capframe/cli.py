@@ -446,10 +446,10 @@ def _cmd_ground(args: argparse.Namespace) -> None:
 
     result = ground(args.scene, args.instruction, args.output, _ground_options(args), progress=not args.json)
     if args.json:
-        keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "instruction")
+        keys = ("T_cw", "K", "width", "height", "init_view", "timings", "report", "understood", "verdict", "instruction")
         print(json_text({k: result[k] for k in keys}, "the result", indent=None))
     else:
-        print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s")
+        print(f"{args.output}: camera from {result['init_view']}, {result['timings']['total_s']:.1f} s; {result['verdict']}")
 
 
 def _cmd_baseline(args: argparse.Namespace) -> None:
@@ -488,6 +488,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         reference=args.reference,
         points=args.points,
         sizes=args.sizes,
+        parse_only=args.parse_only,
     )
 
 
@@ -938,6 +939,12 @@ def build_parser() -> argparse.ArgumentParser:
         "file; a suite with hand-written specs (the heldout sets) prints full success and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
+    p.add_argument(
+        "--parse-only",
+        action="store_true",
+        help="ground: parse every instruction of the suite and print where the parse differs from its meaning "
+        "(no scene generation for committed instructions; seconds)",
+    )
     p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
     p.add_argument(
         "--models", default=None, help="segment: the models config of the segmenter's weights; models: also time its encoders"

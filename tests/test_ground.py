@@ -128,7 +128,7 @@ def test_bad_instructions_fail_with_one_line_and_write_nothing(scene_dir, tmp_pa
 
 
 def test_unknown_subject_names_the_closest_known(scene_dir, tmp_path, capsys):
-    assert main(["ground", str(scene_dir), "the teddy bare on the left", "-o", str(tmp_path / "o")]) == 2
+    assert main(["ground", str(scene_dir), "the tetti bar on the left", "-o", str(tmp_path / "o")]) == 2
     assert "teddy bear" in capsys.readouterr().err
 
 

@@ -6,6 +6,7 @@ instruction and field; the judge's range rows and the clearance verdicts on a ti
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -243,3 +244,43 @@ def test_clearance_in_a_room_walls_ceiling_and_objects():
     assert clearance(truth, walls, np.array([0.0, 0.0, 3.0])) == ["above the walls (a real room's ceiling)"]
     assert clearance(truth, walls, np.array([1.0, 0.0, -0.1])) == ["below the support"]
     assert clearance(truth, walls, np.array([1.1, 0.1, 0.6])) == ["inside sofa"]
+
+
+def test_bench_counts_partly_understood_apart_from_reported_infeasible():
+    from capframe.bench.heldout import Outcome, format_summary, summarise
+
+    partly = Outcome(_spec(), "ok", own_all_satisfied=True, not_understood=["tail lights"], satisfied=1, applicable=1)
+    full = Outcome(_spec(id="y"), "ok", own_all_satisfied=True, satisfied=1, applicable=1)
+    wall = Outcome(
+        _spec(id="z", feasible=False, reason="occluded by wall"), "failed", own_all_satisfied=True, not_understood=["glow"]
+    )
+    f = summarise([partly, full, wall])
+    assert (f["partly_understood"], f["partly_understood_feasible"]) == (2, 1)
+    # Partly understood is not a report of infeasibility: the wall case claims success.
+    assert f["infeasible_reported"] == 0 and f["infeasible_claimed_satisfied"] == 1
+    assert not partly.reported_infeasible and partly.success
+    assert "partly understood              2 instructions (1 feasible)" in format_summary(f)
+
+
+def test_parse_only_bench_keeps_the_first_held_out_sets_parses(capsys):
+    """The parse-only check on committed suites: no scene generated, every feasible parse of the
+    first two held-out sets agrees with its spec, unknown subjects are refused, and parsing stays
+    far below a millisecond per instruction (median, on a loaded machine)."""
+    from capframe.bench.parse_only import bench_parse_only, format_parse_summary
+
+    for name in ("heldout", "heldout2"):
+        f = bench_parse_only(SUITES / f"{name}.yaml")
+        assert f["parse_differs_feasible"] == 0 and f["refused_feasible"] == 0, f
+        assert f["unknown_subject_refused"] == f["unknown_subject"] > 0
+        assert f["median_parse_ms"] < 5.0
+        assert f"suite {name}: {f['instructions']} instructions parsed" in format_parse_summary(f)
+
+
+def test_parse_only_is_a_ground_option(capsys):
+    from capframe.cli import main
+
+    assert main(["bench", "render", "--parse-only"]) == 2
+    assert "--parse-only applies to bench ground only" in capsys.readouterr().err
+    assert main(["bench", "ground", "--suite", "heldout", "--parse-only", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["suite"] == "heldout" and out["parse_differs_feasible"] == 0

@@ -180,9 +180,9 @@ def test_a_synonym_the_model_reads_is_reported_and_an_unknown_subject_names_the_
     parsed = MLLMParser(ScriptedChat(answers)).parse("a close-up of the stuffed animal on the left", SCENE)
     assert parsed.subjects[0].name == "teddy bear"
     assert parsed.corrected == [{"said": "stuffed animal", "read": "teddy bear"}]
-    answers["subjects"] = {"subjects": [{"name": UNKNOWN, "mention": "the teddy baer"}]}
-    with pytest.raises(InputError, match=r"subject 'the teddy baer' is not in this scene; closest: \['teddy bear'\]"):
-        MLLMParser(ScriptedChat(answers)).parse("the teddy baer", SCENE)
+    answers["subjects"] = {"subjects": [{"name": UNKNOWN, "mention": "the teddi baer"}]}
+    with pytest.raises(InputError, match=r"subject 'the teddi baer' is not in this scene; closest: \['teddy bear'\]"):
+        MLLMParser(ScriptedChat(answers)).parse("the teddi baer", SCENE)
 
 
 def test_the_subject_schema_lists_exactly_the_scene_s_names_or_is_free_without_any():

@@ -322,7 +322,7 @@ def test_words_normalise_spelling_numbers_and_hyphens():
         ("A photo of the giraffe on the left.", r"subject 'giraffe' is not in this scene; known: \["),
         ("The bear on the left and the giraffe on the right.", r"subject 'giraffe' is not in this scene"),
         ("The bear and the giraffe.", r"subject 'giraffe' is not in this scene"),
-        ("A close-up of the teddx.", r"subject 'teddx' is not in this scene; closest: \['teddy bear'\]"),
+        ("A close-up of the tedxx.", r"subject 'tedxx' is not in this scene; closest: \['teddy bear'\]"),
         (
             "The chair on the left.",
             r"subject 'the chair' is ambiguous in this scene; say which: \['blue armchair', 'red armchair'\]",

@@ -4,7 +4,8 @@ JSON object with ``--json``. ``--suite`` picks the suite of ``refine`` and ``gro
 ``--reference`` and ``--points`` (default: the real capture in ``../shared/data/real``); ``scale``
 takes ``--sizes`` (counts of Gaussians, e.g. ``0.3M,1M,3M``);
 ``ground`` on a suite whose instructions are committed (hand-written specs: the held-out sets) is
-:mod:`capframe.bench.heldout`. The benchmarks that run the method write under ``results/bench``
+:mod:`capframe.bench.heldout`; ``ground --parse-only`` parses a suite's instructions without
+placing any camera (:mod:`capframe.bench.parse_only`). The benchmarks that run the method write under ``results/bench``
 (checked before any work, as every verb's outputs are); figures not measured are null in the JSON."""
 
 from __future__ import annotations
@@ -46,11 +47,13 @@ def run_bench(
     reference: str | None = None,
     points: str | None = None,
     sizes: str | None = None,
+    parse_only: bool = False,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
     image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder;
-    ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``."""
+    ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``;
+    ``parse_only`` turns ``ground`` into the parse-only check."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
@@ -58,6 +61,8 @@ def run_bench(
         raise InputError("--photos, --reference and --points apply to bench colmap only")
     if sizes is not None and what != "scale":
         raise InputError("--sizes applies to bench scale only")
+    if parse_only and what != "ground":
+        raise InputError("--parse-only applies to bench ground only")
     if what in ("refine", "ground", "segment", "colmap", "scale"):
         OUTPUTS["into"].check(RESULTS)
     if what == "render":
@@ -73,6 +78,10 @@ def run_bench(
                 f"bench refine needs generated instructions (oracle labels); {path.name} commits its own", source=str(path)
             )
         figures = bench_refine(path)
+    elif what == "ground" and parse_only:
+        from .parse_only import bench_parse_only
+
+        figures = bench_parse_only(path)
     elif what == "ground":
         from ..synth.heldout import has_committed_instructions
 
@@ -116,6 +125,10 @@ def run_bench(
         from .scale import format_scale
 
         print(format_scale(figures))
+    elif "median_parse_ms" in figures:
+        from .parse_only import format_parse_summary
+
+        print(format_parse_summary(figures))
     elif "per_kind" in figures:
         from .heldout import format_summary
 

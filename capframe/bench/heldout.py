@@ -11,7 +11,8 @@ clearance verdict (:func:`capframe.evaluate.spec.clearance`).
 
 Printed: full success on the feasible instructions (every row of the spec satisfied; and the same
 with a camera in free space), how the infeasible ones were handled (refused, reported by a
-failing clause of the method's own report, or claimed satisfied), counts per kind and per failure
+failing clause of the method's own report, or claimed satisfied), how many were only partly
+understood (result.json ``not_understood``), counts per kind and per failure
 reason (refused: unknown subject / parse; error; clause failed: which clause), where the parse
 differs from the spec, and a clearance line. Written under the root (by default
 ``results/bench/<suite name>``): ``ground/<id>/`` (each result folder), ``checks/<id>.json``
@@ -59,6 +60,10 @@ class Outcome:
         own_all_satisfied: the method's own report says every clause holds (None without a camera).
         clearance: why the camera is physically impossible (empty when free or without a camera).
         parse_diffs: fields where the method's parse differs from the spec.
+        not_understood: words the method's parse left out that may ask something (result.json
+            ``not_understood``): the instruction was only partly understood. This does not make
+            it "reported infeasible": the method did not say a clause fails, only that it read
+            part of the request.
         seconds: wall time of ``ground``.
         satisfied, applicable: spec rows satisfied / applicable.
     """
@@ -70,6 +75,7 @@ class Outcome:
     own_all_satisfied: bool | None = None
     clearance: list[str] = field(default_factory=list)
     parse_diffs: list[str] = field(default_factory=list)
+    not_understood: list[str] = field(default_factory=list)
     seconds: float = 0.0
     satisfied: int = 0
     applicable: int = 0
@@ -161,6 +167,7 @@ def judge_result(
         own_all_satisfied=bool(result["report"]["all_satisfied"]),
         clearance=clearance(checker.ground_truth, walls, camera.center),
         parse_diffs=parse_differences(result.get("instruction", {}), spec),
+        not_understood=list(result.get("not_understood", [])),
         seconds=seconds,
         satisfied=sum(bool(r.satisfied) for r in applicable),
         applicable=len(applicable),
@@ -226,7 +233,10 @@ def _line(o: Outcome) -> str:
     else:
         tag = "INF reported" if o.reported_infeasible else "INF NOT reported"
     detail = ", ".join(
-        o.reasons + [f"camera {c}" for c in o.clearance] + ([f"parse: {'/'.join(o.parse_diffs)}"] if o.parse_diffs else [])
+        o.reasons
+        + [f"camera {c}" for c in o.clearance]
+        + ([f"parse: {'/'.join(o.parse_diffs)}"] if o.parse_diffs else [])
+        + ([f"partly understood: not {o.not_understood}"] if o.not_understood else [])
     )
     return f"{o.spec.id}: {tag} {o.status} {o.seconds:.1f} s {detail}  {o.spec.text!r}" + (
         f"  [{o.message}]" if o.message else ""
@@ -264,6 +274,8 @@ def summarise(outcomes: list[Outcome]) -> dict:
         "infeasible_reported": sum(o.reported_infeasible for o in infeasible),
         "infeasible_refused": sum(o.status == "refused" for o in infeasible),
         "infeasible_claimed_satisfied": sum(o.own_all_satisfied is True for o in infeasible),
+        "partly_understood": sum(bool(o.not_understood) for o in outcomes),
+        "partly_understood_feasible": sum(bool(o.not_understood) for o in feasible),
         "per_kind": dict(sorted(per_kind.items())),
         "failure_reasons": dict(Counter(r for o in feasible for r in o.reasons).most_common()),
         "parse_differences": dict(Counter(d for o in feasible for d in o.parse_diffs).most_common()),
@@ -287,6 +299,8 @@ def format_summary(f: dict) -> str:
         f"constraints satisfied          {100.0 * f['constraint_success_rate']:.1f}%",
         f"infeasible reported            {pct(f['infeasible_reported'], f['infeasible'])}"
         f"  (refused {f['infeasible_refused']}, own report claims success {f['infeasible_claimed_satisfied']})",
+        f"partly understood              {f['partly_understood']} instructions ({f['partly_understood_feasible']} feasible): "
+        "words that may ask something were not understood",
         "per kind (feasible ok/n; infeasible reported/n):",
     ]
     for kind, e in f["per_kind"].items():
@@ -319,6 +333,7 @@ def _write_rows(outcomes: list[Outcome], path: Path) -> None:
         "own_all_satisfied",
         "clearance",
         "parse_diffs",
+        "not_understood",
         "satisfied",
         "applicable",
         "seconds",
@@ -333,6 +348,7 @@ def _write_rows(outcomes: list[Outcome], path: Path) -> None:
             writer.writerow(
                 [s.id, s.scene, s.kind, s.feasible, s.reason or "", o.status, o.success, o.free_success, o.reported_infeasible]
                 + ["; ".join(o.reasons), o.own_all_satisfied, "; ".join(o.clearance), "; ".join(o.parse_diffs)]
+                + ["; ".join(o.not_understood)]
                 + [o.satisfied, o.applicable, f"{o.seconds:.2f}", o.message, s.text]
             )
 

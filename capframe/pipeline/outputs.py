@@ -143,9 +143,13 @@ def write_ground_result(
     cameras = refined.cameras
     reports = [own_report(scene, labels, retrieved.parsed, c, occupancy) for c in cameras]
     images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
-    clock.done("report", "own labels: " + ("all clauses hold" if reports[0].all_satisfied else "some clauses fail"))
+    verdict = overall_verdict(reports[0].all_satisfied, retrieved.parsed.not_understood())
+    clock.done("report", "own labels: " + verdict)
     timings = clock.total()
     extra = {
+        "understood": retrieved.parsed.understood,
+        "not_understood": retrieved.parsed.not_understood(),
+        "verdict": verdict,
         "instruction": retrieved.parsed.to_dict(),
         "retrieval": retrieved.retrieval,
         "init_view": refined.runs[0][0].name,
@@ -177,6 +181,16 @@ def write_ground_result(
     if clock.enabled:
         print(format_report(reports[0]), file=sys.stderr)
     return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def overall_verdict(all_satisfied: bool, not_understood: list[str]) -> str:
+    """The one-line verdict on an instruction: whether every parsed clause holds, and never
+    "all clauses hold" when words that may ask something were not understood."""
+    if not all_satisfied:
+        return "some clauses fail"
+    if not_understood:
+        return f"parsed clauses hold, but partly understood: not understood {not_understood}"
+    return "all clauses hold"
 
 
 def feasibility(report: CheckReport, solved: list[Candidate]) -> dict:

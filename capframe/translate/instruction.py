@@ -15,6 +15,7 @@ from dataclasses import asdict, dataclass, field
 from ..constraints import ELEVATIONS, REGIONS, SHOT_SIZES, VIEW_SIDES, Constraints, SubjectConstraint
 from ..errors import InputError, clip
 from .labels import layout_boxes
+from .vocabulary import FILLER_WORDS, PUNCTUATION, words
 
 
 @dataclass
@@ -97,6 +98,18 @@ class ParsedInstruction:
     def __post_init__(self) -> None:
         self.constraints()  # validates the named cues and the elevation pair
 
+    def not_understood(self) -> list[str]:
+        """The ``unparsed`` fragments that may ask something of the camera: those holding a word
+        that is not filler (:data:`~capframe.translate.vocabulary.FILLER_WORDS`, e.g. "please",
+        "nice", "photo of"). Non-empty means the instruction is only partly understood: every
+        clause parsed may hold while a wish in these words is ignored."""
+        return [run for run in self.unparsed if any(w not in FILLER_WORDS for w in words(run) if w not in PUNCTUATION)]
+
+    @property
+    def understood(self) -> str:
+        """``"fully"`` or ``"partly"`` (:meth:`not_understood` is not empty)."""
+        return "partly" if self.not_understood() else "fully"
+
     def constraints(self) -> Constraints:
         """The machine-checkable constraints. A view side asked of a symmetric subject is dropped:
         it has no front to be seen from."""
@@ -118,7 +131,8 @@ class ParsedInstruction:
 
     def to_dict(self) -> dict:
         """JSON-ready form: the fields of :data:`JSON_SCHEMA` plus, per subject, the derived layout
-        targets (``layout``) and view offsets (``view_offsets_deg``)."""
+        targets (``layout``) and view offsets (``view_offsets_deg``), and whether it was
+        ``understood`` fully or partly (with the ``not_understood`` fragments)."""
         data = asdict(self)
         if not self.parser:
             del data["parser"]
@@ -130,6 +144,8 @@ class ParsedInstruction:
                 "azimuth": list(VIEW_SIDES[subject.view]) if subject.view and not subject.symmetric else None
             }
         data["elevation_range_deg"] = _listed(self.constraints().elevation_range())
+        data["understood"] = self.understood
+        data["not_understood"] = self.not_understood()
         return data
 
     @classmethod

@@ -97,7 +97,17 @@ Mappings that are choices (the phrase tables are the full list):
   magnitude); "rolled 10 degrees" without a direction is clockwise; "tilted" is a roll only with
   a direction or a side ("tilted 10 degrees to the left"): "tilted up/down" is a pitch, read as a
   low/high-angle hint. The *horizon* or picture rotated clockwise means the camera rolled
-  counter-clockwise (negative). "Level", "straight horizon" -> 0.
+  counter-clockwise (negative). "Level", "straight horizon" -> 0. Number, direction and noun come
+  in any order ("8 degree counter-clockwise roll", "dutch angle 10", "roll 5 degrees CCW");
+* word families are tables of :mod:`capframe.translate.vocabulary`, each used wherever it fits:
+  the degree scale (``DEGREE_SCALE``: "a touch high", "looking down a bit", "a hair to its right",
+  "way up", "square on"), height anchors (``HEIGHT_ANCHORS``: "chest height" is eye level, "knee
+  height" a low angle), size words and idioms (``SIZE_WORDS``, ``SIZE_IDIOMS``, ``PLENTY_WORDS``:
+  "punch in", "head to toe", "X and all", "loads of room around it", "the cup small, ..."), the
+  three-quarter diagonal in any order ("3/4 front-left", "three quarter rear right"), an explicit
+  azimuth ("45 degrees round to its right": the side nearest it), a region straight after its
+  subject ("bench left third, tree right third") and "the whole group" (every object joins as a
+  secondary subject).
 """
 
 from __future__ import annotations
@@ -106,10 +116,25 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS
+from ..constraints import ELEVATIONS, VIEW_SIDES
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
-from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singular, words
+from .vocabulary import (
+    ATTRIBUTES,
+    DEGREE_SCALE,
+    DETERMINERS,
+    FILLER_WORDS,
+    HEAD_ON_WORDS,
+    HEIGHT_ANCHORS,
+    NUMBER,
+    PLENTY_WORDS,
+    PUNCTUATION,
+    SIZE_IDIOMS,
+    SIZE_WORDS,
+    Vocabulary,
+    singular,
+    words,
+)
 
 # --- phrase tables ------------------------------------------------------------------------------
 # Templates are regular expressions over normalised text (single spaces, "close up", "bird 's eye",
@@ -118,7 +143,9 @@ from .vocabulary import ATTRIBUTES, DETERMINERS, PUNCTUATION, Vocabulary, singul
 #   {obj}  an object: it / them / a subject
 #   {d}    a number with optional "degrees"; {sd} the same, possibly negative
 #   {dir}  clockwise | counterclockwise;  {side} left | right (of the camera);  {mod} a dutch-angle size word
-#   {WEAK} a slight degree word ("slightly", "a bit", ...); {STRONG} an insisting one ("directly", "straight", ...)
+#   {WEAK} a slight degree word ("slightly", "a bit", ...); {STRONG} an insisting one ("directly", "straight", ...);
+#   {VERY} an intensifier ("very", "way", ...): the degree scale of vocabulary.DEGREE_SCALE
+#   {ANCHOR_<class>} a height anchor of that elevation class ("chest", "seat"; vocabulary.HEIGHT_ANCHORS)
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
@@ -146,7 +173,9 @@ HEADS = [
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
 SHOT_TERMS = {
-    "close-up": ["close up", "extreme close up", "medium close up", "tight close up"],
+    "close-up": ["close up", "extreme close up", "medium close up", "tight close up", *SIZE_IDIOMS["close-up"]],
+    "medium": list(SIZE_IDIOMS["medium"]),
+    "wide": list(SIZE_IDIOMS["wide"]),
 }
 SHOT_ADJECTIVES = {
     "close-up": ["tight", "close", "detail", "macro", "extreme close", "very close"],
@@ -164,12 +193,32 @@ SHOT_ADJECTIVES = {
         "cowboy",
         "mid length",
     ],
-    "wide": ["wide", "long", "distant", "extreme wide", "extreme long", "very wide", "wide angle", "establishing", "far"],
+    "wide": [
+        "wide",
+        "long",
+        "distant",
+        "extreme wide",
+        "extreme long",
+        "very wide",
+        "wide angle",
+        "establishing",
+        "far",
+        "wide establishing",
+        "long establishing",
+    ],
 }
 # Shot sizes said after the subject ("the bear, filling the frame").
 # A size word alone as a clause ("the bear, tight."): between a comma and the clause's end, so an
 # attribute ("the wide sofa") is not read as a shot size.
 ALONE = "(?<=, )(very |really |quite |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+# A size word said right after its subject, before a clause's end or a place ("sofa small in the
+# upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
+# wheels" stays unparsed).
+AFTER_SUBJECT = (
+    "{obj} (is |looking |nice and |very |really |quite |extra |super )?{WORD}"
+    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
+)
+
 SHOT_CLAUSES = {
     "close-up": [
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
@@ -186,14 +235,18 @@ SHOT_CLAUSES = {
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
-        "(move|moving|come|coming|go|going|push|pushing|get|getting) in( close| closer| tight)?( on {obj})?",
+        "(move|moving|come|coming|go|going|push|pushing|pushed|get|getting|punch|punching|punched|dolly|dollying|crop|cropping"
+        "|cut|cutting|creep|creeping|lean|leaning) (right |way )?in( close| closer| tight| tighter)?( (on|to|at) {obj})?",
+        "(get|getting|go|going|come|coming|move|moving) (right |really )?(up )?close( (to|on) {obj})?",
         "(close|closing) in on {obj}",
         "(from )?(very )?close (by|to {obj})",
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on {obj}",
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge)"),
+        # A size word right after the subject ("TV big and square on", "toy car close, from ...").
+        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -203,6 +256,12 @@ SHOT_CLAUSES = {
         "(medium|moderately) sized( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
         "not too close( (and |but |or |, )?not too far( away)?)?",
+        # The whole subject in the picture ("the whole bench in frame", "slats and all").
+        "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
+        "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?",
+        "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?",
+        "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
+        "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
         "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
@@ -215,24 +274,57 @@ SHOT_CLAUSES = {
         "(from )?(much )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        # Room left around it, of whatever kind ("loads of room", "lots of table around it").
+        "(with )?{PLENTY} ([a-z]+ )?(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
+        "( (around|round|about) {obj})?",
+        "(with )?{PLENTY} [a-z]+ (around|round|about) {obj}",
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "wide"),
+        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant)"),
+        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
 
 # Regions: "PREPOSITION the AREA [of the FRAME]", never followed by "of" (relations between
 # objects such as "to the left of the vase" are not regions of the frame).
 REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across)"
+# What may lead into a region: a placing verb or a direction ("tucked into the top-left corner",
+# "up in the top half").
+REGION_LEAD = (
+    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sat|stuck|parked|positioned|kept|shoved) )?"
+    "((up|down|over|out|way|right|off|low|high) )?"
+)
 REGION_AREAS = {
     "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
     "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
-    "top": ["top", "top half", "upper half", "upper part", "top part", "top edge", "upper side", "top side"],
-    "bottom": ["bottom", "bottom half", "lower half", "lower part", "bottom part", "bottom edge", "lower side", "bottom side"],
+    "top": [
+        "top",
+        "top half",
+        "upper half",
+        "upper part",
+        "top part",
+        "top edge",
+        "upper side",
+        "top side",
+        "top third",
+        "upper third",
+    ],
+    "bottom": [
+        "bottom",
+        "bottom half",
+        "lower half",
+        "lower part",
+        "bottom part",
+        "bottom edge",
+        "lower side",
+        "bottom side",
+        "bottom third",
+        "lower third",
+    ],
     "left third": ["left third", "leftmost third", "first third", "left third line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right third line", "right hand third"],
@@ -256,8 +348,8 @@ REGION_PHRASES = {
         "center of (the )?{FRAME}",
         "dead center",
     ],
-    "top": ["high (up )?in the {FRAME}"],
-    "bottom": ["low (down )?in the {FRAME}"],
+    "top": ["high (up )?in (the )?{FRAME}"],
+    "bottom": ["low (down )?in (the )?{FRAME}"],
     "upper left": ["(top|upper) left corner"],
     "upper right": ["(top|upper) right corner"],
     "lower left": ["(bottom|lower) left corner"],
@@ -302,6 +394,20 @@ VIEW_SIDE_WORDS = {
         "right rear three quarter",
     ],
 }
+
+
+def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[str]:
+    """A diagonal's words in any order, with "three quarter(s)" before, between or after them
+    ("3/4 front-left", "three quarter rear right", "left-front three-quarters"); a front one
+    also as "three quarter left" (the three-quarter view is the front one unless told)."""
+    three_quarter = "three quarters?"
+    out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
+    return out + ([f"{three_quarter} {lat}"] if front else [])
+
+
+for _lat in ("left", "right"):
+    VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
+    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -319,20 +425,20 @@ VIEW_FRAMES = [
     "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
-    NOT_A_RELATION + "{P} {SIDE}( side| profile)?" + NOT_TURNED_AWAY,
+    # "its left flank", "the bench's right end": a side's part names that side.
+    NOT_A_RELATION + "{P} {SIDE}( side| profile| flank| end| hand end| arm)?" + NOT_TURNED_AWAY,
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
 VIEW_CLAUSE = "((?<=^ )|(?<=, ))(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+# A diagonal named right after its subject, ending the clause ("tedy bear three quarter rear right").
+VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
-        "head on",
-        "face on",
-        "front on",
-        "(a |in )?straight on( (view|shot|angle))?",
-        "frontal( view| shot| angle)?",
+        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
+        "(full |fully |straight |dead )?frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         CAMERA + " in front of {obj}",
         SEEN + "from ({STRONG} |right )?in front( of {obj})?",
@@ -344,16 +450,17 @@ VIEW_PHRASES = {
         SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         CAMERA + " behind {obj}",
-        "(stand|standing|go|get|move|walk) (around )?behind( {obj})?",
+        "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
+        " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
         "(?<=^ )({STRONG} |right )?behind {obj}",
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "side": ["in profile", "(seen )?side on", "from (either|one|a) side"],
+    "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
     "three-quarter": [
-        "(in |at |from |as )?(a |an )?three quarters?( front)?( (view|angle|profile|shot|position))?",
+        "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
@@ -391,6 +498,14 @@ SLIGHT_VIEW_FRAMES = [
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
 ]
+# An explicit azimuth from the front towards a side ("45 degrees round to its right", "turned 30
+# degrees to the left"): the side whose azimuth is nearest (:func:`_nearest_side`).
+AZIMUTH_PHRASES = [
+    SEEN + "(from )?{d} (a?round|over|off|across|towards|to)( to)? (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
+    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d} (to|towards) (the|{P}) {LAT}( hand)?( side)?",
+    "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
+]
+
 # View cues for one subject that together name one side ("a three-quarter view ... from its
 # left" is the front-left); any other two different sides contradict each other.
 VIEW_COMBINATIONS = {
@@ -420,6 +535,15 @@ VIEW_COMBINATIONS = {
     frozenset(("back-three-quarter", "back")): "back-three-quarter",
 }
 
+# Every object of the scene at once ("the whole group", "all of them"): each one not named
+# otherwise joins as a secondary subject (it must be in the picture).
+GROUP_PHRASES = [
+    "(the )?(whole|entire) (group|lot|bunch|collection|arrangement|set ?up|ensemble|gang)( of (them|objects|things))?",
+    "(all|each|every one|both) of them",
+    "all (of )?(the )?(objects|things|items|pieces)",
+    "everything( (in|on) the (scene|table|room|floor))?",
+]
+
 # Named elevations; the hints yield to any other elevation in the sentence.
 ELEVATION_PHRASES = {
     "eye level": [
@@ -432,6 +556,15 @@ ELEVATION_PHRASES = {
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
         # The height of the surface the subject rests on, or sits on: level with the subject.
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
+        # A height named by a body or a surface ("chest height", "at seat level", "lens at the
+        # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
+        "((with )?(the )?(camera|lens) )?((at|from) )?(the |a |{P} )?{ANCHOR_EYE} (height|level|high)",
+        "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
+        "(at |from )?(its |their )?own (height|level)",
+        "({STRONG} )?level with {obj}",
+        "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
+        "(shot|lens|view) level(?= ([,.;!]|$))",
+        "flat on",
     ],
     "slightly above": [
         "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
@@ -440,7 +573,13 @@ ELEVATION_PHRASES = {
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
-        "({WEAK} |just )?above eye (level|height)",
+        "({WEAK} |just )?above (eye|{ANCHOR_EYE}) (level|height)",
+        # Degree words after or around a height ("a touch high", "looking down a bit").
+        "{WEAK} (high|higher|up)(?! (in|on|at) )",
+        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
+        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) down( (at|on|onto) {obj})? {WEAK}",
+        "{WEAK} (of )?a high angle",
+        "(from )?{WEAK} (above|over|higher than) {obj}",
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
@@ -464,9 +603,14 @@ ELEVATION_PHRASES = {
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?straight down( (at|on) {obj})?",
         "(a )?(plan view|flat lay)",
+        # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
+        "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
+        "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",
+        "(a |an )?(drone|overhead) (style )?top down",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
@@ -481,13 +625,18 @@ ELEVATION_PHRASES = {
         "looking {WEAK} up( at {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
-        "({WEAK} |just )?(below|under|beneath) eye (level|height)",
+        "({WEAK} |just )?(below|under|beneath) (eye|{ANCHOR_EYE}) (level|height)",
+        "{WEAK} (low|lower)(?! (in|on|at) )",
+        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
+        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
+        "{WEAK} (of )?a low angle",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
         "looking (straight|directly|steeply|vertically) up( at {obj})?",
         "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
-        "(from )?(directly|straight|right) (below|beneath|underneath)( {obj})?",
+        "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
+        "(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
         "(steeply|strongly|sharply) from (below|beneath)",
         "straight up at {obj}",
     ],
@@ -500,16 +649,28 @@ ELEVATION_HINTS = {
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
-        ALONE.replace("{WORD}", "(high|high up)"),
+        ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
+        "(from )?(up high|high up|way above|up top)",
+        "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
+        "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
+    ],
+    "bird's-eye": [
+        "((from|with|by|as|like) )?(a |the )?drone( (shot|view|style|angle|camera|perspective|height))?",
     ],
     "low angle": [
-        "(look|looks|looking) up( (at|to|towards) {obj})?",
+        "(look|looks|looking) up( (at|to|towards|into) {obj})?",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(floor|ground|grass|lawn)(?! (level|height) )",
+        "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (down )?(low|lower)( down)?",
         # A height alone as a clause ("the car from behind, low").
-        ALONE.replace("{WORD}", "(low|low down)"),
+        ALONE.replace("{WORD}", "(low|low down|down low)"),
+        # A height named by the ground or a crouch ("knee height", "crouch down", "from the grass").
+        "((with )?(the )?(camera|lens) )?((at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
+        "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
+        "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
     ],
@@ -520,7 +681,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( at {obj})? (at|from|by) (an angle of )?{d}",
+        "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)",
         "elevated (by )?{d}",
@@ -553,15 +714,25 @@ ROLL_PHRASES = {
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
         "(with )?(the )?{side} side (of the (camera|{FRAME}) )?(dipped|lowered|dipping|down)( by)?( {d})?",
         "dipping (to the )?{side}( by {d})?",
+        # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
+        # 10", "roll 5 degrees CCW").
+        "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
+        "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
+        "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
+        "(roll|cant|rotate|rotated|rotating|turn|turned)( the camera)? (by )?{d} {dir}",
+        "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
-        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}( by {d})?",
+        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
+        "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
+        "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
         "(with )?(a |the )?(level|straight|flat|horizontal) horizon",
-        "(the )?horizon (level|straight|flat|horizontal)",
+        "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)",
         "(with )?no camera roll",
         "without (any )?((dutch|canted) (angle|tilt)|roll|camera roll|tilt)",
@@ -803,6 +974,7 @@ DEGREE_WORDS = frozenset(
         "completely",
         "perfectly",
         "purely",
+        *(w for phrase in (*DEGREE_SCALE["slight"], *DEGREE_SCALE["exact"]) for w in phrase.split() if w != "a"),
     }
 )
 # Parts of an object ("so we see the backrest") and the scene around the objects ("a wide view of
@@ -892,9 +1064,14 @@ _MACROS = {
     "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
-    "{WEAK}": "(?:slightly|somewhat|marginally|a little bit|a bit|a little|a tad|a touch)",
-    "{STRONG}": "(?:directly|straight|squarely|square|fully|strongly|exactly|dead|completely|perfectly|purely)",
+    "{WEAK}": "(?:" + "|".join(sorted(DEGREE_SCALE["slight"], key=len, reverse=True)) + ")",
+    "{STRONG}": "(?:" + "|".join(sorted((*DEGREE_SCALE["exact"], "strongly"), key=len, reverse=True)) + ")",
+    "{VERY}": "(?:" + "|".join(sorted(DEGREE_SCALE["strong"], key=len, reverse=True)) + ")",
+    "{PLENTY}": "(?:" + "|".join(sorted(PLENTY_WORDS, key=len, reverse=True)) + ")",
+    "{ANCHOR_EYE}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["eye level"], key=len, reverse=True)) + ")",
+    "{ANCHOR_LOW}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["low angle"], key=len, reverse=True)) + ")",
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
+    "{WEAKROLL}": "(?P<weak>" + "|".join(sorted(DEGREE_SCALE["slight"], key=len, reverse=True)) + ")",
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     # Pointing the camera ("shoot up at", "aimed down").
@@ -951,21 +1128,35 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} {SHOT_NOUN}{link}", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     for region, areas in REGION_AREAS.items():
-        template = f"{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
+        template = (
+            f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        )
+        rows.append(("region", region, template, False))
+        # Right after its subject, an area that cannot be a view side ("bench left third, tree
+        # right third", "cone lower left").
+        named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
+        if named:
+            template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
+            rows.append(("region", region, template, False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
+        if "-" in view:  # a diagonal straight after its subject ("bear three quarter rear right")
+            rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
-    for lat in ("left", "right"):
+    for lat, sign in (("left", -1.0), ("right", 1.0)):
+        rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
         for lon, phrase in LONGITUDINAL.items():
             for degree, frame in COMBINED_VIEW_FRAMES:
                 t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
+    rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
@@ -1050,11 +1241,17 @@ class RuleParser:
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed]
+        group = any(c.field == "group" for c in cues)
+        if not mentions and group:  # "a bird's eye of everything": the scene's objects, the first primary
+            mentions = [_Mention(len(tokens), name, name) for name in vocabulary.names[:1]]
         if not mentions:
             hint = f" (not understood: {clip(repr(unparsed_text))})" if unparsed else ""
             raise InputError(f"no subject in {clip(text.strip())!r}{hint}; name one of the scene's objects: {vocabulary.names}")
         mentions.sort(key=lambda m: m.at)
         subjects = _attach(cues, mentions, tokens, vocabulary)
+        if group:
+            named = {s.name for s in subjects}
+            subjects += [ParsedSubject(n, n, "secondary", vocabulary.symmetric(n)) for n in vocabulary.names if n not in named]
         elevation, elevation_deg = _elevation(cues)
         return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text, corrected)
 
@@ -1071,6 +1268,8 @@ class RuleParser:
         i = 0
         while i < len(tokens):
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
+            if n == 1 and _height_anchor(tokens, i):
+                n = 0
             read = tokens[i : i + n]
             misspelt = self._misspelt(keys, i, n, longest + 1, vocabulary)
             if misspelt is not None:
@@ -1179,10 +1378,21 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
     return [span]
 
 
+def _height_anchor(tokens: list[str], i: int) -> bool:
+    """Whether ``tokens[i]`` names a height rather than an object: a surface or body word
+    before "height"/"level" ("at table height" in a scene with a coffee table called "table")."""
+    return tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")
+
+
 def _never_a_name(text: str) -> bool:
     """Whether ``text`` holds only position, degree, part, surroundings and generic words, with
     attributes ("back", "left side", "a bit", "the backrest", "the room", "that small thing"):
-    never a subject. An attribute alone ("the red") is not such a run."""
+    never a subject; nor is filler alone ("a nice": :data:`~capframe.translate.vocabulary.FILLER_WORDS`).
+    An attribute alone ("the red") is not such a run."""
+    if all(w in FILLER_WORDS for w in text.split()):
+        return True
+    if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
+        return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
     never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
     return bool(content) and all(w in never for w in content)
@@ -1224,8 +1434,17 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value = rule.value * float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
+    elif rule.field == "view" and isinstance(rule.value, tuple):
+        value = _nearest_side(rule.value[1] * float(groups["d"]))
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
+
+
+def _nearest_side(azimuth: float) -> str:
+    """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right)."""
+    arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
+    single = [(side, a[0]) for side, a in VIEW_SIDES.items() if len(a) == 1]
+    return min(single, key=lambda sa: arc(sa[1], azimuth))[0]
 
 
 def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
@@ -1235,7 +1454,8 @@ def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
     sign = -1.0 if groups.get("dir") == "counterclockwise" or groups.get("side") == "left" else 1.0
     if groups.get("d") is not None:
         return multiplier * sign * float(groups["d"]), False
-    return multiplier * sign * DUTCH_SIZE_DEG.get(groups.get("mod") or "", DUTCH_DEFAULT_DEG), True
+    size = "slight" if groups.get("weak") else groups.get("mod") or ""  # "rolled a touch clockwise"
+    return multiplier * sign * DUTCH_SIZE_DEG.get(size, DUTCH_DEFAULT_DEG), True
 
 
 def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocabulary: Vocabulary) -> list[ParsedSubject]:

@@ -66,6 +66,20 @@ SPELLINGS = {
     "degs": "degrees",
     "favourite": "favorite",
     "toward": "towards",
+    # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
+    "u": "you",
+    "n": "and",
+    "pls": "please",
+    "plz": "please",
+    "thx": "thanks",
+    "teh": "the",
+    "cw": "clockwise",
+    "ccw": "counterclockwise",
+    "acw": "counterclockwise",
+    "qtr": "quarter",
+    "qtrs": "quarters",
+    "kinda": "kind of",
+    "sorta": "sort of",
 }
 # Two-word spellings merged into one word.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
@@ -109,7 +123,7 @@ def words(text: str) -> list[str]:
     s = text.lower()
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
-    s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)
+    s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
     s = re.sub(r"[\u2013\u2014]", " , ", s)  # a dash between clauses
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
@@ -183,6 +197,194 @@ def singular(word: str) -> str:
     if word.endswith(("ches", "shes", "xes", "zzes", "sses")):
         return word[:-2]
     return word[:-1]
+
+
+# Words that ask nothing of the camera: function words, politeness, praise and the nouns for a
+# picture. An unparsed run made only of these is filler; any other unparsed word may be a
+# constraint the parser missed, so the instruction is only partly understood
+# (:meth:`~capframe.translate.instruction.ParsedInstruction.not_understood`).
+FILLER_WORDS = frozenset(
+    """a an the this that these those it its them their his her my our your me us we i you 's
+    of with and or in on at to from by for as so but into onto about then also both there here
+    is are be being was were am do does did can could would will should shall may might must let
+    please kindly thanks thank cheers hey hi hello ok okay maybe perhaps possibly just really
+    nice lovely beautiful pretty good great cool neat clean simple cute gorgeous stunning
+    classic decent proper quick some one
+    photo photograph picture pic image shot snapshot snap frame capture view render rendering
+    want like love need have get take make see show give
+    too well visible included inside until while when because""".split()
+)
+
+
+# --- graded words (the parser's tables read these) -----------------------------------------------
+
+# How strongly a side, a height or a size is asked, applied alike to all three ("a touch high",
+# "a smidge to its right", "kind of from above"; "very high", "way up"; "dead on", "squarely from
+# the front"). Multi-word entries are normalised words (:func:`words`: "kinda" is "kind of").
+DEGREE_SCALE = {
+    # Short of the named side or height: between it and the neighbour (the "slight" classes).
+    "slight": (
+        "slightly",
+        "somewhat",
+        "marginally",
+        "mildly",
+        "gently",
+        "a little bit",
+        "a tiny bit",
+        "a wee bit",
+        "just a bit",
+        "a bit",
+        "a little",
+        "a tad",
+        "a touch",
+        "a smidge",
+        "a smidgen",
+        "a hair",
+        "a shade",
+        "a fraction",
+        "kind of",
+        "sort of",
+    ),
+    # More than the plain word: the steeper height class ("very high" is a high angle).
+    "strong": ("very", "really", "way", "well", "far", "super", "extremely", "quite", "strongly", "steeply"),
+    # Exactly the named side, no offset ("directly from the left", "dead on").
+    "exact": (
+        "directly",
+        "straight",
+        "squarely",
+        "square",
+        "fully",
+        "exactly",
+        "dead",
+        "completely",
+        "perfectly",
+        "purely",
+        "precisely",
+        "bang",
+        "smack",
+    ),
+}
+# "X on" said of the camera facing the subject: the front, straight ("dead on", "square on").
+HEAD_ON_WORDS = ("head", "face", "front", "straight", "dead", "square", "squarely", "directly", "bang", "smack", "full")
+
+# Heights named by what stands at them, each read as one elevation class of
+# :data:`~capframe.constraints.ELEVATIONS`: a body or a surface the subject sits on is level with
+# it ("chest height", "at table height", "at its own height"); the ground, the floor, a knee or a
+# crouch is below it; a ladder or "up high" above it; a drone far above.
+HEIGHT_ANCHORS = {
+    "eye level": (
+        "eye",
+        "chest",
+        "shoulder",
+        "head",
+        "face",
+        "waist",
+        "hip",
+        "belly",
+        "seat",
+        "table",
+        "tabletop",
+        "desk",
+        "counter",
+        "countertop",
+        "bench",
+        "shelf",
+        "bed",
+        "sofa",
+        "couch",
+        "chair",
+        "lap",
+        "own",
+        "same",
+        "its",
+        "subject",
+    ),
+    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe"),
+}
+# Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
+# right", "sofa tiny in the upper half", "TV big and square on").
+SIZE_WORDS = {
+    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter"),
+    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide"),
+}
+# Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
+SIZE_IDIOMS = {
+    "close-up": (
+        "punch in",
+        "push in",
+        "zoom in",
+        "move in",
+        "get in close",
+        "go in close",
+        "come in close",
+        "get up close",
+        "get right up close",
+        "dolly in",
+        "crop in",
+        "cut in",
+        "tighten up",
+        "fill up the frame",
+        "macro",
+    ),
+    "medium": (
+        "head to toe",
+        "head to foot",
+        "top to bottom",
+        "end to end",
+        "full length",
+        "full body",
+        "full figure",
+        "whole thing",
+        "whole of it",
+        "all of it",
+        "the entire thing",
+        "uncropped",
+        "nothing cut off",
+        "nothing cropped",
+        "not cropped",
+        "without cropping",
+    ),
+    "wide": (
+        "pull back",
+        "pull out",
+        "back off",
+        "back up",
+        "back away",
+        "stand back",
+        "stay back",
+        "get back",
+        "step back",
+        "step away",
+        "zoom out",
+        "establishing",
+        "from a way off",
+    ),
+}
+# Room left around the subject ("loads of room around it", "lots of table around it"): wide.
+PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
+
+# Object kinds by their everyday names. A scene object whose name or alias is one of a group
+# answers to every other word of that group ("telly" for a television, "couch" for a sofa), when
+# no other object of the scene already uses that word.
+NAME_SYNONYMS = (
+    ("television", "tv", "telly", "tv set", "television set", "telie"),
+    ("sofa", "couch", "settee", "loveseat", "divan"),
+    ("refrigerator", "fridge", "icebox", "fridge freezer"),
+    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy"),
+    ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot"),
+    ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand"),
+    ("toy car", "car", "model car", "matchbox car", "toy vehicle"),
+    ("traffic cone", "cone", "safety cone", "road cone", "pylon"),
+    ("armchair", "arm chair", "easy chair", "lounge chair", "chair"),
+    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit"),
+    ("cushion", "pillow", "throw pillow", "scatter cushion"),
+    ("mug", "cup", "coffee mug", "coffee cup", "tea cup", "teacup"),
+    ("coffee table", "low table", "table", "side table"),
+    ("ball", "beach ball", "toy ball", "football"),
+    ("bench", "park bench", "garden bench"),
+    ("vase", "flower vase", "jar"),
+    ("tree", "small tree", "sapling"),
+)
 
 
 # --- matching ---------------------------------------------------------------------------------
@@ -291,6 +493,7 @@ class Vocabulary:
             raise InputError(f"object names {duplicates} are not unique; subjects are matched by name")
         self.entries = tuple(entries)
         self._by_name = {e.name: e for e in entries}
+        self._corrections: dict[str, tuple[str, ...] | None] = {}  # the parser asks per run of words
 
     @classmethod
     def from_semantics(cls, objects) -> Vocabulary:
@@ -300,10 +503,16 @@ class Vocabulary:
             forms = {key(n) for n in (o.name, *o.aliases)} - {()}
             if not forms:
                 raise InputError(f"object name {o.name!r} has no words to match")
-            entries.append(
-                VocabularyEntry(o.name, bool(o.symmetric), tuple(o.aliases), tuple(sorted(forms, key=lambda f: (-len(f), f))))
-            )
-        return cls(entries)
+            entries.append((o, forms))
+        synonyms = _synonym_forms([forms for _, forms in entries])
+        return cls(
+            [
+                VocabularyEntry(
+                    o.name, bool(o.symmetric), tuple(o.aliases), tuple(sorted(forms | extra, key=lambda f: (-len(f), f)))
+                )
+                for (o, forms), extra in zip(entries, synonyms)
+            ]
+        )
 
     @property
     def names(self) -> list[str]:
@@ -326,12 +535,20 @@ class Vocabulary:
 
     def correction(self, words: tuple[str, ...]) -> tuple[str, ...] | None:
         """The one name or alias, or head noun of one ("armchair" of "red armchair", which
-        :meth:`match` accepts alone), of at least :data:`MIN_CORRECTED_LETTERS` letters that
-        ``words`` (normalised, singular) misspell by one edit; None when none or several do."""
+        :meth:`match` accepts alone), that ``words`` (normalised, singular) misspell
+        (:func:`_near`); None when none or several do."""
         text = " ".join(words)
-        targets = self.forms() | {f[-1:] for f in self.forms()}
-        found = {f for f in targets if _near(text, " ".join(f))}
-        return found.pop() if len(found) == 1 else None
+        if text not in self._corrections:
+            found = [f for f in self._targets() if _near(text, " ".join(f))]
+            owners = {e.name for e in self.entries for f in found if f in e.forms or any(g[-1:] == f for g in e.forms)}
+            # Several forms of one object ("arm chair", "armchair") are one reading: the closest.
+            best = min(found, key=lambda f: (edit_distance(text, " ".join(f), 3), f), default=None)
+            self._corrections[text] = best if len(found) == 1 or len(owners) == 1 else None
+        return self._corrections[text]
+
+    def _targets(self) -> frozenset[tuple[str, ...]]:
+        """Names, aliases and their head nouns: what a misspelling may be read as."""
+        return self.forms() | {f[-1:] for f in self.forms()}
 
     def match(self, mention: str) -> str:
         """The one object name ``mention`` refers to; :class:`InputError` if none or several."""
@@ -353,14 +570,17 @@ class Vocabulary:
         return sorted(self._by_forms(tokens) or self._by_parts(tokens))
 
     def closest(self, mention: str, n: int = 3) -> list[str]:
-        """Up to ``n`` object names whose names or aliases look most like ``mention``."""
+        """Up to ``n`` object names whose names or aliases look most like ``mention`` (and
+        about as much as the closest one)."""
         text = " ".join(key(mention))
         scored: dict[str, float] = {}
         for e in self.entries:
             for form in e.forms:
                 ratio = difflib.SequenceMatcher(None, text, " ".join(form)).ratio()
                 scored[e.name] = max(scored.get(e.name, 0.0), ratio)
-        return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= 0.5][:n]
+        best = max(scored.values(), default=0.0)
+        # Names about as close as the best one: "tedy" names the teddy bear, not also the telly.
+        return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= max(0.5, best - 0.15)][:n]
 
     def _compatible(self, entry: VocabularyEntry, tokens: tuple[str, ...]) -> bool:
         """False when the mention asks for a colour the object's names contradict."""
@@ -391,21 +611,70 @@ class Vocabulary:
         return _best(scores)
 
 
+def _synonym_forms(forms: list[set[tuple[str, ...]]]) -> list[set[tuple[str, ...]]]:
+    """Per object (its forms), the forms :data:`NAME_SYNONYMS` adds: every word of a group one of
+    its forms belongs to, unless another object's forms hold that word or the group too."""
+    groups = [{key(w) for w in group} for group in NAME_SYNONYMS]
+    owners = [[k for k, f in enumerate(forms) if f & g] for g in groups]
+    used = set().union(*forms) if forms else set()
+    extra: list[set[tuple[str, ...]]] = [set() for _ in forms]
+    for group, owner in zip(groups, owners):
+        if len(owner) == 1:
+            extra[owner[0]] |= group - used
+    return extra
+
+
 # Shorter names are one edit from too many ordinary words ("bear"/"beer", "mug"/"mud").
 MIN_CORRECTED_LETTERS = 5
+# Long names are read through two edits that keep the first letter ("refridgerator",
+# "televishun"): no ordinary word is that close to a name this long.
+MIN_TWO_EDIT_LETTERS = 8
 # A swap of two adjacent letters seldom turns a four-letter name into another word ("bera",
 # "sfoa", "lmap" are none), where a substitution often does; three letters are too few ("arc"
 # is "car" swapped).
 MIN_TRANSPOSED_LETTERS = 4
+# A letter typed twice is a slip of the finger, not another word, even in a three-letter name.
+MIN_DOUBLED_LETTERS = 3
 
 
 def _near(said: str, name: str) -> bool:
     """Whether ``said`` is read as ``name``: one edit from a name of :data:`MIN_CORRECTED_LETTERS`
-    letters or more, or one swap from one of :data:`MIN_TRANSPOSED_LETTERS` (spaces not counted)."""
+    letters or more; one swap or one letter written once where the name has it twice from one of
+    :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"); one letter doubled from one of
+    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); two edits keeping the first letter from one of
+    :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
     letters = len(name.replace(" ", ""))
-    return (letters >= MIN_CORRECTED_LETTERS and one_edit(said, name)) or (
-        letters >= MIN_TRANSPOSED_LETTERS and transposed(said, name)
-    )
+    if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
+        return True
+    if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(name, said)):
+        return True
+    if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
+        return True
+    return letters >= MIN_TWO_EDIT_LETTERS and said[:1] == name[:1] and edit_distance(said, name, 2) <= 2
+
+
+def doubled(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with one letter written twice ("sofaa" of "sofa", "bearr" of "bear")."""
+    return len(a) == len(b) + 1 and any(a[i] == a[i + 1] and a[:i] + a[i + 1 :] == b for i in range(len(a) - 1))
+
+
+def edit_distance(a: str, b: str, cap: int) -> int:
+    """Damerau-Levenshtein distance (insertions, deletions, substitutions, adjacent swaps) of
+    ``a`` and ``b``, or ``cap + 1`` once it must exceed ``cap`` (a length gap beyond it)."""
+    if abs(len(a) - len(b)) > cap:
+        return cap + 1
+    before, row = None, list(range(len(b) + 1))
+    for i in range(1, len(a) + 1):
+        current = [i] + [0] * len(b)
+        for j in range(1, len(b) + 1):
+            cost = a[i - 1] != b[j - 1]
+            current[j] = min(row[j] + 1, current[j - 1] + 1, row[j - 1] + cost)
+            if before is not None and i > 1 and j > 1 and a[i - 1] == b[j - 2] and a[i - 2] == b[j - 1]:
+                current[j] = min(current[j], before[j - 2] + 1)
+        if min(current) > cap:
+            return cap + 1
+        before, row = row, current
+    return min(row[-1], cap + 1)
 
 
 def transposed(a: str, b: str) -> bool:
