@@ -474,7 +474,6 @@ def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, til
                     row[g, 6 + ch] += g_values[ch]
 
 
-
 @njit(cache=True, parallel=True)
 def _project_backward(
     means,
