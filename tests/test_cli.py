@@ -89,3 +89,23 @@ def test_an_interrupt_inside_compiled_code_exits_as_an_interrupt(tmp_path, capsy
     monkeypatch.setattr(cli, "_cmd_compare", broken)
     with pytest.raises(SystemError, match="a real fault"):
         main(argv)
+
+
+def test_the_command_lets_openmp_threads_sleep_unless_told_otherwise():
+    """The command sets OMP_WAIT_POLICY=PASSIVE before torch loads its OpenMP runtime (spinning
+    threads take the cores the compiled renderer's kernels run on); an explicit value wins, and
+    once torch is loaded it is too late: nothing changes."""
+    import os
+    import subprocess
+    import sys
+
+    check = "from capframe.cli import passive_openmp; print(passive_openmp(), os.environ.get('OMP_WAIT_POLICY'))"
+    env = {k: v for k, v in os.environ.items() if k != "OMP_WAIT_POLICY"}
+    runs = [
+        ("import os; " + check, env, ["True", "PASSIVE"]),
+        ("import os; " + check, dict(env, OMP_WAIT_POLICY="active"), ["True", "active"]),
+        ("import os, torch; " + check, env, ["False", "None"]),
+    ]
+    for source, environment, expected in runs:
+        out = subprocess.run([sys.executable, "-c", source], env=environment, capture_output=True, text=True, check=True)
+        assert out.stdout.split() == expected

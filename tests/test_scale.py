@@ -147,3 +147,23 @@ def test_bench_scale_sizes():
 
     assert parse_sizes("0.3M, 1M,250k") == [300_000, 1_000_000, 250_000]
     assert [size_label(n) for n in (300_000, 3_000_000, 50_000)] == ["0.3M", "3M", "50k"]
+
+
+def test_bench_render_peak_memory_is_the_child_process_own():
+    """capframe bench render measures each backend's peak in a fresh process: the peak must be
+    that process's own (VmHWM), not the parent's carried across fork and exec, as ru_maxrss is
+    on Linux; a parent holding 800 MB more must not show in the child's figure."""
+    import numpy as np
+    import pytest
+
+    from capframe.bench.render import peak_memory
+    from capframe.bench.scale import PeakMemory
+
+    if PeakMemory.high_water_gb() != PeakMemory.high_water_gb():  # NaN: no /proc/self/status
+        pytest.skip("needs Linux's /proc")
+    ballast = np.ones(100_000_000)  # 800 MB, resident
+    parent = PeakMemory.high_water_gb() * 1e3
+    seconds, stats, peak, growth = peak_memory(2000, 48, 32, "compiled")
+    assert seconds > 0 and stats["composited"] > 0
+    assert 0 < growth < peak < parent - 600, (peak, parent)
+    del ballast

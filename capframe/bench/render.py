@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import multiprocessing as mp
-import resource
+import os
 import time
 
 import numpy as np
@@ -30,6 +30,7 @@ from ..geometry import look_at, rotmat_to_quat, se3_exp
 from ..render import prepare, render
 from ..scene import Camera, GaussianScene
 from ..scene._io import intrinsics
+from .scale import PeakMemory
 
 
 def surface_scene(n: int, seed: int = 0, dtype: torch.dtype = torch.float32) -> GaussianScene:
@@ -155,15 +156,17 @@ def parity(scene: GaussianScene, camera: Camera, dtype: torch.dtype) -> dict[str
 def _peak_memory_child(n: int, width: int, height: int, backend: str, queue) -> None:
     scene = surface_scene(n)
     camera = orbit_camera(width, height)
-    baseline = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    loaded = PeakMemory.high_water_gb()
     seconds, stats = time_forward_backward(scene, camera, iterations=3, warmup=1, backends=(backend,))[backend]
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    queue.put((seconds, stats, peak / 1024.0, (peak - baseline) / 1024.0))
+    peak = PeakMemory.high_water_gb()
+    queue.put((seconds, stats, peak * 1e3, (peak - loaded) * 1e3))
 
 
 def peak_memory(n: int, width: int, height: int, backend: str) -> tuple[float, dict, float, float]:
-    """Run one size with one backend in a fresh process: (seconds, stats, peak RSS MB, RSS growth
-    over the loaded scene MB). A fresh process keeps earlier allocations out of the peak."""
+    """Run one size with one backend in a fresh process: (seconds, stats, peak resident MB, its
+    growth over the loaded scene MB). The peak is the child's ``VmHWM``, its own address space's:
+    ``ru_maxrss`` would not do, since Linux carries the peak of the process that forked the child
+    across its exec, so every child reported the parent's peak."""
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
     proc = ctx.Process(target=_peak_memory_child, args=(n, width, height, backend, queue))
@@ -212,7 +215,15 @@ def _side_by_side(figures: dict, label: str, timed: dict[str, tuple[float, dict]
 
 
 def bench_render() -> dict:
-    figures: dict = {"threads": torch.get_num_threads()}
+    """The figures of ``capframe bench render``: per size, both backends' seconds and ns per
+    Gaussian-pixel pair and their ratio, parity at 50k, per-backend peak memory (fresh
+    processes), pose-gradient errors; with the thread count, the OpenMP wait policy and the
+    machine's load (1-minute average) before and after, since the timings depend on both."""
+    figures: dict = {
+        "threads": torch.get_num_threads(),
+        "openmp_wait_policy": os.environ.get("OMP_WAIT_POLICY", "unset"),
+        "load_before": os.getloadavg()[0],
+    }
     for n, (w, h) in ((5_000, (160, 120)), (50_000, (160, 120)), (300_000, (640, 480))):
         scene, camera = surface_scene(n), orbit_camera(w, h)
         label = f"{n // 1000}k_{w}x{h}"
@@ -228,4 +239,5 @@ def bench_render() -> dict:
         figures[f"{backend}_peak_mem_100k_640x480_mb"] = peak
         figures[f"{backend}_render_mem_growth_100k_640x480_mb"] = growth
         figures[f"{backend}_pose_grad_rel_err"] = pose_gradient_error(backend)
+    figures["load_after"] = os.getloadavg()[0]
     return figures

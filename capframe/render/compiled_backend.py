@@ -4,26 +4,30 @@ One autograd function, :class:`_Render`, runs every stage as a compiled kernel, 
 Gaussians' parameters to the image and back:
 
 * **projection**: the torch backend's EWA projection and culling
-  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, in float64; the kept
-  Gaussians are put in the torch backend's depth order (its own sort key, stable) by a radix
-  sort, and each gets one row of the compositing table (2D mean, half conic, log-opacity,
-  cut-off threshold, composited values) and its box of candidate tiles;
-* **tile binning**: each Gaussian is listed in every ``tile_size`` square tile where some pixel
-  centre lies inside its cut-off ellipse (its exact x-range over each tile row), then a stable counting
+  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, in float64; each
+  kept Gaussian gets one row of the compositing table (2D mean, half conic, log-opacity,
+  cut-off threshold, composited values), in index order, and its box of candidate tiles;
+* **tile binning**: in the torch backend's depth order (its own sort key; a stable radix sort),
+  each Gaussian is listed in every ``tile_size`` square tile where some pixel centre lies
+  inside its cut-off ellipse (its exact x-range over each tile row), then a stable counting
   sort by tile keeps each tile's list in depth order;
 * **compositing**: per pixel, front to back over its tile's list, with the torch backend's rules
   (3-sigma ellipse and alpha >= 1/255, alpha clamped at 0.999, stop before the transmittance
   would fall to 1e-4). Each (tile, Gaussian) pair records which of the tile's pixels it was
   composited into (a bit mask), so
 * **its backward** to the 2D means, conics, opacities and composited values visits only the
-  composited (Gaussian, pixel) pairs, front to back, recomputing their alphas;
+  composited (Gaussian, pixel) pairs, front to back, recomputing their alphas; pairs that
+  composited nothing (past a tile's stop, or outside the cut-offs: about 40%) are skipped on
+  their mask alone;
 * **the projection's backward** to the means, covariance factors and pose, scattered straight
   into the inputs' rows.
 
-Tiles are split into one contiguous group per thread, balanced by their pair counts; groups run
-in parallel and the backward accumulates each group's gradients in its own buffer, summed in a
-fixed order, so results do not depend on scheduling (images do not depend on the thread count
-either; gradients only up to rounding, through the number of groups). Compositing computes in
+Tiles are split into one group per thread, group ``k`` of ``n`` taking the tile rows ``k, k + n,
+...``: neighbouring rows cost alike, so the groups stay balanced however early compositing stops
+(a split by pair counts cannot know that). Groups run in parallel and the backward accumulates
+each group's gradients in its own buffer, zeroed by its own thread and summed in a fixed order,
+so results do not depend on scheduling (images do not depend on the thread count either;
+gradients only up to rounding, through the number of groups). Compositing computes in
 the render dtype (float32 vectorises twice as wide; float64 renders stay float64 throughout);
 the projection and the pose gradient's sums are float64 whatever the render dtype.
 """
@@ -60,8 +64,8 @@ _REACH_MARGIN = 1e-4
 # log(opacity), threshold (a pixel counts where log(opacity) - sigma >= threshold). The values
 # that follow are the features, the camera z and 1 (whose composite is the alpha).
 _COLUMNS = 7
-# Bits per word of a pair's pixel mask.
-_MASK_BITS = 32
+# Bits per word of a pair's pixel mask: a 4x4 tile is one word, one vector of float32 lanes.
+_MASK_BITS = 16
 # Index of the lowest set bit of a 32-bit word by a de Bruijn multiply (numba has no public
 # count-trailing-zeros): the isolated bit times this constant puts a unique 5-bit pattern on top.
 _DE_BRUIJN = 0x077CB531
@@ -79,7 +83,7 @@ def _footprint(table, g):
 
 @njit(cache=True, inline="always")
 def _lowest_bit(bits):
-    """Index of the lowest set bit of ``bits`` (nonzero, below ``2**32``)."""
+    """Index of the lowest set bit of ``bits`` (nonzero, below ``2**32``; masks use 16)."""
     return _DE_BRUIJN_BIT[(((bits & -bits) * _DE_BRUIJN) & 0xFFFFFFFF) >> 27]
 
 
@@ -175,9 +179,9 @@ def _sortable(key: np.ndarray) -> np.ndarray:
 
 @njit(cache=True)
 def _depth_order(flags, keys):
-    """The kept Gaussians (``flags == 1``) in the order of ``keys`` (N,) (unsigned integers),
-    ties in index order (a stable least-significant-byte-first radix sort): their indices
-    ``kept`` (G,) in index order and ``row`` (G,), the rank of each in depth order."""
+    """The kept Gaussians (``flags == 1``): their indices ``kept`` (G,) in index order and
+    ``order`` (G,), positions in ``kept`` sorted by ``keys`` (N,) (unsigned integers), ties in
+    index order (a stable least-significant-byte-first radix sort)."""
     num = 0
     for n in range(len(flags)):
         num += flags[n] == 1
@@ -206,23 +210,18 @@ def _depth_order(flags, keys):
             counts[d] += 1
         order, order_out = order_out, order
         key, key_out = key_out, key
-    row = np.empty(num, np.int64)
-    for i in range(num):
-        row[order[i]] = i
-    return kept, row
+    return kept, order
 
 
 @njit(cache=True, parallel=True)
-def _visible_table(kept, row, geometry, opacities, features, tile_size, tiles_x, tiles_y, table, reach, boxes):
-    """The compositing table's rows (G, 7 + D + 2) of the Gaussians ``kept`` (G,) at ``row``
-    (G,), their cut-off ``reach`` on sigma (G,) and ``boxes`` (G, 5): the first and last tile
-    column and row their footprint box spans and the number of tiles in it. The Gaussians are
-    read in index order, the rows written in depth order (scattered writes stall less than
-    scattered reads)."""
+def _visible_table(kept, geometry, opacities, features, tile_size, tiles_x, tiles_y, table, reach, boxes):
+    """The compositing table's rows (G, 7 + D + 2) of the Gaussians ``kept`` (G,), in that
+    (index) order, their cut-off ``reach`` on sigma (G,) and ``boxes`` (G, 5): the first and
+    last tile column and row their footprint box spans and the number of tiles in it."""
     ft = table.dtype.type
     channels = features.shape[1]
-    for j in prange(len(kept)):
-        n, i = kept[j], row[j]
+    for i in prange(len(kept)):
+        n = kept[i]
         table[i, 0], table[i, 1] = geometry[n, 0], geometry[n, 1]
         table[i, 2], table[i, 3], table[i, 4] = ft(0.5) * ft(geometry[n, 2]), geometry[n, 3], ft(0.5) * ft(geometry[n, 4])
         log_opacity = math.log(max(opacities[n], ft(1e-30)))
@@ -241,44 +240,48 @@ def _visible_table(kept, row, geometry, opacities, features, tile_size, tiles_x,
 
 
 @njit(cache=True, parallel=True)
-def _list_tiles(table, reach, boxes, first, tile_size, tiles_x, pair_tile, listed):
-    """Per Gaussian ``i`` (depth order), the tiles where some pixel centre lies inside its
-    cut-off ellipse ``sigma <= reach`` (reach holds a margin against rounding) into
-    ``pair_tile`` from ``first[i]`` on (room for its whole box), their number into ``listed[i]``.
+def _list_tiles(table, reach, boxes, order, first, tile_size, tiles_x, pair_tile, listed):
+    """Per Gaussian, the ``r``-th in depth ``order`` (G,) (table rows), the tiles where some
+    pixel centre lies inside its cut-off ellipse ``sigma <= reach`` (reach holds a margin against
+    rounding) into ``pair_tile`` from ``first[r]`` on (room for its whole box), their number into
+    ``listed[r]``: the pairs come out in depth order, which the sort by tile keeps.
 
     Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
     ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
     tile. With ``D = ac - b^2`` the right edge at height ``dy`` is
     ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``, concave in ``dy``, so its maximum over the
     band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
-    for i in prange(len(table)):
+    for r in prange(len(order)):
+        i = order[r]
         mx, my = float(table[i, 0]), float(table[i, 1])
         a, b, c = 2.0 * float(table[i, 2]), float(table[i, 3]), 2.0 * float(table[i, 4])
         det, two_k = a * c - b * b, 2.0 * reach[i]
+        inv_a = 1.0 / a
         y_reach = math.sqrt(two_k * a / det)  # |dy| on the ellipse
         dy_right = -b * math.sqrt(two_k / (c * det))  # the rightmost point's; the leftmost is its mirror
-        count = first[i]
+        count = first[r]
         for ty in range(boxes[i, 2], boxes[i, 3] + 1):
             band = ty * tile_size + 0.5 - my
             lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
             if lo > hi:
                 continue
             dr, dl = min(max(dy_right, lo), hi), min(max(-dy_right, lo), hi)
-            right = mx + (-b * dr + math.sqrt(max(two_k * a - det * dr * dr, 0.0))) / a
-            left = mx + (-b * dl - math.sqrt(max(two_k * a - det * dl * dl, 0.0))) / a
+            right = mx + (-b * dr + math.sqrt(max(two_k * a - det * dr * dr, 0.0))) * inv_a
+            left = mx + (-b * dl - math.sqrt(max(two_k * a - det * dl * dl, 0.0))) * inv_a
             # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
             tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[i, 0])
             tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[i, 1])
             for tx in range(tx0, tx1 + 1):
                 pair_tile[count] = ty * tiles_x + tx
                 count += 1
-        listed[i] = count - first[i]
+        listed[r] = count - first[r]
 
 
 @njit(cache=True)
-def _sort_by_tile(pair_tile, first, listed, num_tiles):
-    """Stable counting sort of the listed (tile, Gaussian) pairs by tile: each tile's list stays
-    in depth order. Returns tile_start (tiles + 1,) offsets into tile_gaussian (pairs,)."""
+def _sort_by_tile(pair_tile, first, listed, order, num_tiles):
+    """Stable counting sort by tile of the listed (tile, Gaussian) pairs, in depth ``order``
+    (G,) (:func:`_list_tiles`): each tile's list stays in depth order. Returns tile_start
+    (tiles + 1,) offsets into tile_gaussian (pairs,), the table rows."""
     tile_start = np.zeros(num_tiles + 1, np.int64)
     for i in range(len(listed)):
         for k in range(first[i], first[i] + listed[i]):
@@ -287,18 +290,24 @@ def _sort_by_tile(pair_tile, first, listed, num_tiles):
         tile_start[t + 1] += tile_start[t]
     cursor = tile_start[:num_tiles].copy()
     tile_gaussian = np.empty(tile_start[num_tiles], np.int32)
-    for i in range(len(listed)):
-        for k in range(first[i], first[i] + listed[i]):
+    for r in range(len(listed)):
+        for k in range(first[r], first[r] + listed[r]):
             t = pair_tile[k]
-            tile_gaussian[cursor[t]] = i
+            tile_gaussian[cursor[t]] = order[r]
             cursor[t] += 1
     return tile_start, tile_gaussian
 
 
+@njit(cache=True, inline="always")
+def _group_tiles(group, groups, tiles_x, tiles_y):
+    """Tiles of group ``group`` of ``groups``: the tile rows ``group, group + groups, ...``."""
+    return [ty * tiles_x + tx for ty in range(group, tiles_y, groups) for tx in range(tiles_x)]
+
+
 @njit(cache=True)
-def _tile_pixels(tile, tiles_x, tile_size, width, height, px, py):
-    """Pixel centres of one tile (clipped to the image) into ``px, py``, row-major; their count."""
-    ty, tx = tile // tiles_x, tile % tiles_x
+def _tile_pixels(tx, ty, tile_size, width, height, px, py):
+    """Pixel centres of tile ``(tx, ty)`` (clipped to the image) into ``px, py``, row-major;
+    their count."""
     count = 0
     for y in range(ty * tile_size, min(ty * tile_size + tile_size, height)):
         for x in range(tx * tile_size, min(tx * tile_size + tile_size, width)):
@@ -308,7 +317,7 @@ def _tile_pixels(tile, tiles_x, tile_size, width, height, px, py):
 
 
 @njit(cache=True, parallel=True)
-def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out, masks):
+def _composite(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, masks):
     """Composite the table's values into ``out`` (H, W, C) (zeros on entry) and mark in
     ``masks`` (pairs, words) (zeros on entry) the pixels each pair was composited into; returns
     the number of composited (Gaussian, pixel) pairs.
@@ -317,23 +326,26 @@ def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x
     cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
     to 1e-4. A tile's pixels advance together through its list, each with its own state; the
     cut-off test is one vectorised pass per pair, then only the passing pixels are visited.
-    ``masks`` (pairs, words): bit ``j`` of word ``w`` of a pair is the tile's pixel ``32 w + j``."""
+    ``masks`` (pairs, words): bit ``j`` of word ``w`` of a pair is the tile's pixel ``32 w + j``.
+    Group ``k`` of ``groups`` (one per thread) takes the tile rows ``k, k + groups, ...``:
+    neighbouring rows cost alike, so the groups stay balanced whatever stops compositing early."""
     height, width, channels = out.shape
+    tiles_y = -(-height // tile_size)
     ft = table.dtype.type
     alpha_max, t_min, one = ft(ALPHA_MAX), ft(TRANSMITTANCE_MIN), ft(1.0)
     pixels, words = tile_size * tile_size, masks.shape[1]
-    composited = np.zeros(len(group_start) - 1, np.int64)
-    for group in prange(len(group_start) - 1):
+    composited = np.zeros(groups, np.int64)
+    for group in prange(groups):
         acc = np.empty((pixels, channels), table.dtype)
         live, values = np.empty(words, np.int64), np.empty(channels, table.dtype)
         px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         q, T = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         count_pairs = 0  # a local count: neighbouring groups' counters would share a cache line
-        for tile in range(group_start[group], group_start[group + 1]):
+        for tile in _group_tiles(group, groups, tiles_x, tiles_y):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
                 continue
-            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
             acc[:count] = 0.0
             T[:count] = 1.0
             for word in range(words):  # bit j of word w: pixel 32 w + j is still compositing
@@ -383,30 +395,34 @@ def _composite(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x
 
 
 @njit(cache=True, parallel=True)
-def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size, tiles_x, out, grad_out, masks, grads):
-    """Gradients of ``sum(grad_out * out)``: per group, (groups, G, 6 + C) to the table's
-    ``[mean x, mean y, a, b, c, log(opacity)]`` and values.
+def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, grad_out, masks, grads):
+    """Gradients of ``sum(grad_out * out)``: per group, (groups, G, 5 + C) to the table's
+    ``[mean x, mean y, a, b, c, log(opacity)]`` and values but the last (the constant 1).
 
     Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
     ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
     and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
     Only the pairs' masked pixels are visited, front to back, so ``T_i`` is rebuilt exactly.
+    Groups as in :func:`_composite`; each zeroes and fills its own slice of ``grads``.
     """
     height, width, channels = out.shape
+    tiles_y = -(-height // tile_size)
     ft = table.dtype.type
     alpha_max, one = ft(ALPHA_MAX), ft(1.0)
     pixels = tile_size * tile_size
     words = masks.shape[1]
-    for group in prange(len(group_start) - 1):
+    for group in prange(groups):
         pixel_grad = np.empty((pixels, channels), table.dtype)
+        g_values = np.empty(channels, table.dtype)
         px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         T, total, done = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         row = grads[group]
-        for tile in range(group_start[group], group_start[group + 1]):
+        row[:] = 0.0
+        for tile in _group_tiles(group, groups, tiles_x, tiles_y):
             start, end = tile_start[tile], tile_start[tile + 1]
             if start == end:
                 continue
-            count = _tile_pixels(tile, tiles_x, tile_size, width, height, px, py)
+            count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
             for p in range(count):
                 y, x = int(py[p]), int(px[p])
                 total[p] = 0.0
@@ -416,9 +432,15 @@ def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size
             T[:count] = 1.0
             done[:count] = 0.0
             for pair in range(start, end):
+                drawn = 0
+                for word in range(words):
+                    drawn |= masks[pair, word]
+                if drawn == 0:  # most pairs: past the tile's stop or outside the cut-offs
+                    continue
                 g = tile_gaussian[pair]
                 mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
                 g_mx, g_my, g_a, g_b, g_c, g_q = ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0)
+                g_values[:] = 0.0
                 for word in range(words):
                     bits = np.int64(masks[pair, word])
                     while bits != 0:
@@ -430,7 +452,7 @@ def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size
                         contrib = ft(0.0)
                         for ch in range(channels):
                             contrib += pixel_grad[p, ch] * table[g, _COLUMNS + ch]
-                            row[g, 6 + ch] += w * pixel_grad[p, ch]
+                            g_values[ch] += w * pixel_grad[p, ch]
                         done[p] += w * contrib
                         if alpha < alpha_max:
                             grad_q = alpha * (T[p] * contrib - (total[p] - done[p]) / (one - alpha))
@@ -448,6 +470,8 @@ def _composite_backward(table, tile_start, tile_gaussian, group_start, tile_size
                 row[g, 3] += g_b
                 row[g, 4] += g_c
                 row[g, 5] += g_q
+                for ch in range(channels - 1):
+                    row[g, 6 + ch] += g_values[ch]
 
 
 @njit(cache=True, parallel=True)
@@ -462,7 +486,6 @@ def _project_backward(
     height,
     eps2d,
     kept,
-    row,
     grads,
     chunks,
     grad_means,
@@ -471,9 +494,9 @@ def _project_backward(
     grad_features,
     grad_pose,
 ):
-    """Backward of the projection and the table for the ``kept`` Gaussians (G,) at ``row`` (G,)
-    of the table, given the groups' ``grads`` (groups, G, 6 + D + 2) to the table
-    (:func:`_composite_backward`), in index order: into
+    """Backward of the projection and the table for the ``kept`` Gaussians (G,) (the table's
+    rows), given the groups' ``grads`` (groups, G, 6 + D + 1) to the table
+    (:func:`_composite_backward`): into
     the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors (skipped when
     ``grad_factors`` is empty), (N,) the opacities, (N, D) the features, and per chunk of
     ``kept`` (chunks, 12) to ``[R (row-major), t]``."""
@@ -482,12 +505,12 @@ def _project_backward(
     for chunk in prange(len(chunks) - 1):
         gj = np.empty((2, 3))  # gradient to the rows of J R
         grad = np.empty(7)  # [u, v, a, b, c, log(opacity), z]
-        for j in range(chunks[chunk], chunks[chunk + 1]):
-            n, i = kept[j], row[j]
+        for i in range(chunks[chunk], chunks[chunk + 1]):
+            n = kept[i]
             grad[:] = 0.0
             for group in range(len(grads)):
-                for j in range(6):
-                    grad[j] += grads[group, i, j]
+                for col in range(6):
+                    grad[col] += grads[group, i, col]
                 grad[6] += grads[group, i, 6 + channels]
                 for ch in range(channels):
                     grad_features[n, ch] += grads[group, i, 6 + ch]
@@ -540,14 +563,6 @@ def _project_backward(
                 grad_pose[chunk, 9 + r] += g_p[r]
 
 
-def _balanced_groups(tile_start: np.ndarray, groups: int) -> np.ndarray:
-    """(groups + 1,) tile offsets splitting the tiles into contiguous runs of about equal pair
-    counts (plus one per tile, for tiles' fixed cost)."""
-    work = tile_start + np.arange(len(tile_start))
-    cuts = np.searchsorted(work, np.linspace(0, work[-1], groups + 1)[1:-1])
-    return np.concatenate([[0], cuts, [len(tile_start) - 1]]).astype(np.int64)
-
-
 def _threads() -> int:
     """Kernel threads: torch's intra-op count, so one setting governs both."""
     threads = max(1, min(torch.get_num_threads(), numba.config.NUMBA_NUM_THREADS))
@@ -581,24 +596,23 @@ class _Render(torch.autograd.Function):
         with _LAUNCH:
             _project(m, L, o, R, t, k, width, height, near, far, EPS2D, limit, geometry, flags)
             # The sort key is the torch backend's own (render dtype), so both order ties alike.
-            kept, row = _depth_order(flags, _sortable(sort_key))
+            kept, order = _depth_order(flags, _sortable(sort_key))
             table = np.empty((len(kept), _COLUMNS + f.shape[1] + 2), m.dtype)
             reach, boxes = np.empty(len(kept)), np.empty((len(kept), 5), np.int64)
-            _visible_table(kept, row, geometry, o, f, tile_size, tiles_x, tiles_y, table, reach, boxes)
+            _visible_table(kept, geometry, o, f, tile_size, tiles_x, tiles_y, table, reach, boxes)
             first = np.zeros(len(kept) + 1, np.int64)
-            np.cumsum(boxes[:, 4], out=first[1:])
+            np.cumsum(boxes[order, 4], out=first[1:])
             pair_tile, listed = np.empty(first[-1], np.int32), np.empty(len(kept), np.int64)
-            _list_tiles(table, reach, boxes, first, tile_size, tiles_x, pair_tile, listed)
-            tile_start, tile_gaussian = _sort_by_tile(pair_tile, first, listed, tiles_x * tiles_y)
-            groups = _balanced_groups(tile_start, threads)
+            _list_tiles(table, reach, boxes, order, first, tile_size, tiles_x, pair_tile, listed)
+            tile_start, tile_gaussian = _sort_by_tile(pair_tile, first, listed, order, tiles_x * tiles_y)
             out = np.zeros((height, width, table.shape[1] - _COLUMNS), m.dtype)
-            masks = np.zeros((len(tile_gaussian), -(-tile_size * tile_size // _MASK_BITS)), np.uint32)
-            composited = _composite(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, masks)
+            masks = np.zeros((len(tile_gaussian), -(-tile_size * tile_size // _MASK_BITS)), np.uint16)
+            composited = _composite(table, tile_start, tile_gaussian, threads, tile_size, tiles_x, out, masks)
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
         stats.update(visible=len(kept), pairs=len(tile_gaussian), composited=int(composited))
-        ctx.arrays = (m, L, o, R, t, k, width, height, kept, row, table, tile_start, tile_gaussian, groups, tile_size, masks)
+        ctx.arrays = (m, L, o, R, t, k, width, height, kept, table, tile_start, tile_gaussian, threads, tile_size, masks)
         ctx.num_features = f.shape[1]
         image = torch.from_numpy(out)
         ctx.save_for_backward(image)  # the backward reads it: in-place edits must raise
@@ -607,10 +621,10 @@ class _Render(torch.autograd.Function):
     @staticmethod
     def backward(ctx, grad_image):
         (image,) = ctx.saved_tensors
-        m, L, o, R, t, k, width, height, kept, row, table, tile_start, tile_gaussian, groups, tile_size, masks = ctx.arrays
+        m, L, o, R, t, k, width, height, kept, table, tile_start, tile_gaussian, groups, tile_size, masks = ctx.arrays
         ctx.arrays = None
         dtype, num, tiles_x = m.dtype, len(m), -(-width // tile_size)
-        grads = np.zeros((len(groups) - 1, len(kept), table.shape[1] - 1), dtype)
+        grads = np.empty((groups, len(kept), table.shape[1] - 2), dtype)
         chunks = np.linspace(0, len(kept), _threads() + 1).astype(np.int64)
         grad_means, grad_opacities = np.zeros((num, 3), dtype), np.zeros(num, dtype)
         grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
@@ -621,7 +635,7 @@ class _Render(torch.autograd.Function):
                 table, tile_start, tile_gaussian, groups, tile_size, tiles_x, image.numpy(), _numpy(grad_image), masks, grads
             )
             _project_backward(
-                m, L, o, R, t, k, width, height, EPS2D, kept, row, grads, chunks,
+                m, L, o, R, t, k, width, height, EPS2D, kept, grads, chunks,
                 grad_means, grad_factors, grad_opacities, grad_features, grad_pose,
             )  # fmt: skip
         pose = torch.zeros(4, 4, dtype=grad_image.dtype)
