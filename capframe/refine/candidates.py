@@ -41,12 +41,16 @@ from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
-from ..translate.labels import PseudoLabels, SubjectLabel, min_in_frame_share
+from ..translate.labels import PseudoLabels, SubjectLabel, accepted_azimuth_tolerance_deg, min_in_frame_share
 
 # The candidate grid: azimuths at these shares of the accepted tolerance around each asked
 # azimuth, elevations at these shares of the accepted interval (central first; the ends reach a
 # gentle low angle over a table's edge, or a steep one near the floor).
 AZIMUTH_SPREAD = (0.0, -0.6, 0.6)
+# When no camera of that grid is kept (a side facing a wall a little way off, reachable only
+# obliquely), azimuths at these shares of the margin between the aimed and the accepted tolerance,
+# beyond the aimed one on both sides: Refine then only has to hold the camera there.
+MARGIN_SPREAD = (0.5, 0.85)
 ELEVATION_SPREAD = (0.5, 0.2, 0.8, 0.05, 0.95)
 # Without an asked view side: azimuths around the subject, from the reference view's side.
 AROUND_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
@@ -166,6 +170,17 @@ def _angles_to_try(subject: SubjectLabel, reference_elevation: float) -> tuple[l
     return azimuths, elevations
 
 
+def _margin_azimuths(subject: SubjectLabel) -> list[float]:
+    """Azimuths (degrees) between the aimed and the accepted tolerance of an asked view side
+    (:data:`MARGIN_SPREAD`), tried when the grid of :func:`_angles_to_try` keeps no camera."""
+    view = subject.view
+    if view is None or not view.azimuths_deg:
+        return []
+    aimed = view.azimuth_tolerance_deg
+    margin = accepted_azimuth_tolerance_deg(view) - aimed
+    return [a + sign * (aimed + share * margin) for share in MARGIN_SPREAD for a in view.azimuths_deg for sign in (-1.0, 1.0)]
+
+
 def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
     flat = vector - (vector @ up) * up
     norm = np.linalg.norm(flat)
@@ -206,7 +221,11 @@ def solve_candidates(
     sight = _Sight(gaussians, subject, reference)
     point = _aim_point(subject)
     out = []
-    for rank, (elevation, azimuth) in enumerate((e, a) for e in elevations for a in azimuths):
+    grid = [(e, a) for e in elevations for a in azimuths]
+    margin_grid = [(e, a) for e in elevations for a in _margin_azimuths(subject)]
+    for rank, (elevation, azimuth) in enumerate(grid + margin_grid):
+        if rank == len(grid) and any(c.status == "kept" for c in out):
+            break
         direction = view_direction(
             torch.tensor(math.radians(azimuth), **f64),
             torch.tensor(math.radians(elevation), **f64),
