@@ -56,6 +56,9 @@ ELEVATION_SPREAD = (0.5, 0.2, 0.8, 0.05, 0.95)
 AROUND_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
 # Without an asked elevation, the reference view's, within these bounds (degrees).
 NATURAL_ELEVATION_DEG = (5.0, 35.0)
+# Without an asked elevation, when no camera of the grid is kept (another object stands between
+# the subject and every asked side at that elevation), these higher ones look over it.
+OVER_ELEVATIONS_DEG = (50.0, 65.0)
 # A centre slides towards the subject by these shares of its distance until it is free and the
 # subject seen; never nearer than NEAREST_RADII subject radii (the subject's own voxels keep the
 # camera out of it; a tall thin subject seen from the floor needs a camera inside its radius).
@@ -220,11 +223,18 @@ def solve_candidates(
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     sight = _Sight(gaussians, subject, reference)
     point = _aim_point(subject)
+    # The grid, then (only while nothing is kept) elevations over an occluder when none is asked
+    # (the asked azimuths stay central), then the azimuths in the margin of an asked side.
+    over = [] if subject.view is not None and subject.view.elevation_range_deg is not None else OVER_ELEVATIONS_DEG
+    phases = [
+        [(e, a) for e in elevations for a in azimuths],
+        [(e, a) for e in over for a in azimuths],
+        [(e, a) for e in elevations for a in _margin_azimuths(subject)],
+    ]
+    starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
-    grid = [(e, a) for e in elevations for a in azimuths]
-    margin_grid = [(e, a) for e in elevations for a in _margin_azimuths(subject)]
-    for rank, (elevation, azimuth) in enumerate(grid + margin_grid):
-        if rank == len(grid) and any(c.status == "kept" for c in out):
+    for rank, (elevation, azimuth) in enumerate(angle for phase in phases for angle in phase):
+        if rank in starts and any(c.status == "kept" for c in out):
             break
         direction = view_direction(
             torch.tensor(math.radians(azimuth), **f64),
