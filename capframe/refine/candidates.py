@@ -8,7 +8,10 @@ radius ``r``, front ``f``, world up ``u``):
   so ``d = sqrt((2 k r / e)^2 + r^2)``; without a shot size, the distance of the reference view;
 * **position** on the subject's view sphere, ``C = c + d v(azimuth, elevation)``
   (:func:`~capframe.geometry.view_direction`), at angles spread over the accepted ranges, or
-  around the subject and at the reference view's elevation when none is asked;
+  around the subject and at the reference view's elevation when none is asked; only when none
+  of these is kept, at elevations over an occluder (:data:`OVER_ELEVATIONS_DEG`) when no
+  elevation is asked, then at azimuths between the aimed and the accepted tolerance of an asked
+  side (:data:`MARGIN_SPREAD`: a side facing a wall a little way off is seen only obliquely);
 * **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
   of its region (or layout box).
 
