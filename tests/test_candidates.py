@@ -12,15 +12,15 @@ import torch
 from _synth_helpers import build_scene
 from conftest import make_camera
 
-from capframe.constraints import Constraints, SubjectConstraint
+from capframe.constraints import VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
 from capframe.pipeline.outputs import feasibility
-from capframe.refine.candidates import aimed_pose, shot_distance, solve_candidates
+from capframe.refine.candidates import OVER_ELEVATIONS_DEG, _margin_azimuths, aimed_pose, shot_distance, solve_candidates
 from capframe.refine.optimize import RefineConfig, free_space_loss, refine_pose
 from capframe.scene import GaussianScene, load_scene_dir
 from capframe.scene.occupancy import build_occupancy
-from capframe.translate.labels import labels_from_constraints
+from capframe.translate.labels import SubjectLabel, accepted_azimuth_tolerance_deg, labels_from_constraints, view_target
 
 
 @pytest.fixture(scope="module")
@@ -158,3 +158,45 @@ def test_free_space_loss_gradient_matches_finite_differences():
     h = 1e-5
     numeric = [(loss(t.detach() + h * e) - loss(t.detach() - h * e)).item() / (2 * h) for e in torch.eye(3, dtype=torch.float64)]
     np.testing.assert_allclose(t.grad.numpy(), numeric, rtol=1e-4, atol=1e-6)
+
+
+def test_accepted_tolerance_inverts_the_aimed_one_for_every_side():
+    """The margin azimuths reach into the checker's tolerance, never beyond it."""
+    for view in VIEW_SIDES:
+        target = view_target(view, None)
+        assert accepted_azimuth_tolerance_deg(target) == pytest.approx(view_tolerance_deg(view))
+    right = SubjectLabel("tv", np.arange(3), np.zeros(3), np.array([0.0, -1.0, 0.0]), view=view_target("right", None))
+    # aimed 90 +- 18, accepted 90 +- 30: at 0.5 and 0.85 of the 12 deg between them.
+    assert sorted(_margin_azimuths(right)) == pytest.approx([61.8, 66.0, 114.0, 118.2])
+
+
+def test_a_view_hidden_by_a_low_wall_is_solved_from_over_it():
+    """A ball behind a low wall (in front of it): no camera at the reference view's elevation
+    sees it, so without an asked elevation the closed form looks over the wall, at the asked
+    azimuth (not at the edge of the accepted range, where Refine would stop)."""
+    g = torch.Generator().manual_seed(1)
+    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
+    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 0.4], dtype=torch.float64)
+    s = torch.arange(-3.0, 3.0 + 1e-9, 0.05, dtype=torch.float64)
+    a, b = torch.meshgrid(s, s, indexing="ij")
+    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
+    wall = torch.stack([a.reshape(-1), torch.full((a.numel(),), -1.0, dtype=torch.float64), (b.reshape(-1) + 3) / 6], 1)
+    means = torch.cat([ball, floor, wall])
+    n = len(means)
+    gaussians = GaussianScene.from_activated(
+        means.float(),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.04),
+        torch.full((n,), 0.95),
+        torch.rand(n, 3, generator=g),
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -4.0, 0.6), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    front = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball", view="front")]), subjects, up)
+    solved = solve_candidates(gaussians, front, reference, occupancy)
+    kept = [c for c in solved if c.status == "kept"]
+    assert kept and kept[0].azimuth_deg == 0.0 and kept[0].elevation_deg == OVER_ELEVATIONS_DEG[0]
+    assert all(c.status == "occluded" for c in solved if c.elevation_deg < OVER_ELEVATIONS_DEG[0])

@@ -175,3 +175,30 @@ def test_a_scene_of_faint_gaussians_is_refused():
     gaussians.opacity_logits[:] = -5.0
     with pytest.raises(InputError, match="no Gaussian has an opacity"):
         build_occupancy(gaussians, up)
+
+
+def test_the_floor_is_a_plane_at_its_own_height_not_its_voxel_layers_top(grid):
+    """The floor's voxel layer reaches most of a voxel above the floor (the grid starts a padding
+    below its lowest points); the clearance above the floor is the height above the plane of the
+    floor's Gaussians (their 1-sigma points reach 0.06), so a camera a voxel above the floor is
+    free, while an object lower than a voxel (a toy car in a large scene) stays an obstacle."""
+    assert grid.floor_height == pytest.approx(0.06, abs=0.02)
+    for h in (0.8 * grid.voxel, 1.5 * grid.voxel):
+        assert grid.clearance(torch.tensor([6.0, -3.0, h])).item() == pytest.approx(h - 0.06, abs=1e-6)
+    assert grid.clearance(torch.tensor([6.0, -3.0, -0.1])).item() < 0
+    gaussians, up = world()
+    side = torch.arange(0.0, 2.0 * grid.voxel, 0.02, dtype=torch.float64)
+    height = torch.arange(0.0, 0.9 * grid.voxel, 0.02, dtype=torch.float64)
+    x, y, z = torch.meshgrid(side + 6.0, side - 3.0, height, indexing="ij")
+    block = torch.stack([x.reshape(-1), y.reshape(-1), z.reshape(-1)], 1).float()
+    n = len(block)
+    small = GaussianScene.from_activated(
+        torch.cat([gaussians.means, block]),
+        IDENTITY.expand(len(gaussians) + n, 4).clone(),
+        torch.cat([gaussians.scales, torch.full((n, 3), 0.02)]),
+        torch.cat([gaussians.opacities, torch.full((n,), 0.9)]),
+        torch.rand(len(gaussians) + n, 3),
+    )
+    with_block = build_occupancy(small, up, [camera_at((6.0, 0.0, 3.0))])
+    assert with_block.clearance(torch.tensor([6.0 + grid.voxel, -3.0 + grid.voxel, 0.4 * grid.voxel])).item() < 0
+    assert with_block.clearance(torch.tensor([6.0, 3.0, 0.8 * grid.voxel])).item() > with_block.margin

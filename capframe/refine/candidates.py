@@ -8,7 +8,10 @@ radius ``r``, front ``f``, world up ``u``):
   so ``d = sqrt((2 k r / e)^2 + r^2)``; without a shot size, the distance of the reference view;
 * **position** on the subject's view sphere, ``C = c + d v(azimuth, elevation)``
   (:func:`~capframe.geometry.view_direction`), at angles spread over the accepted ranges, or
-  around the subject and at the reference view's elevation when none is asked;
+  around the subject and at the reference view's elevation when none is asked; only when none
+  of these is kept, at elevations over an occluder (:data:`OVER_ELEVATIONS_DEG`) when no
+  elevation is asked, then at azimuths between the aimed and the accepted tolerance of an asked
+  side (:data:`MARGIN_SPREAD`: a side facing a wall a little way off is seen only obliquely);
 * **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
   of its region (or layout box).
 
@@ -41,17 +44,24 @@ from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
-from ..translate.labels import PseudoLabels, SubjectLabel, min_in_frame_share
+from ..translate.labels import PseudoLabels, SubjectLabel, accepted_azimuth_tolerance_deg, min_in_frame_share
 
 # The candidate grid: azimuths at these shares of the accepted tolerance around each asked
 # azimuth, elevations at these shares of the accepted interval (central first; the ends reach a
 # gentle low angle over a table's edge, or a steep one near the floor).
 AZIMUTH_SPREAD = (0.0, -0.6, 0.6)
+# When no camera of that grid is kept (a side facing a wall a little way off, reachable only
+# obliquely), azimuths at these shares of the margin between the aimed and the accepted tolerance,
+# beyond the aimed one on both sides: Refine then only has to hold the camera there.
+MARGIN_SPREAD = (0.5, 0.85)
 ELEVATION_SPREAD = (0.5, 0.2, 0.8, 0.05, 0.95)
 # Without an asked view side: azimuths around the subject, from the reference view's side.
 AROUND_DEG = (0.0, 45.0, -45.0, 90.0, -90.0, 135.0, -135.0, 180.0)
 # Without an asked elevation, the reference view's, within these bounds (degrees).
 NATURAL_ELEVATION_DEG = (5.0, 35.0)
+# Without an asked elevation, when no camera of the grid is kept (another object stands between
+# the subject and every asked side at that elevation), these higher ones look over it.
+OVER_ELEVATIONS_DEG = (50.0, 65.0)
 # A centre slides towards the subject by these shares of its distance until it is free and the
 # subject seen; never nearer than NEAREST_RADII subject radii (the subject's own voxels keep the
 # camera out of it; a tall thin subject seen from the floor needs a camera inside its radius).
@@ -166,6 +176,17 @@ def _angles_to_try(subject: SubjectLabel, reference_elevation: float) -> tuple[l
     return azimuths, elevations
 
 
+def _margin_azimuths(subject: SubjectLabel) -> list[float]:
+    """Azimuths (degrees) between the aimed and the accepted tolerance of an asked view side
+    (:data:`MARGIN_SPREAD`), tried when the grid of :func:`_angles_to_try` keeps no camera."""
+    view = subject.view
+    if view is None or not view.azimuths_deg:
+        return []
+    aimed = view.azimuth_tolerance_deg
+    margin = accepted_azimuth_tolerance_deg(view) - aimed
+    return [a + sign * (aimed + share * margin) for share in MARGIN_SPREAD for a in view.azimuths_deg for sign in (-1.0, 1.0)]
+
+
 def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
     flat = vector - (vector @ up) * up
     norm = np.linalg.norm(flat)
@@ -205,8 +226,19 @@ def solve_candidates(
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     sight = _Sight(gaussians, subject, reference)
     point = _aim_point(subject)
+    # The grid, then (only while nothing is kept) elevations over an occluder when none is asked
+    # (the asked azimuths stay central), then the azimuths in the margin of an asked side.
+    over = [] if subject.view is not None and subject.view.elevation_range_deg is not None else OVER_ELEVATIONS_DEG
+    phases = [
+        [(e, a) for e in elevations for a in azimuths],
+        [(e, a) for e in over for a in azimuths],
+        [(e, a) for e in elevations for a in _margin_azimuths(subject)],
+    ]
+    starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
-    for rank, (elevation, azimuth) in enumerate((e, a) for e in elevations for a in azimuths):
+    for rank, (elevation, azimuth) in enumerate(angle for phase in phases for angle in phase):
+        if rank in starts and any(c.status == "kept" for c in out):
+            break
         direction = view_direction(
             torch.tensor(math.radians(azimuth), **f64),
             torch.tensor(math.radians(elevation), **f64),

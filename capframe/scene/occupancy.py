@@ -7,7 +7,11 @@ Gaussians (:func:`build_occupancy`, cached by :func:`cached_occupancy`):
   six points one standard deviation from its centre along its axes, so large flat Gaussians (walls,
   floors) leave no holes between their centres;
 * **floor**: the lowest large horizontal layer of occupied voxels, when the scene has one (a room
-  floor, the ground of an outdoor scene); everything below its top is solid ground;
+  floor, the ground of an outdoor scene); everything below its top is solid ground. Its surface
+  is also kept as a plane at the height of the floor's own Gaussians (:func:`_floor_height`):
+  the clearance above the floor is measured to that plane, not to the top of its voxel layers,
+  which may lie almost a voxel higher (more in a large outdoor scene, where a voxel is taller
+  than a toy car: a camera at such an object's own height would count as underground);
 * **ceiling**: where walls stand around the scene (a room: most horizontal directions from the
   middle of the footprint meet a column reaching the top of the occupied heights), a ceiling at
   the walls' top (:func:`_walls`; a room captured without one has one in reality, and a camera
@@ -40,7 +44,7 @@ from ..errors import InputError
 from ._io import write_npz
 from .model import Camera, GaussianScene
 
-FORMAT = 2
+FORMAT = 3
 VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
@@ -53,6 +57,9 @@ WALL_HEIGHT = 0.8
 # A camera keeps this many voxels between itself and any surface (the surface is known to about
 # half a voxel).
 MARGIN_VOXELS = 0.5
+# The floor plane lies at this quantile of the heights of the solid samples in the floor's layers
+# (grass, rugs and the bases of objects standing on it lie above most of the floor's own samples).
+FLOOR_QUANTILE = 0.9
 
 
 @dataclass
@@ -68,7 +75,9 @@ class Occupancy:
         floor_top: index of the floor's highest layer, or -1 without a floor.
         ceiling: index of the lowest layer above the free space (the walls' top), or -1 without
             walls.
-        sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module).
+        sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module),
+            with the floor's layers free below free columns (the floor plane bounds it instead).
+        floor_height: grid-frame height (along the up) of the floor plane, or NaN without a floor.
     """
 
     rotation: np.ndarray
@@ -79,6 +88,7 @@ class Occupancy:
     floor_top: int
     sdf: np.ndarray
     ceiling: int = -1
+    floor_height: float = math.nan
 
     @property
     def margin(self) -> float:
@@ -94,7 +104,8 @@ class Occupancy:
     def clearance(self, points: Tensor | np.ndarray) -> Tensor:
         """Signed clearance (world units) of (..., 3) points: trilinear in the voxel values,
         differentiable. Beyond the grid it grows with the distance outside it, with the sign of
-        the nearest border voxel (the grid's padding is free except below the floor)."""
+        the nearest border voxel (the grid's padding is free except below the floor); never more
+        than the height above the floor plane."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
         g = self.grid_coordinates(points.to(dtype))
@@ -102,7 +113,11 @@ class Occupancy:
         inside = torch.minimum(torch.maximum(g, torch.zeros_like(g)), shape - 1)
         outside = (g - inside).norm(dim=-1) * self.voxel
         value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
-        return value + torch.where(value >= 0, outside, -outside)
+        value = value + torch.where(value >= 0, outside, -outside)
+        if math.isfinite(self.floor_height):
+            height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
+            value = torch.minimum(value, height - self.floor_height)
+        return value
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
         """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
@@ -190,6 +205,17 @@ def _floor_top(occupied: np.ndarray) -> int:
     while top + 1 < len(per_layer) and per_layer[top + 1] >= 0.5 * per_layer[floor]:
         top += 1
     return top
+
+
+def _floor_height(points: Tensor, grid: Occupancy) -> float:
+    """Grid-frame height of the floor plane: the :data:`FLOOR_QUANTILE` of the heights of the
+    (P, 3) grid-frame solid ``points`` inside the floor's layers (``grid.floor_top`` >= 0)."""
+    floor = int(np.argmax(grid.occupied.sum((0, 1))[: grid.floor_top + 1]))
+    heights = points[:, 2]
+    low = grid.origin[2] + floor * grid.voxel
+    high = grid.origin[2] + (grid.floor_top + 1) * grid.voxel
+    inside = heights[(heights >= low) & (heights < high)]
+    return float(inside.quantile(FLOOR_QUANTILE)) if len(inside) else high
 
 
 def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple[int, np.ndarray | None]:
@@ -309,10 +335,21 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     if not (seeds & empty).any():  # no camera in free space: the sky is outside everything
         seeds[:, :, -1] = True
     grid.free = _flood(empty, seeds)
+    room = grid.free
+    if grid.floor_top >= 0:
+        # The floor plane bounds the clearance from below (Occupancy.clearance), so the floor's
+        # layers count as free under a free column, except voxels holding a solid sample more
+        # than the margin above the plane: an object standing on the floor lower than a voxel
+        # (a toy car in a large outdoor scene) is still an obstacle.
+        grid.floor_height = _floor_height(points, grid)
+        raised = _occupied(grid, points[points[:, 2] > grid.floor_height + grid.margin])
+        room = grid.free.copy()
+        layers = slice(0, grid.floor_top + 1)
+        room[:, :, layers] |= grid.free[:, :, grid.floor_top + 1 : grid.floor_top + 2] & ~raised[:, :, layers]
     if grid.free.any():
-        outside = _distance_to(~grid.free) - 0.5
-        inside = _distance_to(grid.free) - 0.5
-        grid.sdf = (np.where(grid.free, outside, -inside) * voxel).astype(np.float32)
+        outside = _distance_to(~room) - 0.5
+        inside = _distance_to(room) - 0.5
+        grid.sdf = (np.where(room, outside, -inside) * voxel).astype(np.float32)
     else:
         grid.sdf = np.full(shape, -voxel, dtype=np.float32)
     return grid
@@ -351,6 +388,7 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussian
         "voxel": grid.voxel,
         "floor_top": grid.floor_top,
         "ceiling": grid.ceiling,
+        "floor_height": None if math.isnan(grid.floor_height) else grid.floor_height,
     }
     if gaussians is not None:
         meta["gaussians"] = gaussians
@@ -379,6 +417,7 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
                 return None
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
             voxel, floor_top, ceiling = float(meta["voxel"]), meta["floor_top"], meta["ceiling"]
+            floor_height = math.nan if meta["floor_height"] is None else float(meta["floor_height"])
     except (OSError, EOFError, ValueError, TypeError, KeyError, zipfile.BadZipFile) as err:
         raise InputError(f"is not an occupancy file ({err}); rebuild it with capframe occupancy", source=source) from None
     problem = _occupancy_problem(arrays, voxel, floor_top, ceiling)
@@ -390,7 +429,13 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             "rebuild it with capframe occupancy",
             source=source,
         )
-    return Occupancy(voxel=voxel, floor_top=floor_top, ceiling=ceiling, **arrays)
+    if (floor_top >= 0) != math.isfinite(floor_height):
+        raise InputError(
+            f"floor_height is {floor_height} with floor_top {floor_top}; expected a finite height exactly when there is a "
+            "floor; rebuild it with capframe occupancy",
+            source=source,
+        )
+    return Occupancy(voxel=voxel, floor_top=floor_top, ceiling=ceiling, floor_height=floor_height, **arrays)
 
 
 def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top, ceiling) -> str | None:

@@ -167,6 +167,13 @@ def view_target(view: str | None, elevation_range: tuple[float, float] | None) -
     return ViewTarget(VIEW_SIDES[view], tolerance - min(VIEW_MARGIN_DEG, tolerance / 2), elevation)
 
 
+def accepted_azimuth_tolerance_deg(target: ViewTarget) -> float:
+    """The half-width the checker accepts around each of ``target``'s azimuths: its own
+    tolerance plus the margin :func:`view_target` took off (``T - min(m, T / 2)`` inverted)."""
+    aimed = target.azimuth_tolerance_deg
+    return aimed + min(VIEW_MARGIN_DEG, aimed)
+
+
 def min_in_frame_share(extent: tuple[float, float] | None) -> float:
     """Share of a subject's projection Refine keeps inside the frame: the checker's visibility
     minimum for its shot size plus :data:`IN_FRAME_MARGIN`. A close-up, which may be cut off
