@@ -26,7 +26,8 @@ from torch import Tensor
 
 from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
-from ..render import PreparedGaussians, prepare, render, scene_extent
+from ..render import PreparedGaussians, prepare, render
+from ..render.lod import GaussianHierarchy, LodView, ray_cosine, subject_hierarchy
 from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
@@ -86,6 +87,9 @@ class RefineConfig:
             rendering the whole scene each step (0 disables the phase). ``iterations`` bounds
             both phases together.
         min_visible: see ``occlusion_iterations``.
+        lod_pixels: the subject masks and the occlusion phase render a level-of-detail cut
+            (:mod:`capframe.render.lod`) whose merged cells span at most this many pixels at
+            their nearest depth; 0 renders every Gaussian.
         threads: torch intra-op threads while optimising. The tensors are small, so threads gain
             little, and on a busy machine (parallel workflow jobs) their synchronisation makes
             every small op wait for a descheduled thread; one is the default.
@@ -104,6 +108,7 @@ class RefineConfig:
     roll_tolerance_deg: float = 1.0
     occlusion_iterations: int = 300
     min_visible: float = 0.6
+    lod_pixels: float = 1.0
     threads: int = 1
     weights: LossWeights = field(default_factory=LossWeights)
 
@@ -161,8 +166,12 @@ class _Objective:
         index = np.concatenate([s.gaussians for s in labels.subjects])
         owner = np.concatenate([np.full(len(s.gaussians), k) for k, s in enumerate(labels.subjects)])
         # Pose-independent work once; the near plane stays relative to the whole scene.
-        self.subjects = prepare(scene.subset(torch.as_tensor(index, dtype=torch.long)), dtype, extent=scene_extent(scene.means))
-        self.membership = torch.nn.functional.one_hot(torch.as_tensor(owner, dtype=torch.long), len(labels.subjects)).to(dtype)
+        self.subjects = LodView(
+            subject_hierarchy(scene, torch.as_tensor(index, dtype=torch.long), torch.as_tensor(owner), dtype),
+            len(labels.subjects),
+            self.camera,
+            config.lod_pixels,
+        )
         self.up = torch.as_tensor(labels.up, dtype=torch.float64)
         self.K = torch.as_tensor(camera.K, dtype=torch.float64)
         self.roll = math.radians(labels.roll_deg)
@@ -209,8 +218,7 @@ class _Objective:
 
     def __call__(self, T_cw: Tensor) -> tuple[Tensor, dict[str, Tensor]]:
         wts, cfg = self.config.weights, self.config
-        out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu")
-        masks = out.extra.permute(2, 0, 1)  # (subjects, H, W)
+        masks = self._masks(T_cw)  # (subjects, H, W)
         terms: dict[str, Tensor] = {}
         total = T_cw.new_zeros(())
 
@@ -257,10 +265,16 @@ class _Objective:
             add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
         return total, terms
 
+    def _masks(self, T_cw: Tensor) -> Tensor:
+        """The subjects' own masks (subjects, H, W) at ``T_cw``, each rendered without the rest of the scene."""
+        gaussians, membership = self.subjects.around(camera_center(T_cw.detach()))
+        out = render(gaussians, self.camera, T_cw=T_cw, extra=membership, colors=False, dtype=self.dtype, backend="cpu")
+        return out.extra.permute(2, 0, 1)
+
     def prepare_occlusion(self, scene: GaussianScene) -> None:
         """Keep the whole scene for :meth:`visible_shares` and the occlusion term, which render
         only its possible occluders (:class:`Occluders`)."""
-        self.occluders = Occluders(scene, self.labels, self.camera, self.dtype, self.subjects.extent)
+        self.occluders = Occluders(scene, self.labels, self.camera, self.dtype, self.subjects.extent, self.config.lod_pixels)
 
     def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
         """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
@@ -271,10 +285,7 @@ class _Objective:
     def visible_shares(self, T_cw: Tensor) -> list[float]:
         """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
         with torch.no_grad():
-            out = render(
-                self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu"
-            )
-            return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
+            return self._visible(T_cw, self._masks(T_cw)).tolist()
 
 
 class Occluders:
@@ -293,12 +304,17 @@ class Occluders:
     convex hull of the ball and the subjects' bounding sphere widened by their reach (:attr:`body`),
     and on beyond the sphere's centre within twice that radius of it (to the subjects' far side);
     every Gaussian within its own reach of that region is kept, the rest skipped. Subjects are
-    always kept.
+    always kept. With ``pixels`` > 0 the kept Gaussians are rendered through a level-of-detail cut
+    (:meth:`~capframe.render.lod.GaussianHierarchy.cut`, cells never mixing subjects and the
+    rest) valid for every centre in the ball.
     """
 
-    def __init__(self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float):
-        self.scene, self.dtype, self.extent = scene, dtype, extent
+    def __init__(
+        self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float, pixels: float = 0.0
+    ):
+        self.scene, self.dtype, self.extent, self.pixels = scene, dtype, extent, pixels
         K, W, H = camera.K, camera.width, camera.height
+        self.focal, self.cosine = float(max(K[0, 0], K[1, 1])), ray_cosine(K, W, H)
         # The largest clamped slope of the canvas (clamped_slopes: 30% beyond the borders).
         slope = max(
             (max(K[0, 2], W - K[0, 2]) + 0.15 * W) / K[0, 0],
@@ -349,9 +365,13 @@ class Occluders:
             own = self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
             keep.append(start + ((gap <= radius + own) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
         index = torch.cat(keep)
-        self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
         owner = self.owner[index]
-        self.membership = torch.zeros(len(index), self.subjects, dtype=self.dtype)
+        if self.pixels > 0:  # merged far away, valid anywhere in the ball
+            hierarchy = GaussianHierarchy(self.scene.subset(index), owner, dtype=self.dtype, extent=self.extent)
+            self.gaussians, owner, _ = hierarchy.cut(centre, self.focal, self.pixels, self.reach, self.cosine)
+        else:
+            self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
+        self.membership = torch.zeros(len(owner), self.subjects, dtype=self.dtype)
         inside = owner >= 0
         self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0
 
