@@ -27,7 +27,7 @@ from torch import Tensor
 from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
 from ..render import PreparedGaussians, prepare, render
-from ..render.lod import GaussianHierarchy, LodView, ray_cosine, subject_hierarchy
+from ..render.lod import SCENE_CELL, LodView, cached_hierarchy, ray_cosine, subject_owner
 from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
@@ -108,7 +108,7 @@ class RefineConfig:
     roll_tolerance_deg: float = 1.0
     occlusion_iterations: int = 300
     min_visible: float = 0.6
-    lod_pixels: float = 1.0
+    lod_pixels: float = 2.0
     threads: int = 1
     weights: LossWeights = field(default_factory=LossWeights)
 
@@ -167,7 +167,7 @@ class _Objective:
         owner = np.concatenate([np.full(len(s.gaussians), k) for k, s in enumerate(labels.subjects)])
         # Pose-independent work once; the near plane stays relative to the whole scene.
         self.subjects = LodView(
-            subject_hierarchy(scene, torch.as_tensor(index, dtype=torch.long), torch.as_tensor(owner), dtype),
+            cached_hierarchy(scene, torch.as_tensor(index, dtype=torch.long), torch.as_tensor(owner), dtype),
             len(labels.subjects),
             self.camera,
             config.lod_pixels,
@@ -304,9 +304,10 @@ class Occluders:
     convex hull of the ball and the subjects' bounding sphere widened by their reach (:attr:`body`),
     and on beyond the sphere's centre within twice that radius of it (to the subjects' far side);
     every Gaussian within its own reach of that region is kept, the rest skipped. Subjects are
-    always kept. With ``pixels`` > 0 the kept Gaussians are rendered through a level-of-detail cut
-    (:meth:`~capframe.render.lod.GaussianHierarchy.cut`, cells never mixing subjects and the
-    rest) valid for every centre in the ball.
+    always kept. With ``pixels`` > 0 the cull runs on a level-of-detail cut of the whole scene
+    (:func:`~capframe.render.lod.cached_hierarchy`, built once per query; cells never mix subjects
+    and the rest) valid for every centre in the ball: far clutter is drawn as merged cells, and a
+    merged cell's reach is that of its own covariance.
     """
 
     def __init__(
@@ -321,20 +322,20 @@ class Occluders:
             (max(K[1, 2], H - K[1, 2]) + 0.15 * H) / K[1, 1],
         )
         sigmas = math.sqrt(2.0 * SIGMA_MAX) * 1.01
+        self.reach_per_spread = math.sqrt(2.0) * sigmas * math.sqrt(1.0 + slope**2)
         with torch.no_grad():
             self.means = scene.means.detach().to(torch.float64)
-            spread = scene.scales.detach().to(torch.float64).norm(dim=1)
-            self.reach_fixed = math.sqrt(2.0) * sigmas * math.sqrt(1.0 + slope**2) * spread  # (N,)
+            self.reach_fixed = self.reach_per_spread * scene.scales.detach().to(torch.float64).norm(dim=1)  # (N,)
         # Reach per unit of depth: the dilation and the one-pixel slack at the smallest focal length.
         self.reach_per_depth = math.sqrt(2.0) * (sigmas * math.sqrt(EPS2D) + 1.0) / float(min(K[0, 0], K[1, 1]))
-        self.owner = torch.full((len(scene),), -1, dtype=torch.long)
-        for k, label in enumerate(labels.subjects):
-            self.owner[torch.as_tensor(label.gaussians, dtype=torch.long)] = k
+        subjects = [torch.as_tensor(label.gaussians, dtype=torch.long) for label in labels.subjects]
+        self.owner = subject_owner(len(scene), subjects)
         self.subjects = len(labels.subjects)
         members = self.owner >= 0
         lo, hi = self.means[members].min(0).values, self.means[members].max(0).values
         self.target = (lo + hi) / 2
         self.sphere = float(((self.means[members] - self.target).norm(dim=1) + self.reach_fixed[members]).max())
+        self.hierarchy = cached_hierarchy(scene, None, self.owner, dtype, SCENE_CELL) if pixels > 0 else None
         self.centre: Tensor | None = None
 
     def around(self, centre: Tensor) -> tuple[PreparedGaussians, Tensor]:
@@ -350,27 +351,32 @@ class Occluders:
         self.reach = 0.1 * self.sphere
         self.body = self.sphere + self.reach_per_depth * (distance + self.reach + self.sphere)
         self.centre = centre
+        if self.hierarchy is not None:  # merged far away, valid anywhere in the ball
+            source, owner, _ = self.hierarchy.cut(centre, self.focal, self.pixels, self.reach, self.cosine)
+            all_means = source.means
+            reach_fixed = self.reach_per_spread * source.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+        else:
+            source, owner, all_means, reach_fixed = None, self.owner, self.means, self.reach_fixed
         # The convex hull of the ball and the subjects' sphere: radius reach at the centre growing
         # linearly to body at the target, over the cosine of the cone's half-angle.
         slope = min((self.body - self.reach) / max(distance, 1e-300), 0.99)
         widen = 1.0 / math.sqrt(1.0 - slope**2)
         keep = []
-        for start in range(0, len(self.means), CULL_CHUNK):
-            means = self.means[start : start + CULL_CHUNK]
+        for start in range(0, len(all_means), CULL_CHUNK):
+            means = all_means[start : start + CULL_CHUNK]
             offset = means - centre
             t = offset @ axis / max(distance**2, 1e-300)
             gap = (offset - t.clamp(0.0, 1.0)[:, None] * axis).norm(dim=1)
             radius = widen * (self.reach + (self.body - self.reach) * t.clamp(0.0, 1.0))
             radius = torch.where(t > 1.0, torch.full_like(t, 2.0 * self.body), radius)
-            own = self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
-            keep.append(start + ((gap <= radius + own) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
+            own = reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
+            keep.append(start + ((gap <= radius + own) | (owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
         index = torch.cat(keep)
-        owner = self.owner[index]
-        if self.pixels > 0:  # merged far away, valid anywhere in the ball
-            hierarchy = GaussianHierarchy(self.scene.subset(index), owner, dtype=self.dtype, extent=self.extent)
-            self.gaussians, owner, _ = hierarchy.cut(centre, self.focal, self.pixels, self.reach, self.cosine)
-        else:
+        if source is None:
             self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
+        else:
+            self.gaussians = source.subset(index)
+        owner = owner[index]
         self.membership = torch.zeros(len(owner), self.subjects, dtype=self.dtype)
         inside = owner >= 0
         self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0

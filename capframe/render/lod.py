@@ -38,6 +38,9 @@ from . import PreparedGaussians, prepare
 MAX_OPACITY = 0.99  # a merged Gaussian's opacity cap (the renderer clamps alpha at 0.999)
 KEY_BITS = 18  # bits per cell coordinate in a packed cell key; the owner takes the bits above
 MAX_LEVELS = 16
+# Finest cells of a whole scene's hierarchy (occluders, visibility checks), in median |L|_F:
+# coarser than a subject's (seen up close), so building it over millions of Gaussians stays cheap.
+SCENE_CELL = 2.0
 MIN_SHRINK = 0.9  # a level is kept only when it holds at most this share of the level below
 
 
@@ -290,19 +293,42 @@ class LodView:
         return self.gaussians, self.membership
 
 
-_CACHE: dict = {}  # the last hierarchy built by subject_hierarchy
+_CACHE: dict = {}  # the hierarchies built by cached_hierarchy, by key (the last CACHED of them)
+CACHED = 2  # a query's subjects and its whole scene
 
 
-def subject_hierarchy(scene: GaussianScene, index: Tensor, owner: Tensor, dtype: torch.dtype) -> GaussianHierarchy:
-    """The hierarchy of ``scene``'s Gaussians ``index`` (M,) owned by ``owner`` (M,), with the
-    whole scene's extent; the last one is kept, since one query refines the same subjects from
-    several starts."""
-    key = (id(scene), scene.means.data_ptr(), len(scene), index.numpy().tobytes(), owner.numpy().tobytes(), dtype)
-    if _CACHE.get("key") != key:
-        _CACHE.clear()
-        hierarchy = GaussianHierarchy(scene.subset(index), owner, dtype=dtype, extent=scene_extent(scene.means.detach()))
-        _CACHE.update(key=key, value=hierarchy)
-    return _CACHE["value"]
+def cached_hierarchy(
+    scene: GaussianScene, index: Tensor | None, owner: Tensor, dtype: torch.dtype, cell_factor: float = 0.5
+) -> GaussianHierarchy:
+    """The hierarchy of ``scene``'s Gaussians ``index`` (M,) (None: all) owned by ``owner`` (M,),
+    with finest cells of ``cell_factor`` times their median ``|L|_F`` and the whole scene's
+    extent. Built once per query: one query refines the same subjects from several starts and
+    checks several closed-form cameras."""
+    key = (
+        id(scene),
+        scene.means.data_ptr(),
+        len(scene),
+        None if index is None else index.numpy().tobytes(),
+        owner.numpy().tobytes(),
+        dtype,
+        cell_factor,
+    )
+    if key not in _CACHE:
+        while len(_CACHE) >= CACHED:
+            _CACHE.pop(next(iter(_CACHE)))
+        part = scene if index is None else scene.subset(index)
+        with torch.no_grad():
+            cell = cell_factor * float(part.scales.norm(dim=1).median())
+        _CACHE[key] = GaussianHierarchy(part, owner, cell=cell, dtype=dtype, extent=scene_extent(scene.means.detach()))
+    return _CACHE[key]
+
+
+def subject_owner(count: int, subjects: list[Tensor]) -> Tensor:
+    """(count,) int64: ``k`` for the Gaussians of ``subjects[k]`` (index tensors), -1 elsewhere."""
+    owner = torch.full((count,), -1, dtype=torch.long)
+    for k, index in enumerate(subjects):
+        owner[index] = k
+    return owner
 
 
 __all__ = [
@@ -310,9 +336,11 @@ __all__ = [
     "Level",
     "LodView",
     "MAX_OPACITY",
+    "SCENE_CELL",
     "level_gaussians",
     "moment_match",
     "ray_cosine",
+    "cached_hierarchy",
     "splat_area",
-    "subject_hierarchy",
+    "subject_owner",
 ]
