@@ -33,7 +33,7 @@ from torch import Tensor
 
 from ..geometry import quat_to_rotmat
 from ..scene.model import GaussianScene, scene_extent
-from . import PreparedGaussians, prepare
+from . import PreparedGaussians
 
 MAX_OPACITY = 0.99  # a merged Gaussian's opacity cap (the renderer clamps alpha at 0.999)
 KEY_BITS = 18  # bits per cell coordinate in a packed cell key; the owner takes the bits above
@@ -158,11 +158,13 @@ class GaussianHierarchy:
         self.dtype = dtype
         self.owner = owner
         with torch.no_grad():
-            self.full = prepare(scene, dtype, extent=self.extent)
             means = scene.means.detach().to(torch.float64)
             scales = scene.scales.detach().to(torch.float64)
-            rot = quat_to_rotmat(scene.quats.detach().to(torch.float64))
-            covariances = (rot * scales[:, None, :] ** 2) @ rot.transpose(1, 2)
+            factors = quat_to_rotmat(scene.quats.detach().to(torch.float64)) * scales[:, None, :]  # as prepare's
+            covariances = factors @ factors.transpose(1, 2)
+            self.full = PreparedGaussians(
+                means, factors.to(dtype), scene.opacities.detach().to(dtype), scene.sh.detach().to(dtype), self.extent
+            )
             masses = scene.opacities.detach().to(torch.float64) * splat_area(scales**2)
             dc = scene.sh[:, 0].detach().to(torch.float64)
             lo = means.min(0).values
