@@ -26,7 +26,7 @@ from torch import Tensor
 
 from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
-from ..render import PreparedGaussians, prepare, render
+from ..render import PreparedGaussians, indexed, prepare, render
 from ..render.lod import SCENE_CELL, LodView, cached_hierarchy, ray_cosine, subject_owner
 from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
@@ -87,6 +87,10 @@ class RefineConfig:
             rendering the whole scene each step (0 disables the phase). ``iterations`` bounds
             both phases together.
         min_visible: see ``occlusion_iterations``.
+        occlusion_long_side: the occlusion phase measures visible shares on a canvas of this long
+            side (guard band included as for the masks); a share is an area ratio that needs
+            fewer pixels than the layout, and the phase renders every possible occluder at each
+            step. 0 or at least ``long_side``: the optimisation resolution.
         lod_pixels: the subject masks and the occlusion phase render a level-of-detail cut
             (:mod:`capframe.render.lod`) whose merged cells span at most this many pixels at
             their nearest depth; 0 renders every Gaussian.
@@ -107,6 +111,7 @@ class RefineConfig:
     guard: float = 0.25
     roll_tolerance_deg: float = 1.0
     occlusion_iterations: int = 300
+    occlusion_long_side: int = 80
     min_visible: float = 0.6
     lod_pixels: float = 2.0
     threads: int = 1
@@ -159,6 +164,7 @@ class _Objective:
         occupancy: Occupancy | None = None,
     ):
         self.config, self.labels, self.dtype, self.occupancy = config, labels, dtype, occupancy
+        self.unpadded = camera
         w, h = camera.width, camera.height
         gx, gy = round(config.guard * w), round(config.guard * h)
         self.camera = camera.padded(gx, gy)  # the canvas
@@ -261,7 +267,7 @@ class _Objective:
         if self.occupancy is not None:
             add("free_space", wts.free_space, free_space_loss(T_cw, self.occupancy))
         if self.penalise_occlusion:
-            visible = self._visible(T_cw, masks)
+            visible = self._visible(T_cw)
             add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
         return total, terms
 
@@ -273,19 +279,31 @@ class _Objective:
 
     def prepare_occlusion(self, scene: GaussianScene) -> None:
         """Keep the whole scene for :meth:`visible_shares` and the occlusion term, which render
-        only its possible occluders (:class:`Occluders`)."""
-        self.occluders = Occluders(scene, self.labels, self.camera, self.dtype, self.subjects.extent, self.config.lod_pixels)
+        only its possible occluders (:class:`Occluders`), on the occlusion canvas
+        (``occlusion_long_side``)."""
+        cfg, camera = self.config, self.unpadded
+        if 0 < cfg.occlusion_long_side < max(camera.width, camera.height):
+            camera = camera.with_long_side(cfg.occlusion_long_side)
+        self.occlusion_camera = camera.padded(round(cfg.guard * camera.width), round(cfg.guard * camera.height))
+        count = len(self.labels.subjects)
+        self.occlusion_subjects = LodView(self.subjects.hierarchy, count, self.occlusion_camera, cfg.lod_pixels)
+        self.occluders = Occluders(scene, self.labels, self.occlusion_camera, self.dtype, self.subjects.extent, cfg.lod_pixels)
 
-    def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
-        """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
-        gaussians, membership = self.occluders.around(camera_center(T_cw.detach()))
-        full = render(gaussians, self.camera, T_cw=T_cw, extra=membership, colors=False, dtype=self.dtype, backend="cpu")
-        return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
+    def _visible(self, T_cw: Tensor) -> Tensor:
+        """Share of each subject's own mask left visible by the rest of the scene, on the
+        occlusion canvas: (subjects,)."""
+        centre = camera_center(T_cw.detach())
+        options = dict(T_cw=T_cw, colors=False, dtype=self.dtype, backend="cpu")
+        gaussians, membership = self.occlusion_subjects.around(centre)
+        own = render(gaussians, self.occlusion_camera, extra=membership, **options).extra.sum((0, 1))
+        gaussians, membership = self.occluders.around(centre)
+        seen = render(gaussians, self.occlusion_camera, extra=membership, **options).extra.sum((0, 1))
+        return (seen / own.clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
 
     def visible_shares(self, T_cw: Tensor) -> list[float]:
         """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
         with torch.no_grad():
-            return self._visible(T_cw, self._masks(T_cw)).tolist()
+            return self._visible(T_cw).tolist()
 
 
 class Occluders:
@@ -376,6 +394,7 @@ class Occluders:
             self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
         else:
             self.gaussians = source.subset(index)
+        self.gaussians = indexed(self.gaussians)  # rendered at every step until the next cull
         owner = owner[index]
         self.membership = torch.zeros(len(owner), self.subjects, dtype=self.dtype)
         inside = owner >= 0

@@ -177,6 +177,16 @@ def prepare(scene: GaussianScene, dtype: torch.dtype = torch.float32, extent: fl
     )
 
 
+def indexed(gaussians: PreparedGaussians) -> PreparedGaussians:
+    """``gaussians`` with a spatial index for the frame cull when it holds :data:`PRECULL_MIN`
+    or more (a set rendered many times, such as the occlusion phase's occluders)."""
+    if len(gaussians) < PRECULL_MIN or gaussians.index is not None:
+        return gaussians
+    with torch.no_grad():
+        spreads = gaussians.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+        return dataclasses.replace(gaussians, index=ChunkIndex.build(gaussians.means, spreads))
+
+
 def chunk_index(scene: GaussianScene) -> ChunkIndex:
     """The spatial index of ``scene``'s frame cull, built on first use and kept on the scene
     object (a scene is not edited in place; :meth:`GaussianScene.subset` makes a new one)."""
@@ -333,6 +343,7 @@ __all__ = [
     "RenderOutput",
     "check_render_memory",
     "frame_index",
+    "indexed",
     "prepare",
     "render",
     "resolve_backend",

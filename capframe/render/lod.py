@@ -33,7 +33,7 @@ from torch import Tensor
 
 from ..geometry import quat_to_rotmat
 from ..scene.model import GaussianScene, scene_extent
-from . import PreparedGaussians
+from . import PreparedGaussians, indexed
 
 MAX_OPACITY = 0.99  # a merged Gaussian's opacity cap (the renderer clamps alpha at 0.999)
 KEY_BITS = 18  # bits per cell coordinate in a packed cell key; the owner takes the bits above
@@ -279,7 +279,7 @@ class LodView:
             self._store(hierarchy.full, hierarchy.owner, torch.full((len(hierarchy),), -1, dtype=torch.long))
 
     def _store(self, gaussians: PreparedGaussians, owner: Tensor, levels: Tensor) -> None:
-        self.gaussians, self.levels = gaussians, levels
+        self.gaussians, self.levels = indexed(gaussians), levels
         self.membership = torch.nn.functional.one_hot(owner, self.channels).to(gaussians.opacities.dtype)
 
     def around(self, centre: Tensor) -> tuple[PreparedGaussians, Tensor]:
