@@ -229,8 +229,8 @@ def test_occlusion_phase_visible_shares_match_the_whole_scene():
     shares = objective.visible_shares(T)
     members = torch.zeros(len(scene), 1, dtype=f64)
     members[:400] = 1.0
-    full = render(scene, objective.camera, T_cw=T, extra=members, colors=False, dtype=f64, backend="cpu")
-    own = render(scene, objective.camera, T_cw=T, subset=torch.arange(400), colors=False, dtype=f64, backend="cpu")
+    full = render(scene, objective.occlusion_camera, T_cw=T, extra=members, colors=False, dtype=f64, backend="cpu")
+    own = render(scene, objective.occlusion_camera, T_cw=T, subset=torch.arange(400), colors=False, dtype=f64, backend="cpu")
     expected = float(full.extra.sum() / own.alpha.sum())
     assert 0.05 < expected < 0.95  # the wall hides part of the subject
     assert shares[0] == pytest.approx(expected, rel=1e-9)

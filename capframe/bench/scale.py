@@ -76,6 +76,7 @@ class PeakMemory:
         self.label = label  # progress lines on stderr name the phase after it
         self.peaks: dict[str, float] = {}
         self.seconds: dict[str, float] = {}
+        self.cpu: dict[str, float] = {}  # process CPU seconds (all threads): what a busy machine's wall time hides
 
     @staticmethod
     def _reset() -> None:
@@ -94,12 +95,13 @@ class PeakMemory:
     @contextlib.contextmanager
     def phase(self, name: str):
         self._reset()
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         yield
-        seconds, peak = time.perf_counter() - start, self.high_water_gb()
+        seconds, cpu, peak = time.perf_counter() - start, time.process_time() - cpu, self.high_water_gb()
         self.seconds[name] = self.seconds.get(name, 0.0) + seconds
+        self.cpu[name] = self.cpu.get(name, 0.0) + cpu
         self.peaks[name] = max(self.peaks.get(name, 0.0), peak)
-        print(f"  {name}{self.label}: {seconds:.1f} s, peak {peak:.2f} GB", file=sys.stderr, flush=True)
+        print(f"  {name}{self.label}: {seconds:.1f} s (CPU {cpu:.1f} s), peak {peak:.2f} GB", file=sys.stderr, flush=True)
 
 
 def prepare_scenes(sizes: list[int], root: Path) -> tuple[dict, list[str], dict[int, Path]]:
@@ -174,6 +176,7 @@ def measure_size(scene_dir: Path, texts: list[str], work: Path) -> dict:
         with per.phase("result"):
             result = write_ground_result(work / f"ground-{q}", scene, labels, retrieved, refined, options, clock, occupancy)
         per.seconds["ground"] = sum(per.seconds[p] for p in ("retrieve", "translate", "refine", "result"))
+        per.cpu["ground"] = sum(per.cpu[p] for p in ("retrieve", "translate", "refine", "result"))
         per.peaks["ground"] = max(per.peaks[p] for p in ("retrieve", "translate", "refine", "result"))
         occlusion = sum(r.occlusion_seconds for _, r in refined.runs)
         rows.append((per, occlusion, result["report"]["all_satisfied"]))
@@ -200,17 +203,22 @@ def measure_size(scene_dir: Path, texts: list[str], work: Path) -> dict:
     figures = {"gaussians": len(scene.gaussians)}
     for name in ("load", "views"):
         figures[f"{name}_s"], figures[f"{name}_gb"] = meter.seconds[name], meter.peaks[name]
+        figures[f"{name}_cpu"] = meter.cpu[name]
     for name in ("retrieve", "translate", "refine", "result", "ground"):
         figures[f"{name}_s"] = float(np.mean([r[0].seconds[name] for r in rows]))
+        figures[f"{name}_cpu"] = float(np.mean([r[0].cpu[name] for r in rows]))
         figures[f"{name}_gb"] = float(max(r[0].peaks[name] for r in rows))
     figures["ground_max_s"] = float(max(r[0].seconds["ground"] for r in rows))
+    figures["ground_max_cpu"] = float(max(r[0].cpu["ground"] for r in rows))
     figures["occlusion_s"] = float(np.mean([r[1] for r in rows]))
     figures["own_labels_hold"] = sum(bool(r[2]) for r in rows)
     figures["occlusion_forced_s"] = occluded.occlusion_seconds
     figures["occlusion_forced_steps"] = occluded_steps
     figures["occlusion_forced_gb"] = meter.peaks["occlusion_forced"]
+    figures["occlusion_forced_cpu"] = meter.cpu["occlusion_forced"]
     for name in ("render_1000", "ivs"):
         figures[f"{name}_s"], figures[f"{name}_gb"] = meter.seconds[name], meter.peaks[name]
+        figures[f"{name}_cpu"] = meter.cpu[name]
     figures["peak_gb"] = max([*meter.peaks.values(), *(max(r[0].peaks.values()) for r in rows)])
     return figures
 
@@ -260,18 +268,17 @@ def format_capture(capture: dict) -> str:
 
 
 def format_scale(figures: dict) -> str:
-    """One row per phase, one column per size: seconds and peak GB."""
+    """One row per phase, one column per size: wall seconds, process CPU seconds and peak GB."""
     sizes = figures["sizes"]
     labels = list(sizes)
-    header = ["phase", *[f"{label} s" for label in labels], *[f"{label} GB" for label in labels]]
+    header = ["phase", *[f"{label} {unit}" for unit in ("s", "CPU s", "GB") for label in labels]]
     lines = [header]
     names = ["load", "views", "retrieve", "translate", "refine", "occlusion", "result", "ground", "ground_max"]
     names += ["occlusion_forced", "render_1000", "ivs", "peak"]
     for name in names:
-        secs = [sizes[label].get(f"{name}_s") for label in labels]
-        gbs = [sizes[label].get(f"{name}_gb") for label in labels]
-        lines.append([name, *("" if v is None else f"{v:.3g}" for v in secs), *("" if v is None else f"{v:.3g}" for v in gbs)])
-    lines.append(["gaussians", *(str(sizes[label]["gaussians"]) for label in labels), *([""] * len(labels))])
+        cells = [sizes[label].get(f"{name}_{unit}") for unit in ("s", "cpu", "gb") for label in labels]
+        lines.append([name, *("" if v is None else f"{v:.3g}" for v in cells)])
+    lines.append(["gaussians", *(str(sizes[label]["gaussians"]) for label in labels), *([""] * 2 * len(labels))])
     widths = [max(len(line[i]) for line in lines) for i in range(len(header))]
     text = "\n".join(
         "  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in enumerate(zip(line, widths))) for line in lines

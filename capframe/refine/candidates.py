@@ -39,7 +39,8 @@ import torch
 
 from ..constraints import MIN_VISIBLE_FRACTION
 from ..geometry import look_at, view_angles, view_direction
-from ..render import NEAR_FRACTION, prepare, scene_extent
+from ..render import NEAR_FRACTION, scene_extent
+from ..render.lod import SCENE_CELL, cached_hierarchy, ray_cosine, subject_owner
 from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
@@ -70,6 +71,7 @@ NEAREST_RADII = 0.4
 # Long side (pixels) of the renders that judge occlusion and framing, and how many free
 # positions along one ray are rendered at most (the nearest ones are seldom better).
 CHECK_LONG_SIDE = 64
+SIGHT_LOD_PIXELS = 2.0  # cells of the scene's level-of-detail cut span at most this (pixels)
 RENDERS_PER_RAY = 3
 
 
@@ -224,7 +226,7 @@ def solve_candidates(
     else:
         distance = max(float(np.linalg.norm(to_reference)), shot_distance(radius, 0.9, reference))
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
-    sight = _Sight(gaussians, subject, reference)
+    sight = _Sight(gaussians, labels, reference)
     point = _aim_point(subject)
     # The grid, then (only while nothing is kept) elevations over an occluder when none is asked
     # (the asked azimuths stay central), then the azimuths in the margin of an asked side.
@@ -263,19 +265,27 @@ def solve_candidates(
 class _Sight:
     """How the primary subject is seen from a camera: low-resolution renders of the whole scene
     and of the subject alone (:func:`~capframe.render.masks.subject_masks`, as the checker
-    measures visibility), prepared once for every candidate."""
+    measures visibility), through a level-of-detail cut of the scene
+    (:func:`~capframe.render.lod.cached_hierarchy`, built once per query and shared with Refine's
+    occlusion phase) whose merged cells span at most :data:`SIGHT_LOD_PIXELS` pixels."""
 
-    def __init__(self, gaussians: GaussianScene, subject: SubjectLabel, reference: Camera):
-        self.scene = prepare(gaussians)
+    def __init__(self, gaussians: GaussianScene, labels: PseudoLabels, reference: Camera):
+        subject = labels.subjects[0]
         self.near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
-        self.members = torch.zeros(len(gaussians), 1, dtype=torch.bool)
-        self.members[torch.as_tensor(subject.gaussians, dtype=torch.long), 0] = True
+        owner = subject_owner(len(gaussians), [torch.as_tensor(s.gaussians, dtype=torch.long) for s in labels.subjects])
+        self.hierarchy = cached_hierarchy(gaussians, None, owner, torch.float32, SCENE_CELL)
         self.min_in_frame = min_in_frame_share(subject.extent)
         self.long_side = CHECK_LONG_SIDE
 
     def __call__(self, camera: Camera) -> tuple[float, float]:
         """(visible share, in-frame share) of the subject seen by ``camera``."""
-        masks, _ = subject_masks(self.scene, camera.with_long_side(self.long_side), self.members, backend="cpu", near=self.near)
+        camera = camera.with_long_side(self.long_side)
+        canvas = camera.padded(camera.width // 2, camera.height // 2)  # subject_masks' own-render canvas
+        focal = float(max(camera.K[0, 0], camera.K[1, 1]))
+        centre = torch.as_tensor(camera.center, dtype=torch.float64)
+        cosine = ray_cosine(canvas.K, canvas.width, canvas.height)
+        gaussians, owner, _ = self.hierarchy.cut(centre, focal, SIGHT_LOD_PIXELS, 0.0, cosine)
+        masks, _ = subject_masks(gaussians, camera, (owner == 0)[:, None], backend="cpu", near=self.near)
         return masks[0].visible_fraction, masks[0].in_frame
 
     def sees(self, shares: tuple[float, float]) -> bool:

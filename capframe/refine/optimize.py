@@ -26,7 +26,8 @@ from torch import Tensor
 
 from ..geometry.camera import camera_center
 from ..geometry.lie import se3_exp
-from ..render import PreparedGaussians, prepare, render, scene_extent
+from ..render import PreparedGaussians, indexed, prepare, render
+from ..render.lod import SCENE_CELL, LodView, cached_hierarchy, ray_cosine, subject_owner
 from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
@@ -86,6 +87,13 @@ class RefineConfig:
             rendering the whole scene each step (0 disables the phase). ``iterations`` bounds
             both phases together.
         min_visible: see ``occlusion_iterations``.
+        occlusion_long_side: the occlusion phase measures visible shares on a canvas of this long
+            side (guard band included as for the masks); a share is an area ratio that needs
+            fewer pixels than the layout, and the phase renders every possible occluder at each
+            step. 0 or at least ``long_side``: the optimisation resolution.
+        lod_pixels: the subject masks and the occlusion phase render a level-of-detail cut
+            (:mod:`capframe.render.lod`) whose merged cells span at most this many pixels at
+            their nearest depth; 0 renders every Gaussian.
         threads: torch intra-op threads while optimising. The tensors are small, so threads gain
             little, and on a busy machine (parallel workflow jobs) their synchronisation makes
             every small op wait for a descheduled thread; one is the default.
@@ -103,7 +111,9 @@ class RefineConfig:
     guard: float = 0.25
     roll_tolerance_deg: float = 1.0
     occlusion_iterations: int = 300
+    occlusion_long_side: int = 80
     min_visible: float = 0.6
+    lod_pixels: float = 2.0
     threads: int = 1
     weights: LossWeights = field(default_factory=LossWeights)
 
@@ -154,6 +164,7 @@ class _Objective:
         occupancy: Occupancy | None = None,
     ):
         self.config, self.labels, self.dtype, self.occupancy = config, labels, dtype, occupancy
+        self.unpadded = camera
         w, h = camera.width, camera.height
         gx, gy = round(config.guard * w), round(config.guard * h)
         self.camera = camera.padded(gx, gy)  # the canvas
@@ -161,8 +172,12 @@ class _Objective:
         index = np.concatenate([s.gaussians for s in labels.subjects])
         owner = np.concatenate([np.full(len(s.gaussians), k) for k, s in enumerate(labels.subjects)])
         # Pose-independent work once; the near plane stays relative to the whole scene.
-        self.subjects = prepare(scene.subset(torch.as_tensor(index, dtype=torch.long)), dtype, extent=scene_extent(scene.means))
-        self.membership = torch.nn.functional.one_hot(torch.as_tensor(owner, dtype=torch.long), len(labels.subjects)).to(dtype)
+        self.subjects = LodView(
+            cached_hierarchy(scene, torch.as_tensor(index, dtype=torch.long), torch.as_tensor(owner), dtype),
+            len(labels.subjects),
+            self.camera,
+            config.lod_pixels,
+        )
         self.up = torch.as_tensor(labels.up, dtype=torch.float64)
         self.K = torch.as_tensor(camera.K, dtype=torch.float64)
         self.roll = math.radians(labels.roll_deg)
@@ -209,8 +224,7 @@ class _Objective:
 
     def __call__(self, T_cw: Tensor) -> tuple[Tensor, dict[str, Tensor]]:
         wts, cfg = self.config.weights, self.config
-        out = render(self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu")
-        masks = out.extra.permute(2, 0, 1)  # (subjects, H, W)
+        masks = self._masks(T_cw)  # (subjects, H, W)
         terms: dict[str, Tensor] = {}
         total = T_cw.new_zeros(())
 
@@ -253,28 +267,43 @@ class _Objective:
         if self.occupancy is not None:
             add("free_space", wts.free_space, free_space_loss(T_cw, self.occupancy))
         if self.penalise_occlusion:
-            visible = self._visible(T_cw, masks)
+            visible = self._visible(T_cw)
             add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
         return total, terms
 
+    def _masks(self, T_cw: Tensor) -> Tensor:
+        """The subjects' own masks (subjects, H, W) at ``T_cw``, each rendered without the rest of the scene."""
+        gaussians, membership = self.subjects.around(camera_center(T_cw.detach()))
+        out = render(gaussians, self.camera, T_cw=T_cw, extra=membership, colors=False, dtype=self.dtype, backend="cpu")
+        return out.extra.permute(2, 0, 1)
+
     def prepare_occlusion(self, scene: GaussianScene) -> None:
         """Keep the whole scene for :meth:`visible_shares` and the occlusion term, which render
-        only its possible occluders (:class:`Occluders`)."""
-        self.occluders = Occluders(scene, self.labels, self.camera, self.dtype, self.subjects.extent)
+        only its possible occluders (:class:`Occluders`), on the occlusion canvas
+        (``occlusion_long_side``)."""
+        cfg, camera = self.config, self.unpadded
+        if 0 < cfg.occlusion_long_side < max(camera.width, camera.height):
+            camera = camera.with_long_side(cfg.occlusion_long_side)
+        self.occlusion_camera = camera.padded(round(cfg.guard * camera.width), round(cfg.guard * camera.height))
+        count = len(self.labels.subjects)
+        self.occlusion_subjects = LodView(self.subjects.hierarchy, count, self.occlusion_camera, cfg.lod_pixels)
+        self.occluders = Occluders(scene, self.labels, self.occlusion_camera, self.dtype, self.subjects.extent, cfg.lod_pixels)
 
-    def _visible(self, T_cw: Tensor, masks: Tensor) -> Tensor:
-        """Share of each subject's mask (subjects, H, W) left visible by the rest of the scene: (subjects,)."""
-        gaussians, membership = self.occluders.around(camera_center(T_cw.detach()))
-        full = render(gaussians, self.camera, T_cw=T_cw, extra=membership, colors=False, dtype=self.dtype, backend="cpu")
-        return (full.extra.sum((0, 1)) / masks.sum((1, 2)).clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
+    def _visible(self, T_cw: Tensor) -> Tensor:
+        """Share of each subject's own mask left visible by the rest of the scene, on the
+        occlusion canvas: (subjects,)."""
+        centre = camera_center(T_cw.detach())
+        options = dict(T_cw=T_cw, colors=False, dtype=self.dtype, backend="cpu")
+        gaussians, membership = self.occlusion_subjects.around(centre)
+        own = render(gaussians, self.occlusion_camera, extra=membership, **options).extra.sum((0, 1))
+        gaussians, membership = self.occluders.around(centre)
+        seen = render(gaussians, self.occlusion_camera, extra=membership, **options).extra.sum((0, 1))
+        return (seen / own.clamp_min(1e-6)).clamp(0.0, 1.0).to(torch.float64)
 
     def visible_shares(self, T_cw: Tensor) -> list[float]:
         """Visible share of each subject at ``T_cw``, without gradient (after :meth:`prepare_occlusion`)."""
         with torch.no_grad():
-            out = render(
-                self.subjects, self.camera, T_cw=T_cw, extra=self.membership, colors=False, dtype=self.dtype, backend="cpu"
-            )
-            return self._visible(T_cw, out.extra.permute(2, 0, 1)).tolist()
+            return self._visible(T_cw).tolist()
 
 
 class Occluders:
@@ -293,32 +322,38 @@ class Occluders:
     convex hull of the ball and the subjects' bounding sphere widened by their reach (:attr:`body`),
     and on beyond the sphere's centre within twice that radius of it (to the subjects' far side);
     every Gaussian within its own reach of that region is kept, the rest skipped. Subjects are
-    always kept.
+    always kept. With ``pixels`` > 0 the cull runs on a level-of-detail cut of the whole scene
+    (:func:`~capframe.render.lod.cached_hierarchy`, built once per query; cells never mix subjects
+    and the rest) valid for every centre in the ball: far clutter is drawn as merged cells, and a
+    merged cell's reach is that of its own covariance.
     """
 
-    def __init__(self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float):
-        self.scene, self.dtype, self.extent = scene, dtype, extent
+    def __init__(
+        self, scene: GaussianScene, labels: PseudoLabels, camera: Camera, dtype: torch.dtype, extent: float, pixels: float = 0.0
+    ):
+        self.scene, self.dtype, self.extent, self.pixels = scene, dtype, extent, pixels
         K, W, H = camera.K, camera.width, camera.height
+        self.focal, self.cosine = float(max(K[0, 0], K[1, 1])), ray_cosine(K, W, H)
         # The largest clamped slope of the canvas (clamped_slopes: 30% beyond the borders).
         slope = max(
             (max(K[0, 2], W - K[0, 2]) + 0.15 * W) / K[0, 0],
             (max(K[1, 2], H - K[1, 2]) + 0.15 * H) / K[1, 1],
         )
         sigmas = math.sqrt(2.0 * SIGMA_MAX) * 1.01
+        self.reach_per_spread = math.sqrt(2.0) * sigmas * math.sqrt(1.0 + slope**2)
         with torch.no_grad():
             self.means = scene.means.detach().to(torch.float64)
-            spread = scene.scales.detach().to(torch.float64).norm(dim=1)
-            self.reach_fixed = math.sqrt(2.0) * sigmas * math.sqrt(1.0 + slope**2) * spread  # (N,)
+            self.reach_fixed = self.reach_per_spread * scene.scales.detach().to(torch.float64).norm(dim=1)  # (N,)
         # Reach per unit of depth: the dilation and the one-pixel slack at the smallest focal length.
         self.reach_per_depth = math.sqrt(2.0) * (sigmas * math.sqrt(EPS2D) + 1.0) / float(min(K[0, 0], K[1, 1]))
-        self.owner = torch.full((len(scene),), -1, dtype=torch.long)
-        for k, label in enumerate(labels.subjects):
-            self.owner[torch.as_tensor(label.gaussians, dtype=torch.long)] = k
+        subjects = [torch.as_tensor(label.gaussians, dtype=torch.long) for label in labels.subjects]
+        self.owner = subject_owner(len(scene), subjects)
         self.subjects = len(labels.subjects)
         members = self.owner >= 0
         lo, hi = self.means[members].min(0).values, self.means[members].max(0).values
         self.target = (lo + hi) / 2
         self.sphere = float(((self.means[members] - self.target).norm(dim=1) + self.reach_fixed[members]).max())
+        self.hierarchy = cached_hierarchy(scene, None, self.owner, dtype, SCENE_CELL) if pixels > 0 else None
         self.centre: Tensor | None = None
 
     def around(self, centre: Tensor) -> tuple[PreparedGaussians, Tensor]:
@@ -334,24 +369,34 @@ class Occluders:
         self.reach = 0.1 * self.sphere
         self.body = self.sphere + self.reach_per_depth * (distance + self.reach + self.sphere)
         self.centre = centre
+        if self.hierarchy is not None:  # merged far away, valid anywhere in the ball
+            source, owner, _ = self.hierarchy.cut(centre, self.focal, self.pixels, self.reach, self.cosine)
+            all_means = source.means
+            reach_fixed = self.reach_per_spread * source.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+        else:
+            source, owner, all_means, reach_fixed = None, self.owner, self.means, self.reach_fixed
         # The convex hull of the ball and the subjects' sphere: radius reach at the centre growing
         # linearly to body at the target, over the cosine of the cone's half-angle.
         slope = min((self.body - self.reach) / max(distance, 1e-300), 0.99)
         widen = 1.0 / math.sqrt(1.0 - slope**2)
         keep = []
-        for start in range(0, len(self.means), CULL_CHUNK):
-            means = self.means[start : start + CULL_CHUNK]
+        for start in range(0, len(all_means), CULL_CHUNK):
+            means = all_means[start : start + CULL_CHUNK]
             offset = means - centre
             t = offset @ axis / max(distance**2, 1e-300)
             gap = (offset - t.clamp(0.0, 1.0)[:, None] * axis).norm(dim=1)
             radius = widen * (self.reach + (self.body - self.reach) * t.clamp(0.0, 1.0))
             radius = torch.where(t > 1.0, torch.full_like(t, 2.0 * self.body), radius)
-            own = self.reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
-            keep.append(start + ((gap <= radius + own) | (self.owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
+            own = reach_fixed[start : start + CULL_CHUNK] + self.reach_per_depth * (offset.norm(dim=1) + self.reach)
+            keep.append(start + ((gap <= radius + own) | (owner[start : start + CULL_CHUNK] >= 0)).nonzero()[:, 0])
         index = torch.cat(keep)
-        self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
-        owner = self.owner[index]
-        self.membership = torch.zeros(len(index), self.subjects, dtype=self.dtype)
+        if source is None:
+            self.gaussians = prepare(self.scene.subset(index), self.dtype, extent=self.extent)
+        else:
+            self.gaussians = source.subset(index)
+        self.gaussians = indexed(self.gaussians)  # rendered at every step until the next cull
+        owner = owner[index]
+        self.membership = torch.zeros(len(owner), self.subjects, dtype=self.dtype)
         inside = owner >= 0
         self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0
 

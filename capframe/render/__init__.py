@@ -24,6 +24,7 @@ from torch import Tensor
 from ..errors import InputError
 from ..geometry.camera import camera_center
 from ..scene.model import Camera, GaussianScene, scene_extent
+from .chunks import ChunkIndex
 from .sh import eval_sh_colors
 
 DEPTH_ALPHA_MIN = 1e-4  # below this accumulated alpha the normalised depth is undefined
@@ -139,6 +140,8 @@ class PreparedGaussians:
         opacities: (N,) render dtype.
         sh: (N, K, 3) render dtype.
         extent: the scene extent the default near plane is relative to.
+        index: the spatial index of the frame cull (:class:`~capframe.render.chunks.ChunkIndex`;
+            scenes of :data:`PRECULL_MIN` Gaussians or more), or None.
     """
 
     means: Tensor
@@ -146,11 +149,13 @@ class PreparedGaussians:
     opacities: Tensor
     sh: Tensor
     extent: float
+    index: ChunkIndex | None = None
 
     def __len__(self) -> int:
         return len(self.means)
 
     def subset(self, index: Tensor) -> PreparedGaussians:
+        """The Gaussians ``index`` (without a spatial index)."""
         return PreparedGaussians(self.means[index], self.factors[index], self.opacities[index], self.sh[index], self.extent)
 
 
@@ -168,7 +173,29 @@ def prepare(scene: GaussianScene, dtype: torch.dtype = torch.float32, extent: fl
         opacities=scene.opacities.to(dtype),
         sh=scene.sh.to(dtype),
         extent=scene_extent(scene.means.detach()) if extent is None else extent,
+        index=chunk_index(scene) if len(scene) >= PRECULL_MIN else None,
     )
+
+
+def indexed(gaussians: PreparedGaussians) -> PreparedGaussians:
+    """``gaussians`` with a spatial index for the frame cull when it holds :data:`PRECULL_MIN`
+    or more (a set rendered many times, such as the occlusion phase's occluders)."""
+    if len(gaussians) < PRECULL_MIN or gaussians.index is not None:
+        return gaussians
+    with torch.no_grad():
+        spreads = gaussians.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+        return dataclasses.replace(gaussians, index=ChunkIndex.build(gaussians.means, spreads))
+
+
+def chunk_index(scene: GaussianScene) -> ChunkIndex:
+    """The spatial index of ``scene``'s frame cull, built on first use and kept on the scene
+    object (a scene is not edited in place; :meth:`GaussianScene.subset` makes a new one)."""
+    index = getattr(scene, "_chunk_index", None)
+    if index is None:
+        with torch.no_grad():
+            index = ChunkIndex.build(scene.means, scene.scales.norm(dim=1))
+        scene._chunk_index = index
+    return index
 
 
 def frame_index(
@@ -186,19 +213,26 @@ def frame_index(
     ``(near, far)`` or footprint box certainly off the frame,
     :func:`~capframe.render.torch_backend.may_touch_frame`). A 1e-3 relative slack on the depth
     bounds absorbs the render dtype's rounding. Computed ``chunk`` Gaussians at a time, in float64,
-    without gradient."""
+    without gradient; with a spatial index (:attr:`PreparedGaussians.index`) only the Gaussians of
+    the chunks that may touch the frame are tested, with the same result."""
     from .torch_backend import may_touch_frame
 
     with torch.no_grad():
         pose = pose.detach().to(torch.float64)
         R, centre, K = pose[:3, :3], camera_center(pose), K.to(torch.float64)
+        if gaussians.index is not None:
+            pool = torch.sort(gaussians.index.candidates(pose, K, width, height, near, far)).values
+        else:
+            pool = None
         kept = []
-        for start in range(0, len(gaussians), chunk):
-            local = (gaussians.means[start : start + chunk].detach() - centre) @ R.T
+        for start in range(0, len(gaussians) if pool is None else len(pool), chunk):
+            rows = slice(start, start + chunk) if pool is None else pool[start : start + chunk]
+            local = (gaussians.means[rows].detach() - centre) @ R.T
             z = local[:, 2]
             front = ((z > near * (1.0 - 1e-3)) & (z < far * (1.0 + 1e-3))).nonzero()[:, 0]
-            factors = gaussians.factors[start : start + chunk][front].detach().to(torch.float64)
-            kept.append(start + front[may_touch_frame(local[front], factors, K, width, height)])
+            factors = gaussians.factors[rows][front].detach().to(torch.float64)
+            front = front[may_touch_frame(local[front], factors, K, width, height)]
+            kept.append(start + front if pool is None else rows[front])
         return torch.cat(kept) if kept else torch.zeros(0, dtype=torch.long)
 
 
@@ -309,6 +343,7 @@ __all__ = [
     "RenderOutput",
     "check_render_memory",
     "frame_index",
+    "indexed",
     "prepare",
     "render",
     "resolve_backend",
