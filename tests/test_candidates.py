@@ -87,25 +87,33 @@ def test_aimed_pose_images_the_target_at_the_point():
     np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-12)
 
 
+def ball_before_wall(seed: int, spacing: float, wall_y: float, wall_height: float, scale: float, opacity: float) -> GaussianScene:
+    """400 Gaussians on a ball of radius 0.3 about (0, 0, 0.4) (indices 0..399), a floor z = 0 and
+    a wall at y = ``wall_y`` of height ``wall_height``, both over x, y in [-3, 3] sampled every
+    ``spacing``; isotropic ``scale`` and ``opacity`` everywhere, random colours."""
+    g = torch.Generator().manual_seed(seed)
+    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
+    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 0.4], dtype=torch.float64)
+    s = torch.arange(-3.0, 3.0 + 1e-9, spacing, dtype=torch.float64)
+    a, b = torch.meshgrid(s, s, indexing="ij")
+    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
+    heights = (b.reshape(-1) + 3) / 6 * wall_height
+    wall = torch.stack([a.reshape(-1), torch.full((a.numel(),), wall_y, dtype=torch.float64), heights], 1)
+    means = torch.cat([ball, floor, wall])
+    n = len(means)
+    return GaussianScene.from_activated(
+        means.float(),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), scale),
+        torch.full((n,), opacity),
+        torch.rand(n, 3, generator=g),
+    )
+
+
 def walled_scene() -> tuple[GaussianScene, np.ndarray, np.ndarray]:
     """A ball (the subject, front -y) in front of a wall at y = 0.6 (x in [-3, 3], z in [0, 3]) on
     a floor; returns the Gaussians, the subject's indices and the up."""
-    g = torch.Generator().manual_seed(0)
-    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
-    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 0.4], dtype=torch.float64)
-    s = torch.arange(-3.0, 3.0 + 1e-9, 0.1, dtype=torch.float64)
-    a, b = torch.meshgrid(s, s, indexing="ij")
-    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
-    wall = torch.stack([a.reshape(-1), torch.full((a.numel(),), 0.6, dtype=torch.float64), (b.reshape(-1) + 3) / 2], 1)
-    means = torch.cat([ball, floor, wall])
-    n = len(means)
-    gaussians = GaussianScene.from_activated(
-        means.float(),
-        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
-        torch.full((n, 3), 0.06),
-        torch.full((n,), 0.9),
-        torch.rand(n, 3, generator=g),
-    )
+    gaussians = ball_before_wall(seed=0, spacing=0.1, wall_y=0.6, wall_height=3.0, scale=0.06, opacity=0.9)
     return gaussians, np.arange(400), np.array([0.0, 0.0, 1.0])
 
 
@@ -174,22 +182,7 @@ def test_a_view_hidden_by_a_low_wall_is_solved_from_over_it():
     """A ball behind a low wall (in front of it): no camera at the reference view's elevation
     sees it, so without an asked elevation the closed form looks over the wall, at the asked
     azimuth (not at the edge of the accepted range, where Refine would stop)."""
-    g = torch.Generator().manual_seed(1)
-    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
-    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 0.4], dtype=torch.float64)
-    s = torch.arange(-3.0, 3.0 + 1e-9, 0.05, dtype=torch.float64)
-    a, b = torch.meshgrid(s, s, indexing="ij")
-    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
-    wall = torch.stack([a.reshape(-1), torch.full((a.numel(),), -1.0, dtype=torch.float64), (b.reshape(-1) + 3) / 6], 1)
-    means = torch.cat([ball, floor, wall])
-    n = len(means)
-    gaussians = GaussianScene.from_activated(
-        means.float(),
-        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
-        torch.full((n, 3), 0.04),
-        torch.full((n,), 0.95),
-        torch.rand(n, 3, generator=g),
-    )
+    gaussians = ball_before_wall(seed=1, spacing=0.05, wall_y=-1.0, wall_height=1.0, scale=0.04, opacity=0.95)
     up = np.array([0.0, 0.0, 1.0])
     centroid = gaussians.means[:400].double().mean(0).numpy()
     subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
