@@ -1058,20 +1058,27 @@ SUBJECT_FIELDS = ("region", "shot", "view")
 
 # --- compiling the tables -------------------------------------------------------------------------
 
+
+def _alternatives(options, opening: str = "(") -> str:
+    """A regex group of ``options``, longest first so that a longer phrase wins over its prefix;
+    ``opening`` is the group's opening ("(", "(?:" or a named group)."""
+    return opening + "|".join(sorted(options, key=len, reverse=True)) + ")"
+
+
 _MACROS = {
     "{FRAME}": FRAME,
     "{d}": r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
-    "{WEAK}": "(?:" + "|".join(sorted(DEGREE_SCALE["slight"], key=len, reverse=True)) + ")",
-    "{STRONG}": "(?:" + "|".join(sorted((*DEGREE_SCALE["exact"], "strongly"), key=len, reverse=True)) + ")",
-    "{VERY}": "(?:" + "|".join(sorted(DEGREE_SCALE["strong"], key=len, reverse=True)) + ")",
-    "{PLENTY}": "(?:" + "|".join(sorted(PLENTY_WORDS, key=len, reverse=True)) + ")",
-    "{ANCHOR_EYE}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["eye level"], key=len, reverse=True)) + ")",
-    "{ANCHOR_LOW}": "(?:" + "|".join(sorted(HEIGHT_ANCHORS["low angle"], key=len, reverse=True)) + ")",
+    "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
+    "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
+    "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
+    "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
+    "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
+    "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
-    "{WEAKROLL}": "(?P<weak>" + "|".join(sorted(DEGREE_SCALE["slight"], key=len, reverse=True)) + ")",
+    "{WEAKROLL}": _alternatives(DEGREE_SCALE["slight"], "(?P<weak>"),
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     # Pointing the camera ("shoot up at", "aimed down").
@@ -1092,10 +1099,6 @@ class _Rule:
     value: object
     pattern: re.Pattern
     weak: bool = False
-
-
-def _alternatives(options: list[str]) -> str:
-    return "(" + "|".join(sorted(options, key=len, reverse=True)) + ")"
 
 
 def _compile(template: str) -> re.Pattern:
