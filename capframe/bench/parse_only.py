@@ -60,18 +60,12 @@ def _catalog_vocabulary(objects: list[str]) -> Vocabulary:
     """A scene's vocabulary from the suite file's object names (catalog names and aliases)."""
     from ..synth.objects import lookup
 
-    @dataclass
-    class _Object:
-        name: str
-        aliases: list[str]
-        symmetric: bool
-
     entries = []
     for name in objects:
-        spec = lookup(name)
+        spec = lookup(name)  # a catalog entry has the name, aliases and symmetry the vocabulary reads
         if spec is None:
             raise InputError(f"object {name!r} is not in the catalog")
-        entries.append(_Object(spec.name, list(spec.aliases), spec.symmetric))
+        entries.append(spec)
     return Vocabulary.from_semantics(entries)
 
 
