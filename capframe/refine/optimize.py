@@ -372,7 +372,7 @@ class Occluders:
         if self.hierarchy is not None:  # merged far away, valid anywhere in the ball
             source, owner, _ = self.hierarchy.cut(centre, self.focal, self.pixels, self.reach, self.cosine)
             all_means = source.means
-            reach_fixed = self.reach_per_spread * source.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+            reach_fixed = self.reach_per_spread * source.spreads()
         else:
             source, owner, all_means, reach_fixed = None, self.owner, self.means, self.reach_fixed
         # The convex hull of the ball and the subjects' sphere: radius reach at the centre growing

@@ -154,6 +154,10 @@ class PreparedGaussians:
     def __len__(self) -> int:
         return len(self.means)
 
+    def spreads(self) -> Tensor:
+        """(N,) float64 ``|L|_F``, the root of each Gaussian's summed variances (no gradient)."""
+        return self.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
+
     def subset(self, index: Tensor) -> PreparedGaussians:
         """The Gaussians ``index`` (without a spatial index)."""
         return PreparedGaussians(self.means[index], self.factors[index], self.opacities[index], self.sh[index], self.extent)
@@ -183,8 +187,7 @@ def indexed(gaussians: PreparedGaussians) -> PreparedGaussians:
     if len(gaussians) < PRECULL_MIN or gaussians.index is not None:
         return gaussians
     with torch.no_grad():
-        spreads = gaussians.factors.detach().to(torch.float64).square().sum((1, 2)).sqrt()
-        return dataclasses.replace(gaussians, index=ChunkIndex.build(gaussians.means, spreads))
+        return dataclasses.replace(gaussians, index=ChunkIndex.build(gaussians.means, gaussians.spreads()))
 
 
 def chunk_index(scene: GaussianScene) -> ChunkIndex:

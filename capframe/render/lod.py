@@ -31,9 +31,9 @@ from dataclasses import dataclass
 import torch
 from torch import Tensor
 
-from ..geometry import quat_to_rotmat
 from ..scene.model import GaussianScene, scene_extent
 from . import PreparedGaussians, indexed
+from .torch_backend import covariance_factor
 
 MAX_OPACITY = 0.99  # a merged Gaussian's opacity cap (the renderer clamps alpha at 0.999)
 KEY_BITS = 18  # bits per cell coordinate in a packed cell key; the owner takes the bits above
@@ -160,7 +160,7 @@ class GaussianHierarchy:
         with torch.no_grad():
             means = scene.means.detach().to(torch.float64)
             scales = scene.scales.detach().to(torch.float64)
-            factors = quat_to_rotmat(scene.quats.detach().to(torch.float64)) * scales[:, None, :]  # as prepare's
+            factors = covariance_factor(scene.quats.detach().to(torch.float64), scales)
             covariances = factors @ factors.transpose(1, 2)
             self.full = PreparedGaussians(
                 means, factors.to(dtype), scene.opacities.detach().to(dtype), scene.sh.detach().to(dtype), self.extent
@@ -271,8 +271,8 @@ class LodView:
         self.focal = float(max(camera.K[0, 0], camera.K[1, 1]))
         self.cosine = ray_cosine(camera.K, camera.width, camera.height)
         means = hierarchy.full.means
-        self.centre_of_mass = (means.min(0).values + means.max(0).values) / 2
-        self.radius = float((means - self.centre_of_mass).norm(dim=1).max())
+        self.bound_centre = (means.min(0).values + means.max(0).values) / 2
+        self.radius = float((means - self.bound_centre).norm(dim=1).max())
         self.centre: Tensor | None = None
         self.levels: Tensor | None = None  # level of each Gaussian of the cut (-1: original)
         if pixels <= 0:
@@ -288,7 +288,7 @@ class LodView:
             return self.gaussians, self.membership
         centre = centre.detach().to(torch.float64)
         if self.centre is None or float((centre - self.centre).norm()) > self.slack:
-            distance = float((centre - self.centre_of_mass).norm())
+            distance = float((centre - self.bound_centre).norm())
             self.slack = 0.1 * max(distance - self.radius, self.radius)
             self.centre = centre
             self._store(*self.hierarchy.cut(centre, self.focal, self.pixels, self.slack, self.cosine))
