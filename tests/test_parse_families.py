@@ -81,10 +81,10 @@ DEGREES = [
     ("the tv seen kind of from the left", want(s(TV, view="front-slight-left"))),
     ("teddy, very high", want(s(BEAR), elevation="high angle")),
     ("the bench from way down low", want(s(BENCH), elevation="low angle")),
-    ("the bench square on", want(s(BENCH, view="front"))),
-    ("the sofa bang on", want(s(SOFA, view="front"))),
-    ("tv, full frontal, medium shot", want(s(TV, shot="medium", view="front"))),
-    ("fridge precisely from the left", want(s(FRIDGE, view="left"))),
+    ("the bench square on", want(s(BENCH, view="front-exact"))),
+    ("the sofa bang on", want(s(SOFA, view="front-exact"))),
+    ("tv, full frontal, medium shot", want(s(TV, shot="medium", view="front-exact"))),
+    ("fridge precisely from the left", want(s(FRIDGE, view="left-exact"))),
 ]
 
 
@@ -101,8 +101,8 @@ NUMBERS = [
     ("the chair, 3 / 4, front right", want(s(CHAIR, view="front-right"))),
     ("the bear left-front three-quarters", want(s(BEAR, view="front-left"))),
     ("the sofa 30 deg round to its left", want(s(SOFA, view="front-slight-left"))),
-    ("the chair turned 90 degrees to the right", want(s(CHAIR, view="right"))),
-    ("teddy seen 170 degrees round to its left", want(s(BEAR, view="back"))),
+    ("the chair turned 90 degrees to the right", want(s(CHAIR, view="right-exact"))),
+    ("teddy seen 170 degrees round to its left", want(s(BEAR, view="back-exact"))),
     ("the fridge seen sixty degrees round to the left", want(s(FRIDGE, view="front-left"))),
     ("tree, roll 7 degrees CCW", want(s(TREE), roll=-7.0)),
     ("mug with a 12 degree CW dutch tilt", want(s(MUG), roll=12.0)),
@@ -345,12 +345,12 @@ JARGON = [
     ("the bench, lens pointed straight down", want(s(BENCH), elevation="top-down")),
     ("the tree, camera aimed straight up", want(s(TREE), elevation="worm's-eye")),
     # Views: ends "on", shoulders, side parts, turns and angles off a named side, a side after its subject.
-    ("teddy tail on, wide", want(s(BEAR, shot="wide", view="back"))),
-    ("the bench nose on", want(s(BENCH, view="front"))),
+    ("teddy tail on, wide", want(s(BEAR, shot="wide", view="back-exact"))),
+    ("the bench nose on", want(s(BENCH, view="front-exact"))),
     ("the sofa seen over its right shoulder", want(s(SOFA, view="back-right"))),
     ("the chair from its left arm", want(s(CHAIR, view="left"))),
     ("the fridge's right side panel", want(s(FRIDGE, view="right"))),
-    ("the fridge, a quarter turn to its right", want(s(FRIDGE, view="right"))),
+    ("the fridge, a quarter turn to its right", want(s(FRIDGE, view="right-exact"))),
     ("the sofa from its left side, about 60 degrees off", want(s(SOFA, view="front-left"))),
     ("the fridge side, low", want(s(FRIDGE, view="side"), elevation="low angle")),
     # Regions without a preposition or article, graded, or led by a verb of being.
@@ -401,6 +401,36 @@ def test_an_unknown_noun_with_its_own_determiner_before_a_subject_is_refused():
     assert [x.name for x in parse_instruction("the big fluffy bear on the left", SCENE).subjects] == [BEAR]
 
 
+# --- 9. an end said exactly keeps its narrower tolerance ------------------------------------------
+
+EXACT = [
+    ("fridge dead on from the front", want(s(FRIDGE, view="front-exact"))),
+    ("the bench, exactly from its left hand side", want(s(BENCH, view="left-exact"))),
+    ("smack behind the sofa, wide", want(s(SOFA, shot="wide", view="back-exact"))),
+    ("tv, a true front view", want(s(TV, view="front-exact"))),
+    ("the bear from the front, plainly", want(s(BEAR, view="front"))),  # no degree word: the plain side
+    ("the chair 180 degrees round to its right", want(s(CHAIR, view="back-exact"))),
+]
+
+
+@pytest.mark.parametrize("text, expected", rows(EXACT))
+def test_an_end_said_exactly_is_the_exact_side(text, expected):
+    assert read(text) == expected
+
+
+def test_exact_sides_are_their_end_at_half_the_tolerance():
+    from capframe.backends.mllm.parser import view_side
+    from capframe.constraints import VIEW_SIDES, view_tolerance_deg, view_within
+    from capframe.translate.labels import ViewTarget, view_target
+
+    for end in ("front", "back", "left", "right"):
+        assert VIEW_SIDES[f"{end}-exact"] == VIEW_SIDES[end] and view_tolerance_deg(f"{end}-exact") == 15.0
+        assert view_within(f"{end}-exact", end) and not view_within(end, f"{end}-exact")
+    assert view_within("left", "side") and not view_within("front-slight-left", "front")
+    assert view_target("front-exact", None) == ViewTarget((0.0,), 7.5, None)  # aimed inside +-7.5
+    assert view_side(0.0) == "front" and view_side(90.0) == "right"  # the model tier's reading is unchanged
+
+
 # --- the wordings above are the families', not the suites' ----------------------------------------
 
 
@@ -414,5 +444,5 @@ def test_no_wording_here_is_a_suite_instruction():
         for entry in data.get("instructions", []) if isinstance(data, dict) else []:
             if isinstance(entry, dict) and "text" in entry:
                 texts.add(" ".join(words(entry["text"])))
-    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON) for r in table] + UNDERSTOOD
+    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON, EXACT) for r in table] + UNDERSTOOD
     assert texts and not [t for t in mine if " ".join(words(t)) in texts]

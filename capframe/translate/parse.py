@@ -125,7 +125,7 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS, VIEW_SIDES
+from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
@@ -450,11 +450,11 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
 # panel": vocabulary.SIDE_PARTS) names that side.
 VIEW_FRAMES = [
-    SEEN + "({STRONG} )?from (the|{P}) (far |extreme )?{SIDE}{PART}( of {obj})?",
+    SEEN + "({EXACT} )?from (the|{P}) (far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
-    CAMERA + " ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
-    "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
+    CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
+    "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
     NOT_A_RELATION + "{P} {SIDE}{PART}" + NOT_TURNED_AWAY,
 ]
@@ -468,26 +468,27 @@ VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
-        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
-        "(full |fully |straight |dead )?frontal( view| shot| angle)?",
+        "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         CAMERA + " in front of {obj}",
-        SEEN + "from ({STRONG} |right )?in front( of {obj})?",
+        SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
         # later it may relate two objects ("the cone with the bench in front of it").
-        "(?<=^ )({STRONG} |right )?in front of {obj}",
+        "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
-        SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
+        SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         CAMERA + " behind {obj}",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
-        "(?<=^ )({STRONG} |right )?behind {obj}",
-        "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
+        "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
+    # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
+    "front-exact": ["(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?"],
+    "back-exact": ["(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?"],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
     "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
@@ -579,6 +580,14 @@ VIEW_COMBINATIONS = {
     frozenset(("three-quarter", "back-three-quarter")): "back-three-quarter",
     frozenset(("back-three-quarter", "back")): "back-three-quarter",
 }
+# An exact end ("dead on", "directly from the left") combines as its end does, and said again
+# plainly ("from the front, dead on") stays exact.
+VIEW_COMBINATIONS |= {
+    frozenset(f"{v}-exact" if v == end else v for v in pair): side
+    for pair, side in list(VIEW_COMBINATIONS.items())
+    for end in EXACT_ENDS
+    if end in pair
+} | {frozenset((end, f"{end}-exact")): f"{end}-exact" for end in EXACT_ENDS}
 
 # Every object of the scene at once ("the whole group", "all of them"): each one not named
 # otherwise joins as a secondary subject (it must be in the picture).
@@ -1155,6 +1164,8 @@ _MACROS = {
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
+    # The same words where they make a view side exact (read back by _cue).
+    "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
@@ -1535,15 +1546,20 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "view" and isinstance(rule.value, tuple):
         value = _nearest_side(rule.value[1] * float(groups["d"]))
+    elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
+        value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
 
 
 def _nearest_side(azimuth: float) -> str:
-    """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right)."""
+    """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right),
+    of two at the same azimuth the narrower ("90 degrees round to its right" is "right-exact": an
+    angle said is meant exactly)."""
     arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
     single = [(side, a[0]) for side, a in VIEW_SIDES.items() if len(a) == 1]
-    return min(single, key=lambda sa: arc(sa[1], azimuth))[0]
+    nearest = min(single, key=lambda sa: arc(sa[1], azimuth))[1]
+    return min((side for side, a in single if a == nearest), key=view_tolerance_deg)
 
 
 def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:
