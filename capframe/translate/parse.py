@@ -70,8 +70,10 @@ Mappings that are choices (the phrase tables are the full list):
   -20° ± 15°), or between the back and the diagonal with "behind" ("behind and slightly to the
   left": ``back-slight-left``, -160° ± 15°); before a front, back or diagonal it is not understood and stays unparsed ("slightly
   from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
-  "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
-  "from directly behind" the back. "Slightly to the left" that names no subject and follows no
+  "squarely", "fully", ...) insists on an end: "directly from the left" is ``left-exact``, "from
+  directly behind" ``back-exact`` (the end at half the tolerance, ±15°), and so are an end said
+  "X on" ("dead on", "head on", "tail on") and an explicit angle at an end ("a quarter turn to its
+  right"); before a diagonal it changes nothing. "Slightly to the left" that names no subject and follows no
   seeing verb or camera ("seen slightly to the left", "the camera a bit to the left") stays a
   region, the degree word unparsed. A side alone as a clause is a view ("bench, rear left"; a
   lone "left" or "right" there stays a region), and so is a place opening the sentence
