@@ -329,6 +329,11 @@ JARGON = [
     ("the bench, kept small, upper left of the picture", want(s(BENCH, region="upper left", shot="wide"))),
     ("a full-frame shot of the mug", want(s(MUG, shot="close-up"))),
     ("the sofa, not that close", want(s(SOFA, shot="medium"))),
+    ("get a wide of the tree", want(s(TREE, shot="wide"))),  # the shot noun dropped
+    ("a medium wide of the couch", want(s(SOFA, shot="medium"))),
+    ("the bear from a bit further back", want(s(BEAR, shot="wide"))),
+    ("the bench, a touch lower down", want(s(BENCH), elevation="slightly below")),
+    ("the tv from a tad higher up", want(s(TV), elevation="slightly above")),
     # Heights: "-ish", whose eye, raised / elevated, degrees up, nadir and zenith, flat, parts.
     ("the chair, lowish", want(s(CHAIR), elevation="slightly below")),
     ("an eagle's-eye view of the bench", want(s(BENCH), elevation="bird's-eye")),

@@ -301,7 +301,7 @@ SHOT_CLAUSES = {
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
         "far (away )?from {obj}",
-        "(from )?(much )?(further|farther) (away|back|off)",
+        "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
@@ -625,7 +625,7 @@ ELEVATION_PHRASES = {
         "flat on",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?)( {obj}| than {obj})?",
         "{WEAK} from above",
         "looking {WEAK} down( (at|on) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
@@ -633,7 +633,7 @@ ELEVATION_PHRASES = {
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?above (eye|{ANCHOR_EYE}) (level|height)",
         # Degree words after or around a height ("a touch high", "looking down a bit").
-        "{WEAK} (high|higher|up|raised|elevated|lifted)(?! (in|on|at) )",
+        "{WEAK} (high|higher|up|raised|elevated|lifted)( up)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|aimed|angled|pointing|pointed|tilted) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -689,7 +689,7 @@ ELEVATION_PHRASES = {
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
         "({WEAK} |just )?(below|under|beneath) (eye|{ANCHOR_EYE}) (level|height)",
-        "{WEAK} (low|lower)(?! (in|on|at) )",
+        "{WEAK} (low|lower)( down)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
@@ -1227,6 +1227,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} {SHOT_NOUN}{link}", False))
+        if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
+            rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     for region, areas in REGION_AREAS.items():
         template = f"{REGION_LEAD}{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
