@@ -334,6 +334,11 @@ JARGON = [
     ("the bear from a bit further back", want(s(BEAR, shot="wide"))),
     ("the bench, a touch lower down", want(s(BENCH), elevation="slightly below")),
     ("the tv from a tad higher up", want(s(TV), elevation="slightly above")),
+    ("the chair, a little higher than eye level", want(s(CHAIR), elevation="slightly above")),  # not two elevations
+    ("the sofa, just lower than seat height", want(s(SOFA), elevation="slightly below")),
+    ("tree, lower left, from a low vantage", want(s(TREE, region="lower left"), elevation="low angle")),
+    ("the bench from behind, 20 degree dutch", want(s(BENCH, view="back"), roll=20.0)),
+    ("the mug from a drone's perspective", want(s(MUG), elevation="bird's-eye")),
     # Heights: "-ish", whose eye, raised / elevated, degrees up, nadir and zenith, flat, parts.
     ("the chair, lowish", want(s(CHAIR), elevation="slightly below")),
     ("an eagle's-eye view of the bench", want(s(BENCH), elevation="bird's-eye")),

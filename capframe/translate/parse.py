@@ -631,7 +631,7 @@ ELEVATION_PHRASES = {
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
-        "({WEAK} |just )?above (eye|{ANCHOR_EYE}) (level|height)",
+        "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
@@ -643,7 +643,7 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
         "with the camera (well|high|far) above {obj}",
-        "(from )?(a |an )?(high|elevated|raised) (vantage point|viewpoint|position|perspective)",
+        "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
         "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
@@ -678,7 +678,7 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-        "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
+        "(from )?(a |an )?low (vantage( point)?|viewpoint|position|perspective)",
         "(well|far) (below|under|beneath) eye (level|height)",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
@@ -688,7 +688,7 @@ ELEVATION_PHRASES = {
         "looking {WEAK} up( at {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
-        "({WEAK} |just )?(below|under|beneath) (eye|{ANCHOR_EYE}) (level|height)",
+        "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
         "{WEAK} (low|lower)( down)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
@@ -724,7 +724,7 @@ ELEVATION_HINTS = {
         ALONE.replace("{WORD}", "(elevated|raised)"),
     ],
     "bird's-eye": [
-        "((from|with|by|as|like) )?(a |the )?drone( (shot|view|style|angle|camera|perspective|height))?",
+        "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
@@ -790,7 +790,7 @@ PLACE_PHRASES = [
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
 ROLL_PHRASES = {
     1.0: [
-        "(with )?(a |an )?{d}( {dir})? (dutch|canted) (angle|tilt)",
+        "(with )?(a |an )?{d}( {dir})? (dutch|canted)( (angle|tilt))?",
         "(with )?(a |an )?({dir} )?(dutch|canted) (angle|tilt)( of)? {d}( {dir})?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
@@ -1245,6 +1245,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         if named:
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
+            # ... or alone as a clause ("bench, left third, from low down").
+            rows.append(("region", region, f"(?<=, )(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
