@@ -404,6 +404,22 @@ def test_spelling_variants_judged_as_written_and_diminutives():
     assert words("a quarter turn") == ["a", "90", "degrees", "turn"] and "90" not in words("three quarter turn")
 
 
+PICTURE_WORDS = [
+    ("a candid snap of the bench from behind", "candid", want(s(BENCH, view="back"))),
+    ("a product shot of the mug, centred", "product", want(s(MUG, region="center"))),
+    ("a symmetrical photo of the fridge, eye level", "symmetrical", want(s(FRIDGE), elevation="eye level")),
+    ("a dramatic bird's-eye view of the sofa", "dramatic", want(s(SOFA), elevation="bird's-eye")),
+]
+
+
+@pytest.mark.parametrize("text, missed, expected", [pytest.param(*r, id=r[0]) for r in PICTURE_WORDS])
+def test_words_describing_the_picture_are_no_subject_but_reported(text, missed, expected):
+    # "a <word> shot of X": the word describes the picture; the camera cannot do it, so it is
+    # reported (partly understood), never taken for a subject the scene lacks.
+    p = parse_instruction(text, SCENE)
+    assert read(text) == expected and p.not_understood() == [missed]
+
+
 def test_an_unknown_noun_with_its_own_determiner_before_a_subject_is_refused():
     # "the kitten licking the mug" is about a kitten: the mug's own "the" ends the description.
     with pytest.raises(InputError, match="subject 'kitten licking' is not in this scene"):
@@ -454,5 +470,6 @@ def test_no_wording_here_is_a_suite_instruction():
         for entry in data.get("instructions", []) if isinstance(data, dict) else []:
             if isinstance(entry, dict) and "text" in entry:
                 texts.add(" ".join(words(entry["text"])))
-    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON, EXACT) for r in table] + UNDERSTOOD
+    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON, EXACT, PICTURE_WORDS) for r in table]
+    mine += UNDERSTOOD
     assert texts and not [t for t in mine if " ".join(words(t)) in texts]

@@ -1461,11 +1461,14 @@ class RuleParser:
             if not is_free:
                 continue
             before, after = ends.get(span[0]), starts.get(span[-1] + 1)
+            # Words right before "shot of" / "view of" describe the picture, not a subject ("a
+            # candid shot of the bear", "a dramatic worm's-eye view of the tree").
+            of_picture = after is not None and (after.forward or tokens[after.end : after.end + 1] == ["of"])
             slot = (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
-                or _opening_noun_phrase(tokens, span, determined)
+                or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
             )
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
