@@ -339,6 +339,12 @@ JARGON = [
     ("tree, lower left, from a low vantage", want(s(TREE, region="lower left"), elevation="low angle")),
     ("the bench from behind, 20 degree dutch", want(s(BENCH, view="back"), roll=20.0)),
     ("the mug from a drone's perspective", want(s(MUG), elevation="bird's-eye")),
+    # Articles dropped, as people writing in a second language do.
+    ("photo of fridge from right side", want(s(FRIDGE, view="right"))),
+    ("make picture of tv from front, tv in middle", want(s(TV, region="center", view="front"))),
+    ("the chair from back, far", want(s(CHAIR, shot="wide", view="back"))),
+    ("picture of bench, camera on grass, looking up", want(s(BENCH), elevation="low angle")),
+    ("sofa from the right side, tiny on picture", want(s(SOFA, shot="wide", view="right"))),
     # Heights: "-ish", whose eye, raised / elevated, degrees up, nadir and zenith, flat, parts.
     ("the chair, lowish", want(s(CHAIR), elevation="slightly below")),
     ("an eagle's-eye view of the bench", want(s(BENCH), elevation="bird's-eye")),

@@ -258,7 +258,7 @@ SHOT_CLAUSES = {
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge|tight|close|full) in (the )?{FRAME}",
+        "(large|big|huge|tight|close|full) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
@@ -294,7 +294,7 @@ SHOT_CLAUSES = {
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
-        "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
@@ -313,7 +313,7 @@ SHOT_CLAUSES = {
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant)"),
+        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off)"),
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
@@ -452,7 +452,9 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
 # panel": vocabulary.SIDE_PARTS) names that side.
 VIEW_FRAMES = [
-    SEEN + "({EXACT} )?from (the|{P}) (far |extreme )?{SIDE}{PART}( of {obj})?",
+    # The article may be dropped ("from left side", "from front"), as people writing in a second
+    # language do.
+    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
     "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
@@ -743,7 +745,7 @@ ELEVATION_HINTS = {
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
         # The camera itself down by the ground ("camera near the ground").
-        CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) the (ground|floor|grass|lawn)",
+        CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
     ],
 }
 # "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
@@ -1231,7 +1233,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     for region, areas in REGION_AREAS.items():
-        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?{_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
         template = (
             f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
