@@ -339,6 +339,10 @@ JARGON = [
     ("tree, lower left, from a low vantage", want(s(TREE, region="lower left"), elevation="low angle")),
     ("the bench from behind, 20 degree dutch", want(s(BENCH, view="back"), roll=20.0)),
     ("the mug from a drone's perspective", want(s(MUG), elevation="bird's-eye")),
+    # Terse clauses after a full stop, a colon or a spaced hyphen.
+    ("sofa. tight. eye level.", want(s(SOFA, shot="close-up"), elevation="eye level")),
+    ("tv: back, low", want(s(TV, view="back"), elevation="low angle")),
+    ("chair - rear right - high", want(s(CHAIR, view="back-right"), elevation="high angle")),
     # Articles dropped, as people writing in a second language do.
     ("photo of fridge from right side", want(s(FRIDGE, view="right"))),
     ("make picture of tv from front, tv in middle", want(s(TV, region="center", view="front"))),

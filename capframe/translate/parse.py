@@ -236,7 +236,7 @@ SHOT_ADJECTIVES = {
 # A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
 # degree scale may grade it ("real close", "way wide").
 ALONE = (
-    "(?<=, )((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
+    "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
     "({VERY} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
@@ -464,7 +464,7 @@ VIEW_FRAMES = [
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
-VIEW_CLAUSE = "((?<=^ )|(?<=, ))(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
 # bear three quarter rear right", "chair front, medium").
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
@@ -813,7 +813,7 @@ ROLL_PHRASES = {
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
         "(roll|cant|rotate|rotated|rotating|turn|turned|tilt|tilted|tilting|twist|twisted)( the camera)? (by )?{d} {dir}",
         # Degrees and a direction alone as a clause ("Dutch angle on the car, 20 degrees CW").
-        "(?<=, )(by )?{d} {dir}(?= ([,.;!]|$))",
+        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$))",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
@@ -1185,6 +1185,8 @@ _MACROS = {
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
+    # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
+    "{CLAUSE}": "(?<=[,;:.!?] )",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
     "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
@@ -1248,7 +1250,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
             # ... or alone as a clause ("bench, left third, from low down").
-            rows.append(("region", region, f"(?<=, )(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
+            rows.append(("region", region, f"{{CLAUSE}}(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
