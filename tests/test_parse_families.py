@@ -339,6 +339,8 @@ JARGON = [
     ("tree, lower left, from a low vantage", want(s(TREE, region="lower left"), elevation="low angle")),
     ("the bench from behind, 20 degree dutch", want(s(BENCH, view="back"), roll=20.0)),
     ("the mug from a drone's perspective", want(s(MUG), elevation="bird's-eye")),
+    ("the fridge from a 35 degree angle above", want(s(FRIDGE), elevation_deg=35.0)),
+    ("the tree at a 20 degree angle from below", want(s(TREE), elevation_deg=-20.0)),
     # Terse clauses after a full stop, a colon or a spaced hyphen.
     ("sofa. tight. eye level.", want(s(SOFA, shot="close-up"), elevation="eye level")),
     ("tv: back, low", want(s(TV, view="back"), elevation="low angle")),

@@ -761,6 +761,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "{d} (up|upwards|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
+        "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
         "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
@@ -771,6 +772,7 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
         "looking up( at {obj})? from {d} below",
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
