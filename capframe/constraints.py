@@ -55,6 +55,11 @@ VIEW_SIDES: dict[str, tuple[float, ...]] = {
     "front-slight-right": (20.0,),
     "back-slight-left": (-160.0,),
     "back-slight-right": (160.0,),
+    # "dead on", "directly from the left", "tail on": one end exactly, at half the tolerance.
+    "front-exact": (0.0,),
+    "back-exact": (180.0,),
+    "left-exact": (-90.0,),
+    "right-exact": (90.0,),
 }
 VIEW_TOLERANCE_DEG = 30.0
 # The slight sides lie between two sides 45 degrees apart: a narrower tolerance keeps them from
@@ -64,7 +69,13 @@ VIEW_TOLERANCES_DEG: dict[str, float] = {
     "front-slight-right": 15.0,
     "back-slight-left": 15.0,
     "back-slight-right": 15.0,
+    "front-exact": 15.0,
+    "back-exact": 15.0,
+    "left-exact": 15.0,
+    "right-exact": 15.0,
 }
+# The ends a degree word may make exact: "<end>-exact" is that end within the narrower tolerance.
+EXACT_ENDS = ("front", "back", "left", "right")
 
 # Elevation of the camera above the subject's horizon, [lo, hi] degrees.
 ELEVATIONS: dict[str, tuple[float, float]] = {
@@ -94,6 +105,14 @@ def min_in_frame_fraction(shot: str | None) -> float:
 def view_tolerance_deg(view: str) -> float:
     """Half-width in degrees accepted around each azimuth of the view side ``view``."""
     return VIEW_TOLERANCES_DEG.get(view, VIEW_TOLERANCE_DEG)
+
+
+def view_within(narrow: str, wide: str) -> bool:
+    """Whether every azimuth the view side ``narrow`` accepts is one ``wide`` accepts too
+    ("front-exact" within "front", not "front-slight-left": -35 lies outside +-30)."""
+    tn, tw = view_tolerance_deg(narrow), view_tolerance_deg(wide)
+    arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
+    return all(any(arc(a, b) + tn <= tw + 1e-9 for b in VIEW_SIDES[wide]) for a in VIEW_SIDES[narrow])
 
 
 def _check_name(value: str | None, table: dict, field_name: str) -> None:

@@ -186,6 +186,14 @@ def test_bench_reads_refusals_and_parse_differences():
     spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-60, -30], "shot": "close-up"}], elevation="bird's-eye")
     assert parse_differences(parsed, spec) == []
     assert parse_differences({"subjects": [{"name": "mug"}]}, _spec(roll_deg=0)) == ["roll", "subjects"]
+    # A narrower reading of the asked side is read right ("dead on" for "from the front"), a wider one not.
+    plain, exact = (
+        _spec(subjects=[{"name": "teddy bear", "view": "front"}]),
+        _spec(subjects=[{"name": "teddy bear", "view": "front-exact"}]),
+    )
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "front-exact"}]}, plain) == []
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "front"}]}, exact) == ["view"]
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "front-slight-left"}]}, plain) == ["view"]
 
 
 def test_bench_summary_counts_success_infeasible_kinds_reasons_and_clearance():
@@ -266,11 +274,12 @@ def test_bench_counts_partly_understood_apart_from_reported_infeasible():
 
 def test_parse_only_bench_keeps_the_first_held_out_sets_parses(capsys):
     """The parse-only check on committed suites: no scene generated, every feasible parse of the
-    first two held-out sets agrees with its spec, unknown subjects are refused, and parsing stays
-    far below a millisecond per instruction (median, on a loaded machine)."""
+    development sets (the first four held-out sets) agrees with its spec, unknown subjects are
+    refused, and parsing stays far below a millisecond per instruction (median, on a loaded
+    machine)."""
     from capframe.bench.parse_only import bench_parse_only, format_parse_summary
 
-    for name in ("heldout", "heldout2"):
+    for name in ("heldout", "heldout2", "heldout3", "heldout4"):
         f = bench_parse_only(SUITES / f"{name}.yaml")
         assert f["parse_differs_feasible"] == 0 and f["refused_feasible"] == 0, f
         assert f["unknown_subject_refused"] == f["unknown_subject"] > 0

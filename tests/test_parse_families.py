@@ -81,10 +81,10 @@ DEGREES = [
     ("the tv seen kind of from the left", want(s(TV, view="front-slight-left"))),
     ("teddy, very high", want(s(BEAR), elevation="high angle")),
     ("the bench from way down low", want(s(BENCH), elevation="low angle")),
-    ("the bench square on", want(s(BENCH, view="front"))),
-    ("the sofa bang on", want(s(SOFA, view="front"))),
-    ("tv, full frontal, medium shot", want(s(TV, shot="medium", view="front"))),
-    ("fridge precisely from the left", want(s(FRIDGE, view="left"))),
+    ("the bench square on", want(s(BENCH, view="front-exact"))),
+    ("the sofa bang on", want(s(SOFA, view="front-exact"))),
+    ("tv, full frontal, medium shot", want(s(TV, shot="medium", view="front-exact"))),
+    ("fridge precisely from the left", want(s(FRIDGE, view="left-exact"))),
 ]
 
 
@@ -101,8 +101,8 @@ NUMBERS = [
     ("the chair, 3 / 4, front right", want(s(CHAIR, view="front-right"))),
     ("the bear left-front three-quarters", want(s(BEAR, view="front-left"))),
     ("the sofa 30 deg round to its left", want(s(SOFA, view="front-slight-left"))),
-    ("the chair turned 90 degrees to the right", want(s(CHAIR, view="right"))),
-    ("teddy seen 170 degrees round to its left", want(s(BEAR, view="back"))),
+    ("the chair turned 90 degrees to the right", want(s(CHAIR, view="right-exact"))),
+    ("teddy seen 170 degrees round to its left", want(s(BEAR, view="back-exact"))),
     ("the fridge seen sixty degrees round to the left", want(s(FRIDGE, view="front-left"))),
     ("tree, roll 7 degrees CCW", want(s(TREE), roll=-7.0)),
     ("mug with a 12 degree CW dutch tilt", want(s(MUG), roll=12.0)),
@@ -316,6 +316,159 @@ def test_verdict_never_reads_fully_satisfied_when_partly_understood():
     assert overall_verdict(True, ["tail"]) == "parsed clauses hold, but partly understood: not understood ['tail']"
 
 
+# --- 8. jargon, hedges, parts and places (the families heldout4's misreadings belonged to) -------
+
+JARGON = [
+    # Shot-list abbreviations and sizes said alone, kept, graded or frame-filling.
+    ("MCU of the sofa", want(s(SOFA, shot="close-up"))),
+    ("the tv, WS", want(s(TV, shot="wide"))),
+    ("LS of the bench from behind", want(s(BENCH, shot="wide", view="back"))),
+    ("bench, MS, eye lvl", want(s(BENCH, shot="medium"), elevation="eye level")),
+    ("the fridge, med, from its left", want(s(FRIDGE, shot="medium", view="left"))),
+    ("the mug, real tight", want(s(MUG, shot="close-up"))),
+    ("the bench, kept small, upper left of the picture", want(s(BENCH, region="upper left", shot="wide"))),
+    ("a full-frame shot of the mug", want(s(MUG, shot="close-up"))),
+    ("the sofa, not that close", want(s(SOFA, shot="medium"))),
+    ("get a wide of the tree", want(s(TREE, shot="wide"))),  # the shot noun dropped
+    ("a medium wide of the couch", want(s(SOFA, shot="medium"))),
+    ("the bear from a bit further back", want(s(BEAR, shot="wide"))),
+    ("the bench, a touch lower down", want(s(BENCH), elevation="slightly below")),
+    ("the tv from a tad higher up", want(s(TV), elevation="slightly above")),
+    ("the chair, a little higher than eye level", want(s(CHAIR), elevation="slightly above")),  # not two elevations
+    ("the sofa, just lower than seat height", want(s(SOFA), elevation="slightly below")),
+    ("tree, lower left, from a low vantage", want(s(TREE, region="lower left"), elevation="low angle")),
+    ("the bench from behind, 20 degree dutch", want(s(BENCH, view="back"), roll=20.0)),
+    ("the mug from a drone's perspective", want(s(MUG), elevation="bird's-eye")),
+    ("the fridge from a 35 degree angle above", want(s(FRIDGE), elevation_deg=35.0)),
+    ("the tree at a 20 degree angle from below", want(s(TREE), elevation_deg=-20.0)),
+    # Terse clauses after a full stop, a colon or a spaced hyphen.
+    ("sofa. tight. eye level.", want(s(SOFA, shot="close-up"), elevation="eye level")),
+    ("tv: back, low", want(s(TV, view="back"), elevation="low angle")),
+    ("chair - rear right - high", want(s(CHAIR, view="back-right"), elevation="high angle")),
+    # Articles dropped, as people writing in a second language do.
+    ("photo of fridge from right side", want(s(FRIDGE, view="right"))),
+    ("make picture of tv from front, tv in middle", want(s(TV, region="center", view="front"))),
+    ("the chair from back, far", want(s(CHAIR, shot="wide", view="back"))),
+    ("picture of bench, camera on grass, looking up", want(s(BENCH), elevation="low angle")),
+    ("sofa from the right side, tiny on picture", want(s(SOFA, shot="wide", view="right"))),
+    # Heights: "-ish", whose eye, raised / elevated, degrees up, nadir and zenith, flat, parts.
+    ("the chair, lowish", want(s(CHAIR), elevation="slightly below")),
+    ("an eagle's-eye view of the bench", want(s(BENCH), elevation="bird's-eye")),
+    ("an ant's eye view of the tree", want(s(TREE), elevation="worm's-eye")),
+    ("the sofa from an elevated angle", want(s(SOFA), elevation="high angle")),
+    ("bear, camera a tad raised", want(s(BEAR), elevation="slightly above")),
+    ("the bench at roughly 40 degrees up", want(s(BENCH), elevation_deg=40.0)),
+    ("a nadir view of the table", want(s(TABLE), elevation="top-down")),
+    ("the tv, shot flat", want(s(TV), elevation="eye level")),
+    ("the sofa level with the armrest", want(s(SOFA), elevation="eye level")),
+    ("the sofa, camera down at pillow height", want(s(SOFA), elevation="eye level")),
+    ("the tree from a heroic angle", want(s(TREE), elevation="low angle")),
+    ("the chair with the camera near the floor", want(s(CHAIR), elevation="low angle")),
+    ("the bench, lens pointed straight down", want(s(BENCH), elevation="top-down")),
+    ("the tree, camera aimed straight up", want(s(TREE), elevation="worm's-eye")),
+    # Views: ends "on", shoulders, side parts, turns and angles off a named side, a side after its subject.
+    ("teddy tail on, wide", want(s(BEAR, shot="wide", view="back-exact"))),
+    ("the bench nose on", want(s(BENCH, view="front-exact"))),
+    ("the sofa seen over its right shoulder", want(s(SOFA, view="back-right"))),
+    ("the chair from its left arm", want(s(CHAIR, view="left"))),
+    ("the fridge's right side panel", want(s(FRIDGE, view="right"))),
+    ("the fridge, a quarter turn to its right", want(s(FRIDGE, view="right-exact"))),
+    ("the sofa from its left side, about 60 degrees off", want(s(SOFA, view="front-left"))),
+    ("the fridge side, low", want(s(FRIDGE, view="side"), elevation="low angle")),
+    # Regions without a preposition or article, graded, or led by a verb of being.
+    ("the mug, top left of the picture", want(s(MUG, region="upper left"))),
+    ("the tree at top of frame", want(s(TREE, region="top"))),
+    ("the chair smack in the middle", want(s(CHAIR, region="center"))),
+    ("the tv sits in the lower left", want(s(TV, region="lower left"))),
+    # Roll: any rolling verb, degrees and a direction alone, "no roll in the frame", "hold it level".
+    ("sofa, twist the camera 8 degrees clockwise", want(s(SOFA), roll=8.0)),
+    ("bench with a dutch tilt, 12 degrees CCW", want(s(BENCH), roll=-12.0)),
+    ("tree, no roll in the frame", want(s(TREE), roll=0.0)),
+    ("the bench, hold it level", want(s(BENCH), roll=0.0)),
+]
+
+
+@pytest.mark.parametrize("text, expected", rows(JARGON))
+def test_jargon_hedges_parts_and_places(text, expected):
+    p = parse_instruction(text, SCENE)
+    assert read(text) == expected and p.understood == "fully", p.not_understood()
+
+
+UNDERSTOOD = [
+    "a cosy picture of the sofa",  # a mood word asks nothing of the camera
+    "the teddy on the carpet, from behind",  # where the subject rests
+    "get the tv and the sofa in the same frame",  # both in the picture: what a second subject is
+    "the tree, kept wide, bench in the picture too",
+]
+
+
+@pytest.mark.parametrize("text", UNDERSTOOD)
+def test_mood_place_and_presence_words_are_understood(text):
+    assert parse_instruction(text, SCENE).understood == "fully"
+
+
+def test_spelling_variants_judged_as_written_and_diminutives():
+    garden = Vocabulary.from_semantics([SemanticObject(0, "hose", [], False), SemanticObject(1, "tree", [], True)])
+    p = parse_instruction("the hoes from above", garden)  # its crude singular "hoe" is no swap of "hose"
+    assert [x.name for x in p.subjects] == ["hose"] and p.corrected == [{"said": "hoes", "read": "hose"}]
+    assert parse_instruction("the tellie from the front", SCENE).subjects[0].name == TV  # -ie for -y
+    assert words("a high-ish angle") == words("a highish angle") == ["a", "a", "bit", "high", "angle"]
+    assert words("a quarter turn") == ["a", "90", "degrees", "turn"] and "90" not in words("three quarter turn")
+
+
+PICTURE_WORDS = [
+    ("a candid snap of the bench from behind", "candid", want(s(BENCH, view="back"))),
+    ("a product shot of the mug, centred", "product", want(s(MUG, region="center"))),
+    ("a symmetrical photo of the fridge, eye level", "symmetrical", want(s(FRIDGE), elevation="eye level")),
+    ("a dramatic bird's-eye view of the sofa", "dramatic", want(s(SOFA), elevation="bird's-eye")),
+]
+
+
+@pytest.mark.parametrize("text, missed, expected", [pytest.param(*r, id=r[0]) for r in PICTURE_WORDS])
+def test_words_describing_the_picture_are_no_subject_but_reported(text, missed, expected):
+    # "a <word> shot of X": the word describes the picture; the camera cannot do it, so it is
+    # reported (partly understood), never taken for a subject the scene lacks.
+    p = parse_instruction(text, SCENE)
+    assert read(text) == expected and p.not_understood() == [missed]
+
+
+def test_an_unknown_noun_with_its_own_determiner_before_a_subject_is_refused():
+    # "the kitten licking the mug" is about a kitten: the mug's own "the" ends the description.
+    with pytest.raises(InputError, match="subject 'kitten licking' is not in this scene"):
+        parse_instruction("the kitten licking the mug", SCENE)
+    assert [x.name for x in parse_instruction("the big fluffy bear on the left", SCENE).subjects] == [BEAR]
+
+
+# --- 9. an end said exactly keeps its narrower tolerance ------------------------------------------
+
+EXACT = [
+    ("fridge dead on from the front", want(s(FRIDGE, view="front-exact"))),
+    ("the bench, exactly from its left hand side", want(s(BENCH, view="left-exact"))),
+    ("smack behind the sofa, wide", want(s(SOFA, shot="wide", view="back-exact"))),
+    ("tv, a true front view", want(s(TV, view="front-exact"))),
+    ("the bear from the front, plainly", want(s(BEAR, view="front"))),  # no degree word: the plain side
+    ("the chair 180 degrees round to its right", want(s(CHAIR, view="back-exact"))),
+]
+
+
+@pytest.mark.parametrize("text, expected", rows(EXACT))
+def test_an_end_said_exactly_is_the_exact_side(text, expected):
+    assert read(text) == expected
+
+
+def test_exact_sides_are_their_end_at_half_the_tolerance():
+    from capframe.backends.mllm.parser import view_side
+    from capframe.constraints import VIEW_SIDES, view_tolerance_deg, view_within
+    from capframe.translate.labels import ViewTarget, view_target
+
+    for end in ("front", "back", "left", "right"):
+        assert VIEW_SIDES[f"{end}-exact"] == VIEW_SIDES[end] and view_tolerance_deg(f"{end}-exact") == 15.0
+        assert view_within(f"{end}-exact", end) and not view_within(end, f"{end}-exact")
+    assert view_within("left", "side") and not view_within("front-slight-left", "front")
+    assert view_target("front-exact", None) == ViewTarget((0.0,), 7.5, None)  # aimed inside +-7.5
+    assert view_side(0.0) == "front" and view_side(90.0) == "right"  # the model tier's reading is unchanged
+
+
 # --- the wordings above are the families', not the suites' ----------------------------------------
 
 
@@ -323,11 +476,12 @@ def test_no_wording_here_is_a_suite_instruction():
     suites = Path(__file__).resolve().parents[1] / "config" / "suites"
     texts = set()
     for path in suites.rglob("*.yaml"):
-        if path.name.startswith("heldout4") or path.parent.name.startswith("heldout4"):
-            continue  # a blind set: never opened
+        if path.name.startswith("heldout5") or path.parent.name.startswith("heldout5"):
+            continue  # the blind set: never opened (heldout4 is a development set now)
         data = yaml.safe_load(path.read_text(encoding="utf-8")) or {}
         for entry in data.get("instructions", []) if isinstance(data, dict) else []:
             if isinstance(entry, dict) and "text" in entry:
                 texts.add(" ".join(words(entry["text"])))
-    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES) for r in table]
+    mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON, EXACT, PICTURE_WORDS) for r in table]
+    mine += UNDERSTOOD
     assert texts and not [t for t in mine if " ".join(words(t)) in texts]

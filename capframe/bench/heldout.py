@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..constraints import VIEW_SIDES
+from ..constraints import VIEW_SIDES, view_within
 from ..errors import InputError
 from ..evaluate.check import GroundTruthChecker, read_result_camera
 from ..evaluate.spec import InstructionSpec, arc_deviation, clearance, judge
@@ -108,7 +108,8 @@ def refusal_reason(message: str) -> str:
 def parse_differences(parsed: dict, spec: InstructionSpec) -> list[str]:
     """Fields where the method's parse (``result.json`` ``instruction``) differs from the spec:
     ``subjects`` (other names); per subject ``region``, ``shot`` and ``view`` where the spec asks
-    one (for an azimuth range: ``view`` when no azimuth of the parsed side lies in it);
+    one (a view side is read right when it accepts only azimuths the spec's side accepts: "front-exact"
+    for "front"; for an azimuth range: ``view`` when no azimuth of the parsed side lies in it);
     ``elevation`` when the spec asks one and the middle of the parsed range is outside the spec's
     range (or none was parsed); ``roll``."""
     diffs = []
@@ -119,9 +120,9 @@ def parse_differences(parsed: dict, spec: InstructionSpec) -> list[str]:
         have = got.get(want.name)
         if have is None:
             continue
-        diffs += [
-            key for key in ("region", "shot", "view") if getattr(want, key) is not None and have.get(key) != getattr(want, key)
-        ]
+        diffs += [key for key in ("region", "shot") if getattr(want, key) is not None and have.get(key) != getattr(want, key)]
+        if want.view is not None and (have.get("view") not in VIEW_SIDES or not view_within(have["view"], want.view)):
+            diffs.append("view")
         if want.name in spec.azimuths:
             sides = VIEW_SIDES.get(have.get("view") or "", ())
             if not any(arc_deviation(a, *spec.azimuths[want.name]) == 0.0 for a in sides):

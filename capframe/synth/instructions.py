@@ -243,6 +243,10 @@ VIEW_PHRASES = {
     "front-slight-right": ["seen slightly from {P} right", "from a bit to {P} right", "with the camera slightly to {P} right"],
     "back-slight-left": ["seen from behind and slightly to {P} left", "from behind, a little to {P} left"],
     "back-slight-right": ["seen from behind and slightly to {P} right", "from behind, a little to {P} right"],
+    "front-exact": ["seen from directly in front", "head-on", "dead on"],
+    "back-exact": ["seen from directly behind", "tail-on"],
+    "left-exact": ["seen directly from {P} left", "exactly from {P} left side"],
+    "right-exact": ["seen directly from {P} right", "exactly from {P} right side"],
 }
 ELEVATION_PHRASES = {
     "eye level": ["at eye level", "from eye level", "with the camera at {P} height", "shot straight on at {P} height"],

@@ -70,8 +70,10 @@ Mappings that are choices (the phrase tables are the full list):
   -20° ± 15°), or between the back and the diagonal with "behind" ("behind and slightly to the
   left": ``back-slight-left``, -160° ± 15°); before a front, back or diagonal it is not understood and stays unparsed ("slightly
   from behind" is the back, with "slightly" unparsed). A strong one ("directly", "straight",
-  "squarely", "fully", ...) insists on the side asked: "directly from the left" is the left,
-  "from directly behind" the back. "Slightly to the left" that names no subject and follows no
+  "squarely", "fully", ...) insists on an end: "directly from the left" is ``left-exact``, "from
+  directly behind" ``back-exact`` (the end at half the tolerance, ±15°), and so are an end said
+  "X on" ("dead on", "head on", "tail on") and an explicit angle at an end ("a quarter turn to its
+  right"); before a diagonal it changes nothing. "Slightly to the left" that names no subject and follows no
   seeing verb or camera ("seen slightly to the left", "the camera a bit to the left") stays a
   region, the degree word unparsed. A side alone as a clause is a view ("bench, rear left"; a
   lone "left" or "right" there stays a region), and so is a place opening the sentence
@@ -107,7 +109,16 @@ Mappings that are choices (the phrase tables are the full list):
   three-quarter diagonal in any order ("3/4 front-left", "three quarter rear right"), an explicit
   azimuth ("45 degrees round to its right": the side nearest it), a region straight after its
   subject ("bench left third, tree right third") and "the whole group" (every object joins as a
-  secondary subject).
+  secondary subject);
+* jargon and hedges, as families too: shot-list abbreviations (``SHOT_ABBREVIATIONS``: "ECU",
+  "MS", "WS"; "med", "lvl"), a "-ish" suffix as the slight degree ("high-ish": slightly above),
+  "a quarter turn" as 90 degrees, whose eye a view is (``EYE_VIEWS``: "god's-eye" bird's-eye,
+  "ant's-eye" worm's-eye), the ends said "X on" (``HEAD_ON_WORDS``, ``TAIL_ON_WORDS``: "nose on"
+  front, "tail on" back), "over its left shoulder" (back-left), a part on a side naming that side
+  (``SIDE_PARTS``: "its right arm end", "the left-hand side panel"), nadir / zenith, a heroic
+  angle (low), "N degrees up", an area "of the frame" without a preposition ("bottom right of the
+  frame"). Words that ask nothing beyond a subject's being seen are understood and ask nothing:
+  where it rests ("the bear on the floor"), "in the same shot", mood words ("a cosy shot").
 """
 
 from __future__ import annotations
@@ -116,21 +127,24 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS, VIEW_SIDES
+from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
     ATTRIBUTES,
     DEGREE_SCALE,
     DETERMINERS,
+    EYE_VIEWS,
     FILLER_WORDS,
     HEAD_ON_WORDS,
     HEIGHT_ANCHORS,
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    SIDE_PARTS,
     SIZE_IDIOMS,
     SIZE_WORDS,
+    TAIL_ON_WORDS,
     Vocabulary,
     singular,
     words,
@@ -173,7 +187,16 @@ HEADS = [
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
 SHOT_TERMS = {
-    "close-up": ["close up", "extreme close up", "medium close up", "tight close up", *SIZE_IDIOMS["close-up"]],
+    "close-up": [
+        "close up",
+        "extreme close up",
+        "medium close up",
+        "tight close up",
+        # The subject filling the frame ("a full-frame shot of", "frame-filling").
+        "full frame",
+        "frame filling",
+        *SIZE_IDIOMS["close-up"],
+    ],
     "medium": list(SIZE_IDIOMS["medium"]),
     "wide": list(SIZE_IDIOMS["wide"]),
 }
@@ -210,12 +233,17 @@ SHOT_ADJECTIVES = {
 # Shot sizes said after the subject ("the bear, filling the frame").
 # A size word alone as a clause ("the bear, tight."): between a comma and the clause's end, so an
 # attribute ("the wide sofa") is not read as a shot size.
-ALONE = "(?<=, )(very |really |quite |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+# A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
+# degree scale may grade it ("real close", "way wide").
+ALONE = (
+    "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
+    "({VERY} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+)
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |nice and |very |really |quite |extra |super )?{WORD}"
+    "{obj} (is |looking |nice and |{VERY} |extra )?{WORD}"
     "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
 )
 
@@ -230,7 +258,7 @@ SHOT_CLAUSES = {
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge|tight|close|full) in (the )?{FRAME}",
+        "(large|big|huge|tight|close|full) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
@@ -246,7 +274,7 @@ SHOT_CLAUSES = {
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge)"),
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
-        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -255,23 +283,25 @@ SHOT_CLAUSES = {
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
         "(medium|moderately) sized( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not too close( (and |but |or |, )?not too far( away)?)?",
+        "not (too |so |that |overly |very )close( (and |but |or |, )?not (too |so |that |overly |very )far( away)?)?",
+        # A medium size alone as a clause ("the chair from the front, medium, eye level").
+        ALONE.replace("{WORD}", "(medium|mid)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
-        "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?",
-        "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?",
+        "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
+        "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
-        "(quite |very |really |rather |fairly )?(small|tiny) in (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
         "far (away )?from {obj}",
-        "(from )?(much )?(further|farther) (away|back|off)",
+        "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
@@ -281,9 +311,9 @@ SHOT_CLAUSES = {
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
-        "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( from {obj})?",
+        "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant)"),
+        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off)"),
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
@@ -294,8 +324,9 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # What may lead into a region: a placing verb or a direction ("tucked into the top-left corner",
 # "up in the top half").
 REGION_LEAD = (
-    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sat|stuck|parked|positioned|kept|shoved) )?"
-    "((up|down|over|out|way|right|off|low|high) )?"
+    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved"
+    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up) )?"
+    "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
 REGION_AREAS = {
     "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
@@ -418,44 +449,50 @@ NOT_A_RELATION = (
     "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
+# {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
+# panel": vocabulary.SIDE_PARTS) names that side.
 VIEW_FRAMES = [
-    SEEN + "({STRONG} )?from (the|{P}) (far |extreme )?{SIDE}( side| corner)?( of {obj})?",
-    "showing (the|{P}) {SIDE}( side| corner)?( of {obj})?",
-    CAMERA + " ({STRONG} )?(at|on|to|by) (the|{P}) {SIDE}( side| corner)?( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? ({STRONG} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
-    "(in |from |as )?(a |the )?({STRONG} |full |pure |true |strict )?{SIDE}( side)? (view|profile|angle|shot)",
-    NOT_A_RELATION + "(the|a) {SIDE}( side| profile)? of {obj}",
-    # "its left flank", "the bench's right end": a side's part names that side.
-    NOT_A_RELATION + "{P} {SIDE}( side| profile| flank| end| hand end| arm)?" + NOT_TURNED_AWAY,
+    # The article may be dropped ("from left side", "from front"), as people writing in a second
+    # language do.
+    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
+    "showing (the|{P}) {SIDE}{PART}( of {obj})?",
+    CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
+    "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
+    NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
+    NOT_A_RELATION + "{P} {SIDE}{PART}" + NOT_TURNED_AWAY,
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
-VIEW_CLAUSE = "((?<=^ )|(?<=, ))(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
-# A diagonal named right after its subject, ending the clause ("tedy bear three quarter rear right").
+VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+# A side other than a lone left or right named right after its subject, ending the clause ("tedy
+# bear three quarter rear right", "chair front, medium").
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
-        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
-        "(full |fully |straight |dead )?frontal( view| shot| angle)?",
+        "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         CAMERA + " in front of {obj}",
-        SEEN + "from ({STRONG} |right )?in front( of {obj})?",
+        SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
         # later it may relate two objects ("the cone with the bench in front of it").
-        "(?<=^ )({STRONG} |right )?in front of {obj}",
+        "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
-        SEEN + "({STRONG} )?from ({STRONG} |right )?behind( {obj})?",
+        SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
         CAMERA + " behind {obj}",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         "{P} back to the (camera|viewer|lens|us)",
-        "(?<=^ )({STRONG} |right )?behind {obj}",
+        "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
+    # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
+    "front-exact": ["(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?"],
+    "back-exact": ["(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?"],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
     "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
@@ -465,10 +502,15 @@ VIEW_PHRASES = {
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
     "back-three-quarter": [
+        "(an )?over (the|{P}) shoulder( (view|angle|shot))?( of {obj})?",
         "(in |at |from |as )?(a |an )?(back|rear) three quarters?( (view|angle|profile|shot|position))?",
         "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
     ],
 }
+# Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
+for _lat in ("left", "right"):
+    VIEW_PHRASES[f"back-{_lat}"] = [SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?"]
+
 # A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
 # where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
@@ -500,10 +542,18 @@ SLIGHT_VIEW_FRAMES = [
 ]
 # An explicit azimuth from the front towards a side ("45 degrees round to its right", "turned 30
 # degrees to the left"): the side whose azimuth is nearest (:func:`_nearest_side`).
+# The turn may be a fraction of one ("a quarter turn": vocabulary.words writes 90 degrees) and
+# may name the front it starts from; a side said first and the angle after it count from the front
+# towards that side ("from its right side, about 45 degrees off").
+FROM_FRONT = "( ,)?( (starting |counting )?from (the|{P}) front( of {obj})?)?"
 AZIMUTH_PHRASES = [
-    SEEN + "(from )?{d} (a?round|over|off|across|towards|to)( to)? (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
-    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d} (to|towards) (the|{P}) {LAT}( hand)?( side)?",
+    SEEN + "(from )?{d}( turn| swing| rotation)? (a?round|over|off|across|towards|to)( to)? (the|{P}) {LAT}( hand)?( side)?"
+    "( of {obj})?" + FROM_FRONT,
+    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d} (to|towards) (the|{P}) {LAT}( hand)?( side)?"
+    + FROM_FRONT,
     "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
+    SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
+    "{d} (off|round|around|in|over)",
 ]
 
 # View cues for one subject that together name one side ("a three-quarter view ... from its
@@ -534,6 +584,14 @@ VIEW_COMBINATIONS = {
     frozenset(("three-quarter", "back-three-quarter")): "back-three-quarter",
     frozenset(("back-three-quarter", "back")): "back-three-quarter",
 }
+# An exact end ("dead on", "directly from the left") combines as its end does, and said again
+# plainly ("from the front, dead on") stays exact.
+VIEW_COMBINATIONS |= {
+    frozenset(f"{v}-exact" if v == end else v for v in pair): side
+    for pair, side in list(VIEW_COMBINATIONS.items())
+    for end in EXACT_ENDS
+    if end in pair
+} | {frozenset((end, f"{end}-exact")): f"{end}-exact" for end in EXACT_ENDS}
 
 # Every object of the scene at once ("the whole group", "all of them"): each one not named
 # otherwise joins as a secondary subject (it must be in the picture).
@@ -558,24 +616,26 @@ ELEVATION_PHRASES = {
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?((at|from) )?(the |a |{P} )?{ANCHOR_EYE} (height|level|high)",
+        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} (height|level|high)",
         "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?level with {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
-        "(shot|lens|view) level(?= ([,.;!]|$))",
+        "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
+        # Level with a part or a surface named by a height anchor ("level with the seat").
+        "({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
         "flat on",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher)( {obj}| than {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?)( {obj}| than {obj})?",
         "{WEAK} from above",
         "looking {WEAK} down( (at|on) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
-        "({WEAK} |just )?above (eye|{ANCHOR_EYE}) (level|height)",
+        "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
         # Degree words after or around a height ("a touch high", "looking down a bit").
-        "{WEAK} (high|higher|up)(?! (in|on|at) )",
+        "{WEAK} (high|higher|up|raised|elevated|lifted)( up)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|aimed|angled|pointing|pointed|tilted) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -585,7 +645,8 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
         "with the camera (well|high|far) above {obj}",
-        "(from )?(a |an )?(high|elevated|raised) (vantage point|viewpoint|position|perspective)",
+        "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
+        "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
     ],
@@ -611,13 +672,17 @@ ELEVATION_PHRASES = {
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
         "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",
         "(a |an )?(drone|overhead) (style )?top down",
+        # The nadir: the point straight below the camera.
+        "(a |an |the )?nadir( (shot|view|angle|perspective))?",
+        "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-        "(from )?(a |an )?low (vantage point|viewpoint|position|perspective)",
+        "(from )?(a |an )?low (vantage( point)?|viewpoint|position|perspective)",
         "(well|far) (below|under|beneath) eye (level|height)",
+        "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
     "slightly below": [
         "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
@@ -625,8 +690,8 @@ ELEVATION_PHRASES = {
         "looking {WEAK} up( at {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
-        "({WEAK} |just )?(below|under|beneath) (eye|{ANCHOR_EYE}) (level|height)",
-        "{WEAK} (low|lower)(?! (in|on|at) )",
+        "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
+        "{WEAK} (low|lower)( down)?(?! (in|on|at) )",
         "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
@@ -634,6 +699,10 @@ ELEVATION_PHRASES = {
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
         "looking (straight|directly|steeply|vertically) up( at {obj})?",
+        # The camera pointed vertically up, the mirror of top-down ("pointing the lens straight up").
+        "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
+        "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
+        "(a |an |the )?zenith( (shot|view|angle|perspective))?",
         "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
         "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
         "(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
@@ -653,9 +722,11 @@ ELEVATION_HINTS = {
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
         "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
+        "(with )?(the )?(camera|lens) {AIM} (down|downwards|at the (floor|ground|grass))",
+        ALONE.replace("{WORD}", "(elevated|raised)"),
     ],
     "bird's-eye": [
-        "((from|with|by|as|like) )?(a |the )?drone( (shot|view|style|angle|camera|perspective|height))?",
+        "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
@@ -668,17 +739,29 @@ ELEVATION_HINTS = {
         # A height alone as a clause ("the car from behind, low").
         ALONE.replace("{WORD}", "(low|low down|down low)"),
         # A height named by the ground or a crouch ("knee height", "crouch down", "from the grass").
-        "((with )?(the )?(camera|lens) )?((at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
+        "((with )?(the )?(camera|lens) )?((down |right |low )?(at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
+        # The camera itself down by the ground ("camera near the ground").
+        CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
     ],
 }
+# "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
+for _elevation_class, _creatures in EYE_VIEWS.items():
+    ELEVATION_PHRASES[_elevation_class].append(
+        "(from |in |as )?(a |an )?(" + "|".join(_creatures) + ")( 's)? eye( (view|shot|angle|perspective|level))?"
+    )
+
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
 EXPLICIT_ELEVATION_PHRASES = {
     1.0: [
+        # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
+        "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
+        "{d} (up|upwards|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
+        "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
         "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
@@ -689,6 +772,7 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
         "looking up( at {obj})? from {d} below",
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
@@ -697,11 +781,20 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
 }
 
+# Words that ask nothing of the camera beyond what a subject already asks (to be seen): where a
+# subject rests ("the bear on the floor") and its being in the picture ("in the same shot").
+PLACE_PHRASES = [
+    "(?<=@\\d )((sitting|lying|standing|resting|placed|left|parked|sat) )?(on|upon|by|against) (the )?"
+    "(floor|ground|grass|lawn|carpet|rug)(?! (level|height))",
+    "(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?(shot|frame|picture|photo|image|pic)"
+    "( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+]
+
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
 ROLL_PHRASES = {
     1.0: [
-        "(with )?(a |an )?{d}( {dir})? (dutch|canted) (angle|tilt)",
+        "(with )?(a |an )?{d}( {dir})? (dutch|canted)( (angle|tilt))?",
         "(with )?(a |an )?({dir} )?(dutch|canted) (angle|tilt)( of)? {d}( {dir})?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
@@ -720,7 +813,9 @@ ROLL_PHRASES = {
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
         "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
-        "(roll|cant|rotate|rotated|rotating|turn|turned)( the camera)? (by )?{d} {dir}",
+        "(roll|cant|rotate|rotated|rotating|turn|turned|tilt|tilted|tilting|twist|twisted)( the camera)? (by )?{d} {dir}",
+        # Degrees and a direction alone as a clause ("Dutch angle on the car, 20 degrees CW").
+        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$))",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
@@ -733,7 +828,9 @@ ROLL_PHRASES = {
         "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
         "(with )?(a |the )?(level|straight|flat|horizontal) horizon",
         "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
-        "(with |and )?no (dutch |canted )?(angle|tilt|roll)",
+        "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
+        "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
+        " (nice and |perfectly |dead )?(level|straight)",
         "(with )?no camera roll",
         "without (any )?((dutch|canted) (angle|tilt)|roll|camera roll|tilt)",
         "((keep|keeping|hold|holding|with) )?(the )?camera (held )?level",
@@ -1073,6 +1170,8 @@ _MACROS = {
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
+    # The same words where they make a view side exact (read back by _cue).
+    "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
@@ -1085,6 +1184,11 @@ _MACROS = {
     "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
+    # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
+    "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
+    "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
+    # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
+    "{CLAUSE}": "(?<=[,;:.!?] )",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
     "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
@@ -1129,26 +1233,32 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} {SHOT_NOUN}{link}", False))
+        if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
+            rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     for region, areas in REGION_AREAS.items():
-        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?{_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
         template = (
             f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         )
         rows.append(("region", region, template, False))
+        # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
+        rows.append(("region", region, f"(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
         if named:
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
+            # ... or alone as a clause ("bench, left third, from low down").
+            rows.append(("region", region, f"{{CLAUSE}}(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
-        if "-" in view:  # a diagonal straight after its subject ("bear three quarter rear right")
+        if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
@@ -1163,6 +1273,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
+    rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -1232,7 +1343,8 @@ class RuleParser:
         tokens, mentions, corrected = self._spot(words(text), vocabulary)
         cues = self._cues(tokens)
         unparsed = []
-        for run in self._leftovers(tokens, cues):
+        determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
+        for run in self._leftovers(tokens, cues, determined):
             # In a subject's place a run names an object if it can; led by a determiner it must.
             if run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
@@ -1274,7 +1386,7 @@ class RuleParser:
             if n == 1 and _height_anchor(tokens, i):
                 n = 0
             read = tokens[i : i + n]
-            misspelt = self._misspelt(keys, i, n, longest + 1, vocabulary)
+            misspelt = self._misspelt(tokens, keys, i, n, longest + 1, vocabulary)
             if misspelt is not None:
                 n, read = misspelt
                 corrected.append({"said": " ".join(tokens[i : i + n]), "read": " ".join(read)})
@@ -1294,17 +1406,20 @@ class RuleParser:
         return out, mentions, corrected
 
     def _misspelt(
-        self, keys: list[str], i: int, shorter: int, longest: int, vocabulary: Vocabulary
+        self, tokens: list[str], keys: list[str], i: int, shorter: int, longest: int, vocabulary: Vocabulary
     ) -> tuple[int, tuple[str, ...]] | None:
         """The longest run of more than ``shorter`` words from ``i`` that misspells one name or
-        alias (:meth:`Vocabulary.correction`), as (its length, the words read); words the phrase
-        tables use are never taken for a misspelling ("close" is not "closet")."""
+        alias (:meth:`Vocabulary.correction`), as (its length, the words read), judged on its
+        singular words and, when they differ, on the words as written ("vaes" is "vase" with two
+        letters swapped, its crude singular "vae" is not); words the phrase tables use are never
+        taken for a misspelling ("close" is not "closet")."""
         for n in range(min(longest, len(keys) - i), shorter, -1):
             window = tuple(keys[i : i + n])
             if all(w.isalpha() and w not in self.lexicon for w in window):
-                form = vocabulary.correction(window)
-                if form is not None and _spottable(form):
-                    return n, form
+                for said in dict.fromkeys((window, tuple(tokens[i : i + n]))):
+                    form = vocabulary.correction(said)
+                    if form is not None and _spottable(form):
+                        return n, form
         return None
 
     def _attribute(self, token: str) -> bool:
@@ -1334,11 +1449,12 @@ class RuleParser:
             cues.append(_cue(rule, m, start, end))
         return sorted(cues, key=lambda c: c.start)
 
-    def _leftovers(self, tokens: list[str], cues: list[_Cue]) -> list[_Run]:
+    def _leftovers(self, tokens: list[str], cues: list[_Cue], determined: list[bool]) -> list[_Run]:
         """Runs of words no phrase explains, less stopwords at their ends, each marked whether it
         stands in a subject's place (right after a head, right before a region, joined to a
         subject by "and"/"or", or opening the sentence as a noun phrase: "the kitten hiding behind
-        the cushion" is about a kitten, not the cushion)."""
+        the cushion" is about a kitten, not the cushion). ``determined[k]``: the spotted mention
+        ``@k`` opens with a determiner."""
         covered = [False] * len(tokens)
         for c in cues:
             covered[c.start : c.end] = [True] * (c.end - c.start)
@@ -1351,11 +1467,14 @@ class RuleParser:
             if not is_free:
                 continue
             before, after = ends.get(span[0]), starts.get(span[-1] + 1)
+            # Words right before "shot of" / "view of" describe the picture, not a subject ("a
+            # candid shot of the bear", "a dramatic worm's-eye view of the tree").
+            of_picture = after is not None and (after.forward or tokens[after.end : after.end + 1] == ["of"])
             slot = (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
-                or _opening_noun_phrase(tokens, span)
+                or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
             )
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
@@ -1401,7 +1520,7 @@ def _never_a_name(text: str) -> bool:
     return bool(content) and all(w in never for w in content)
 
 
-def _opening_noun_phrase(tokens: list[str], span: list[int]) -> bool:
+def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bool]) -> bool:
     """Whether the run opens the sentence with a determiner and names something other than
     photographic words ("the horizon level" is not a subject), and is not just words describing
     the subject named right after it ("the wide sofa")."""
@@ -1409,7 +1528,10 @@ def _opening_noun_phrase(tokens: list[str], span: list[int]) -> bool:
         return False
     words_ = [tokens[k] for k in span[1:]]
     content = [w for w in words_ if w not in STOPWORDS]
-    describes_next = span[-1] + 1 < len(tokens) and tokens[span[-1] + 1].startswith("@")
+    # Words between a determiner and the next subject may describe it; not when that subject
+    # brings its own determiner ("the dog chasing the ball" is about a dog).
+    following = tokens[span[-1] + 1] if span[-1] + 1 < len(tokens) else ""
+    describes_next = following.startswith("@") and not determined[int(following[1:])]
     if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS or w in PLACE_PREPOSITIONS for w in words_):
         return False
     return any(w not in RESERVED for w in content)
@@ -1439,15 +1561,20 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "view" and isinstance(rule.value, tuple):
         value = _nearest_side(rule.value[1] * float(groups["d"]))
+    elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
+        value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
 
 
 def _nearest_side(azimuth: float) -> str:
-    """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right)."""
+    """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right),
+    of two at the same azimuth the narrower ("90 degrees round to its right" is "right-exact": an
+    angle said is meant exactly)."""
     arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
     single = [(side, a[0]) for side, a in VIEW_SIDES.items() if len(a) == 1]
-    return min(single, key=lambda sa: arc(sa[1], azimuth))[0]
+    nearest = min(single, key=lambda sa: arc(sa[1], azimuth))[1]
+    return min((side for side, a in single if a == nearest), key=view_tolerance_deg)
 
 
 def _roll_value(multiplier: float, groups: dict) -> tuple[float, bool]:

@@ -80,9 +80,37 @@ SPELLINGS = {
     "qtrs": "quarters",
     "kinda": "kind of",
     "sorta": "sort of",
+    "lil": "little",
+    "lvl": "level",
+    "med": "medium",
 }
+# Shot-size abbreviations of shot lists and storyboards ("ECU of the bear", "MS, eye level"),
+# spelt out so the shot-size tables read them. Two letters are enough: none of these is an
+# English word an instruction would use otherwise.
+SHOT_ABBREVIATIONS = {
+    "ecu": "extreme close up",
+    "xcu": "extreme close up",
+    "bcu": "extreme close up",
+    "cu": "close up",
+    "mcu": "medium close up",
+    "ms": "medium shot",
+    "mls": "medium long shot",
+    "mws": "medium wide shot",
+    "fs": "full shot",
+    "ls": "long shot",
+    "ws": "wide shot",
+    "els": "extreme long shot",
+    "xls": "extreme long shot",
+    "ews": "extreme wide shot",
+    "xws": "extreme wide shot",
+}
+SPELLINGS.update(SHOT_ABBREVIATIONS)
 # Two-word spellings merged into one word.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
+
+# Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
+# word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
+HEDGED_WORDS = frozenset({"high", "low", "close", "tight", "wide", "small", "big", "large", "far", "near", "left", "right"})
 
 UNITS = {
     "zero": 0,
@@ -124,7 +152,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
-    s = re.sub(r"[\u2013\u2014]", " , ", s)  # a dash between clauses
+    s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
@@ -132,7 +160,38 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _numbers(_compounds(tokens))
+    return _numbers(_turns(_hedges(_compounds(tokens))))
+
+
+# Fractions of a full turn said as an angle ("a quarter turn round to its left").
+TURN_FRACTIONS = {"quarter": "90", "half": "180"}
+
+
+def _turns(tokens: list[str]) -> list[str]:
+    """ "quarter turn" / "half turn" as "90 degrees turn" / "180 degrees turn" (not after "three":
+    "three quarter" is a view)."""
+    out: list[str] = []
+    for k, token in enumerate(tokens):
+        after, before = tokens[k + 1] if k + 1 < len(tokens) else "", out[-1] if out else ""
+        if token in TURN_FRACTIONS and after == "turn" and before != "three":
+            out += [TURN_FRACTIONS[token], "degrees"]
+        else:
+            out.append(token)
+    return out
+
+
+def _hedges(tokens: list[str]) -> list[str]:
+    """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
+    "highish" -> "a bit high")."""
+    out: list[str] = []
+    for token in tokens:
+        if token == "ish" and out and out[-1] in HEDGED_WORDS:
+            out[-1:] = ["a", "bit", out[-1]]
+        elif token.endswith("ish") and token[:-3] in HEDGED_WORDS:
+            out += ["a", "bit", token[:-3]]
+        else:
+            out.append(token)
+    return out
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -209,7 +268,9 @@ FILLER_WORDS = frozenset(
     is are be being was were am do does did can could would will should shall may might must let
     please kindly thanks thank cheers hey hi hello ok okay maybe perhaps possibly just really
     nice lovely beautiful pretty good great cool neat clean simple cute gorgeous stunning
-    classic decent proper quick some one
+    classic decent proper quick some one many
+    cosy cozy moody atmospheric arty artsy artistic elegant charming pleasing pleasant inviting
+    somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give
     too well visible included inside until while when because""".split()
@@ -244,9 +305,13 @@ DEGREE_SCALE = {
         "a fraction",
         "kind of",
         "sort of",
+        # Said without the article ("bit above", "little bit to the left").
+        "bit",
+        "little bit",
+        "tiny bit",
     ),
     # More than the plain word: the steeper height class ("very high" is a high angle).
-    "strong": ("very", "really", "way", "well", "far", "super", "extremely", "quite", "strongly", "steeply"),
+    "strong": ("very", "really", "real", "way", "well", "far", "super", "extremely", "quite", "strongly", "steeply"),
     # Exactly the named side, no offset ("directly from the left", "dead on").
     "exact": (
         "directly",
@@ -264,8 +329,34 @@ DEGREE_SCALE = {
         "smack",
     ),
 }
-# "X on" said of the camera facing the subject: the front, straight ("dead on", "square on").
-HEAD_ON_WORDS = ("head", "face", "front", "straight", "dead", "square", "squarely", "directly", "bang", "smack", "full")
+# "X on" said of the camera facing the subject: the front, straight ("dead on", "square on",
+# "nose on"); its back end the same way ("tail on").
+HEAD_ON_WORDS = (
+    "head",
+    "face",
+    "nose",
+    "front",
+    "straight",
+    "dead",
+    "square",
+    "squarely",
+    "directly",
+    "bang",
+    "smack",
+    "full",
+)
+TAIL_ON_WORDS = ("tail", "rear", "stern", "butt")
+# Parts of a subject that lie on one side of it: naming one names that side ("its left flank",
+# "from its right arm end", "the fridge's left-hand side panel").
+SIDE_PARTS = ("side", "profile", "flank", "end", "hand end", "hand side", "arm", "arm end", "side panel", "panel", "corner")
+# "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
+# god's-eye view" is a bird's-eye one, "an ant's-eye view" a worm's-eye one, "a frog's-eye view"
+# a low angle).
+EYE_VIEWS = {
+    "bird's-eye": ("bird", "birds", "god", "gods", "eagle", "hawk", "crow", "satellite"),
+    "worm's-eye": ("worm", "worms", "ant", "ants", "bug", "beetle"),
+    "low angle": ("frog", "mouse", "dog", "cat", "pet"),
+}
 
 # Heights named by what stands at them, each read as one elevation class of
 # :data:`~capframe.constraints.ELEVATIONS`: a body or a surface the subject sits on is level with
@@ -294,6 +385,10 @@ HEIGHT_ANCHORS = {
         "couch",
         "chair",
         "lap",
+        "cushion",
+        "pillow",
+        "armrest",
+        "worktop",
         "own",
         "same",
         "its",
@@ -640,10 +735,13 @@ MIN_DOUBLED_LETTERS = 3
 def _near(said: str, name: str) -> bool:
     """Whether ``said`` is read as ``name``: one edit from a name of :data:`MIN_CORRECTED_LETTERS`
     letters or more; one swap or one letter written once where the name has it twice from one of
-    :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"); one letter doubled from one of
+    :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"), or its final "y" written "ie"
+    (:func:`diminutive`: "teddie"); one letter doubled from one of
     :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); two edits keeping the first letter from one of
     :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
     letters = len(name.replace(" ", ""))
+    if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said)):
+        return True
     if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
         return True
     if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(name, said)):
@@ -651,6 +749,12 @@ def _near(said: str, name: str) -> bool:
     if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
         return True
     return letters >= MIN_TWO_EDIT_LETTERS and said[:1] == name[:1] and edit_distance(said, name, 2) <= 2
+
+
+def diminutive(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with a final "y" written "ie" ("teddie" of "teddy", "tellie" of
+    "telly"): two spellings of one diminutive ending."""
+    return len(b) > 1 and b.endswith("y") and a == b[:-1] + "ie"
 
 
 def doubled(a: str, b: str) -> bool:
