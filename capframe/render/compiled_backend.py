@@ -567,17 +567,16 @@ def _project_backward(
         for i in range(chunks[chunk], chunks[chunk + 1]):
             n = kept[i]
             grad[:] = 0.0
-            drawn = False
             for group in range(len(grads)):
                 for col in range(6):
                     grad[col] += grads[group, n, col]
-                    drawn |= grads[group, n, col] != 0.0
                 grad[6] += grads[group, n, 6 + channels]
-                drawn |= grads[group, n, 6 + channels] != 0.0
                 for ch in range(channels):
                     grad_features[n, ch] += grads[group, n, 6 + ch]
-            if not drawn:  # composited nothing (hidden, or past every tile's stop): no gradient
-                continue
+            # Composited nothing (hidden, or past every tile's stop), or a zero gradient: nothing to add.
+            if grad[0] == 0.0 and grad[1] == 0.0 and grad[2] == 0.0 and grad[3] == 0.0 and grad[4] == 0.0:
+                if grad[5] == 0.0 and grad[6] == 0.0:
+                    continue
             grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
             m, L = means[n], factors[n]
             x, y, z = _camera_point(R, t, m)
