@@ -68,6 +68,8 @@ _REACH_MARGIN = 1e-4
 # log(opacity), threshold (a pixel counts where log(opacity) - sigma >= threshold). The values
 # that follow are the features, the camera z and 1 (whose composite is the alpha).
 _COLUMNS = 7
+# Gaussians per block of the projection backward's interleaved split over threads.
+_BLOCK = 64
 # Bits per word of a pair's pixel mask: a 4x4 tile is one word, one vector of float32 lanes.
 _MASK_BITS = 16
 # Index of the lowest set bit of a 32-bit word by a de Bruijn multiply (numba has no public
@@ -558,72 +560,82 @@ def _project_backward(
     Gaussians that composited nothing are skipped): into
     the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors (skipped when
     ``grad_factors`` is empty), (N,) the opacities, (N, D) the features, and per chunk of
-    ``kept`` (chunks, 12) to ``[R (row-major), t]``."""
+    ``kept`` (chunks, 12) to ``[R (row-major), t]``. Chunk ``k`` of ``chunks`` takes the blocks
+    ``k, k + chunks, ...`` of ``_BLOCK`` Gaussians of ``kept``: hidden Gaussians (skipped) cluster
+    in index ranges (the far side of an object), so halves of ``kept`` would not cost alike, and
+    whole blocks keep threads off each other's cache lines."""
     fx, fy = K[0, 0], K[1, 1]
     channels = grad_features.shape[1]
-    for chunk in prange(len(chunks) - 1):
+    num = len(kept)
+    for chunk in prange(chunks):
         gj = np.empty((2, 3))  # gradient to the rows of J R
         grad = np.empty(7)  # [u, v, a, b, c, log(opacity), z]
-        for i in range(chunks[chunk], chunks[chunk + 1]):
-            n = kept[i]
-            grad[:] = 0.0
-            for group in range(len(grads)):
-                for col in range(6):
-                    grad[col] += grads[group, n, col]
-                grad[6] += grads[group, n, 6 + channels]
-                for ch in range(channels):
-                    grad_features[n, ch] += grads[group, n, 6 + ch]
-            # Composited nothing (hidden, or past every tile's stop), or a zero gradient: nothing to add.
-            if grad[0] == 0.0 and grad[1] == 0.0 and grad[2] == 0.0 and grad[3] == 0.0 and grad[4] == 0.0:
-                if grad[5] == 0.0 and grad[6] == 0.0:
-                    continue
-            grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
-            m, L = means[n], factors[n]
-            x, y, z = _camera_point(R, t, m)
-            j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
-            m0, m1 = _row_times(j0, L), _row_times(j1, L)
-            c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
-            det = c00 * c11 - c01 * c01
-            q00, q01, q11 = c11 / det, -c01 / det, c00 / det
-            # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
-            g00, g01, g11 = grad[2], 0.5 * grad[3], grad[4]
-            h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
-            h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
-            s00 = -(q00 * h00 + q01 * h10)
-            s01 = -(q00 * h01 + q01 * h11)
-            s11 = -(q01 * h01 + q11 * h11)
-            # cov = M M^T + eps I with M = (J R) L: dM = 2 S M, dL = (J R)^T dM, d(J R) = dM L^T.
-            gj[:] = 0.0
-            for col in range(3):
-                gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
-                gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
-                for r in range(3):
-                    if len(grad_factors):
-                        grad_factors[n, r, col] = j0[r] * gm0 + j1[r] * gm1
-                    gj[0, r] += L[r, col] * gm0
-                    gj[1, r] += L[r, col] * gm1
-            # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
-            ax, ay = fx / z, fy / z
-            g_tx, g_ty = 0.0, 0.0
-            gj0, gj1 = gj[0], gj[1]
-            g_z = grad[6] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
-            for col in range(3):
-                grad_pose[chunk, col] += ax * gj0[col]
-                grad_pose[chunk, 3 + col] += ay * gj1[col]
-                grad_pose[chunk, 6 + col] -= ax * tx * gj0[col] + ay * ty * gj1[col]
-                g_tx -= ax * R[2, col] * gj0[col]
-                g_ty -= ay * R[2, col] * gj1[col]
-            # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
-            g_x = grad[0] * ax + (g_tx / z if free_x else 0.0)
-            g_y = grad[1] * ay + (g_ty / z if free_y else 0.0)
-            g_z -= (g_x * x + g_y * y) / z
-            # p = R m + t.
-            g_p = (g_x, g_y, g_z)
-            for r in range(3):
-                grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
+        # The chunk's own sum: neighbouring rows of grad_pose share a cache line, which two threads
+        # adding per Gaussian would pass back and forth.
+        pose = np.zeros(12)
+        for block in range(chunk * _BLOCK, num, chunks * _BLOCK):
+            for i in range(block, min(block + _BLOCK, num)):
+                n = kept[i]
+                grad[:] = 0.0
+                for group in range(len(grads)):
+                    for col in range(6):
+                        grad[col] += grads[group, n, col]
+                    grad[6] += grads[group, n, 6 + channels]
+                    for ch in range(channels):
+                        grad_features[n, ch] += grads[group, n, 6 + ch]
+                # Composited nothing (hidden, or past every tile's stop), or a zero gradient: nothing to add.
+                if grad[0] == 0.0 and grad[1] == 0.0 and grad[2] == 0.0 and grad[3] == 0.0 and grad[4] == 0.0:
+                    if grad[5] == 0.0 and grad[6] == 0.0:
+                        continue
+                grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
+                m, L = means[n], factors[n]
+                x, y, z = _camera_point(R, t, m)
+                j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
+                m0, m1 = _row_times(j0, L), _row_times(j1, L)
+                c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
+                det = c00 * c11 - c01 * c01
+                q00, q01, q11 = c11 / det, -c01 / det, c00 / det
+                # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
+                g00, g01, g11 = grad[2], 0.5 * grad[3], grad[4]
+                h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
+                h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
+                s00 = -(q00 * h00 + q01 * h10)
+                s01 = -(q00 * h01 + q01 * h11)
+                s11 = -(q01 * h01 + q11 * h11)
+                # cov = M M^T + eps I with M = (J R) L: dM = 2 S M, dL = (J R)^T dM, d(J R) = dM L^T.
+                gj[:] = 0.0
                 for col in range(3):
-                    grad_pose[chunk, 3 * r + col] += g_p[r] * m[col]
-                grad_pose[chunk, 9 + r] += g_p[r]
+                    gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
+                    gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
+                    for r in range(3):
+                        if len(grad_factors):
+                            grad_factors[n, r, col] = j0[r] * gm0 + j1[r] * gm1
+                        gj[0, r] += L[r, col] * gm0
+                        gj[1, r] += L[r, col] * gm1
+                # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
+                ax, ay = fx / z, fy / z
+                g_tx, g_ty = 0.0, 0.0
+                gj0, gj1 = gj[0], gj[1]
+                g_z = grad[6] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
+                for col in range(3):
+                    pose[col] += ax * gj0[col]
+                    pose[3 + col] += ay * gj1[col]
+                    pose[6 + col] -= ax * tx * gj0[col] + ay * ty * gj1[col]
+                    g_tx -= ax * R[2, col] * gj0[col]
+                    g_ty -= ay * R[2, col] * gj1[col]
+                # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
+                g_x = grad[0] * ax + (g_tx / z if free_x else 0.0)
+                g_y = grad[1] * ay + (g_ty / z if free_y else 0.0)
+                g_z -= (g_x * x + g_y * y) / z
+                # p = R m + t.
+                g_p = (g_x, g_y, g_z)
+                for r in range(3):
+                    grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
+                    for col in range(3):
+                        pose[3 * r + col] += g_p[r] * m[col]
+                    pose[9 + r] += g_p[r]
+
+        grad_pose[chunk] = pose
 
 
 def _threads() -> int:
@@ -692,11 +704,11 @@ class _Render(torch.autograd.Function):
         ctx.arrays = None
         dtype, num = m.dtype, len(m)
         grads = np.empty((groups, num, table.shape[1] - 2), dtype)
-        chunks = np.linspace(0, len(kept), _threads() + 1).astype(np.int64)
+        chunks = _threads()
         grad_means, grad_opacities = np.zeros((num, 3), dtype), np.zeros(num, dtype)
         grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
         grad_features = np.zeros((num, ctx.num_features), dtype)
-        grad_pose = np.zeros((len(chunks) - 1, 12))
+        grad_pose = np.zeros((chunks, 12))
         with _LAUNCH:
             _composite_backward(
                 table, tile_range, tile_gaussian, kept, groups, tile_size, image.numpy(), _numpy(grad_image), masks, alphas,
