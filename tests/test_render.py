@@ -446,6 +446,47 @@ def test_compiled_backend_does_not_depend_on_the_thread_count():
             assert torch.allclose(got, want, rtol=1e-4, atol=1e-4 * float(want.abs().max()))
 
 
+def test_compiled_backend_does_not_depend_on_the_number_of_tile_row_groups(monkeypatch):
+    """Groups of tile rows (``k, k + n, ...``) list, sort and composite their own pairs, and each
+    has its own stretch of the pair and alpha buffers: with more groups than threads or than
+    tile rows, the image is bitwise the same and the gradients the same up to rounding."""
+    import capframe.render.compiled_backend as compiled
+
+    scene = stiff_scene(6)
+    camera = make_camera(width=44, height=20)  # 5 rows of 4-pixel tiles
+    results = []
+    for groups in (1, 2, 3, 7):
+        monkeypatch.setattr(compiled, "_threads", lambda groups=groups: groups)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            results.append(_render_with_gradients(scene, camera, "compiled"))
+    out, pose, params = results[0]
+    assert out.stats["composited"] > 0
+    for other, other_pose, other_params in results[1:]:
+        for name in ("rgb", "alpha", "depth"):
+            assert torch.equal(getattr(other, name), getattr(out, name)), name
+        assert other.stats == out.stats
+        assert torch.allclose(other_pose, pose, rtol=1e-10, atol=1e-10 * float(pose.abs().max()))
+        for got, want in zip(other_params, params):
+            assert torch.allclose(got, want, rtol=1e-10, atol=1e-10 * float(want.abs().max()))
+
+
+def test_compiled_backend_renders_the_same_without_gradients():
+    """A render without gradients records no pixel masks or alphas for a backward: its images
+    and counts are bitwise those of the same render with gradients, at every tile size."""
+    scene = stiff_scene(5)
+    camera = make_camera(width=50, height=38)
+    for tile_size in (4, 8):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            recorded, _, _ = _render_with_gradients(scene, camera, "compiled", dtype=torch.float32, tile_size=tile_size)
+            with torch.no_grad():
+                plain = render(scene, camera, backend="compiled", dtype=torch.float32, tile_size=tile_size)
+        for name in ("rgb", "alpha", "depth"):
+            assert torch.equal(getattr(plain, name), getattr(recorded, name).detach()), name
+        assert plain.stats == recorded.stats and recorded.stats["composited"] > 0
+
+
 def test_compiled_backend_renders_empty_views_and_keeps_gradients_of_unseen_gaussians_zero():
     """No Gaussian in view (all behind the camera) gives an empty image and zero gradients; the
     backward scatters into the visible Gaussians' rows only."""

@@ -1,26 +1,29 @@
 """Compiled CPU rasteriser (numba): the torch backend's rules, one Gaussian or pixel at a time.
 
 One autograd function, :class:`_Render`, runs every stage as a compiled kernel, from the
-Gaussians' parameters to the image and back:
+Gaussians' parameters to the image and back, in four parallel regions (each a fork and join of
+the kernel threads, which costs more than the serial work between them at small sizes):
 
-* **projection**: the torch backend's EWA projection and culling
-  (:func:`~capframe.render.torch_backend.project_gaussians`), per Gaussian, in float64; each
-  kept Gaussian gets one row of the compositing table (2D mean, half conic, log-opacity,
-  cut-off threshold, composited values), in index order, and its box of candidate tiles;
-* **tile binning**: in the torch backend's depth order (its own sort key; a stable radix sort),
-  each Gaussian is listed in every ``tile_size`` square tile where some pixel centre lies
-  inside its cut-off ellipse (its exact x-range over each tile row), then a stable counting
-  sort by tile keeps each tile's list in depth order;
-* **compositing**: per pixel, front to back over its tile's list, with the torch backend's rules
-  (3-sigma ellipse and alpha >= 1/255, alpha clamped at 0.999, stop before the transmittance
-  would fall to 1e-4). Each (tile, Gaussian) pair records which of the tile's pixels it was
-  composited into (a bit mask), so
-* **its backward** to the 2D means, conics, opacities and composited values visits only the
-  composited (Gaussian, pixel) pairs, front to back, recomputing their alphas; pairs that
-  composited nothing (past a tile's stop, or outside the cut-offs: about 40%) are skipped on
-  their mask alone;
-* **the projection's backward** to the means, covariance factors and pose, scattered straight
-  into the inputs' rows.
+1. **projection** (:func:`_project`, per Gaussian): the torch backend's EWA projection and
+   culling (:func:`~capframe.render.torch_backend.project_gaussians`) in float64; each kept
+   Gaussian writes, in its own row, its compositing-table row (2D mean, half conic,
+   log-opacity, cut-off threshold, composited values), its cut-off ellipse for binning and its
+   box of candidate tiles. Then, serially, the kept Gaussians in the torch backend's depth order
+   (its own sort key; a stable radix sort).
+2. **binning and compositing** (:func:`_rasterize`, per group of tile rows): each group lists
+   its rows' (tile, Gaussian) pairs in depth order, where some pixel centre of the tile lies
+   inside the Gaussian's cut-off ellipse (its exact x-range over each tile row), sorts them by
+   tile (a stable counting sort keeps each tile's list in depth order) and composites per pixel,
+   front to back, with the torch backend's rules (3-sigma ellipse and alpha >= 1/255, alpha
+   clamped at 0.999, stop before the transmittance would fall to 1e-4). Each pair records which
+   of the tile's pixels it was composited into (a bit mask) and their alphas, so
+3. **its backward** (:func:`_composite_backward`) to the 2D means, conics, opacities and
+   composited values visits only the composited (Gaussian, pixel) pairs, front to back, with
+   the recorded alphas (no ``exp``); pairs that composited nothing (outside the cut-offs, or
+   past the pixels' stop: about 40%) are skipped on their mask alone;
+4. **the projection's backward** (:func:`_project_backward`) to the means, covariance factors
+   and pose, scattered straight into the inputs' rows, skipping the Gaussians that composited
+   nothing (hidden ones: about 30% of the kept ones in a dense view).
 
 Tiles are split into one group per thread, group ``k`` of ``n`` taking the tile rows ``k, k + n,
 ...``: neighbouring rows cost alike, so the groups stay balanced however early compositing stops
@@ -29,7 +32,8 @@ each group's gradients in its own buffer, zeroed by its own thread and summed in
 so results do not depend on scheduling (images do not depend on the thread count either;
 gradients only up to rounding, through the number of groups). Compositing computes in
 the render dtype (float32 vectorises twice as wide; float64 renders stay float64 throughout);
-the projection and the pose gradient's sums are float64 whatever the render dtype.
+the projection and the pose gradient's sums are float64 whatever the render dtype. A render
+without gradients records neither masks nor alphas.
 """
 
 from __future__ import annotations
@@ -64,6 +68,8 @@ _REACH_MARGIN = 1e-4
 # log(opacity), threshold (a pixel counts where log(opacity) - sigma >= threshold). The values
 # that follow are the features, the camera z and 1 (whose composite is the alpha).
 _COLUMNS = 7
+# Gaussians per block of the projection backward's interleaved split over threads.
+_BLOCK = 64
 # Bits per word of a pair's pixel mask: a 4x4 tile is one word, one vector of float32 lanes.
 _MASK_BITS = 16
 # Index of the lowest set bit of a 32-bit word by a de Bruijn multiply (numba has no public
@@ -138,11 +144,24 @@ def _all_finite(L):
 
 
 @njit(cache=True, parallel=True)
-def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d, limit, out, flags):
-    """Per Gaussian: ``out`` (N, 8) = ``[u, v, a, b, c, z, extent x, extent y]`` (float64);
+def _project(
+    means, factors, opacities, features, R, t, K, width, height, near, far, eps2d, limit, tile_size, table, ellipses, boxes, flags
+):
+    """Per Gaussian ``n`` of the (N,) inputs: the projection and culling, and for the kept ones
+    (``flags[n] == 1``) everything binning and compositing read, in row ``n``:
+
+    * ``table`` (N, 7 + D + 2), render dtype: the compositing table's row (see ``_COLUMNS``);
+    * ``ellipses`` (N, 8) float64: the cut-off ellipse for binning, of the table's rounded
+      values: mean x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y, the y of its
+      rightmost point (reach: the cut-off on sigma, with a margin against rounding);
+    * ``boxes`` (N, 4) int64: first and last tile column and row of its footprint box.
+
     ``flags`` (N,): 1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen,
     degenerate). ``limit`` is the render dtype's largest value: what would overflow it counts as
-    non-finite, as in the torch backend."""
+    non-finite, as in the torch backend. Rows of Gaussians not kept are left unwritten."""
+    ft = table.dtype.type
+    tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
+    channels = features.shape[1]
     for n in prange(len(means)):
         flags[n] = 0
         L = factors[n]
@@ -163,11 +182,31 @@ def _project(means, factors, opacities, R, t, K, width, height, near, far, eps2d
         level = 2.0 * math.log(max(float(opacities[n]), ALPHA_MIN) / ALPHA_MIN)
         k = math.sqrt(min(max(level, 0.0), 2.0 * SIGMA_MAX))
         ex, ey = k * math.sqrt(c00), k * math.sqrt(c11)
-        if det > 0 and ex > 0 and ey > 0 and u + ex > 0 and v + ey > 0 and u - ex < width and v - ey < height:
-            flags[n] = 1
-            out[n, 0], out[n, 1] = u, v
-            out[n, 2], out[n, 3], out[n, 4] = c11 / det, -c01 / det, c00 / det
-            out[n, 5], out[n, 6], out[n, 7] = z, ex, ey
+        if not (det > 0 and ex > 0 and ey > 0 and u + ex > 0 and v + ey > 0 and u - ex < width and v - ey < height):
+            continue
+        flags[n] = 1
+        row = table[n]
+        row[0], row[1] = u, v
+        row[2], row[3], row[4] = ft(0.5) * ft(c11 / det), -c01 / det, ft(0.5) * ft(c00 / det)
+        log_opacity = math.log(max(opacities[n], ft(1e-30)))
+        # Cut-offs: sigma <= 4.5 (the 3-sigma ellipse) and alpha >= 1/255, as q >= threshold.
+        row[5], row[6] = log_opacity, max(log_opacity - ft(SIGMA_MAX), ft(LOG_ALPHA_MIN))
+        for ch in range(channels):
+            row[_COLUMNS + ch] = features[n, ch]
+        row[_COLUMNS + channels], row[_COLUMNS + channels + 1] = z, 1.0
+        # Binning works on the table's rounded values, which the per-pixel test uses.
+        mx, my = float(row[0]), float(row[1])
+        a, b, c = 2.0 * float(row[2]), float(row[3]), 2.0 * float(row[4])
+        two_k = 2.0 * (min(float(log_opacity) - LOG_ALPHA_MIN, SIGMA_MAX) + _REACH_MARGIN)
+        conic_det = a * c - b * b
+        ellipses[n, 0], ellipses[n, 1], ellipses[n, 2], ellipses[n, 3] = mx, my, b, two_k * a
+        ellipses[n, 4], ellipses[n, 5] = conic_det, 1.0 / a
+        ellipses[n, 6] = math.sqrt(two_k * a / conic_det)  # |dy| on the ellipse
+        ellipses[n, 7] = -b * math.sqrt(two_k / (c * conic_det))  # the rightmost point's; the leftmost's is its mirror
+        boxes[n, 0] = max(int(math.floor((mx - ex) / tile_size)), 0)
+        boxes[n, 1] = min(int(math.floor((mx + ex) / tile_size)), tiles_x - 1)
+        boxes[n, 2] = max(int(math.floor((my - ey) / tile_size)), 0)
+        boxes[n, 3] = min(int(math.floor((my + ey) / tile_size)), tiles_y - 1)
 
 
 def _sortable(key: np.ndarray) -> np.ndarray:
@@ -177,21 +216,34 @@ def _sortable(key: np.ndarray) -> np.ndarray:
     return np.where(bits & top, ~bits, bits | top)
 
 
+@njit(cache=True, inline="always")
+def _rows_of_group(ty0, ty1, group, groups):
+    """The tile rows ``ty0 .. ty1`` that group ``group`` of ``groups`` owns
+    (``ty = group mod groups``), as ``range`` arguments."""
+    return ty0 + (group - ty0) % groups, ty1 + 1, groups
+
+
 @njit(cache=True)
-def _depth_order(flags, keys):
-    """The kept Gaussians (``flags == 1``): their indices ``kept`` (G,) in index order and
-    ``order`` (G,), positions in ``kept`` sorted by ``keys`` (N,) (unsigned integers), ties in
-    index order (a stable least-significant-byte-first radix sort)."""
+def _depth_order(flags, keys, boxes, groups):
+    """The kept Gaussians (``flags == 1``): their indices ``kept`` (G,) in index order, the same
+    sorted by ``keys`` (N,) (unsigned integers) as ``order`` (G,), ties in index order (a stable
+    least-significant-byte-first radix sort), and per group of tile rows (:func:`_group_tiles`)
+    the room its (tile, Gaussian) pairs may need (groups,): the tiles of the boxes in its rows."""
     num = 0
     for n in range(len(flags)):
         num += flags[n] == 1
     kept, key = np.empty(num, np.int64), np.empty(num, keys.dtype)
+    room = np.zeros(groups, np.int64)
     j = 0
     for n in range(len(flags)):
         if flags[n] == 1:
             kept[j], key[j] = n, keys[n]
             j += 1
-    order, order_out, key_out = np.arange(num), np.empty(num, np.int64), np.empty_like(key)
+            columns = max(boxes[n, 1] - boxes[n, 0] + 1, 0)
+            for group in range(groups):
+                first, stop, step = _rows_of_group(boxes[n, 2], boxes[n, 3], group, groups)
+                room[group] += columns * max(-(-(stop - first) // step), 0)
+    order, order_out, key_out = kept.copy(), np.empty(num, np.int64), np.empty_like(key)
     counts = np.empty(256, np.int64)
     byte_mask = keys.dtype.type(255)
     for byte in range(keys.itemsize):
@@ -210,92 +262,7 @@ def _depth_order(flags, keys):
             counts[d] += 1
         order, order_out = order_out, order
         key, key_out = key_out, key
-    return kept, order
-
-
-@njit(cache=True, parallel=True)
-def _visible_table(kept, geometry, opacities, features, tile_size, tiles_x, tiles_y, table, reach, boxes):
-    """The compositing table's rows (G, 7 + D + 2) of the Gaussians ``kept`` (G,), in that
-    (index) order, their cut-off ``reach`` on sigma (G,) and ``boxes`` (G, 5): the first and
-    last tile column and row their footprint box spans and the number of tiles in it."""
-    ft = table.dtype.type
-    channels = features.shape[1]
-    for i in prange(len(kept)):
-        n = kept[i]
-        table[i, 0], table[i, 1] = geometry[n, 0], geometry[n, 1]
-        table[i, 2], table[i, 3], table[i, 4] = ft(0.5) * ft(geometry[n, 2]), geometry[n, 3], ft(0.5) * ft(geometry[n, 4])
-        log_opacity = math.log(max(opacities[n], ft(1e-30)))
-        # Cut-offs: sigma <= 4.5 (the 3-sigma ellipse) and alpha >= 1/255, as q >= threshold.
-        table[i, 5], table[i, 6] = log_opacity, max(log_opacity - ft(SIGMA_MAX), ft(LOG_ALPHA_MIN))
-        for ch in range(channels):
-            table[i, _COLUMNS + ch] = features[n, ch]
-        table[i, _COLUMNS + channels], table[i, _COLUMNS + channels + 1] = geometry[n, 5], 1.0
-        reach[i] = min(float(log_opacity) - LOG_ALPHA_MIN, SIGMA_MAX) + _REACH_MARGIN
-        u, v, ex, ey = float(table[i, 0]), float(table[i, 1]), geometry[n, 6], geometry[n, 7]
-        boxes[i, 0] = max(int(math.floor((u - ex) / tile_size)), 0)
-        boxes[i, 1] = min(int(math.floor((u + ex) / tile_size)), tiles_x - 1)
-        boxes[i, 2] = max(int(math.floor((v - ey) / tile_size)), 0)
-        boxes[i, 3] = min(int(math.floor((v + ey) / tile_size)), tiles_y - 1)
-        boxes[i, 4] = max(boxes[i, 1] - boxes[i, 0] + 1, 0) * max(boxes[i, 3] - boxes[i, 2] + 1, 0)
-
-
-@njit(cache=True, parallel=True)
-def _list_tiles(table, reach, boxes, order, first, tile_size, tiles_x, pair_tile, listed):
-    """Per Gaussian, the ``r``-th in depth ``order`` (G,) (table rows), the tiles where some
-    pixel centre lies inside its cut-off ellipse ``sigma <= reach`` (reach holds a margin against
-    rounding) into ``pair_tile`` from ``first[r]`` on (room for its whole box), their number into
-    ``listed[r]``: the pairs come out in depth order, which the sort by tile keeps.
-
-    Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
-    ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
-    tile. With ``D = ac - b^2`` the right edge at height ``dy`` is
-    ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``, concave in ``dy``, so its maximum over the
-    band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
-    for r in prange(len(order)):
-        i = order[r]
-        mx, my = float(table[i, 0]), float(table[i, 1])
-        a, b, c = 2.0 * float(table[i, 2]), float(table[i, 3]), 2.0 * float(table[i, 4])
-        det, two_k = a * c - b * b, 2.0 * reach[i]
-        inv_a = 1.0 / a
-        y_reach = math.sqrt(two_k * a / det)  # |dy| on the ellipse
-        dy_right = -b * math.sqrt(two_k / (c * det))  # the rightmost point's; the leftmost is its mirror
-        count = first[r]
-        for ty in range(boxes[i, 2], boxes[i, 3] + 1):
-            band = ty * tile_size + 0.5 - my
-            lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
-            if lo > hi:
-                continue
-            dr, dl = min(max(dy_right, lo), hi), min(max(-dy_right, lo), hi)
-            right = mx + (-b * dr + math.sqrt(max(two_k * a - det * dr * dr, 0.0))) * inv_a
-            left = mx + (-b * dl - math.sqrt(max(two_k * a - det * dl * dl, 0.0))) * inv_a
-            # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
-            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[i, 0])
-            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[i, 1])
-            for tx in range(tx0, tx1 + 1):
-                pair_tile[count] = ty * tiles_x + tx
-                count += 1
-        listed[r] = count - first[r]
-
-
-@njit(cache=True)
-def _sort_by_tile(pair_tile, first, listed, order, num_tiles):
-    """Stable counting sort by tile of the listed (tile, Gaussian) pairs, in depth ``order``
-    (G,) (:func:`_list_tiles`): each tile's list stays in depth order. Returns tile_start
-    (tiles + 1,) offsets into tile_gaussian (pairs,), the table rows."""
-    tile_start = np.zeros(num_tiles + 1, np.int64)
-    for i in range(len(listed)):
-        for k in range(first[i], first[i] + listed[i]):
-            tile_start[pair_tile[k] + 1] += 1
-    for t in range(num_tiles):
-        tile_start[t + 1] += tile_start[t]
-    cursor = tile_start[:num_tiles].copy()
-    tile_gaussian = np.empty(tile_start[num_tiles], np.int32)
-    for r in range(len(listed)):
-        for k in range(first[r], first[r] + listed[r]):
-            t = pair_tile[k]
-            tile_gaussian[cursor[t]] = order[r]
-            cursor[t] += 1
-    return tile_start, tile_gaussian
+    return kept, order, room
 
 
 @njit(cache=True, inline="always")
@@ -316,97 +283,188 @@ def _tile_pixels(tx, ty, tile_size, width, height, px, py):
     return count
 
 
-@njit(cache=True, parallel=True)
-def _composite(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, masks):
-    """Composite the table's values into ``out`` (H, W, C) (zeros on entry) and mark in
-    ``masks`` (pairs, words) (zeros on entry) the pixels each pair was composited into; returns
-    the number of composited (Gaussian, pixel) pairs.
+@njit(cache=True)
+def _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_tile, pair_gaussian, start):
+    """The (tile, Gaussian) pairs of group ``group``'s tile rows, in depth ``order`` (G,), from
+    ``start`` on into ``pair_tile`` and ``pair_gaussian``; returns where they end. A Gaussian is
+    listed in a tile where some pixel centre lies inside its cut-off ellipse (``ellipses``,
+    :func:`_project`).
+
+    Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
+    ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
+    tile. With ``D = ac - b^2`` the right edge at height ``dy`` is
+    ``x = -b dy / a + sqrt(2 a reach - D dy^2) / a``, concave in ``dy``, so its maximum over the
+    band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
+    count = start
+    for r in range(len(order)):
+        n = order[r]
+        first, stop, step = _rows_of_group(boxes[n, 2], boxes[n, 3], group, groups)
+        if first >= stop:
+            continue
+        mx, my, b, two_ka = ellipses[n, 0], ellipses[n, 1], ellipses[n, 2], ellipses[n, 3]
+        det, inv_a, y_reach, dy_right = ellipses[n, 4], ellipses[n, 5], ellipses[n, 6], ellipses[n, 7]
+        for ty in range(first, stop, step):
+            band = ty * tile_size + 0.5 - my
+            lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
+            if lo > hi:
+                continue
+            dr, dl = min(max(dy_right, lo), hi), min(max(-dy_right, lo), hi)
+            right = mx + (-b * dr + math.sqrt(max(two_ka - det * dr * dr, 0.0))) * inv_a
+            left = mx + (-b * dl - math.sqrt(max(two_ka - det * dl * dl, 0.0))) * inv_a
+            # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
+            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[n, 0])
+            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[n, 1])
+            for tx in range(tx0, tx1 + 1):
+                pair_tile[count], pair_gaussian[count] = ty * tiles_x + tx, n
+                count += 1
+    return count
+
+
+@njit(cache=True)
+def _sort_by_tile(pair_tile, pair_gaussian, start, end, tiles, tile_range, tile_gaussian):
+    """Stable counting sort by tile of the pairs ``start .. end`` of ``pair_tile`` and
+    ``pair_gaussian``, all in ``tiles`` (a list), into the same places of ``tile_gaussian``:
+    tile ``t``'s Gaussians, in depth order, are ``tile_gaussian[tile_range[t, 0]:tile_range[t, 1]]``."""
+    for t in tiles:
+        tile_range[t, 0] = 0
+    for k in range(start, end):
+        tile_range[pair_tile[k], 0] += 1
+    cursor = start
+    for t in tiles:
+        cursor, tile_range[t, 0] = cursor + tile_range[t, 0], cursor
+        tile_range[t, 1] = tile_range[t, 0]
+    for k in range(start, end):
+        t = pair_tile[k]
+        tile_gaussian[tile_range[t, 1]] = pair_gaussian[k]
+        tile_range[t, 1] += 1
+
+
+@njit(cache=True)
+def _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, alphas, alpha_start, stream):
+    """Composite the table's values into ``out`` (H, W, C) over ``tiles`` (a list), their
+    Gaussians ``tile_gaussian[tile_range[t, 0]:tile_range[t, 1]]`` in depth order; returns the
+    number of composited (Gaussian, pixel) pairs. ``masks``, ``alphas`` and ``alpha_start`` (when
+    ``masks`` is not empty) and ``tile_range[t, 2]`` as in :func:`_rasterize`, the alphas from
+    ``stream`` on.
 
     At each pixel, Gaussian ``g`` counts where ``q = log(opacity) - sigma >= threshold`` (the
     cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
     to 1e-4. A tile's pixels advance together through its list, each with its own state; the
-    cut-off test is one vectorised pass per pair, then only the passing pixels are visited.
-    ``masks`` (pairs, words): bit ``j`` of word ``w`` of a pair is the tile's pixel ``32 w + j``.
-    Group ``k`` of ``groups`` (one per thread) takes the tile rows ``k, k + groups, ...``:
-    neighbouring rows cost alike, so the groups stay balanced whatever stops compositing early."""
+    cut-off test is one vectorised pass per pair, then only the passing pixels are visited."""
     height, width, channels = out.shape
-    tiles_y = -(-height // tile_size)
+    tiles_x = -(-width // tile_size)
     ft = table.dtype.type
     alpha_max, t_min, one = ft(ALPHA_MAX), ft(TRANSMITTANCE_MIN), ft(1.0)
-    pixels, words = tile_size * tile_size, masks.shape[1]
-    composited = np.zeros(groups, np.int64)
-    for group in prange(groups):
-        acc = np.empty((pixels, channels), table.dtype)
-        live, values = np.empty(words, np.int64), np.empty(channels, table.dtype)
-        px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
-        q, T = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
-        count_pairs = 0  # a local count: neighbouring groups' counters would share a cache line
-        for tile in _group_tiles(group, groups, tiles_x, tiles_y):
-            start, end = tile_start[tile], tile_start[tile + 1]
-            if start == end:
-                continue
-            count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
-            acc[:count] = 0.0
-            T[:count] = 1.0
-            for word in range(words):  # bit j of word w: pixel 32 w + j is still compositing
-                live[word] = (np.int64(1) << min(_MASK_BITS, max(count - word * _MASK_BITS, 0))) - 1
-            remaining = count
-            for pair in range(start, end):
-                g = tile_gaussian[pair]
-                mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
-                threshold = table[g, 6]
-                for ch in range(channels):
-                    values[ch] = table[g, _COLUMNS + ch]
-                for p in range(count):  # branch-free, vectorised: most pixels fail the cut-offs
-                    dx, dy = px[p] - mx, py[p] - my
-                    q[p] = log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)
-                for word in range(words):
-                    first = word * _MASK_BITS
-                    bits = 0
-                    for j in range(min(_MASK_BITS, count - first)):
-                        bits |= np.int64(q[first + j] >= threshold) << j
-                    bits &= live[word]
-                    done = 0
-                    while bits != 0:  # the pixels inside the cut-offs, not stopped
-                        j = _lowest_bit(bits)
-                        bits &= bits - 1
-                        p = first + j
-                        alpha = min(alpha_max, math.exp(q[p]))
-                        next_T = T[p] * (one - alpha)
-                        if next_T <= t_min:
-                            live[word] &= ~(np.int64(1) << j)
-                            remaining -= 1
-                            continue
-                        w = alpha * T[p]
-                        for ch in range(channels):
-                            acc[p, ch] += w * values[ch]
-                        T[p] = next_T
-                        done |= np.int64(1) << j
-                        count_pairs += 1
+    pixels, words = tile_size * tile_size, -(-tile_size * tile_size // _MASK_BITS)
+    record = len(masks) > 0
+    acc = np.empty((pixels, channels), table.dtype)
+    live, values = np.empty(words, np.int64), np.empty(channels, table.dtype)
+    px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+    q, T = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
+    count_pairs = 0
+    for tile in tiles:
+        start, stop = tile_range[tile, 0], tile_range[tile, 1]
+        tile_range[tile, 2] = start
+        alpha_start[tile] = stream
+        if start == stop:
+            continue
+        visited = stop
+        count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
+        acc[:count] = 0.0
+        T[:count] = 1.0
+        for word in range(words):  # bit j of word w: pixel 16 w + j is still compositing
+            live[word] = (np.int64(1) << min(_MASK_BITS, max(count - word * _MASK_BITS, 0))) - 1
+        remaining = count
+        for pair in range(start, stop):
+            g = tile_gaussian[pair]
+            mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
+            threshold = table[g, 6]
+            for ch in range(channels):
+                values[ch] = table[g, _COLUMNS + ch]
+            for p in range(count):  # branch-free, vectorised: most pixels fail the cut-offs
+                dx, dy = px[p] - mx, py[p] - my
+                q[p] = log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)
+            for word in range(words):
+                first = word * _MASK_BITS
+                bits = 0
+                for j in range(min(_MASK_BITS, count - first)):
+                    bits |= np.int64(q[first + j] >= threshold) << j
+                bits &= live[word]
+                done = 0
+                while bits != 0:  # the pixels inside the cut-offs, not stopped
+                    j = _lowest_bit(bits)
+                    bits &= bits - 1
+                    p = first + j
+                    alpha = min(alpha_max, math.exp(q[p]))
+                    next_T = T[p] * (one - alpha)
+                    if next_T <= t_min:
+                        live[word] &= ~(np.int64(1) << j)
+                        remaining -= 1
+                        continue
+                    w = alpha * T[p]
+                    for ch in range(channels):
+                        acc[p, ch] += w * values[ch]
+                    T[p] = next_T
+                    done |= np.int64(1) << j
+                    count_pairs += 1
+                    if record:
+                        alphas[stream] = alpha
+                        stream += 1
+                if record:
                     masks[pair, word] = done
-                if remaining == 0:
-                    break
-            for p in range(count):
-                y, x = int(py[p]), int(px[p])
-                for ch in range(channels):
-                    out[y, x, ch] = acc[p, ch]
-        composited[group] = count_pairs
-    return composited.sum()
+            if remaining == 0:
+                visited = pair + 1
+                break
+        tile_range[tile, 2] = visited
+        for p in range(count):
+            y, x = int(py[p]), int(px[p])
+            for ch in range(channels):
+                out[y, x, ch] = acc[p, ch]
+    return count_pairs
 
 
 @njit(cache=True, parallel=True)
-def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, tiles_x, out, grad_out, masks, grads):
-    """Gradients of ``sum(grad_out * out)``: per group, (groups, G, 5 + C) to the table's
-    ``[mean x, mean y, a, b, c, log(opacity)]`` and values but the last (the constant 1).
+def _rasterize(
+    table, ellipses, boxes, order, groups, tile_size, bases, pair_tile, pair_gaussian, tile_gaussian, tile_range, out, masks,
+    alphas, alpha_start, counts,
+):  # fmt: skip
+    """Bin and composite: group ``k`` of ``groups`` (one per thread) takes the tile rows ``k, k +
+    groups, ...`` (neighbouring rows cost alike, so the groups stay balanced whatever stops
+    compositing early), lists their pairs (:func:`_list_pairs`) from ``bases[k]`` on, sorts them
+    by tile (:func:`_sort_by_tile`) and composites them (:func:`_composite`) into ``out``
+    (H, W, C) (zeros on entry). ``counts`` (groups, 2): the group's listed and composited pairs.
+
+    For the backward (skipped where ``masks`` is empty): ``tile_range[t, 2]`` ends the pairs
+    tile ``t`` visited; ``masks`` (pairs, words) marks the pixels each visited pair was
+    composited into (bit ``j`` of word ``w``: the tile's pixel ``16 w + j``) and ``alphas``
+    holds their alphas, in compositing order, tile ``t``'s from ``alpha_start[t]`` on (group
+    ``k``'s from ``tile_size^2 bases[k]``)."""
+    tiles_x, tiles_y = -(-out.shape[1] // tile_size), -(-out.shape[0] // tile_size)
+    for group in prange(groups):
+        tiles = _group_tiles(group, groups, tiles_x, tiles_y)
+        end = _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_tile, pair_gaussian, bases[group])
+        _sort_by_tile(pair_tile, pair_gaussian, bases[group], end, tiles, tile_range, tile_gaussian)
+        stream = tile_size * tile_size * bases[group]
+        count_pairs = _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, alphas, alpha_start, stream)
+        counts[group, 0], counts[group, 1] = end - bases[group], count_pairs
+
+
+@njit(cache=True, parallel=True)
+def _composite_backward(
+    table, tile_range, tile_gaussian, kept, groups, tile_size, out, grad_out, masks, alphas, alpha_start, grads
+):
+    """Gradients of ``sum(grad_out * out)``: per group, (groups, N, 5 + C) to the table's
+    ``[mean x, mean y, a, b, c, log(opacity)]`` and values but the last (the constant 1), in the
+    rows of the ``kept`` Gaussians (G,) (each group zeroes its own).
 
     Per pixel, with ``c_i = v_i . grad``, ``w_i = alpha_i T_i`` and the output's total
     ``C = sum_i w_i c_i``: ``d/d alpha_i = T_i c_i - (C - sum_{k<=i} w_k c_k) / (1 - alpha_i)``,
     and ``d alpha_i / d q_i = alpha_i`` where alpha is not clamped, with ``q = log(opacity) - sigma``.
-    Only the pairs' masked pixels are visited, front to back, so ``T_i`` is rebuilt exactly.
-    Groups as in :func:`_composite`; each zeroes and fills its own slice of ``grads``.
+    Only the pairs' masked pixels are visited, front to back, with the forward's alphas, so
+    ``T_i`` is rebuilt exactly. Tiles, groups, masks and alphas as in :func:`_rasterize`.
     """
     height, width, channels = out.shape
-    tiles_y = -(-height // tile_size)
+    tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     ft = table.dtype.type
     alpha_max, one = ft(ALPHA_MAX), ft(1.0)
     pixels = tile_size * tile_size
@@ -417,11 +475,13 @@ def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, til
         px, py = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         T, total, done = np.empty(pixels, table.dtype), np.empty(pixels, table.dtype), np.empty(pixels, table.dtype)
         row = grads[group]
-        row[:] = 0.0
+        for i in range(len(kept)):
+            row[kept[i]] = 0.0
         for tile in _group_tiles(group, groups, tiles_x, tiles_y):
-            start, end = tile_start[tile], tile_start[tile + 1]
+            start, end = tile_range[tile, 0], tile_range[tile, 2]
             if start == end:
                 continue
+            stream = alpha_start[tile]
             count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
             for p in range(count):
                 y, x = int(py[p]), int(px[p])
@@ -435,10 +495,10 @@ def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, til
                 drawn = 0
                 for word in range(words):
                     drawn |= masks[pair, word]
-                if drawn == 0:  # most pairs: past the tile's stop or outside the cut-offs
+                if drawn == 0:  # past the tile's stop at these pixels, or outside the cut-offs
                     continue
                 g = tile_gaussian[pair]
-                mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
+                mx, my, half_a, b, half_c, _ = _footprint(table, g)
                 g_mx, g_my, g_a, g_b, g_c, g_q = ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0), ft(0.0)
                 g_values[:] = 0.0
                 for word in range(words):
@@ -446,8 +506,8 @@ def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, til
                     while bits != 0:
                         p = word * _MASK_BITS + _lowest_bit(bits)
                         bits &= bits - 1
-                        dx, dy = px[p] - mx, py[p] - my
-                        alpha = min(alpha_max, math.exp(log_opacity - (half_a * dx * dx + b * dx * dy + half_c * dy * dy)))
+                        alpha = alphas[stream]
+                        stream += 1
                         w = alpha * T[p]
                         contrib = ft(0.0)
                         for ch in range(channels):
@@ -457,6 +517,7 @@ def _composite_backward(table, tile_start, tile_gaussian, groups, tile_size, til
                         if alpha < alpha_max:
                             grad_q = alpha * (T[p] * contrib - (total[p] - done[p]) / (one - alpha))
                             # sigma = a dx^2/2 + b dx dy + c dy^2/2 with dx = x - mean x; q = log(o) - sigma.
+                            dx, dy = px[p] - mx, py[p] - my
                             g_mx += grad_q * (ft(2.0) * half_a * dx + b * dy)
                             g_my += grad_q * (b * dx + ft(2.0) * half_c * dy)
                             g_a -= grad_q * ft(0.5) * dx * dx
@@ -494,73 +555,87 @@ def _project_backward(
     grad_features,
     grad_pose,
 ):
-    """Backward of the projection and the table for the ``kept`` Gaussians (G,) (the table's
-    rows), given the groups' ``grads`` (groups, G, 6 + D + 1) to the table
-    (:func:`_composite_backward`): into
+    """Backward of the projection and the table for the ``kept`` Gaussians (G,), given the
+    groups' ``grads`` (groups, N, 6 + D + 1) to their table rows (:func:`_composite_backward`;
+    Gaussians that composited nothing are skipped): into
     the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors (skipped when
     ``grad_factors`` is empty), (N,) the opacities, (N, D) the features, and per chunk of
-    ``kept`` (chunks, 12) to ``[R (row-major), t]``."""
+    ``kept`` (chunks, 12) to ``[R (row-major), t]``. Chunk ``k`` of ``chunks`` takes the blocks
+    ``k, k + chunks, ...`` of ``_BLOCK`` Gaussians of ``kept``: hidden Gaussians (skipped) cluster
+    in index ranges (the far side of an object), so halves of ``kept`` would not cost alike, and
+    whole blocks keep threads off each other's cache lines."""
     fx, fy = K[0, 0], K[1, 1]
     channels = grad_features.shape[1]
-    for chunk in prange(len(chunks) - 1):
+    num = len(kept)
+    for chunk in prange(chunks):
         gj = np.empty((2, 3))  # gradient to the rows of J R
         grad = np.empty(7)  # [u, v, a, b, c, log(opacity), z]
-        for i in range(chunks[chunk], chunks[chunk + 1]):
-            n = kept[i]
-            grad[:] = 0.0
-            for group in range(len(grads)):
-                for col in range(6):
-                    grad[col] += grads[group, i, col]
-                grad[6] += grads[group, i, 6 + channels]
-                for ch in range(channels):
-                    grad_features[n, ch] += grads[group, i, 6 + ch]
-            grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
-            m, L = means[n], factors[n]
-            x, y, z = _camera_point(R, t, m)
-            j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
-            m0, m1 = _row_times(j0, L), _row_times(j1, L)
-            c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
-            det = c00 * c11 - c01 * c01
-            q00, q01, q11 = c11 / det, -c01 / det, c00 / det
-            # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
-            g00, g01, g11 = grad[2], 0.5 * grad[3], grad[4]
-            h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
-            h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
-            s00 = -(q00 * h00 + q01 * h10)
-            s01 = -(q00 * h01 + q01 * h11)
-            s11 = -(q01 * h01 + q11 * h11)
-            # cov = M M^T + eps I with M = (J R) L: dM = 2 S M, dL = (J R)^T dM, d(J R) = dM L^T.
-            gj[:] = 0.0
-            for col in range(3):
-                gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
-                gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
-                for r in range(3):
-                    if len(grad_factors):
-                        grad_factors[n, r, col] = j0[r] * gm0 + j1[r] * gm1
-                    gj[0, r] += L[r, col] * gm0
-                    gj[1, r] += L[r, col] * gm1
-            # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
-            ax, ay = fx / z, fy / z
-            g_tx, g_ty = 0.0, 0.0
-            gj0, gj1 = gj[0], gj[1]
-            g_z = grad[6] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
-            for col in range(3):
-                grad_pose[chunk, col] += ax * gj0[col]
-                grad_pose[chunk, 3 + col] += ay * gj1[col]
-                grad_pose[chunk, 6 + col] -= ax * tx * gj0[col] + ay * ty * gj1[col]
-                g_tx -= ax * R[2, col] * gj0[col]
-                g_ty -= ay * R[2, col] * gj1[col]
-            # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
-            g_x = grad[0] * ax + (g_tx / z if free_x else 0.0)
-            g_y = grad[1] * ay + (g_ty / z if free_y else 0.0)
-            g_z -= (g_x * x + g_y * y) / z
-            # p = R m + t.
-            g_p = (g_x, g_y, g_z)
-            for r in range(3):
-                grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
+        # The chunk's own sum: neighbouring rows of grad_pose share a cache line, which two threads
+        # adding per Gaussian would pass back and forth.
+        pose = np.zeros(12)
+        for block in range(chunk * _BLOCK, num, chunks * _BLOCK):
+            for i in range(block, min(block + _BLOCK, num)):
+                n = kept[i]
+                grad[:] = 0.0
+                for group in range(len(grads)):
+                    for col in range(6):
+                        grad[col] += grads[group, n, col]
+                    grad[6] += grads[group, n, 6 + channels]
+                    for ch in range(channels):
+                        grad_features[n, ch] += grads[group, n, 6 + ch]
+                # Composited nothing (hidden, or past every tile's stop), or a zero gradient: nothing to add.
+                if grad[0] == 0.0 and grad[1] == 0.0 and grad[2] == 0.0 and grad[3] == 0.0 and grad[4] == 0.0:
+                    if grad[5] == 0.0 and grad[6] == 0.0:
+                        continue
+                grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
+                m, L = means[n], factors[n]
+                x, y, z = _camera_point(R, t, m)
+                j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
+                m0, m1 = _row_times(j0, L), _row_times(j1, L)
+                c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
+                det = c00 * c11 - c01 * c01
+                q00, q01, q11 = c11 / det, -c01 / det, c00 / det
+                # Conic = cov^-1, so d cov = -Q G Q with G the conic gradient as a symmetric matrix.
+                g00, g01, g11 = grad[2], 0.5 * grad[3], grad[4]
+                h00, h01 = g00 * q00 + g01 * q01, g00 * q01 + g01 * q11  # H = G Q
+                h10, h11 = g01 * q00 + g11 * q01, g01 * q01 + g11 * q11
+                s00 = -(q00 * h00 + q01 * h10)
+                s01 = -(q00 * h01 + q01 * h11)
+                s11 = -(q01 * h01 + q11 * h11)
+                # cov = M M^T + eps I with M = (J R) L: dM = 2 S M, dL = (J R)^T dM, d(J R) = dM L^T.
+                gj[:] = 0.0
                 for col in range(3):
-                    grad_pose[chunk, 3 * r + col] += g_p[r] * m[col]
-                grad_pose[chunk, 9 + r] += g_p[r]
+                    gm0 = 2.0 * (s00 * m0[col] + s01 * m1[col])
+                    gm1 = 2.0 * (s01 * m0[col] + s11 * m1[col])
+                    for r in range(3):
+                        if len(grad_factors):
+                            grad_factors[n, r, col] = j0[r] * gm0 + j1[r] * gm1
+                        gj[0, r] += L[r, col] * gm0
+                        gj[1, r] += L[r, col] * gm1
+                # Rows j0 = (fx/z)(R0 - tx R2), j1 = (fy/z)(R1 - ty R2).
+                ax, ay = fx / z, fy / z
+                g_tx, g_ty = 0.0, 0.0
+                gj0, gj1 = gj[0], gj[1]
+                g_z = grad[6] - (_dot(j0, gj0) + _dot(j1, gj1)) / z
+                for col in range(3):
+                    pose[col] += ax * gj0[col]
+                    pose[3 + col] += ay * gj1[col]
+                    pose[6 + col] -= ax * tx * gj0[col] + ay * ty * gj1[col]
+                    g_tx -= ax * R[2, col] * gj0[col]
+                    g_ty -= ay * R[2, col] * gj1[col]
+                # u = fx x/z + cx, v = fy y/z + cy; tx = x/z and ty = y/z where not clamped.
+                g_x = grad[0] * ax + (g_tx / z if free_x else 0.0)
+                g_y = grad[1] * ay + (g_ty / z if free_y else 0.0)
+                g_z -= (g_x * x + g_y * y) / z
+                # p = R m + t.
+                g_p = (g_x, g_y, g_z)
+                for r in range(3):
+                    grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
+                    for col in range(3):
+                        pose[3 * r + col] += g_p[r] * m[col]
+                    pose[9 + r] += g_p[r]
+
+        grad_pose[chunk] = pose
 
 
 def _threads() -> int:
@@ -585,34 +660,36 @@ class _Render(torch.autograd.Function):
     composite of ``[features, camera z, 1]``."""
 
     @staticmethod
-    def forward(ctx, means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, stats):
+    def forward(ctx, means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats):
         m, L, o, f = _numpy(means), _numpy(factors), _numpy(opacities), _numpy(features)
         R, t, k = _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
-        tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
-        geometry = np.empty((len(m), 8))
-        flags = np.empty(len(m), np.int8)
+        num, tiles = len(m), -(-width // tile_size) * -(-height // tile_size)
+        table = np.empty((num, _COLUMNS + f.shape[1] + 2), m.dtype)
+        ellipses, boxes, flags = np.empty((num, 8)), np.empty((num, 4), np.int64), np.empty(num, np.int8)
         limit = float(torch.finfo(means.dtype).max)
         threads = _threads()
         with _LAUNCH:
-            _project(m, L, o, R, t, k, width, height, near, far, EPS2D, limit, geometry, flags)
+            _project(m, L, o, f, R, t, k, width, height, near, far, EPS2D, limit, tile_size, table, ellipses, boxes, flags)
             # The sort key is the torch backend's own (render dtype), so both order ties alike.
-            kept, order = _depth_order(flags, _sortable(sort_key))
-            table = np.empty((len(kept), _COLUMNS + f.shape[1] + 2), m.dtype)
-            reach, boxes = np.empty(len(kept)), np.empty((len(kept), 5), np.int64)
-            _visible_table(kept, geometry, o, f, tile_size, tiles_x, tiles_y, table, reach, boxes)
-            first = np.zeros(len(kept) + 1, np.int64)
-            np.cumsum(boxes[order, 4], out=first[1:])
-            pair_tile, listed = np.empty(first[-1], np.int32), np.empty(len(kept), np.int64)
-            _list_tiles(table, reach, boxes, order, first, tile_size, tiles_x, pair_tile, listed)
-            tile_start, tile_gaussian = _sort_by_tile(pair_tile, first, listed, order, tiles_x * tiles_y)
+            kept, order, room = _depth_order(flags, _sortable(sort_key), boxes, threads)
+            bases = np.zeros(threads, np.int64)
+            np.cumsum(room[:-1], out=bases[1:])
+            pair_tile, pair_gaussian, tile_gaussian = (np.empty(room.sum(), np.int32) for _ in range(3))
+            tile_range, alpha_start = np.empty((tiles, 3), np.int64), np.empty(tiles, np.int64)
             out = np.zeros((height, width, table.shape[1] - _COLUMNS), m.dtype)
-            masks = np.zeros((len(tile_gaussian), -(-tile_size * tile_size // _MASK_BITS)), np.uint16)
-            composited = _composite(table, tile_start, tile_gaussian, threads, tile_size, tiles_x, out, masks)
+            masks = np.empty((room.sum() if record else 0, -(-tile_size * tile_size // _MASK_BITS)), np.uint16)
+            alphas = np.empty(room.sum() * tile_size * tile_size if record else 0, m.dtype)
+            counts = np.empty((threads, 2), np.int64)
+            _rasterize(
+                table, ellipses, boxes, order, threads, tile_size, bases, pair_tile, pair_gaussian, tile_gaussian, tile_range,
+                out, masks, alphas, alpha_start, counts,
+            )  # fmt: skip
         skipped = int((flags == 2).sum())
         if skipped:
             warnings.warn(f"{skipped} Gaussians with non-finite covariance (huge or NaN scales) were skipped", stacklevel=4)
-        stats.update(visible=len(kept), pairs=len(tile_gaussian), composited=int(composited))
-        ctx.arrays = (m, L, o, R, t, k, width, height, kept, table, tile_start, tile_gaussian, threads, tile_size, masks)
+        stats.update(visible=len(kept), pairs=int(counts[:, 0].sum()), composited=int(counts[:, 1].sum()))
+        ctx.arrays = (m, L, o, R, t, k, width, height, kept, table, tile_range, tile_gaussian, threads, tile_size, masks, alphas)
+        ctx.arrays += (alpha_start,)
         ctx.num_features = f.shape[1]
         image = torch.from_numpy(out)
         ctx.save_for_backward(image)  # the backward reads it: in-place edits must raise
@@ -621,19 +698,22 @@ class _Render(torch.autograd.Function):
     @staticmethod
     def backward(ctx, grad_image):
         (image,) = ctx.saved_tensors
-        m, L, o, R, t, k, width, height, kept, table, tile_start, tile_gaussian, groups, tile_size, masks = ctx.arrays
+        m, L, o, R, t, k, width, height, kept, table, tile_range, tile_gaussian, groups, tile_size, masks, alphas, alpha_start = (
+            ctx.arrays
+        )
         ctx.arrays = None
-        dtype, num, tiles_x = m.dtype, len(m), -(-width // tile_size)
-        grads = np.empty((groups, len(kept), table.shape[1] - 2), dtype)
-        chunks = np.linspace(0, len(kept), _threads() + 1).astype(np.int64)
+        dtype, num = m.dtype, len(m)
+        grads = np.empty((groups, num, table.shape[1] - 2), dtype)
+        chunks = _threads()
         grad_means, grad_opacities = np.zeros((num, 3), dtype), np.zeros(num, dtype)
         grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
         grad_features = np.zeros((num, ctx.num_features), dtype)
-        grad_pose = np.zeros((len(chunks) - 1, 12))
+        grad_pose = np.zeros((chunks, 12))
         with _LAUNCH:
             _composite_backward(
-                table, tile_start, tile_gaussian, groups, tile_size, tiles_x, image.numpy(), _numpy(grad_image), masks, grads
-            )
+                table, tile_range, tile_gaussian, kept, groups, tile_size, image.numpy(), _numpy(grad_image), masks, alphas,
+                alpha_start, grads,
+            )  # fmt: skip
             _project_backward(
                 m, L, o, R, t, k, width, height, EPS2D, kept, grads, chunks,
                 grad_means, grad_factors, grad_opacities, grad_features, grad_pose,
@@ -648,7 +728,7 @@ class _Render(torch.autograd.Function):
             torch.from_numpy(grad_opacities),
             torch.from_numpy(grad_features),
             pose,
-            *[None] * 8,
+            *[None] * 9,
         )
 
 
@@ -679,5 +759,9 @@ def rasterize_compiled(
     with torch.no_grad():
         sort_key = (means @ T_cw[2, :3] + T_cw[2, 3]).numpy()  # as project_gaussians sorts
     stats: dict = {}
-    image = _Render.apply(means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, stats)
+    # Without a backward to come, the forward records nothing for it.
+    record = torch.is_grad_enabled() and any(x.requires_grad for x in (means, factors, opacities, features, T_cw))
+    image = _Render.apply(
+        means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats
+    )
     return image[..., :-2], image[..., -1], image[..., -2], stats
