@@ -5,6 +5,7 @@ world; a subject whose asked side faces a wall; a start inside a solid block."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,12 +16,16 @@ from conftest import make_camera
 from capframe.constraints import VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
-from capframe.pipeline.outputs import feasibility
+from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shows_subjects
+from capframe.pipeline.stages import Refined
 from capframe.refine.candidates import OVER_ELEVATIONS_DEG, _margin_azimuths, aimed_pose, shot_distance, solve_candidates
-from capframe.refine.optimize import RefineConfig, free_space_loss, refine_pose
+from capframe.refine.optimize import RefineConfig, RefineResult, free_space_loss, refine_pose
 from capframe.scene import GaussianScene, load_scene_dir
+from capframe.scene.directory import SceneDir, SceneMeta, SemanticObject
 from capframe.scene.occupancy import build_occupancy
 from capframe.translate.labels import SubjectLabel, accepted_azimuth_tolerance_deg, labels_from_constraints, view_target
+from capframe.translate.parse import parse_instruction
+from capframe.translate.vocabulary import Vocabulary
 
 
 @pytest.fixture(scope="module")
@@ -193,3 +198,48 @@ def test_a_view_hidden_by_a_low_wall_is_solved_from_over_it():
     kept = [c for c in solved if c.status == "kept"]
     assert kept and kept[0].azimuth_deg == 0.0 and kept[0].elevation_deg == OVER_ELEVATIONS_DEG[0]
     assert all(c.status == "occluded" for c in solved if c.elevation_deg < OVER_ELEVATIONS_DEG[0])
+
+
+def test_report_order_puts_a_free_camera_that_shows_the_subject_first():
+    """When the first pose fails a clause: free space first, then the subject shown, then the
+    fewest failing clauses, Refine's order breaking ties; a first pose that satisfies every
+    clause keeps the order."""
+
+    def report(*failing: str) -> CheckReport:
+        names = ("visibility", "elevation", "view", "clearance")
+        return CheckReport([CheckRow(c, "ball", c not in failing, 0.0, {}, 0.0) for c in names])
+
+    hidden, low, wrong_side_low, inside = (
+        report("visibility"),
+        report("elevation"),
+        report("elevation", "view"),
+        report("clearance"),
+    )
+    assert report_order([hidden, wrong_side_low, inside, low]) == [3, 1, 0, 2]
+    assert report_order([report(), hidden, low]) == [0, 1, 2]
+
+
+def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer():
+    """A ball before a wall: Refine ended behind the wall (free space, the ball hidden by the
+    wall) from a start in front that shows it; the start, unrefined, is returned first and its
+    report says the ball is seen; the refined pose follows."""
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(
+        Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
+    )
+    front = make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    behind = make_camera(eye=(0.0, 4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [front])
+    assert float(occupancy.clearance(torch.as_tensor(behind.center))) > 0
+    trajectory = np.stack([front.T_cw, behind.T_cw])
+    result = RefineResult(
+        behind.T_cw, 1, "max_iterations", {}, trajectory, np.array([1.0, 0.1]), {"size": np.array([0.7, 0.0])}, 0.0
+    )
+    scene = SceneDir(Path("."), gaussians, [front], None, SceneMeta(up), None)
+    parsed = parse_instruction("the ball, medium shot", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)]))
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(front, result)]), occupancy)
+    assert [(r.iterations, r.stop_reason) for _, r in answer.runs] == [(0, "unrefined"), (1, "max_iterations")]
+    np.testing.assert_array_equal(answer.cameras[0].T_cw, front.T_cw)
+    assert answer.runs[0][1].terms == {"size": 0.7} and list(answer.runs[0][1].losses) == [1.0]
+    assert shows_subjects(reports[0]) and not shows_subjects(reports[1])

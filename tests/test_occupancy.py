@@ -107,9 +107,11 @@ def test_segment_blocked_by_the_box(grid):
     assert grid.segment_blocked(np.array([6.0, 0.0, 5.0]), np.array([-6.0, 0.0, 5.0])) == 0
 
 
-def room(walls: tuple[str, ...]) -> GaussianScene:
+def room(walls: tuple[str, ...], kerb: float = 0.0) -> GaussianScene:
     """A floor (half-size 4) with walls 2.5 high on the named sides of the square [-3, 3]^2
-    (``+x``, ``-x``, ``+y``, ``-y``) and a box of side 1 (a sofa, say) standing in its middle."""
+    (``+x``, ``-x``, ``+y``, ``-y``) and a box of side 1 (a sofa, say) standing in its middle;
+    with ``kerb`` > 0, a kerb that high runs along the outside of each wall, 0.5 beyond it, on
+    the floor that reaches past the walls."""
     parts = [plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 4.0, 0.1)]
     for wall in walls:
         sign, axis = (1.0 if wall[0] == "+" else -1.0), "xy".index(wall[1])
@@ -118,6 +120,10 @@ def room(walls: tuple[str, ...]) -> GaussianScene:
         along = (0, 1, 0) if axis == 0 else (1, 0, 0)
         points = plane(centre, along, (0, 0, 1), 3.0, 0.1)
         parts.append(points[(points[:, 2] >= 0.0) & (points[:, 2] <= 2.5)])
+        if kerb > 0:
+            centre[axis] = 3.5 * sign
+            points = plane(centre, along, (0, 0, 1), 3.0, 0.1)
+            parts.append(points[(points[:, 2] >= 0.0) & (points[:, 2] <= kerb)])
     parts += [plane((0, 0, 0.5 + s), (1, 0, 0), (0, 1, 0), 0.5, 0.1) for s in (-0.5, 0.5)]
     parts += [plane((s, 0, 0.5), (0, 1, 0), (0, 0, 1), 0.5, 0.1) for s in (-0.5, 0.5)]
     parts += [plane((0, s, 0.5), (1, 0, 0), (0, 0, 1), 0.5, 0.1) for s in (-0.5, 0.5)]
@@ -140,6 +146,19 @@ def test_a_room_has_a_ceiling_at_its_walls_top(walls):
     ).tolist()
     assert over_wall < 0 and behind_wall < 0 and high_inside < 0
     assert low_inside > 0.5
+
+
+def test_a_low_fringe_beyond_the_walls_does_not_open_the_room():
+    """A kerb 0.3 high outside each wall (12% of the walls' height: the fringe a floor reaching
+    past the walls carries) is not the room's outermost structure: the room keeps its ceiling,
+    and the space over the walls and behind them stays out of free space."""
+    up = np.array([0.0, 0.0, 1.0])
+    camera = make_camera(eye=(0.0, -2.0, 1.2), target=(0.0, 0.0, 0.5), up=(0.0, 0.0, -1.0))
+    grid = build_occupancy(room(("+x", "-x", "+y"), kerb=0.3), up, [camera])
+    assert grid.ceiling > grid.floor_top >= 0
+    points = torch.tensor([[3.0, 0.0, 3.0], [3.3, 0.0, 1.2], [1.5, 1.5, 1.8]])
+    over_wall, behind_wall, low_inside = grid.clearance(points).tolist()
+    assert over_wall < 0 and behind_wall < 0 and low_inside > 0.5
 
 
 def test_no_ceiling_without_walls(grid):

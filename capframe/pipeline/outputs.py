@@ -43,6 +43,7 @@ from ..render.image import save_png
 from ..scene import Camera, SceneDir, colmap_image_line, write_camera_json, write_camera_path_json
 from ..scene._io import atomic_directory, write_json
 from ..scene.occupancy import Occupancy
+from ..translate.instruction import ParsedInstruction
 from ..translate.labels import PseudoLabels, write_pseudo_labels
 from .stages import GroundOptions, Refined, StageClock, own_report
 
@@ -140,8 +141,8 @@ def write_ground_result(
     """Report on Refine's poses with the method's own pseudo labels (and their clearance with
     ``occupancy``), render the best (every candidate when ranking several) and write the folder.
     Returns ``result.json``'s content."""
+    refined, reports = closest_answer(scene, labels, retrieved.parsed, refined, occupancy)
     cameras = refined.cameras
-    reports = [own_report(scene, labels, retrieved.parsed, c, occupancy) for c in cameras]
     images = [render(scene.gaussians, c).rgb for c in cameras[: 1 if len(cameras) == 1 else None]]
     verdict = overall_verdict(reports[0].all_satisfied, retrieved.parsed.not_understood())
     clock.done("report", "own labels: " + verdict)
@@ -181,6 +182,61 @@ def write_ground_result(
     if clock.enabled:
         print(format_report(reports[0]), file=sys.stderr)
     return json.loads((Path(out_dir) / "result.json").read_text())
+
+
+def closest_answer(
+    scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, refined: Refined, occupancy: Occupancy | None = None
+) -> tuple[Refined, list[CheckReport]]:
+    """Refine's poses and their own reports, the answer first (:func:`report_order`). When every
+    refined pose hides a subject (Refine's loss does not see other objects in the way, and an
+    asked height may lie under a table top), the views Refine started from, which were chosen
+    for showing the subjects, join them unrefined (:func:`unrefined`): a camera that shows the
+    subject, reported as failing what it fails, is closer to the request than one that does not."""
+    reports = [own_report(scene, labels, parsed, c, occupancy) for c in refined.cameras]
+    if not any(shows_subjects(r) for r in reports):
+        starts = [(start, unrefined(result)) for start, result in refined.runs]
+        reports += [own_report(scene, labels, parsed, start, occupancy) for start, _ in starts]
+        refined = Refined(refined.runs + starts, refined.solved)
+    order = report_order(reports)
+    return Refined([refined.runs[k] for k in order], refined.solved), [reports[k] for k in order]
+
+
+def shows_subjects(report: CheckReport) -> bool:
+    """No ``visibility`` row of ``report`` fails."""
+    return not any(r.constraint == "visibility" and r.satisfied is False for r in report.rows)
+
+
+def unrefined(result: RefineResult) -> RefineResult:
+    """``result``'s start (the first evaluation of its trajectory) as a result of no step."""
+    terms = {name: float(values[0]) for name, values in result.history.items() if np.isfinite(values[0])}
+    return RefineResult(
+        result.trajectory[0],
+        0,
+        "unrefined",
+        terms,
+        result.trajectory[:1],
+        result.losses[:1],
+        {name: values[:1] for name, values in result.history.items()},
+        0.0,
+    )
+
+
+def report_order(reports: list[CheckReport]) -> list[int]:
+    """The order of Refine's poses by their own reports: unchanged when the first satisfies every
+    clause; else a pose in free space first, then one that shows its subjects (no failing
+    ``visibility`` row: a camera that does not show the subject answers nothing), then the
+    fewest failing clauses, Refine's order breaking ties. Refine ranks by its loss, which does
+    not see a subject hidden by other objects; the report does."""
+    if not reports or reports[0].all_satisfied:
+        return list(range(len(reports)))
+
+    def failing(report: CheckReport, constraint: str | None = None) -> int:
+        return sum(r.satisfied is False and constraint in (None, r.constraint) for r in report.rows)
+
+    return sorted(
+        range(len(reports)),
+        key=lambda k: (failing(reports[k], "clearance") > 0, not shows_subjects(reports[k]), failing(reports[k]), k),
+    )
 
 
 def overall_verdict(all_satisfied: bool, not_understood: list[str]) -> str:

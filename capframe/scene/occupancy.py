@@ -44,7 +44,7 @@ from ..errors import InputError
 from ._io import write_npz
 from .model import Camera, GaussianScene
 
-FORMAT = 3
+FORMAT = 4
 VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
@@ -54,6 +54,9 @@ FLOOR_COVERAGE = 0.3
 # floor stand in this share of the horizontal directions from the middle of the footprint.
 ENCLOSED_SHARE = 0.6
 WALL_HEIGHT = 0.8
+# Columns beyond a wall lower than this share of the occupied heights above the floor (the
+# floor's fringe, the foot of the wall, grass) do not hide the wall from a ray.
+FRINGE_HEIGHT = 0.25
 # A camera keeps this many voxels between itself and any surface (the surface is known to about
 # half a voxel).
 MARGIN_VOXELS = 0.5
@@ -224,8 +227,9 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
 
     From the middle of the occupied footprint, a horizontal ray in each of ``directions``
     directions crosses the columns holding occupied voxels above the floor; it meets a wall when
-    the outermost of them is tall (it reaches :data:`WALL_HEIGHT` of the occupied heights above
-    the floor) and lower columns lie between it and the middle. The scene is enclosed when
+    the outermost of them that rises above the fringe (:data:`FRINGE_HEIGHT`) is tall (it
+    reaches :data:`WALL_HEIGHT` of the occupied heights above the floor) and lower columns lie
+    between it and the middle. The scene is enclosed when
     :data:`ENCLOSED_SHARE` of the rays meet a wall: three walls around a room are, a box or a
     tree standing alone, or a table on a lawn, are not. Inside are the columns a ray crosses
     before its wall (all of them on an open side); the ceiling is the layer above the median top
@@ -237,6 +241,9 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
     heights = np.flatnonzero(above.any((0, 1)))
     top = np.where(columns, above.shape[2] - 1 - np.argmax(above[:, :, ::-1], axis=2), -1)  # (X, Y) highest layer
     tall = top >= heights[0] + WALL_HEIGHT * (heights[-1] - heights[0])
+    # A floor that reaches past the walls carries a low fringe there, a voxel or two high: it
+    # is outside the room, not the room's outermost structure.
+    standing = top >= heights[0] + FRINGE_HEIGHT * (heights[-1] - heights[0])
     xs, ys = np.nonzero(columns)
     middle = np.array([(xs.min() + xs.max()) / 2, (ys.min() + ys.max()) / 2])
     reach = np.arange(0.0, float(np.hypot(*columns.shape)), 0.5)
@@ -245,7 +252,7 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
     for angle in np.linspace(0.0, 2.0 * np.pi, directions, endpoint=False):
         cells = np.round(middle + reach[:, None] * [np.cos(angle), np.sin(angle)]).astype(int)
         cells = cells[((cells >= 0) & (cells < columns.shape)).all(1)]
-        occupied_at = np.flatnonzero(columns[cells[:, 0], cells[:, 1]])
+        occupied_at = np.flatnonzero(standing[cells[:, 0], cells[:, 1]])
         along = tall[cells[:, 0], cells[:, 1]]
         end = len(cells)
         # The outermost structure is tall, with lower columns between it and the middle: a wall.
@@ -371,7 +378,8 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
-    h = hashlib.sha256(f"{FORMAT}:{VOXELS}:{SOLID_OPACITY}:{PADDING}:{FLOOR_COVERAGE}:{ENCLOSED_SHARE}:{WALL_HEIGHT}".encode())
+    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT)
+    h = hashlib.sha256(":".join(map(str, constants)).encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
     for c in cameras:
