@@ -107,12 +107,16 @@ def view_tolerance_deg(view: str) -> float:
     return VIEW_TOLERANCES_DEG.get(view, VIEW_TOLERANCE_DEG)
 
 
+def arc_deg(a: float, b: float) -> float:
+    """The angle between the azimuths ``a`` and ``b`` degrees, in [0, 180]."""
+    return abs((a - b + 180.0) % 360.0 - 180.0)
+
+
 def view_within(narrow: str, wide: str) -> bool:
     """Whether every azimuth the view side ``narrow`` accepts is one ``wide`` accepts too
     ("front-exact" within "front", not "front-slight-left": -35 lies outside +-30)."""
     tn, tw = view_tolerance_deg(narrow), view_tolerance_deg(wide)
-    arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
-    return all(any(arc(a, b) + tn <= tw + 1e-9 for b in VIEW_SIDES[wide]) for a in VIEW_SIDES[narrow])
+    return all(any(arc_deg(a, b) + tn <= tw + 1e-9 for b in VIEW_SIDES[wide]) for a in VIEW_SIDES[narrow])
 
 
 def _check_name(value: str | None, table: dict, field_name: str) -> None:

@@ -485,3 +485,10 @@ def test_no_wording_here_is_a_suite_instruction():
     mine = [r[0] for table in (DEGREES, NUMBERS, HEIGHTS, SIZES, REGIONS, NAMES, JARGON, EXACT, PICTURE_WORDS) for r in table]
     mine += UNDERSTOOD
     assert texts and not [t for t in mine if " ".join(words(t)) in texts]
+
+
+def test_arc_between_azimuths_wraps_at_180():
+    from capframe.constraints import arc_deg
+
+    assert arc_deg(170.0, -170.0) == 20.0 and arc_deg(-90.0, 90.0) == 180.0 and arc_deg(30.0, 30.0) == 0.0
+    assert arc_deg(0.0, 350.0) == 10.0 and arc_deg(10.0, -10.0) == arc_deg(-10.0, 10.0) == 20.0

@@ -127,7 +127,7 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, view_tolerance_deg
+from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, arc_deg, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
@@ -1571,9 +1571,8 @@ def _nearest_side(azimuth: float) -> str:
     """The view side of one azimuth nearest ``azimuth`` degrees (0 front, > 0 the subject's right),
     of two at the same azimuth the narrower ("90 degrees round to its right" is "right-exact": an
     angle said is meant exactly)."""
-    arc = lambda a, b: abs((a - b + 180.0) % 360.0 - 180.0)  # noqa: E731
     single = [(side, a[0]) for side, a in VIEW_SIDES.items() if len(a) == 1]
-    nearest = min(single, key=lambda sa: arc(sa[1], azimuth))[1]
+    nearest = min(single, key=lambda sa: arc_deg(sa[1], azimuth))[1]
     return min((side for side, a in single if a == nearest), key=view_tolerance_deg)
 
 
