@@ -490,6 +490,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         points=args.points,
         sizes=args.sizes,
         parse_only=args.parse_only,
+        blind=args.blind,
     )
 
 
@@ -936,7 +937,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout4) or a suite "
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout5) or a suite "
         "file; a suite with hand-written specs (the heldout sets) prints full success and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
@@ -945,6 +946,12 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="ground: parse every instruction of the suite and print where the parse differs from its meaning "
         "(no scene generation for committed instructions; seconds)",
+    )
+    p.add_argument(
+        "--blind",
+        action="store_true",
+        help="ground on a held-out suite: progress lines carry ids, verdicts and failure kinds, no instruction words "
+        "(to measure a blind set without reading it; heldout.csv still holds the texts)",
     )
     p.add_argument("--segmenter", default="detector", help="segment: the model segmenter (knn associator, other roles oracle)")
     p.add_argument(

@@ -272,6 +272,36 @@ def test_bench_counts_partly_understood_apart_from_reported_infeasible():
     assert "partly understood              2 instructions (1 feasible)" in format_summary(f)
 
 
+def test_blind_progress_lines_carry_no_word_of_the_instruction():
+    from capframe.bench.heldout import Outcome, _line
+
+    refused = Outcome(
+        _spec(id="h9-01", text="the zebra grazing by the teddy bear", feasible=False, reason="unknown subject", absent=["zebra"]),
+        "refused",
+        ["refused: unknown subject"],
+        "subject 'zebra grazing' is not in this scene",
+    )
+    partly = Outcome(_spec(id="h9-02", text="bear from its flank"), "failed", ["clause failed: view"], not_understood=["flank"])
+    seen = _line(refused) + _line(partly)
+    assert "zebra" in seen and "flank" in seen  # the ordinary lines quote the instruction
+    blind = [_line(refused, blind=True), _line(partly, blind=True)]
+    assert blind[0] == "h9-01: INF reported refused 0.0 s refused: unknown subject"
+    assert blind[1] == "h9-02: FAIL failed 0.0 s clause failed: view, partly understood"
+    assert not any(w in " ".join(blind) for w in ("zebra", "grazing", "flank", "bear"))
+
+
+def test_blind_applies_to_held_out_ground_only():
+    from capframe.bench import run_bench
+    from capframe.errors import InputError
+
+    with pytest.raises(InputError, match="--blind applies to bench ground"):
+        run_bench("render", blind=True)
+    with pytest.raises(InputError, match="--blind applies to bench ground"):
+        run_bench("ground", suite="heldout", parse_only=True, blind=True)
+    with pytest.raises(InputError, match="default.yaml has none"):
+        run_bench("ground", suite="default", blind=True)
+
+
 def test_parse_only_bench_keeps_the_first_held_out_sets_parses(capsys):
     """The parse-only check on committed suites: no scene generated, every feasible parse of the
     development sets (the first four held-out sets) agrees with its spec, unknown subjects are

@@ -48,12 +48,14 @@ def run_bench(
     points: str | None = None,
     sizes: str | None = None,
     parse_only: bool = False,
+    blind: bool = False,
 ) -> dict:
     """Run benchmark ``what`` and print its figures; ``suite`` is refine's and ground's,
     ``segment`` reads ``models`` (the models config) for ``segmenter``, ``models`` also times the
     image encoders of ``models``, ``startup`` reads a workflow run's ``benchmarks`` folder;
     ``colmap`` runs on ``photos`` against ``reference`` and ``points``; ``scale`` on ``sizes``;
-    ``parse_only`` turns ``ground`` into the parse-only check."""
+    ``parse_only`` turns ``ground`` into the parse-only check; ``blind`` keeps a held-out suite's
+    words out of ``ground``'s progress lines."""
     if suite is not None and what not in ("refine", "ground"):
         raise InputError("--suite applies to bench refine and bench ground only")
     path = resolve_suite(suite)
@@ -63,6 +65,8 @@ def run_bench(
         raise InputError("--sizes applies to bench scale only")
     if parse_only and what != "ground":
         raise InputError("--parse-only applies to bench ground only")
+    if blind and (what != "ground" or parse_only):
+        raise InputError("--blind applies to bench ground on a held-out suite only (not with --parse-only)")
     if what in ("refine", "ground", "segment", "colmap", "scale"):
         OUTPUTS["into"].check(RESULTS)
     if what == "render":
@@ -88,7 +92,9 @@ def run_bench(
         if has_committed_instructions(path):
             from .heldout import bench_heldout
 
-            figures = bench_heldout(path)
+            figures = bench_heldout(path, blind=blind)
+        elif blind:
+            raise InputError(f"--blind applies to a suite with committed instructions (a held-out set); {path.name} has none")
         else:
             from .ground import bench_ground
 

@@ -188,9 +188,11 @@ def _warm_cache(ground_dir: Path, cache: Path) -> None:
     cached_view_measurements(load_scene_dir(ground_dir), cache)
 
 
-def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
+def bench_heldout(suite: str | Path, root: str | Path | None = None, blind: bool = False) -> dict:
     """Run ``ground`` on every committed instruction of ``suite`` and judge it (module docstring).
-    Returns the figures (:func:`summarise`)."""
+    With ``blind`` the progress lines leave out the instructions' words (:func:`_line`), so a
+    held-out set can be measured by someone who must not read it. Returns the figures
+    (:func:`summarise`)."""
     from ..synth.generator import generate_scene
 
     start = time.perf_counter()
@@ -217,7 +219,7 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
             else:
                 outcome = Outcome(spec, "error", [f"error: {message.split(':')[0]}"], message, seconds=seconds)
             outcomes.append(outcome)
-            print(_line(outcome), file=sys.stderr, flush=True)
+            print(_line(outcome, blind), file=sys.stderr, flush=True)
     figures = summarise(outcomes)
     figures["suite"] = heldout.name
     figures["wall_s"] = time.perf_counter() - start
@@ -226,9 +228,11 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None) -> dict:
     return figures
 
 
-def _line(o: Outcome) -> str:
+def _line(o: Outcome, blind: bool = False) -> str:
     """One progress line per instruction (stderr): ``ok``/``FAIL`` for a feasible instruction,
-    ``INF reported``/``INF NOT reported`` for an infeasible one."""
+    ``INF reported``/``INF NOT reported`` for an infeasible one. ``blind`` keeps the id, the
+    verdict and the failure kinds, and drops every word of the instruction (its text, the words
+    not understood, the method's message, which may quote a subject)."""
     if o.spec.feasible:
         tag = "ok  " if o.success else "FAIL"
     else:
@@ -237,8 +241,11 @@ def _line(o: Outcome) -> str:
         o.reasons
         + [f"camera {c}" for c in o.clearance]
         + ([f"parse: {'/'.join(o.parse_diffs)}"] if o.parse_diffs else [])
-        + ([f"partly understood: not {o.not_understood}"] if o.not_understood else [])
+        + ([f"partly understood: not {o.not_understood}"] if o.not_understood and not blind else [])
+        + (["partly understood"] if o.not_understood and blind else [])
     )
+    if blind:
+        return f"{o.spec.id}: {tag} {o.status} {o.seconds:.1f} s {detail}"
     return f"{o.spec.id}: {tag} {o.status} {o.seconds:.1f} s {detail}  {o.spec.text!r}" + (
         f"  [{o.message}]" if o.message else ""
     )
