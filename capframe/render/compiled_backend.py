@@ -7,9 +7,9 @@ the kernel threads, which costs more than the serial work between them at small 
 1. **projection** (:func:`_project`, per Gaussian): the torch backend's EWA projection and
    culling (:func:`~capframe.render.torch_backend.project_gaussians`) in float64; each kept
    Gaussian writes, in its own row, its compositing-table row (2D mean, half conic,
-   log-opacity, cut-off threshold, composited values), its cut-off ellipse for binning and its
-   box of candidate tiles. Then, serially, the kept Gaussians in the torch backend's depth order
-   (its own sort key; a stable radix sort).
+   log-opacity, cut-off threshold, composited values), and at its place in the torch backend's
+   depth order (its own sort key; a stable radix sort, :func:`_depth_order`, run before) its
+   cut-off ellipse for binning and its box of candidate tiles.
 2. **binning and compositing** (:func:`_rasterize`, per group of tile rows): each group lists
    its rows' (tile, Gaussian) pairs in depth order, where some pixel centre of the tile lies
    inside the Gaussian's cut-off ellipse (its exact x-range over each tile row), sorts them by
@@ -145,25 +145,51 @@ def _all_finite(L):
 
 @njit(cache=True, parallel=True)
 def _project(
-    means, factors, opacities, features, R, t, K, width, height, near, far, eps2d, limit, tile_size, table, ellipses, boxes, flags
+    means,
+    factors,
+    opacities,
+    features,
+    R,
+    t,
+    K,
+    width,
+    height,
+    near,
+    far,
+    eps2d,
+    limit,
+    tile_size,
+    rank,
+    table,
+    ellipses,
+    boxes,
+    flags,
 ):
     """Per Gaussian ``n`` of the (N,) inputs: the projection and culling, and for the kept ones
-    (``flags[n] == 1``) everything binning and compositing read, in row ``n``:
+    (``flags[n] == 1``) everything binning and compositing read:
 
-    * ``table`` (N, 7 + D + 2), render dtype: the compositing table's row (see ``_COLUMNS``);
-    * ``ellipses`` (N, 8) float64: the cut-off ellipse for binning, of the table's rounded
-      values: mean x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y, the y of its
-      rightmost point (reach: the cut-off on sigma, with a margin against rounding);
-    * ``boxes`` (N, 4) int64: first and last tile column and row of its footprint box.
+    * ``table`` (N, 7 + D + 2), render dtype: the compositing table's row ``n`` (see ``_COLUMNS``);
+    * ``ellipses`` (N, 8) float64: in row ``rank[n]`` (its place in depth order,
+      :func:`_depth_order`), the cut-off ellipse for binning, of the table's rounded values: mean
+      x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y, the y of its rightmost point
+      (reach: the cut-off on sigma, with a margin against rounding);
+    * ``boxes`` (N, 4) int64: in row ``rank[n]``, first and last tile column and row of its
+      footprint box; an empty box (no rows) where the Gaussian is not kept.
+
+    Binning visits the Gaussians in depth order, once per group of tile rows: rows in index order
+    would make each visit a cache miss beyond some ten thousand Gaussians (twice the listing's
+    time at 50k), while these writes overlap with the projection's arithmetic.
 
     ``flags`` (N,): 1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen,
     degenerate). ``limit`` is the render dtype's largest value: what would overflow it counts as
-    non-finite, as in the torch backend. Rows of Gaussians not kept are left unwritten."""
+    non-finite, as in the torch backend. Table rows of Gaussians not kept are left unwritten."""
     ft = table.dtype.type
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     channels = features.shape[1]
     for n in prange(len(means)):
         flags[n] = 0
+        r = rank[n]
+        boxes[r, 2], boxes[r, 3] = 0, -1  # no rows: skipped by binning unless kept below
         L = factors[n]
         if not _all_finite(L):
             flags[n] = 2
@@ -199,14 +225,14 @@ def _project(
         a, b, c = 2.0 * float(row[2]), float(row[3]), 2.0 * float(row[4])
         two_k = 2.0 * (min(float(log_opacity) - LOG_ALPHA_MIN, SIGMA_MAX) + _REACH_MARGIN)
         conic_det = a * c - b * b
-        ellipses[n, 0], ellipses[n, 1], ellipses[n, 2], ellipses[n, 3] = mx, my, b, two_k * a
-        ellipses[n, 4], ellipses[n, 5] = conic_det, 1.0 / a
-        ellipses[n, 6] = math.sqrt(two_k * a / conic_det)  # |dy| on the ellipse
-        ellipses[n, 7] = -b * math.sqrt(two_k / (c * conic_det))  # the rightmost point's; the leftmost's is its mirror
-        boxes[n, 0] = max(int(math.floor((mx - ex) / tile_size)), 0)
-        boxes[n, 1] = min(int(math.floor((mx + ex) / tile_size)), tiles_x - 1)
-        boxes[n, 2] = max(int(math.floor((my - ey) / tile_size)), 0)
-        boxes[n, 3] = min(int(math.floor((my + ey) / tile_size)), tiles_y - 1)
+        ellipses[r, 0], ellipses[r, 1], ellipses[r, 2], ellipses[r, 3] = mx, my, b, two_k * a
+        ellipses[r, 4], ellipses[r, 5] = conic_det, 1.0 / a
+        ellipses[r, 6] = math.sqrt(two_k * a / conic_det)  # |dy| on the ellipse
+        ellipses[r, 7] = -b * math.sqrt(two_k / (c * conic_det))  # the rightmost point's; the leftmost's is its mirror
+        boxes[r, 0] = max(int(math.floor((mx - ex) / tile_size)), 0)
+        boxes[r, 1] = min(int(math.floor((mx + ex) / tile_size)), tiles_x - 1)
+        boxes[r, 2] = max(int(math.floor((my - ey) / tile_size)), 0)
+        boxes[r, 3] = min(int(math.floor((my + ey) / tile_size)), tiles_y - 1)
 
 
 def _sortable(key: np.ndarray) -> np.ndarray:
@@ -224,26 +250,15 @@ def _rows_of_group(ty0, ty1, group, groups):
 
 
 @njit(cache=True)
-def _depth_order(flags, keys, boxes, groups):
-    """The kept Gaussians (``flags == 1``): their indices ``kept`` (G,) in index order, the same
-    sorted by ``keys`` (N,) (unsigned integers) as ``order`` (G,), ties in index order (a stable
-    least-significant-byte-first radix sort), and per group of tile rows (:func:`_group_tiles`)
-    the room its (tile, Gaussian) pairs may need (groups,): the tiles of the boxes in its rows."""
-    num = 0
-    for n in range(len(flags)):
-        num += flags[n] == 1
-    kept, key = np.empty(num, np.int64), np.empty(num, keys.dtype)
-    room = np.zeros(groups, np.int64)
-    j = 0
-    for n in range(len(flags)):
-        if flags[n] == 1:
-            kept[j], key[j] = n, keys[n]
-            j += 1
-            columns = max(boxes[n, 1] - boxes[n, 0] + 1, 0)
-            for group in range(groups):
-                first, stop, step = _rows_of_group(boxes[n, 2], boxes[n, 3], group, groups)
-                room[group] += columns * max(-(-(stop - first) // step), 0)
-    order, order_out, key_out = kept.copy(), np.empty(num, np.int64), np.empty_like(key)
+def _depth_order(keys):
+    """``order`` (N,): the Gaussians sorted by ``keys`` (N,) (unsigned integers), ties in index
+    order (a stable least-significant-byte-first radix sort), and ``rank`` (N,), each one's
+    place in it (``rank[order[r]] == r``). Sorted before the projection, culled ones included,
+    so that it can write the binning rows in this order; among the kept ones the order is the
+    same as sorting them alone."""
+    num = len(keys)
+    order, order_out = np.arange(num), np.empty(num, np.int64)
+    key, key_out = keys.copy(), np.empty_like(keys)
     counts = np.empty(256, np.int64)
     byte_mask = keys.dtype.type(255)
     for byte in range(keys.itemsize):
@@ -262,7 +277,33 @@ def _depth_order(flags, keys, boxes, groups):
             counts[d] += 1
         order, order_out = order_out, order
         key, key_out = key_out, key
-    return kept, order, room
+    rank = np.empty(num, np.int64)
+    for r in range(num):
+        rank[order[r]] = r
+    return order, rank
+
+
+@njit(cache=True)
+def _kept(flags, boxes, groups):
+    """The kept Gaussians' indices (G,) (``flags == 1``) in index order, and per group of tile
+    rows (:func:`_group_tiles`) the room its (tile, Gaussian) pairs may need (groups,): the tiles
+    of the boxes (N, 4) in its rows."""
+    num = 0
+    for n in range(len(flags)):
+        num += flags[n] == 1
+    kept = np.empty(num, np.int64)
+    j = 0
+    for n in range(len(flags)):
+        if flags[n] == 1:
+            kept[j] = n
+            j += 1
+    room = np.zeros(groups, np.int64)
+    for r in range(len(boxes)):
+        columns = max(boxes[r, 1] - boxes[r, 0] + 1, 0)
+        for group in range(groups):
+            first, stop, step = _rows_of_group(boxes[r, 2], boxes[r, 3], group, groups)
+            room[group] += columns * max(-(-(stop - first) // step), 0)
+    return kept, room
 
 
 @njit(cache=True, inline="always")
@@ -285,10 +326,10 @@ def _tile_pixels(tx, ty, tile_size, width, height, px, py):
 
 @njit(cache=True)
 def _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_tile, pair_gaussian, start):
-    """The (tile, Gaussian) pairs of group ``group``'s tile rows, in depth ``order`` (G,), from
+    """The (tile, Gaussian) pairs of group ``group``'s tile rows, in depth ``order`` (N,), from
     ``start`` on into ``pair_tile`` and ``pair_gaussian``; returns where they end. A Gaussian is
-    listed in a tile where some pixel centre lies inside its cut-off ellipse (``ellipses``,
-    :func:`_project`).
+    listed in a tile where some pixel centre lies inside its cut-off ellipse (``ellipses`` and
+    ``boxes``, in depth order: :func:`_project`).
 
     Scanlines, as :func:`~capframe.render.torch_backend.intersect_tiles`: per tile row, the
     ellipse's exact x-range over the row's band of pixel centres gives the tiles, no test per
@@ -297,12 +338,11 @@ def _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_
     band is at the ellipse's rightmost point clamped to the band (the left edge likewise)."""
     count = start
     for r in range(len(order)):
-        n = order[r]
-        first, stop, step = _rows_of_group(boxes[n, 2], boxes[n, 3], group, groups)
+        first, stop, step = _rows_of_group(boxes[r, 2], boxes[r, 3], group, groups)
         if first >= stop:
             continue
-        mx, my, b, two_ka = ellipses[n, 0], ellipses[n, 1], ellipses[n, 2], ellipses[n, 3]
-        det, inv_a, y_reach, dy_right = ellipses[n, 4], ellipses[n, 5], ellipses[n, 6], ellipses[n, 7]
+        mx, my, b, two_ka = ellipses[r, 0], ellipses[r, 1], ellipses[r, 2], ellipses[r, 3]
+        det, inv_a, y_reach, dy_right = ellipses[r, 4], ellipses[r, 5], ellipses[r, 6], ellipses[r, 7]
         for ty in range(first, stop, step):
             band = ty * tile_size + 0.5 - my
             lo, hi = max(band, -y_reach), min(band + tile_size - 1, y_reach)
@@ -312,10 +352,10 @@ def _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_
             right = mx + (-b * dr + math.sqrt(max(two_ka - det * dr * dr, 0.0))) * inv_a
             left = mx + (-b * dl - math.sqrt(max(two_ka - det * dl * dl, 0.0))) * inv_a
             # Tile tx holds pixel centres [tx S + 0.5, tx S + S - 0.5].
-            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[n, 0])
-            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[n, 1])
+            tx0 = max(int(math.ceil((left + 0.5 - tile_size) / tile_size)), boxes[r, 0])
+            tx1 = min(int(math.floor((right - 0.5) / tile_size)), boxes[r, 1])
             for tx in range(tx0, tx1 + 1):
-                pair_tile[count], pair_gaussian[count] = ty * tiles_x + tx, n
+                pair_tile[count], pair_gaussian[count] = ty * tiles_x + tx, order[r]
                 count += 1
     return count
 
@@ -669,9 +709,10 @@ class _Render(torch.autograd.Function):
         limit = float(torch.finfo(means.dtype).max)
         threads = _threads()
         with _LAUNCH:
-            _project(m, L, o, f, R, t, k, width, height, near, far, EPS2D, limit, tile_size, table, ellipses, boxes, flags)
             # The sort key is the torch backend's own (render dtype), so both order ties alike.
-            kept, order, room = _depth_order(flags, _sortable(sort_key), boxes, threads)
+            order, rank = _depth_order(_sortable(sort_key))
+            _project(m, L, o, f, R, t, k, width, height, near, far, EPS2D, limit, tile_size, rank, table, ellipses, boxes, flags)
+            kept, room = _kept(flags, boxes, threads)
             bases = np.zeros(threads, np.int64)
             np.cumsum(room[:-1], out=bases[1:])
             pair_tile, pair_gaussian, tile_gaussian = (np.empty(room.sum(), np.int32) for _ in range(3))
