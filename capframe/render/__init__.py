@@ -306,7 +306,10 @@ def render(
     parts = [eval_sh_colors(gaussians.sh, means_local, sh_degree)] if colors else []
     if extra is not None:
         parts.append(extra.to(dtype))
-    features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
+    if len(parts) == 1:  # no copy
+        features = parts[0]
+    else:
+        features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
     args = (means_local, gaussians.factors, gaussians.opacities, features, view, K)
     if name == "gsplat":
         from .gsplat_backend import rasterize_gsplat
@@ -328,7 +331,8 @@ def render(
         )
 
     channels = 3 if colors else 0
-    rgb = image[..., :3] if colors else None
+    # Without extra channels the image is the colour (a slice would cost its backward an image-sized copy).
+    rgb = (image if extra is None else image[..., :3]) if colors else None
     if background is not None and rgb is not None:
         bg = torch.as_tensor(background, dtype=dtype, device=device)
         rgb = rgb + (1.0 - alpha)[..., None] * bg

@@ -173,7 +173,7 @@ def _project(
       :func:`_depth_order`), the cut-off ellipse for binning, of the table's rounded values: mean
       x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y, the y of its rightmost point
       (reach: the cut-off on sigma, with a margin against rounding);
-    * ``boxes`` (N, 4) int64: in row ``rank[n]``, first and last tile column and row of its
+    * ``boxes`` (N, 4) int32: in row ``rank[n]``, first and last tile column and row of its
       footprint box; an empty box (no rows) where the Gaussian is not kept.
 
     Binning visits the Gaussians in depth order, once per group of tile rows: rows in index order
@@ -381,9 +381,11 @@ def _sort_by_tile(pair_tile, pair_gaussian, start, end, tiles, tile_range, tile_
 
 @njit(cache=True)
 def _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, alphas, alpha_start, stream):
-    """Composite the table's values into ``out`` (H, W, C) over ``tiles`` (a list), their
+    """Composite the table's values into ``out`` over ``tiles`` (a list), their
     Gaussians ``tile_gaussian[tile_range[t, 0]:tile_range[t, 1]]`` in depth order; returns the
-    number of composited (Gaussian, pixel) pairs. ``masks``, ``alphas`` and ``alpha_start`` (when
+    number of composited (Gaussian, pixel) pairs. ``out``: the composite of ``[features, camera
+    z, 1]`` (C = D + 2 channels) as three images, (H, W, D), (H, W) and (H, W), so that each is
+    contiguous. ``masks``, ``alphas`` and ``alpha_start`` (when
     ``masks`` is not empty) and ``tile_range[t, 2]`` as in :func:`_rasterize`, the alphas from
     ``stream`` on.
 
@@ -391,7 +393,8 @@ def _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, a
     cut-offs), with ``alpha = min(0.999, exp(q))``; compositing stops before ``T`` would fall
     to 1e-4. A tile's pixels advance together through its list, each with its own state; the
     cut-off test is one vectorised pass per pair, then only the passing pixels are visited."""
-    height, width, channels = out.shape
+    out_features, out_depth, out_alpha = out
+    (height, width), channels = out_alpha.shape, table.shape[1] - _COLUMNS
     tiles_x = -(-width // tile_size)
     ft = table.dtype.type
     alpha_max, t_min, one = ft(ALPHA_MAX), ft(TRANSMITTANCE_MIN), ft(1.0)
@@ -458,8 +461,9 @@ def _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, a
         tile_range[tile, 2] = visited
         for p in range(count):
             y, x = int(py[p]), int(px[p])
-            for ch in range(channels):
-                out[y, x, ch] = acc[p, ch]
+            for ch in range(channels - 2):
+                out_features[y, x, ch] = acc[p, ch]
+            out_depth[y, x], out_alpha[y, x] = acc[p, channels - 2], acc[p, channels - 1]
     return count_pairs
 
 
@@ -472,14 +476,15 @@ def _rasterize(
     groups, ...`` (neighbouring rows cost alike, so the groups stay balanced whatever stops
     compositing early), lists their pairs (:func:`_list_pairs`) from ``bases[k]`` on, sorts them
     by tile (:func:`_sort_by_tile`) and composites them (:func:`_composite`) into ``out``
-    (H, W, C) (zeros on entry). ``counts`` (groups, 2): the group's listed and composited pairs.
+    (three images as there, zeros on entry). ``counts`` (groups, 2): the group's listed and composited pairs.
 
     For the backward (skipped where ``masks`` is empty): ``tile_range[t, 2]`` ends the pairs
     tile ``t`` visited; ``masks`` (pairs, words) marks the pixels each visited pair was
     composited into (bit ``j`` of word ``w``: the tile's pixel ``16 w + j``) and ``alphas``
     holds their alphas, in compositing order, tile ``t``'s from ``alpha_start[t]`` on (group
     ``k``'s from ``tile_size^2 bases[k]``)."""
-    tiles_x, tiles_y = -(-out.shape[1] // tile_size), -(-out.shape[0] // tile_size)
+    height, width = out[2].shape  # the alpha image's
+    tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     for group in prange(groups):
         tiles = _group_tiles(group, groups, tiles_x, tiles_y)
         end = _list_pairs(ellipses, boxes, order, group, groups, tile_size, tiles_x, pair_tile, pair_gaussian, bases[group])
@@ -493,7 +498,8 @@ def _rasterize(
 def _composite_backward(
     table, tile_range, tile_gaussian, kept, groups, tile_size, out, grad_out, masks, alphas, alpha_start, grads
 ):
-    """Gradients of ``sum(grad_out * out)``: per group, (groups, N, 5 + C) to the table's
+    """Gradients of ``sum(grad_out * out)`` (both three images as in :func:`_composite`): per
+    group, (groups, N, 5 + C) to the table's
     ``[mean x, mean y, a, b, c, log(opacity)]`` and values but the last (the constant 1), in the
     rows of the ``kept`` Gaussians (G,) (each group zeroes its own).
 
@@ -503,7 +509,8 @@ def _composite_backward(
     Only the pairs' masked pixels are visited, front to back, with the forward's alphas, so
     ``T_i`` is rebuilt exactly. Tiles, groups, masks and alphas as in :func:`_rasterize`.
     """
-    height, width, channels = out.shape
+    (out_features, out_depth, out_alpha), (grad_features, grad_depth, grad_alpha) = out, grad_out
+    (height, width), channels = out_alpha.shape, table.shape[1] - _COLUMNS
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     ft = table.dtype.type
     alpha_max, one = ft(ALPHA_MAX), ft(1.0)
@@ -525,10 +532,14 @@ def _composite_backward(
             count = _tile_pixels(tile % tiles_x, tile // tiles_x, tile_size, width, height, px, py)
             for p in range(count):
                 y, x = int(py[p]), int(px[p])
+                for ch in range(channels - 2):
+                    pixel_grad[p, ch] = grad_features[y, x, ch]
+                pixel_grad[p, channels - 2], pixel_grad[p, channels - 1] = grad_depth[y, x], grad_alpha[y, x]
                 total[p] = 0.0
-                for ch in range(channels):
-                    pixel_grad[p, ch] = grad_out[y, x, ch]
-                    total[p] += pixel_grad[p, ch] * out[y, x, ch]
+                for ch in range(channels - 2):
+                    total[p] += pixel_grad[p, ch] * out_features[y, x, ch]
+                total[p] += pixel_grad[p, channels - 2] * out_depth[y, x]
+                total[p] += pixel_grad[p, channels - 1] * out_alpha[y, x]
             T[:count] = 1.0
             done[:count] = 0.0
             for pair in range(start, end):
@@ -696,8 +707,10 @@ def _float64(x: Tensor) -> np.ndarray:
 
 class _Render(torch.autograd.Function):
     """Projection, binning and compositing with their analytic backward: differentiable to the
-    means, the factors, the opacities, the features and the pose. Returns the (H, W, D + 2)
-    composite of ``[features, camera z, 1]``."""
+    means, the factors, the opacities, the features and the pose. Returns the composite of
+    ``[features, camera z, 1]`` as three contiguous images: features (H, W, D), alpha (H, W) and
+    the alpha-weighted camera z (H, W) (slices of one image would make every later operation on
+    them, and their gradients, strided)."""
 
     @staticmethod
     def forward(ctx, means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats):
@@ -705,7 +718,7 @@ class _Render(torch.autograd.Function):
         R, t, k = _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
         num, tiles = len(m), -(-width // tile_size) * -(-height // tile_size)
         table = np.empty((num, _COLUMNS + f.shape[1] + 2), m.dtype)
-        ellipses, boxes, flags = np.empty((num, 8)), np.empty((num, 4), np.int64), np.empty(num, np.int8)
+        ellipses, boxes, flags = np.empty((num, 8)), np.empty((num, 4), np.int32), np.empty(num, np.int8)
         limit = float(torch.finfo(means.dtype).max)
         threads = _threads()
         with _LAUNCH:
@@ -717,7 +730,11 @@ class _Render(torch.autograd.Function):
             np.cumsum(room[:-1], out=bases[1:])
             pair_tile, pair_gaussian, tile_gaussian = (np.empty(room.sum(), np.int32) for _ in range(3))
             tile_range, alpha_start = np.empty((tiles, 3), np.int64), np.empty(tiles, np.int64)
-            out = np.zeros((height, width, table.shape[1] - _COLUMNS), m.dtype)
+            out = (
+                np.zeros((height, width, f.shape[1]), m.dtype),
+                np.zeros((height, width), m.dtype),
+                np.zeros((height, width), m.dtype),
+            )
             masks = np.empty((room.sum() if record else 0, -(-tile_size * tile_size // _MASK_BITS)), np.uint16)
             alphas = np.empty(room.sum() * tile_size * tile_size if record else 0, m.dtype)
             counts = np.empty((threads, 2), np.int64)
@@ -732,13 +749,14 @@ class _Render(torch.autograd.Function):
         ctx.arrays = (m, L, o, R, t, k, width, height, kept, table, tile_range, tile_gaussian, threads, tile_size, masks, alphas)
         ctx.arrays += (alpha_start,)
         ctx.num_features = f.shape[1]
-        image = torch.from_numpy(out)
-        ctx.save_for_backward(image)  # the backward reads it: in-place edits must raise
-        return image
+        features, depth, alpha = (torch.from_numpy(a) for a in out)
+        ctx.save_for_backward(features, depth, alpha)  # the backward reads them: in-place edits must raise
+        return features, alpha, depth
 
     @staticmethod
-    def backward(ctx, grad_image):
-        (image,) = ctx.saved_tensors
+    def backward(ctx, grad_features, grad_alpha, grad_depth):
+        out = tuple(x.numpy() for x in ctx.saved_tensors)
+        grad_out = (_numpy(grad_features), _numpy(grad_depth), _numpy(grad_alpha))
         m, L, o, R, t, k, width, height, kept, table, tile_range, tile_gaussian, groups, tile_size, masks, alphas, alpha_start = (
             ctx.arrays
         )
@@ -752,15 +770,14 @@ class _Render(torch.autograd.Function):
         grad_pose = np.zeros((chunks, 12))
         with _LAUNCH:
             _composite_backward(
-                table, tile_range, tile_gaussian, kept, groups, tile_size, image.numpy(), _numpy(grad_image), masks, alphas,
-                alpha_start, grads,
+                table, tile_range, tile_gaussian, kept, groups, tile_size, out, grad_out, masks, alphas, alpha_start, grads,
             )  # fmt: skip
             _project_backward(
                 m, L, o, R, t, k, width, height, EPS2D, kept, grads, chunks,
                 grad_means, grad_factors, grad_opacities, grad_features, grad_pose,
             )  # fmt: skip
-        pose = torch.zeros(4, 4, dtype=grad_image.dtype)
-        total = torch.from_numpy(grad_pose.sum(0)).to(grad_image.dtype)
+        pose = torch.zeros(4, 4, dtype=grad_alpha.dtype)
+        total = torch.from_numpy(grad_pose.sum(0)).to(pose.dtype)
         pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
         factors = torch.from_numpy(grad_factors) if ctx.needs_input_grad[1] else None
         return (
@@ -802,7 +819,7 @@ def rasterize_compiled(
     stats: dict = {}
     # Without a backward to come, the forward records nothing for it.
     record = torch.is_grad_enabled() and any(x.requires_grad for x in (means, factors, opacities, features, T_cw))
-    image = _Render.apply(
+    image, alpha, depth_sum = _Render.apply(
         means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats
     )
-    return image[..., :-2], image[..., -1], image[..., -2], stats
+    return image, alpha, depth_sum, stats
