@@ -164,6 +164,7 @@ def _project(
     ellipses,
     boxes,
     flags,
+    room,
 ):
     """Per Gaussian ``n`` of the (N,) inputs: the projection and culling, and for the kept ones
     (``flags[n] == 1``) everything binning and compositing read:
@@ -180,12 +181,18 @@ def _project(
     would make each visit a cache miss beyond some ten thousand Gaussians (twice the listing's
     time at 50k), while these writes overlap with the projection's arithmetic.
 
+    ``room`` (numba's threads, groups + 8), zeros on entry: per kernel thread (its
+    ``numba.get_thread_id()``), the room each group of tile
+    rows (:func:`_group_tiles`, ``groups`` of them) needs for its (tile, Gaussian) pairs, the
+    tiles of the boxes in its rows (rows 64 bytes apart: no cache line shared between threads).
+
     ``flags`` (N,): 1 kept, 2 non-finite covariance, 0 otherwise (behind, beyond or off-screen,
     degenerate). ``limit`` is the render dtype's largest value: what would overflow it counts as
     non-finite, as in the torch backend. Table rows of Gaussians not kept are left unwritten."""
     ft = table.dtype.type
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     channels = features.shape[1]
+    groups = room.shape[1] - 8
     for n in prange(len(means)):
         flags[n] = 0
         r = rank[n]
@@ -233,13 +240,10 @@ def _project(
         boxes[r, 1] = min(int(math.floor((mx + ex) / tile_size)), tiles_x - 1)
         boxes[r, 2] = max(int(math.floor((my - ey) / tile_size)), 0)
         boxes[r, 3] = min(int(math.floor((my + ey) / tile_size)), tiles_y - 1)
-
-
-def _sortable(key: np.ndarray) -> np.ndarray:
-    """Unsigned integers (N,) ordered as the floats ``key`` (N,) (float32 or float64)."""
-    bits = key.view(np.uint32 if key.itemsize == 4 else np.uint64)
-    top = bits.dtype.type(1) << bits.dtype.type(8 * key.itemsize - 1)
-    return np.where(bits & top, ~bits, bits | top)
+        columns, rows = boxes[r, 1] - boxes[r, 0] + 1, room[numba.get_thread_id()]
+        for group in range(groups):
+            first, stop, step = _rows_of_group(boxes[r, 2], boxes[r, 3], group, groups)
+            rows[group] += columns * max(-(-(stop - first) // step), 0)
 
 
 @njit(cache=True, inline="always")
@@ -251,14 +255,18 @@ def _rows_of_group(ty0, ty1, group, groups):
 
 @njit(cache=True)
 def _depth_order(keys):
-    """``order`` (N,): the Gaussians sorted by ``keys`` (N,) (unsigned integers), ties in index
-    order (a stable least-significant-byte-first radix sort), and ``rank`` (N,), each one's
+    """``order`` (N,): the Gaussians sorted by ``keys`` (N,) (floats' bits, as unsigned integers
+    of their size; ordered as the floats), ties in index order (a stable
+    least-significant-byte-first radix sort), and ``rank`` (N,), each one's
     place in it (``rank[order[r]] == r``). Sorted before the projection, culled ones included,
     so that it can write the binning rows in this order; among the kept ones the order is the
     same as sorting them alone."""
     num = len(keys)
     order, order_out = np.arange(num), np.empty(num, np.int64)
-    key, key_out = keys.copy(), np.empty_like(keys)
+    key, key_out = np.empty_like(keys), np.empty_like(keys)
+    top = keys.dtype.type(1) << keys.dtype.type(8 * keys.itemsize - 1)  # the sign bit
+    for j in range(num):  # ordered as unsigned integers: negatives' bits flipped, positives' sign bit set
+        key[j] = ~keys[j] if keys[j] & top else keys[j] | top
     counts = np.empty(256, np.int64)
     byte_mask = keys.dtype.type(255)
     for byte in range(keys.itemsize):
@@ -281,29 +289,6 @@ def _depth_order(keys):
     for r in range(num):
         rank[order[r]] = r
     return order, rank
-
-
-@njit(cache=True)
-def _kept(flags, boxes, groups):
-    """The kept Gaussians' indices (G,) (``flags == 1``) in index order, and per group of tile
-    rows (:func:`_group_tiles`) the room its (tile, Gaussian) pairs may need (groups,): the tiles
-    of the boxes (N, 4) in its rows."""
-    num = 0
-    for n in range(len(flags)):
-        num += flags[n] == 1
-    kept = np.empty(num, np.int64)
-    j = 0
-    for n in range(len(flags)):
-        if flags[n] == 1:
-            kept[j] = n
-            j += 1
-    room = np.zeros(groups, np.int64)
-    for r in range(len(boxes)):
-        columns = max(boxes[r, 1] - boxes[r, 0] + 1, 0)
-        for group in range(groups):
-            first, stop, step = _rows_of_group(boxes[r, 2], boxes[r, 3], group, groups)
-            room[group] += columns * max(-(-(stop - first) // step), 0)
-    return kept, room
 
 
 @njit(cache=True, inline="always")
@@ -609,8 +594,8 @@ def _project_backward(
     """Backward of the projection and the table for the ``kept`` Gaussians (G,), given the
     groups' ``grads`` (groups, N, 6 + D + 1) to their table rows (:func:`_composite_backward`;
     Gaussians that composited nothing are skipped): into
-    the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors (skipped when
-    ``grad_factors`` is empty), (N,) the opacities, (N, D) the features, and per chunk of
+    the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors, (N,) the opacities, (N, D)
+    the features (each of the last three skipped when empty: no gradient asked for), and per chunk of
     ``kept`` (chunks, 12) to ``[R (row-major), t]``. Chunk ``k`` of ``chunks`` takes the blocks
     ``k, k + chunks, ...`` of ``_BLOCK`` Gaussians of ``kept``: hidden Gaussians (skipped) cluster
     in index ranges (the far side of an object), so halves of ``kept`` would not cost alike, and
@@ -632,13 +617,15 @@ def _project_backward(
                     for col in range(6):
                         grad[col] += grads[group, n, col]
                     grad[6] += grads[group, n, 6 + channels]
-                    for ch in range(channels):
-                        grad_features[n, ch] += grads[group, n, 6 + ch]
+                    if len(grad_features):
+                        for ch in range(channels):
+                            grad_features[n, ch] += grads[group, n, 6 + ch]
                 # Composited nothing (hidden, or past every tile's stop), or a zero gradient: nothing to add.
                 if grad[0] == 0.0 and grad[1] == 0.0 and grad[2] == 0.0 and grad[3] == 0.0 and grad[4] == 0.0:
                     if grad[5] == 0.0 and grad[6] == 0.0:
                         continue
-                grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
+                if len(grad_opacities):
+                    grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
                 m, L = means[n], factors[n]
                 x, y, z = _camera_point(R, t, m)
                 j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
@@ -723,9 +710,12 @@ class _Render(torch.autograd.Function):
         threads = _threads()
         with _LAUNCH:
             # The sort key is the torch backend's own (render dtype), so both order ties alike.
-            order, rank = _depth_order(_sortable(sort_key))
-            _project(m, L, o, f, R, t, k, width, height, near, far, EPS2D, limit, tile_size, rank, table, ellipses, boxes, flags)
-            kept, room = _kept(flags, boxes, threads)
+            order, rank = _depth_order(sort_key.view(np.uint32 if sort_key.itemsize == 4 else np.uint64))
+            room = np.zeros((numba.get_num_threads(), threads + 8), np.int64)  # per kernel thread, per group
+            _project(
+                m, L, o, f, R, t, k, width, height, near, far, EPS2D, limit, tile_size, rank, table, ellipses, boxes, flags, room
+            )  # fmt: skip
+            kept, room = np.flatnonzero(flags == 1), room[:, :threads].sum(0)
             bases = np.zeros(threads, np.int64)
             np.cumsum(room[:-1], out=bases[1:])
             pair_tile, pair_gaussian, tile_gaussian = (np.empty(room.sum(), np.int32) for _ in range(3))
@@ -764,9 +754,11 @@ class _Render(torch.autograd.Function):
         dtype, num = m.dtype, len(m)
         grads = np.empty((groups, num, table.shape[1] - 2), dtype)
         chunks = _threads()
-        grad_means, grad_opacities = np.zeros((num, 3), dtype), np.zeros(num, dtype)
+        # Gradients nobody asked for (a fixed scene's opacities, factors, colours) are not computed.
+        grad_means = np.zeros((num, 3), dtype)
         grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
-        grad_features = np.zeros((num, ctx.num_features), dtype)
+        grad_opacities = np.zeros(num if ctx.needs_input_grad[2] else 0, dtype)
+        grad_features = np.zeros((num if ctx.needs_input_grad[3] else 0, ctx.num_features), dtype)
         grad_pose = np.zeros((chunks, 12))
         with _LAUNCH:
             _composite_backward(
@@ -779,12 +771,15 @@ class _Render(torch.autograd.Function):
         pose = torch.zeros(4, 4, dtype=grad_alpha.dtype)
         total = torch.from_numpy(grad_pose.sum(0)).to(pose.dtype)
         pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
-        factors = torch.from_numpy(grad_factors) if ctx.needs_input_grad[1] else None
+        factors, opacities, features = (
+            torch.from_numpy(grad) if needed else None
+            for grad, needed in zip((grad_factors, grad_opacities, grad_features), ctx.needs_input_grad[1:4])
+        )
         return (
             torch.from_numpy(grad_means),
             factors,
-            torch.from_numpy(grad_opacities),
-            torch.from_numpy(grad_features),
+            opacities,
+            features,
             pose,
             *[None] * 9,
         )
