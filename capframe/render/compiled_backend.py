@@ -94,15 +94,23 @@ def _lowest_bit(bits):
 
 
 @njit(cache=True)
-def _jacobian_rows(R, K, x, y, z, width, height):
-    """Rows ``j0, j1`` (3-tuples) of ``J R`` at the camera point ``(x, y, z)`` with the clamped
-    slopes ``tx, ty`` and whether each was left unclamped (see
-    :func:`~capframe.render.torch_backend.ewa_project`)."""
+def _slope_bounds(K, width, height):
+    """The bounds ``lo_x, hi_x, lo_y, hi_y`` the slopes ``x/z, y/z`` are clamped to (the frame
+    and a 30% margin, see :func:`~capframe.render.torch_backend.clamped_slopes`): the same for
+    every Gaussian, so computed once per render rather than with six divisions per Gaussian."""
     fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
     margin_x, margin_y = 0.3 * 0.5 * width / fx, 0.3 * 0.5 * height / fy
+    return -(cx / fx + margin_x), (width - cx) / fx + margin_x, -(cy / fy + margin_y), (height - cy) / fy + margin_y
+
+
+@njit(cache=True)
+def _jacobian_rows(R, K, bounds, x, y, z):
+    """Rows ``j0, j1`` (3-tuples) of ``J R`` at the camera point ``(x, y, z)`` with the slopes
+    ``tx, ty`` clamped to ``bounds`` (:func:`_slope_bounds`) and whether each was left unclamped
+    (see :func:`~capframe.render.torch_backend.ewa_project`)."""
+    fx, fy = K[0, 0], K[1, 1]
+    lo_x, hi_x, lo_y, hi_y = bounds
     sx, sy = x / z, y / z
-    lo_x, hi_x = -(cx / fx + margin_x), (width - cx) / fx + margin_x
-    lo_y, hi_y = -(cy / fy + margin_y), (height - cy) / fy + margin_y
     tx, ty = min(max(sx, lo_x), hi_x), min(max(sy, lo_y), hi_y)
     ax, ay = fx / z, fy / z
     j0 = (ax * (R[0, 0] - tx * R[2, 0]), ax * (R[0, 1] - tx * R[2, 1]), ax * (R[0, 2] - tx * R[2, 2]))
@@ -193,6 +201,7 @@ def _project(
     tiles_x, tiles_y = -(-width // tile_size), -(-height // tile_size)
     channels = features.shape[1]
     groups = room.shape[1] - 8
+    bounds = _slope_bounds(K, width, height)
     for n in prange(len(means)):
         flags[n] = 0
         r = rank[n]
@@ -204,7 +213,7 @@ def _project(
         x, y, z = _camera_point(R, t, means[n])
         if not (near < z < far):
             continue
-        j0, j1, _, _, _, _ = _jacobian_rows(R, K, x, y, z, width, height)
+        j0, j1, _, _, _, _ = _jacobian_rows(R, K, bounds, x, y, z)
         m0, m1 = _row_times(j0, L), _row_times(j1, L)
         u, v = K[0, 0] * x / z + K[0, 2], K[1, 1] * y / z + K[1, 2]
         c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
@@ -601,6 +610,7 @@ def _project_backward(
     in index ranges (the far side of an object), so halves of ``kept`` would not cost alike, and
     whole blocks keep threads off each other's cache lines."""
     fx, fy = K[0, 0], K[1, 1]
+    bounds = _slope_bounds(K, width, height)
     channels = grad_features.shape[1]
     num = len(kept)
     for chunk in prange(chunks):
@@ -628,7 +638,7 @@ def _project_backward(
                     grad_opacities[n] = grad[5] / max(float(opacities[n]), 1e-30)  # d log(o) / d o
                 m, L = means[n], factors[n]
                 x, y, z = _camera_point(R, t, m)
-                j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, x, y, z, width, height)
+                j0, j1, tx, ty, free_x, free_y = _jacobian_rows(R, K, bounds, x, y, z)
                 m0, m1 = _row_times(j0, L), _row_times(j1, L)
                 c00, c01, c11 = _dot(m0, m0) + eps2d, _dot(m0, m1), _dot(m1, m1) + eps2d
                 det = c00 * c11 - c01 * c01
