@@ -320,9 +320,11 @@ def render(
     elif name == "compiled":
         from .compiled_backend import rasterize_compiled
 
+        # The kernel takes the recentring's gradient itself (one sum, not three autograd passes over N).
         image, alpha, depth_sum, stats = rasterize_compiled(
-            *args, camera.width, camera.height, near=near, far=far, **backend_options
-        )
+            means_local.detach(), *args[1:], camera.width, camera.height, near=near, far=far,
+            origin=(gaussians.means, centre), **backend_options,
+        )  # fmt: skip
     else:
         from .torch_backend import rasterize_torch
 

@@ -604,21 +604,23 @@ def _project_backward(
     groups' ``grads`` (groups, N, 6 + D + 1) to their table rows (:func:`_composite_backward`;
     Gaussians that composited nothing are skipped): into
     the Gaussians' rows of (N, 3) the means, (N, 3, 3) the factors, (N,) the opacities, (N, D)
-    the features (each of the last three skipped when empty: no gradient asked for), and per chunk of
-    ``kept`` (chunks, 12) to ``[R (row-major), t]``. Chunk ``k`` of ``chunks`` takes the blocks
+    the features (each skipped when empty: no gradient asked for), and per chunk of ``kept``
+    (chunks, 15) to ``[R (row-major), t]`` and the sum of the means' gradients (float64 sums of
+    the render dtype's values, as if stored). Chunk ``k`` of ``chunks`` takes the blocks
     ``k, k + chunks, ...`` of ``_BLOCK`` Gaussians of ``kept``: hidden Gaussians (skipped) cluster
     in index ranges (the far side of an object), so halves of ``kept`` would not cost alike, and
     whole blocks keep threads off each other's cache lines."""
     fx, fy = K[0, 0], K[1, 1]
     bounds = _slope_bounds(K, width, height)
     channels = grad_features.shape[1]
+    mean_type = grad_means.dtype.type
     num = len(kept)
     for chunk in prange(chunks):
         gj = np.empty((2, 3))  # gradient to the rows of J R
         grad = np.empty(7)  # [u, v, a, b, c, log(opacity), z]
         # The chunk's own sum: neighbouring rows of grad_pose share a cache line, which two threads
         # adding per Gaussian would pass back and forth.
-        pose = np.zeros(12)
+        pose = np.zeros(15)
         for block in range(chunk * _BLOCK, num, chunks * _BLOCK):
             for i in range(block, min(block + _BLOCK, num)):
                 n = kept[i]
@@ -678,7 +680,10 @@ def _project_backward(
                 # p = R m + t.
                 g_p = (g_x, g_y, g_z)
                 for r in range(3):
-                    grad_means[n, r] = R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z
+                    g_mean = mean_type(R[0, r] * g_x + R[1, r] * g_y + R[2, r] * g_z)
+                    if len(grad_means):
+                        grad_means[n, r] = g_mean
+                    pose[12 + r] += g_mean  # as stored, in float64
                     for col in range(3):
                         pose[3 * r + col] += g_p[r] * m[col]
                     pose[9 + r] += g_p[r]
@@ -710,7 +715,10 @@ class _Render(torch.autograd.Function):
     them, and their gradients, strided)."""
 
     @staticmethod
-    def forward(ctx, means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats):
+    def forward(
+        ctx, means, factors, opacities, features, T_cw, K, world, centre, sort_key, width, height, near, far, tile_size, record,
+        stats,
+    ):  # fmt: skip
         m, L, o, f = _numpy(means), _numpy(factors), _numpy(opacities), _numpy(features)
         R, t, k = _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
         num, tiles = len(m), -(-width // tile_size) * -(-height // tile_size)
@@ -748,7 +756,7 @@ class _Render(torch.autograd.Function):
         stats.update(visible=len(kept), pairs=int(counts[:, 0].sum()), composited=int(counts[:, 1].sum()))
         ctx.arrays = (m, L, o, R, t, k, width, height, kept, table, tile_range, tile_gaussian, threads, tile_size, masks, alphas)
         ctx.arrays += (alpha_start,)
-        ctx.num_features = f.shape[1]
+        ctx.num_features, ctx.recentred = f.shape[1], world is not None
         features, depth, alpha = (torch.from_numpy(a) for a in out)
         ctx.save_for_backward(features, depth, alpha)  # the backward reads them: in-place edits must raise
         return features, alpha, depth
@@ -764,12 +772,13 @@ class _Render(torch.autograd.Function):
         dtype, num = m.dtype, len(m)
         grads = np.empty((groups, num, table.shape[1] - 2), dtype)
         chunks = _threads()
-        # Gradients nobody asked for (a fixed scene's opacities, factors, colours) are not computed.
-        grad_means = np.zeros((num, 3), dtype)
+        # Gradients nobody asked for (a fixed scene's means, opacities, factors, colours) are not computed.
+        needs_means = ctx.needs_input_grad[0] or ctx.needs_input_grad[6]
+        grad_means = np.zeros((num if needs_means else 0, 3), dtype)
         grad_factors = np.zeros((num if ctx.needs_input_grad[1] else 0, 3, 3), dtype)
         grad_opacities = np.zeros(num if ctx.needs_input_grad[2] else 0, dtype)
         grad_features = np.zeros((num if ctx.needs_input_grad[3] else 0, ctx.num_features), dtype)
-        grad_pose = np.zeros((chunks, 12))
+        grad_pose = np.zeros((chunks, 15))
         with _LAUNCH:
             _composite_backward(
                 table, tile_range, tile_gaussian, kept, groups, tile_size, out, grad_out, masks, alphas, alpha_start, grads,
@@ -779,20 +788,20 @@ class _Render(torch.autograd.Function):
                 grad_means, grad_factors, grad_opacities, grad_features, grad_pose,
             )  # fmt: skip
         pose = torch.zeros(4, 4, dtype=grad_alpha.dtype)
-        total = torch.from_numpy(grad_pose.sum(0)).to(pose.dtype)
+        sums = torch.from_numpy(grad_pose.sum(0))
+        total = sums[:12].to(pose.dtype)
         pose[:3, :3], pose[:3, 3] = total[:9].view(3, 3), total[9:]
         factors, opacities, features = (
             torch.from_numpy(grad) if needed else None
             for grad, needed in zip((grad_factors, grad_opacities, grad_features), ctx.needs_input_grad[1:4])
         )
-        return (
-            torch.from_numpy(grad_means),
-            factors,
-            opacities,
-            features,
-            pose,
-            *[None] * 9,
-        )
+        means = torch.from_numpy(grad_means) if needs_means else None
+        if not ctx.recentred:
+            return (means, factors, opacities, features, pose, None, None, None, *[None] * 8)
+        # means = world - centre, rounded: the world means' gradient is the means' (in float64),
+        # the centre's minus their sum.
+        world = means.to(torch.float64) if ctx.needs_input_grad[6] else None
+        return (None, factors, opacities, features, pose, None, world, -sums[12:], *[None] * 8)
 
 
 def rasterize_compiled(
@@ -808,11 +817,16 @@ def rasterize_compiled(
     near: float = 0.01,
     far: float = 1e10,
     tile_size: int = 4,
+    origin: tuple[Tensor, Tensor] | None = None,
 ) -> tuple[Tensor, Tensor, Tensor, dict]:
     """Same contract as :func:`capframe.render.torch_backend.rasterize_torch` (CPU tensors only).
 
     Args:
         tile_size: binning tile edge in pixels; the image does not depend on it.
+        origin: optional world means (N, 3) and camera centre (3,) (float64) of which ``means``
+            are ``world - centre`` in the render dtype, computed without gradient: gradients go
+            to these two instead (the centre's summed in the kernel), so the caller's recentring
+            costs autograd nothing per Gaussian.
     Returns:
         features (H, W, D), alpha (H, W), accumulated camera-z (H, W), stats (visible Gaussians,
         tile pairs at ``tile_size``, composited (Gaussian, pixel) pairs).
@@ -823,8 +837,10 @@ def rasterize_compiled(
         sort_key = (means @ T_cw[2, :3] + T_cw[2, 3]).numpy()  # as project_gaussians sorts
     stats: dict = {}
     # Without a backward to come, the forward records nothing for it.
-    record = torch.is_grad_enabled() and any(x.requires_grad for x in (means, factors, opacities, features, T_cw))
+    world, centre = (None, None) if origin is None else origin
+    inputs = (means, factors, opacities, features, T_cw, world, centre)
+    record = torch.is_grad_enabled() and any(x is not None and x.requires_grad for x in inputs)
     image, alpha, depth_sum = _Render.apply(
-        means, factors, opacities, features, T_cw, K, sort_key, width, height, near, far, tile_size, record, stats
+        means, factors, opacities, features, T_cw, K, world, centre, sort_key, width, height, near, far, tile_size, record, stats
     )
     return image, alpha, depth_sum, stats
