@@ -698,6 +698,15 @@ def _threads() -> int:
     return threads
 
 
+def _aligned(shape: tuple[int, ...], dtype) -> np.ndarray:
+    """An uninitialised array whose data starts on a 64-byte cache line: rows of 16, 32 or 64
+    bytes, written at random places, then touch one line each, not two."""
+    size = int(np.prod(shape)) * np.dtype(dtype).itemsize
+    raw = np.empty(size + 64, np.uint8)
+    start = -raw.ctypes.data % 64
+    return raw[start : start + size].view(dtype).reshape(shape)
+
+
 def _numpy(x: Tensor) -> np.ndarray:
     """The values of ``x``, in its dtype, without a copy where it is contiguous."""
     return x.detach().contiguous().numpy()
@@ -723,7 +732,7 @@ class _Render(torch.autograd.Function):
         R, t, k = _float64(T_cw[:3, :3]), _float64(T_cw[:3, 3]), _float64(K)
         num, tiles = len(m), -(-width // tile_size) * -(-height // tile_size)
         table = np.empty((num, _COLUMNS + f.shape[1] + 2), m.dtype)
-        ellipses, boxes, flags = np.empty((num, 8)), np.empty((num, 4), np.int32), np.empty(num, np.int8)
+        ellipses, boxes, flags = _aligned((num, 8), np.float64), _aligned((num, 4), np.int32), np.empty(num, np.int8)
         limit = float(torch.finfo(means.dtype).max)
         threads = _threads()
         with _LAUNCH:
