@@ -187,7 +187,8 @@ def _project(
 
     Binning visits the Gaussians in depth order, once per group of tile rows: rows in index order
     would make each visit a cache miss beyond some ten thousand Gaussians (twice the listing's
-    time at 50k), while these writes overlap with the projection's arithmetic.
+    time at 50k); these scattered writes cost the projection less (at 50k, single-threaded, 0.8
+    ms against 2.7 ms saved), and it runs on every thread.
 
     ``room`` (numba's threads, groups + 8), zeros on entry: per kernel thread (its
     ``numba.get_thread_id()``), the room each group of tile
