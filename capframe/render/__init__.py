@@ -306,7 +306,10 @@ def render(
     parts = [eval_sh_colors(gaussians.sh, means_local, sh_degree)] if colors else []
     if extra is not None:
         parts.append(extra.to(dtype))
-    features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
+    if len(parts) == 1:  # no copy
+        features = parts[0]
+    else:
+        features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
     args = (means_local, gaussians.factors, gaussians.opacities, features, view, K)
     if name == "gsplat":
         from .gsplat_backend import rasterize_gsplat
@@ -317,9 +320,11 @@ def render(
     elif name == "compiled":
         from .compiled_backend import rasterize_compiled
 
+        # The kernel takes the recentring's gradient itself (one sum, not three autograd passes over N).
         image, alpha, depth_sum, stats = rasterize_compiled(
-            *args, camera.width, camera.height, near=near, far=far, **backend_options
-        )
+            means_local.detach(), *args[1:], camera.width, camera.height, near=near, far=far,
+            origin=(gaussians.means, centre), **backend_options,
+        )  # fmt: skip
     else:
         from .torch_backend import rasterize_torch
 
@@ -328,7 +333,8 @@ def render(
         )
 
     channels = 3 if colors else 0
-    rgb = image[..., :3] if colors else None
+    # Without extra channels the image is the colour (a slice would cost its backward an image-sized copy).
+    rgb = (image if extra is None else image[..., :3]) if colors else None
     if background is not None and rgb is not None:
         bg = torch.as_tensor(background, dtype=dtype, device=device)
         rgb = rgb + (1.0 - alpha)[..., None] * bg
