@@ -148,6 +148,28 @@ def test_a_room_has_a_ceiling_at_its_walls_top(walls):
     assert low_inside > 0.5
 
 
+def test_the_ceiling_is_a_plane_at_the_walls_top_not_above_their_top_voxel():
+    """The walls' top row of Gaussians lies at 2.45 (rows 0.1 apart from 1.25, cut at 2.5; their
+    1-sigma points reach 2.51, in a voxel whose top lies higher still): a camera over the walls'
+    top is out of free space, one below it keeps the depth below the top as its clearance,
+    whichever voxel it falls in."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y", "-y")), up, [camera_at((0.0, -2.0, 1.2))])
+    assert grid.ceiling_height == pytest.approx(2.45, abs=1e-6)
+    assert grid.origin[2] + grid.ceiling * grid.voxel > 2.51  # the layer above the top voxel
+    for h in (2.25, 2.4):
+        assert grid.clearance(torch.tensor([1.5, 1.5, h])).item() == pytest.approx(2.45 - h, abs=1e-6)
+    assert grid.clearance(torch.tensor([1.5, 1.5, 2.47])).item() < 0
+
+
+def test_a_camera_over_the_walls_leaves_the_ceiling_to_its_layer():
+    """A training camera above the walls (a room shot from over its open top) lifts the
+    ceiling over it, and no plane at the walls' top bounds the clearance then."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y", "-y")), up, [camera_at((0.0, -2.0, 3.0))])
+    assert np.isnan(grid.ceiling_height) and grid.clearance(torch.tensor([0.0, -2.0, 2.9])).item() > 0
+
+
 def test_a_low_fringe_beyond_the_walls_does_not_open_the_room():
     """A kerb 0.3 high outside each wall (12% of the walls' height: the fringe a floor reaching
     past the walls carries) is not the room's outermost structure: the room keeps its ceiling,

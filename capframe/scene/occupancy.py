@@ -44,7 +44,7 @@ from ..errors import InputError
 from ._io import write_npz
 from .model import Camera, GaussianScene
 
-FORMAT = 4
+FORMAT = 5
 VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
@@ -63,6 +63,9 @@ MARGIN_VOXELS = 0.5
 # The floor plane lies at this quantile of the heights of the solid samples in the floor's layers
 # (grass, rugs and the bases of objects standing on it lie above most of the floor's own samples).
 FLOOR_QUANTILE = 0.9
+# The ceiling plane lies at this quantile of the heights of the solid Gaussians' centres in the
+# walls' two top layers (their 1-sigma points reach above the walls; a few floaters may too).
+CEILING_QUANTILE = 0.98
 
 
 @dataclass
@@ -81,6 +84,8 @@ class Occupancy:
         sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module),
             with the floor's layers free below free columns (the floor plane bounds it instead).
         floor_height: grid-frame height (along the up) of the floor plane, or NaN without a floor.
+        ceiling_height: grid-frame height of the ceiling plane (the walls' top), or NaN without
+            walls or when a training camera stands over them (the ceiling layer bounds it then).
     """
 
     rotation: np.ndarray
@@ -92,6 +97,7 @@ class Occupancy:
     sdf: np.ndarray
     ceiling: int = -1
     floor_height: float = math.nan
+    ceiling_height: float = math.nan
 
     @property
     def margin(self) -> float:
@@ -108,7 +114,7 @@ class Occupancy:
         """Signed clearance (world units) of (..., 3) points: trilinear in the voxel values,
         differentiable. Beyond the grid it grows with the distance outside it, with the sign of
         the nearest border voxel (the grid's padding is free except below the floor); never more
-        than the height above the floor plane."""
+        than the height above the floor plane, nor than the depth below the ceiling plane."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
         g = self.grid_coordinates(points.to(dtype))
@@ -117,9 +123,11 @@ class Occupancy:
         outside = (g - inside).norm(dim=-1) * self.voxel
         value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
         value = value + torch.where(value >= 0, outside, -outside)
+        height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
         if math.isfinite(self.floor_height):
-            height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
             value = torch.minimum(value, height - self.floor_height)
+        if math.isfinite(self.ceiling_height):
+            value = torch.minimum(value, self.ceiling_height - height)
         return value
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
@@ -168,8 +176,8 @@ def up_frame(up: np.ndarray) -> np.ndarray:
 
 
 def _solid_samples(gaussians: GaussianScene) -> Tensor:
-    """(7 S, 3) float64 world points: the centre of each solid Gaussian and the six points one
-    standard deviation from it along its axes (S solid Gaussians)."""
+    """(7 S, 3) float64 world points: the centre of each solid Gaussian (the first S rows) and the
+    six points one standard deviation from it along its axes (S solid Gaussians)."""
     from ..geometry.quaternion import quat_to_rotmat
 
     solid = torch.sigmoid(gaussians.opacity_logits.detach()) >= SOLID_OPACITY
@@ -219,6 +227,17 @@ def _floor_height(points: Tensor, grid: Occupancy) -> float:
     high = grid.origin[2] + (grid.floor_top + 1) * grid.voxel
     inside = heights[(heights >= low) & (heights < high)]
     return float(inside.quantile(FLOOR_QUANTILE)) if len(inside) else high
+
+
+def _ceiling_height(means: Tensor, grid: Occupancy) -> float:
+    """Grid-frame height of the ceiling plane: the :data:`CEILING_QUANTILE` of the heights of the
+    (S, 3) grid-frame solid Gaussian centres in the two layers below ``grid.ceiling`` (the walls'
+    top layers; centres, not 1-sigma points, which reach above the walls), or the bottom of the
+    ceiling layer when none lies there."""
+    heights = means[:, 2]
+    high = grid.origin[2] + grid.ceiling * grid.voxel
+    inside = heights[(heights >= high - 2 * grid.voxel) & (heights < high)]
+    return float(inside.quantile(CEILING_QUANTILE)) if len(inside) else high
 
 
 def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple[int, np.ndarray | None]:
@@ -336,7 +355,10 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     if grid.floor_top >= 0:
         grid.ceiling, inside = _walls(grid.occupied, grid.floor_top)
     if grid.ceiling >= 0:  # a room: no camera over or behind its walls (nor below a training camera)
+        walls_top = grid.ceiling
         grid.ceiling = max(grid.ceiling, int(np.flatnonzero(seeds.any((0, 1))).max(initial=-1)) + 1)
+        if grid.ceiling == walls_top:
+            grid.ceiling_height = _ceiling_height(points[: len(points) // 7], grid)
         empty[:, :, grid.ceiling :] = False
         empty &= inside[:, :, None] | seeds.any(2, keepdims=True)
     if not (seeds & empty).any():  # no camera in free space: the sky is outside everything
@@ -378,7 +400,7 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
-    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT)
+    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT, CEILING_QUANTILE)
     h = hashlib.sha256(":".join(map(str, constants)).encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
@@ -397,6 +419,7 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussian
         "floor_top": grid.floor_top,
         "ceiling": grid.ceiling,
         "floor_height": None if math.isnan(grid.floor_height) else grid.floor_height,
+        "ceiling_height": None if math.isnan(grid.ceiling_height) else grid.ceiling_height,
     }
     if gaussians is not None:
         meta["gaussians"] = gaussians
@@ -426,6 +449,7 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
             voxel, floor_top, ceiling = float(meta["voxel"]), meta["floor_top"], meta["ceiling"]
             floor_height = math.nan if meta["floor_height"] is None else float(meta["floor_height"])
+            ceiling_height = math.nan if meta["ceiling_height"] is None else float(meta["ceiling_height"])
     except (OSError, EOFError, ValueError, TypeError, KeyError, zipfile.BadZipFile) as err:
         raise InputError(f"is not an occupancy file ({err}); rebuild it with capframe occupancy", source=source) from None
     problem = _occupancy_problem(arrays, voxel, floor_top, ceiling)
@@ -443,7 +467,14 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             "floor; rebuild it with capframe occupancy",
             source=source,
         )
-    return Occupancy(voxel=voxel, floor_top=floor_top, ceiling=ceiling, floor_height=floor_height, **arrays)
+    if ceiling < 0 and math.isfinite(ceiling_height):
+        raise InputError(
+            f"ceiling_height is {ceiling_height} without a ceiling (ceiling -1); rebuild it with capframe occupancy",
+            source=source,
+        )
+    return Occupancy(
+        voxel=voxel, floor_top=floor_top, ceiling=ceiling, floor_height=floor_height, ceiling_height=ceiling_height, **arrays
+    )
 
 
 def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top, ceiling) -> str | None:
