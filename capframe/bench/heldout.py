@@ -166,7 +166,7 @@ def judge_result(
         "ok" if report.all_satisfied else "failed",
         [f"clause failed: {c}" for c in failed],
         own_all_satisfied=bool(result["report"]["all_satisfied"]),
-        clearance=clearance(checker.ground_truth, walls, camera.center),
+        clearance=clearance(checker.ground_truth, walls, camera.center, checker.enclosed),
         parse_diffs=parse_differences(result.get("instruction", {}), spec),
         not_understood=list(result.get("not_understood", [])),
         seconds=seconds,

@@ -384,6 +384,31 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     return grid
 
 
+def enclosed(gaussians: GaussianScene, point: np.ndarray, cells: int = 32) -> bool:
+    """Whether the world ``point`` (3,) lies inside the closed surface of ``gaussians`` (one
+    object's): in a voxel holding one of their solid samples (:func:`_solid_samples`), or in an
+    empty voxel that no 6-connected path of empty voxels joins to the outside of their bounding
+    box. The grid spans the box (axis-aligned in the world) with ``cells`` voxels along its longest
+    side and one empty voxel around it, fine enough that a surface sampled every few percent of
+    the object's size is closed, coarse enough that its 1-sigma points leave no holes in it."""
+    samples = _solid_samples(gaussians)
+    if len(samples) == 0:
+        return False
+    lo, hi = samples.min(0).values.numpy(), samples.max(0).values.numpy()
+    voxel = float((hi - lo).max()) / cells
+    if not voxel > 0 or ((point < lo) | (point > hi)).any():
+        return False
+    origin = lo - voxel
+    shape = tuple(int(math.ceil(s)) + 2 for s in (hi - lo) / voxel)
+    grid = Occupancy(np.eye(3), origin, voxel, np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), -1, np.zeros(shape))
+    solid = _occupied(grid, samples)
+    border = np.zeros(shape, dtype=bool)
+    border[[0, -1], :, :] = border[:, [0, -1], :] = border[:, :, [0, -1]] = True
+    outside = _flood(~solid, border)
+    i, j, k = np.floor((point - origin) / voxel).astype(int)
+    return not outside[i, j, k]
+
+
 # --- cache ----------------------------------------------------------------------------------------
 
 
@@ -400,7 +425,8 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
-    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT, CEILING_QUANTILE)
+    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT)
+    constants += (CEILING_QUANTILE,)
     h = hashlib.sha256(":".join(map(str, constants)).encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
