@@ -187,6 +187,10 @@ def test_bench_reads_refusals_and_parse_differences():
     spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-60, -30], "shot": "close-up"}], elevation="bird's-eye")
     assert parse_differences(parsed, spec) == []
     assert parse_differences({"subjects": [{"name": "mug"}]}, _spec(roll_deg=0)) == ["roll", "subjects"]
+    # Either side (-90 or +90) is not "its right side" ([75, 105]); the right side is.
+    right = _spec(subjects=[{"name": "teddy bear", "azimuth": [75, 105]}])
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "side"}]}, right) == ["view"]
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "right"}]}, right) == []
     # A narrower reading of the asked side is read right ("dead on" for "from the front"), a wider one not.
     plain, exact = (
         _spec(subjects=[{"name": "teddy bear", "view": "front"}]),
