@@ -60,6 +60,8 @@ FRINGE_HEIGHT = 0.25
 # A camera keeps this many voxels between itself and any surface (the surface is known to about
 # half a voxel).
 MARGIN_VOXELS = 0.5
+# ... and this many voxels above the floor plane, which its own Gaussians place (Occupancy.slack).
+FLOOR_MARGIN_VOXELS = 0.25
 # The floor plane lies at this quantile of the heights of the solid samples in the floor's layers
 # (grass, rugs and the bases of objects standing on it lie above most of the floor's own samples).
 FLOOR_QUANTILE = 0.9
@@ -115,6 +117,23 @@ class Occupancy:
         differentiable. Beyond the grid it grows with the distance outside it, with the sign of
         the nearest border voxel (the grid's padding is free except below the floor); never more
         than the height above the floor plane, nor than the depth below the ceiling plane."""
+        voxels, floor, ceiling = self._terms(points)
+        return torch.minimum(torch.minimum(voxels, floor), ceiling)
+
+    def slack(self, points: Tensor | np.ndarray) -> Tensor:
+        """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
+        (< 0: too near a surface), differentiable: the voxel clearance less the :attr:`margin`,
+        the height above the floor plane less :data:`FLOOR_MARGIN_VOXELS` voxels (the plane is
+        measured from the floor's own Gaussians, not known to half a voxel only: a camera at a
+        small object's own height, or low under it, stands within half a voxel of the floor), the
+        depth below the ceiling plane less the margin (the walls' top is known as the floor is,
+        but it is inferred: a room captured without a ceiling has one)."""
+        voxels, floor, ceiling = self._terms(points)
+        return torch.minimum(torch.minimum(voxels - self.margin, floor - FLOOR_MARGIN_VOXELS * self.voxel), ceiling - self.margin)
+
+    def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
+        """(voxel clearance, height above the floor plane, depth below the ceiling plane) of
+        (..., 3) points; +inf for a plane the grid does not have."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
         g = self.grid_coordinates(points.to(dtype))
@@ -124,11 +143,10 @@ class Occupancy:
         value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
         value = value + torch.where(value >= 0, outside, -outside)
         height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
-        if math.isfinite(self.floor_height):
-            value = torch.minimum(value, height - self.floor_height)
-        if math.isfinite(self.ceiling_height):
-            value = torch.minimum(value, self.ceiling_height - height)
-        return value
+        unbounded = torch.full_like(value, math.inf)
+        floor = height - self.floor_height if math.isfinite(self.floor_height) else unbounded
+        ceiling = self.ceiling_height - height if math.isfinite(self.ceiling_height) else unbounded
+        return value, floor, ceiling
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
         """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
