@@ -257,3 +257,31 @@ def test_a_camera_keeps_a_quarter_voxel_above_the_floor_plane_and_half_a_voxel_e
     clearance, slack = grid.clearance(side), grid.slack(side)
     np.testing.assert_allclose(slack.numpy(), clearance.numpy() - grid.margin, atol=1e-12)
     assert slack[0] < 0 < grid.slack(torch.tensor([6.0, -3.0, 2.0], dtype=torch.float64))
+
+
+def test_a_table_top_is_a_flat_surface_at_its_own_height_and_what_stands_on_it_is_not():
+    """A table top (flat Gaussians at z = 1.03, 4 x 4) over the floor, with a cube 0.1 high
+    standing on it: the top's columns carry a surface at its samples' height, so a camera a
+    third of a voxel over the top is free (its voxel reaches up to a voxel higher), while over
+    the cube, lower than a voxel, it is not; beside the table the floor plane bounds it."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 8.0, 0.1)
+    top = plane((0, 0, 1.03), (1, 0, 0), (0, 1, 0), 2.0, 0.05)
+    cube = torch.cat([plane((0.5, 0.5, 1.03 + h), (1, 0, 0), (0, 1, 0), 0.05, 0.025) for h in (0.05, 0.1)])
+    means = torch.cat([floor, top, cube])
+    n = len(means)
+    scales = torch.full((n, 3), 0.05)
+    scales[len(floor) : len(floor) + len(top), 2] = 0.002  # the top's Gaussians are flat
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), scales, torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(gaussians, up, [camera_at((6.0, 0.0, 3.0))])
+    v = grid.voxel
+    i, j, _ = grid.grid_coordinates(torch.tensor([-1.0, -1.0, 1.03], dtype=torch.float64)).round().long().tolist()
+    assert grid.surface_layer[i, j] >= 0 and grid.surface_height[i, j] == pytest.approx(1.032, abs=1e-3)
+    over_top, over_cube = torch.tensor([[-1.0, -1.0, 1.032 + v / 3], [0.5, 0.5, 1.032 + v / 3]], dtype=torch.float64)
+    assert grid.clearance(over_top).item() == pytest.approx(v / 3, abs=1e-6) and grid.slack(over_top).item() > 0
+    assert grid.slack(over_cube).item() < 0
+    assert grid.clearance(torch.tensor([-1.0, -1.0, 1.0])).item() < 0  # in the top
+    beside = torch.tensor([3.0, 0.0, 0.5], dtype=torch.float64)
+    assert grid.clearance(beside).item() == pytest.approx(0.5 - grid.floor_height, abs=1e-6)
