@@ -170,6 +170,22 @@ def test_a_camera_over_the_walls_leaves_the_ceiling_to_its_layer():
     assert np.isnan(grid.ceiling_height) and grid.clearance(torch.tensor([0.0, -2.0, 2.9])).item() > 0
 
 
+def test_beyond_the_grid_past_a_room_open_side_is_out_of_free_space():
+    """A room open on its -y side: a camera past the open side, beyond the grid (which holds the
+    room and the training camera with a padding), is outside the room; a box standing alone on a
+    floor (no room) leaves the space beyond its grid free."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y")), up, [camera_at((0.0, -2.0, 1.2))])
+    far = torch.tensor([0.0, -20.0, 1.2], dtype=torch.float64)
+    g = grid.grid_coordinates(far)
+    assert ((g < -0.5) | (g > torch.tensor(grid.sdf.shape) - 0.5)).any() and grid.clearance(far).item() < 0
+    near = torch.tensor([0.0, -3.5, 1.2], dtype=torch.float64)
+    assert grid.clearance(near).item() > 0
+    gaussians, _ = world()
+    alone = build_occupancy(gaussians, up, [camera_at((6.0, 0.0, 3.0))])
+    assert alone.clearance(torch.tensor([40.0, 0.0, 3.0], dtype=torch.float64)).item() > 0
+
+
 def test_a_low_fringe_beyond_the_walls_does_not_open_the_room():
     """A kerb 0.3 high outside each wall (12% of the walls' height: the fringe a floor reaching
     past the walls carries) is not the room's outermost structure: the room keeps its ceiling,

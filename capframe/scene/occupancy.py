@@ -130,7 +130,9 @@ class Occupancy:
     def clearance(self, points: Tensor | np.ndarray) -> Tensor:
         """Signed clearance (world units) of (..., 3) points: trilinear in the voxel values,
         differentiable. Beyond the grid it grows with the distance outside it, with the sign of
-        the nearest border voxel (the grid's padding is free except below the floor); never more
+        the nearest border voxel (the grid's padding is free except below the floor), except in a
+        room, where it falls with that distance (the grid holds the room and every training
+        camera with a padding: beyond it, past an open side, stands the room's fourth wall); never more
         than the height above the floor plane or a flat surface in the point's column (within a
         voxel of the surface's; negative under it), nor than the depth below the ceiling plane."""
         voxels, floor, ceiling = self._terms(points)
@@ -158,6 +160,8 @@ class Occupancy:
         outside = (g - inside).norm(dim=-1) * self.voxel
         value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
         value = value + torch.where(value >= 0, outside, -outside)
+        if self.ceiling >= 0:  # a room: beyond the grid (past its open side) is outside the room
+            value = torch.where(outside > 0, value.clamp_max(0.0) - outside, value)
         height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
         unbounded = torch.full_like(value, math.inf)
         floor = height - self.floor_height if math.isfinite(self.floor_height) else unbounded
