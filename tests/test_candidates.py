@@ -243,3 +243,32 @@ def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer():
     np.testing.assert_array_equal(answer.cameras[0].T_cw, front.T_cw)
     assert answer.runs[0][1].terms == {"size": 0.7} and list(answer.runs[0][1].losses) == [1.0]
     assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
+
+
+def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_one():
+    """Refine traded the asked high angle for the layout (the ball seen from 37 degrees up at the
+    start, 8 degrees at the end, both showing it): the start, unrefined, satisfies every clause
+    by the method's own report and is returned first; a refined pose that satisfies every clause
+    keeps the first place (no start joins it)."""
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(
+        Constraints(subjects=[SubjectConstraint("ball")], elevation="high angle"), {"ball": (index, centroid, None)}, up
+    )
+    high = make_camera(eye=(0.0, -3.0, 2.7), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    level = make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [level])
+    scene = SceneDir(Path("."), gaussians, [level], None, SceneMeta(up), None)
+    parsed = parse_instruction("the ball from a high angle", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)]))
+
+    def run(start, end) -> RefineResult:
+        trajectory = np.stack([start.T_cw, end.T_cw])
+        return RefineResult(end.T_cw, 1, "plateau", {}, trajectory, np.array([1.0, 0.1]), {"size": np.array([0.7, 0.0])}, 0.0)
+
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(high, run(high, level))]), occupancy)
+    assert [r.stop_reason for _, r in answer.runs] == ["unrefined", "plateau"]
+    np.testing.assert_array_equal(answer.cameras[0].T_cw, high.T_cw)
+    assert reports[0].all_satisfied and not reports[1].all_satisfied
+    assert all(r.satisfied for r in reports[1].rows if r.constraint != "elevation")
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(level, run(level, high))]), occupancy)
+    assert [r.stop_reason for _, r in answer.runs] == ["plateau"] and reports[0].all_satisfied

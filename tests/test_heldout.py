@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 from _synth_helpers import aim_camera, build_scene, obj
 
 from capframe.evaluate import GroundTruthChecker
@@ -188,6 +189,10 @@ def test_bench_reads_refusals_and_parse_differences():
     spec = _spec(subjects=[{"name": "teddy bear", "azimuth": [-60, -30], "shot": "close-up"}], elevation="bird's-eye")
     assert parse_differences(parsed, spec) == []
     assert parse_differences({"subjects": [{"name": "mug"}]}, _spec(roll_deg=0)) == ["roll", "subjects"]
+    # Either side (-90 or +90) is not "its right side" ([75, 105]); the right side is.
+    right = _spec(subjects=[{"name": "teddy bear", "azimuth": [75, 105]}])
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "side"}]}, right) == ["view"]
+    assert parse_differences({"subjects": [{"name": "teddy bear", "view": "right"}]}, right) == []
     # A narrower reading of the asked side is read right ("dead on" for "from the front"), a wider one not.
     plain, exact = (
         _spec(subjects=[{"name": "teddy bear", "view": "front"}]),
@@ -257,6 +262,74 @@ def test_clearance_in_a_room_walls_ceiling_and_objects():
     assert clearance(truth, walls, np.array([0.0, 0.0, 3.0])) == ["above the walls (a real room's ceiling)"]
     assert clearance(truth, walls, np.array([1.0, 0.0, -0.1])) == ["below the support"]
     assert clearance(truth, walls, np.array([1.1, 0.1, 0.6])) == ["inside sofa"]
+
+
+def test_a_camera_beside_a_table_lower_than_its_top_is_not_below_the_support():
+    """A table top 2 x 1 (turned 90 degrees about the up) at height 0.5 over a floor at -0.24
+    (the generator's ``table``): under the top or the floor counts, beside the table above the
+    floor does not; without the table the top is an unbounded plane, as before."""
+    from capframe.evaluate.ground_truth import Box, GroundTruth, GTObject, Table
+    from capframe.evaluate.spec import below_support
+
+    turn = np.array([[0.0, 1.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # rows: the top's axes
+    top = Box(np.array([0.0, 0.0, 0.48]), turn, np.array([1.0, 0.5, 0.02]))
+    mug = GTObject(0, "mug", np.array([0.0, 0.0, 0.6]), 0.1, 0, box=Box(np.array([0.0, 0.0, 0.6]), np.eye(3), np.full(3, 0.1)))
+    truth = GroundTruth(np.array([0.0, 0.0, 1.0]), 3.0, [mug], table=Table(top, -0.24))
+    assert truth.table.top_height == pytest.approx(0.5)
+    beside, under, below_floor, inside_extent = (
+        np.array([0.8, 0.0, 0.3]),  # 0.3 beyond the top's half width (0.5 along the world x)
+        np.array([0.0, 0.9, 0.3]),  # within its half length (1.0 along the world y)
+        np.array([0.8, 0.0, -0.3]),
+        np.array([0.45, -0.95, 0.49]),
+    )
+    assert [below_support(truth, p) for p in (beside, under, below_floor, inside_extent)] == [False, True, True, True]
+    assert clearance(truth, [], beside) == [] and clearance(truth, [], under) == ["below the support"]
+    plane = GroundTruth(truth.up, 3.0, [mug])
+    assert clearance(plane, [], beside) == ["below the support"]
+
+
+def test_the_ground_truth_table_is_validated(tmp_path):
+    from capframe.errors import InputError
+    from capframe.evaluate.ground_truth import parse_ground_truth
+
+    box = {"center": [0, 0, -0.02], "axes": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "half_extents": [1, 1, 0.02]}
+    data = {"up": [0, 0, 1], "objects": [{"name": "mug", "center": [0, 0, 0.1], "radius": 0.1}]}
+    assert parse_ground_truth(data | {"table": {"box": box, "floor_height": -0.7}}).table.top_height == pytest.approx(0.0)
+    with pytest.raises(InputError, match=r"'table' 'floor_height' is 0.5; expected a finite height below the top") as err:
+        parse_ground_truth(data | {"table": {"box": box, "floor_height": 0.5}}, "gt.json")
+    assert "gt.json" in str(err.value) and "\n" not in str(err.value)
+    tilted = box | {"axes": [[0, 0, 1], [0, 1, 0], [-1, 0, 0]]}
+    with pytest.raises(InputError, match=r"'table' 'box' 'axes' third row is \[-1.0, 0.0, 0.0\]; expected the up"):
+        parse_ground_truth(data | {"table": {"box": tilted, "floor_height": -0.7}})
+
+
+def test_inside_an_object_is_inside_its_closed_surface_not_only_its_box():
+    """A hollow ball (radius 1, its surface sampled every 0.05) on a stick 1 long, like a tree's
+    crown on its trunk: its centre and a point halfway to its surface are enclosed; a point under
+    the ball beside the stick, and a corner of the box around the ball, are inside the box but in
+    open air."""
+    from capframe.evaluate.ground_truth import Box, GroundTruth, GTObject
+    from capframe.scene import GaussianScene
+    from capframe.scene.occupancy import enclosed
+
+    golden = math.pi * (3.0 - math.sqrt(5.0))
+    k = np.arange(1600)
+    z = 1.0 - 2.0 * (k + 0.5) / len(k)
+    ring = np.sqrt(1.0 - z * z)
+    shell = np.stack([ring * np.cos(golden * k), ring * np.sin(golden * k), z + 2.0], 1)
+    stick = np.stack([np.zeros(20), np.zeros(20), np.linspace(0.0, 1.0, 20)], 1)
+    means = torch.as_tensor(np.concatenate([shell, stick]), dtype=torch.float32)
+    n = len(means)
+    identity = torch.tensor([1.0, 0.0, 0.0, 0.0]).expand(n, 4).clone()
+    tree = GaussianScene.from_activated(means, identity, torch.full((n, 3), 0.04), torch.full((n,), 0.9), torch.rand(n, 3))
+    centre, halfway, under, corner = (np.array(p) for p in ([0, 0, 2.0], [0.5, 0, 2.0], [0.6, 0, 0.6], [0.9, 0.9, 2.9]))
+    assert [enclosed(tree, p) for p in (centre, halfway, under, corner)] == [True, True, False, False]
+    box = Box(np.array([0.0, 0.0, 1.5]), np.eye(3), np.array([1.0, 1.0, 1.5]))
+    obj = GTObject(0, "tree", np.array([0.0, 0.0, 1.5]), 1.6, 0, box=box)
+    truth = GroundTruth(np.array([0.0, 0.0, 1.0]), 5.0, [obj])
+    inside = lambda o, p: enclosed(tree, p)  # noqa: E731
+    assert clearance(truth, [], under) == ["inside tree"]  # the box alone
+    assert clearance(truth, [], under, inside) == [] and clearance(truth, [], halfway, inside) == ["inside tree"]
 
 
 def test_bench_counts_partly_understood_apart_from_reported_infeasible():

@@ -148,6 +148,44 @@ def test_a_room_has_a_ceiling_at_its_walls_top(walls):
     assert low_inside > 0.5
 
 
+def test_the_ceiling_is_a_plane_at_the_walls_top_not_above_their_top_voxel():
+    """The walls' top row of Gaussians lies at 2.45 (rows 0.1 apart from 1.25, cut at 2.5; their
+    1-sigma points reach 2.51, in a voxel whose top lies higher still): a camera over the walls'
+    top is out of free space, one below it keeps the depth below the top as its clearance,
+    whichever voxel it falls in."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y", "-y")), up, [camera_at((0.0, -2.0, 1.2))])
+    assert grid.ceiling_height == pytest.approx(2.45, abs=1e-6)
+    assert grid.origin[2] + grid.ceiling * grid.voxel > 2.51  # the layer above the top voxel
+    for h in (2.25, 2.4):
+        assert grid.clearance(torch.tensor([1.5, 1.5, h])).item() == pytest.approx(2.45 - h, abs=1e-6)
+    assert grid.clearance(torch.tensor([1.5, 1.5, 2.47])).item() < 0
+
+
+def test_a_camera_over_the_walls_leaves_the_ceiling_to_its_layer():
+    """A training camera above the walls (a room shot from over its open top) lifts the
+    ceiling over it, and no plane at the walls' top bounds the clearance then."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y", "-y")), up, [camera_at((0.0, -2.0, 3.0))])
+    assert np.isnan(grid.ceiling_height) and grid.clearance(torch.tensor([0.0, -2.0, 2.9])).item() > 0
+
+
+def test_beyond_the_grid_past_a_room_open_side_is_out_of_free_space():
+    """A room open on its -y side: a camera past the open side, beyond the grid (which holds the
+    room and the training camera with a padding), is outside the room; a box standing alone on a
+    floor (no room) leaves the space beyond its grid free."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y")), up, [camera_at((0.0, -2.0, 1.2))])
+    far = torch.tensor([0.0, -20.0, 1.2], dtype=torch.float64)
+    g = grid.grid_coordinates(far)
+    assert ((g < -0.5) | (g > torch.tensor(grid.sdf.shape) - 0.5)).any() and grid.clearance(far).item() < 0
+    near = torch.tensor([0.0, -3.5, 1.2], dtype=torch.float64)
+    assert grid.clearance(near).item() > 0
+    gaussians, _ = world()
+    alone = build_occupancy(gaussians, up, [camera_at((6.0, 0.0, 3.0))])
+    assert alone.clearance(torch.tensor([40.0, 0.0, 3.0], dtype=torch.float64)).item() > 0
+
+
 def test_a_low_fringe_beyond_the_walls_does_not_open_the_room():
     """A kerb 0.3 high outside each wall (12% of the walls' height: the fringe a floor reaching
     past the walls carries) is not the room's outermost structure: the room keeps its ceiling,
@@ -221,3 +259,45 @@ def test_the_floor_is_a_plane_at_its_own_height_not_its_voxel_layers_top(grid):
     with_block = build_occupancy(small, up, [camera_at((6.0, 0.0, 3.0))])
     assert with_block.clearance(torch.tensor([6.0 + grid.voxel, -3.0 + grid.voxel, 0.4 * grid.voxel])).item() < 0
     assert with_block.clearance(torch.tensor([6.0, 3.0, 0.8 * grid.voxel])).item() > with_block.margin
+
+
+def test_a_camera_keeps_a_quarter_voxel_above_the_floor_plane_and_half_a_voxel_elsewhere(grid):
+    """The floor plane is placed by the floor's own Gaussians, the voxels only to half a voxel:
+    0.3 voxel above the plane, far from the box, is free (slack 0.05 voxel), 0.2 is not; beside
+    the box's side the slack is the voxel clearance less half a voxel (not free 0.3 voxel off)."""
+    v = grid.voxel
+    floor = [grid.floor_height + h * v for h in (0.3, 0.2)]
+    slack = grid.slack(torch.tensor([[6.0, -3.0, floor[0]], [6.0, -3.0, floor[1]]], dtype=torch.float64))
+    np.testing.assert_allclose(slack.numpy(), [0.05 * v, -0.05 * v], atol=1e-9)
+    side = torch.tensor([[1.0 + 0.3 * v, 0.0, 2.0], [1.0 + 0.6 * v, 0.0, 2.0]], dtype=torch.float64)
+    clearance, slack = grid.clearance(side), grid.slack(side)
+    np.testing.assert_allclose(slack.numpy(), clearance.numpy() - grid.margin, atol=1e-12)
+    assert slack[0] < 0 < grid.slack(torch.tensor([6.0, -3.0, 2.0], dtype=torch.float64))
+
+
+def test_a_table_top_is_a_flat_surface_at_its_own_height_and_what_stands_on_it_is_not():
+    """A table top (flat Gaussians at z = 1.03, 4 x 4) over the floor, with a cube 0.1 high
+    standing on it: the top's columns carry a surface at its samples' height, so a camera a
+    third of a voxel over the top is free (its voxel reaches up to a voxel higher), while over
+    the cube, lower than a voxel, it is not; beside the table the floor plane bounds it."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 8.0, 0.1)
+    top = plane((0, 0, 1.03), (1, 0, 0), (0, 1, 0), 2.0, 0.05)
+    cube = torch.cat([plane((0.5, 0.5, 1.03 + h), (1, 0, 0), (0, 1, 0), 0.05, 0.025) for h in (0.05, 0.1)])
+    means = torch.cat([floor, top, cube])
+    n = len(means)
+    scales = torch.full((n, 3), 0.05)
+    scales[len(floor) : len(floor) + len(top), 2] = 0.002  # the top's Gaussians are flat
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), scales, torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(gaussians, up, [camera_at((6.0, 0.0, 3.0))])
+    v = grid.voxel
+    i, j, _ = grid.grid_coordinates(torch.tensor([-1.0, -1.0, 1.03], dtype=torch.float64)).round().long().tolist()
+    assert grid.surface_layer[i, j] >= 0 and grid.surface_height[i, j] == pytest.approx(1.032, abs=1e-3)
+    over_top, over_cube = torch.tensor([[-1.0, -1.0, 1.032 + v / 3], [0.5, 0.5, 1.032 + v / 3]], dtype=torch.float64)
+    assert grid.clearance(over_top).item() == pytest.approx(v / 3, abs=1e-6) and grid.slack(over_top).item() > 0
+    assert grid.slack(over_cube).item() < 0
+    assert grid.clearance(torch.tensor([-1.0, -1.0, 1.0])).item() < 0  # in the top
+    beside = torch.tensor([3.0, 0.0, 0.5], dtype=torch.float64)
+    assert grid.clearance(beside).item() == pytest.approx(0.5 - grid.floor_height, abs=1e-6)

@@ -219,6 +219,26 @@ def test_scale_multiplies_lengths_exactly():
         assert (oa["front"] is None and ob["front"] is None) or np.allclose(ob["front"], oa["front"])
 
 
+def test_a_tabletop_records_its_table_top_and_the_floor_under_it():
+    """The ground truth's ``table`` (evaluation only) is where the generator put the top and the
+    floor, in a tilted, scaled world: every unlabelled Gaussian at the top's height lies over the
+    top's box, and those lowest lie at the floor height; other presets record no table."""
+    from capframe.evaluate.ground_truth import parse_ground_truth
+
+    scene = build_scene(seed=4, preset="tabletop", views=4, density=0.2, tilt_deg=15.0, scale=3.0)
+    truth = parse_ground_truth(json.loads(json.dumps(scene.ground_truth, default=lambda a: np.asarray(a).tolist())))
+    table = truth.table
+    means = scene.gaussians.means.double().numpy()[scene.gaussians.labels.numpy() < 0]
+    heights = means @ truth.up
+    on_top = means[np.abs(heights - table.top_height) < 1e-4]
+    assert table.top_height == pytest.approx(0.0, abs=1e-9) and len(on_top) > 100
+    assert all(table.over(p) for p in on_top)
+    local = (on_top - table.box.center) @ table.box.axes[:2].T
+    np.testing.assert_allclose(np.abs(local).max(0), table.box.half_extents[:2], rtol=0.05)
+    assert heights.min() == pytest.approx(table.floor_height, abs=1e-4)
+    assert build_scene(seed=4, preset="outdoor", views=4, density=0.2).ground_truth.get("table") is None
+
+
 def _synth_args(tmp_path, **overrides) -> argparse.Namespace:
     """`capframe synth` arguments as the command line parses them, with ``overrides``."""
     from capframe.cli import build_parser

@@ -109,7 +109,8 @@ def parse_differences(parsed: dict, spec: InstructionSpec) -> list[str]:
     """Fields where the method's parse (``result.json`` ``instruction``) differs from the spec:
     ``subjects`` (other names); per subject ``region``, ``shot`` and ``view`` where the spec asks
     one (a view side is read right when it accepts only azimuths the spec's side accepts: "front-exact"
-    for "front"; for an azimuth range: ``view`` when no azimuth of the parsed side lies in it);
+    for "front"; for an azimuth range: ``view`` unless every azimuth the parsed side aims at lies
+    in it: "side", either end, is no reading of "its right-hand end");
     ``elevation`` when the spec asks one and the middle of the parsed range is outside the spec's
     range (or none was parsed); ``roll``."""
     diffs = []
@@ -125,7 +126,7 @@ def parse_differences(parsed: dict, spec: InstructionSpec) -> list[str]:
             diffs.append("view")
         if want.name in spec.azimuths:
             sides = VIEW_SIDES.get(have.get("view") or "", ())
-            if not any(arc_deviation(a, *spec.azimuths[want.name]) == 0.0 for a in sides):
+            if not sides or not all(arc_deviation(a, *spec.azimuths[want.name]) == 0.0 for a in sides):
                 diffs.append("view")
     wanted = spec.elevation_range or spec.constraints.elevation_range()
     if wanted is not None:
@@ -166,7 +167,7 @@ def judge_result(
         "ok" if report.all_satisfied else "failed",
         [f"clause failed: {c}" for c in failed],
         own_all_satisfied=bool(result["report"]["all_satisfied"]),
-        clearance=clearance(checker.ground_truth, walls, camera.center),
+        clearance=clearance(checker.ground_truth, walls, camera.center, checker.enclosed),
         parse_diffs=parse_differences(result.get("instruction", {}), spec),
         not_understood=list(result.get("not_understood", [])),
         seconds=seconds,

@@ -11,12 +11,15 @@ import difflib
 import re
 from pathlib import Path
 
+import numpy as np
+import torch
+
 from ..constraints import Constraints
 from ..errors import InputError
 from ..measure import CheckReport, CheckRow, ConstraintChecker, format_report
 from ..scene import Camera, load_scene_dir, read_camera_json
 from ..scene._io import json_text, read_json, write_json
-from ..scene.occupancy import build_occupancy, cached_occupancy
+from ..scene.occupancy import build_occupancy, cached_occupancy, enclosed
 from .ground_truth import GroundTruth, GTObject, ground_truth_cameras, read_ground_truth
 
 __all__ = ["CheckReport", "CheckRow", "GroundTruthChecker", "check_camera", "check_command", "format_report"]
@@ -59,6 +62,12 @@ class GroundTruthChecker(ConstraintChecker):
 
     def resolve(self, name: str) -> GTObject:
         return self.ground_truth.resolve(name)
+
+    def enclosed(self, obj: GTObject, point: np.ndarray) -> bool:
+        """Whether ``point`` lies inside the closed surface of ``obj``'s Gaussians
+        (:func:`~capframe.scene.occupancy.enclosed`)."""
+        index = torch.nonzero(self.members[obj.id].cpu()).flatten()
+        return enclosed(self.gaussians.to(device="cpu").subset(index), np.asarray(point, dtype=np.float64))
 
 
 def check_camera(scene_dir: str | Path, camera: Camera, constraints: Constraints, **options) -> CheckReport:

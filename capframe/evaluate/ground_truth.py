@@ -7,11 +7,15 @@
                   "center": [x, y, z], "radius": r, "front": [x, y, z] | null, "label": 0,
                   "box": {"center": [...], "axes": [[...], [...], [...]], "half_extents": [...]}   (optional)
                  }, ...],
-     "room": {"size": [sx, sy, sz]} | null, "world_rotation": [[...], [...], [...]]}   (optional)
+     "room": {"size": [sx, sy, sz]} | null, "world_rotation": [[...], [...], [...]],   (optional)
+     "table": {"box": {"center": [...], "axes": [...], "half_extents": [...]},
+               "floor_height": h} | null}                                              (optional)
 
 ``label`` is the object's id in ``labels.npy``; ``front`` is null for symmetric objects; the
 optional oriented ``box`` (rows of ``axes`` are unit directions) and ``room`` refine the
-instruction generator's feasibility checks. Subjects are referred to by name; when two objects
+instruction generator's feasibility checks. The optional ``table`` is the table top the objects
+of a tabletop scene stand on (its slab as a box whose third axis is the up) and the height (along
+the up) of the floor under it. Subjects are referred to by name; when two objects
 share a name they are told apart by colour ("the red armchair"), see
 :meth:`GroundTruth.reference_name`.
 """
@@ -87,6 +91,26 @@ class Room:
 
 
 @dataclass
+class Table:
+    """An optional table top (synthetic ``tabletop`` preset): its slab ``box`` (rows of its axes:
+    the top's two horizontal directions, then the up) and the ``floor_height`` (along the up) of
+    the floor it stands on."""
+
+    box: Box
+    floor_height: float
+
+    @property
+    def top_height(self) -> float:
+        """Height (along the up) of the top's upper surface."""
+        return float(self.box.center @ self.box.axes[2] + self.box.half_extents[2])
+
+    def over(self, point: np.ndarray) -> bool:
+        """Whether ``point`` lies within the top's horizontal extent (above or below it)."""
+        local = self.box.axes[:2] @ (point - self.box.center)
+        return bool(np.all(np.abs(local) <= self.box.half_extents[:2]))
+
+
+@dataclass
 class GroundTruth:
     """Parsed ``ground_truth.json``."""
 
@@ -94,6 +118,7 @@ class GroundTruth:
     scale: float
     objects: list[GTObject]
     room: Room | None = None
+    table: Table | None = None
 
     def _name_counts(self) -> dict[str, int]:
         counts: dict[str, int] = {}
@@ -202,7 +227,8 @@ def parse_ground_truth(data: object, source: str | None = None) -> GroundTruth:
     ids = [o.id for o in objects]
     if len(set(ids)) != len(ids):
         raise InputError(f"duplicate object ids {sorted({i for i in ids if ids.count(i) > 1})}", source=source)
-    return GroundTruth(up=up / np.linalg.norm(up), scale=scale, objects=objects, room=_parse_room(data, source))
+    up = up / np.linalg.norm(up)
+    return GroundTruth(up=up, scale=scale, objects=objects, room=_parse_room(data, source), table=_parse_table(data, up, source))
 
 
 def _parse_box(box: object, what: str, source: str) -> Box | None:
@@ -234,6 +260,26 @@ def _parse_room(data: dict, source: str) -> Room | None:
     if np.abs(rotation @ rotation.T - np.eye(3)).max() > 1e-6:
         raise InputError("'world_rotation' is not a rotation matrix", source=source)
     return Room(rotation, size)
+
+
+def _parse_table(data: dict, up: np.ndarray, source: str) -> Table | None:
+    """The optional ``table`` (``{"box": {...}, "floor_height": h}``); the box's third axis must be
+    the up and the floor below the top."""
+    table = data.get("table")
+    if table is None:
+        return None
+    require_keys(table, ("box", "floor_height"), "'table'", source)
+    box = _parse_box(table["box"], "'table'", source)
+    if box is None:
+        raise InputError("'table' 'box' is null; expected the top's box", source=source)
+    floor = as_float(table["floor_height"], "'table' 'floor_height'", source)
+    if float(box.axes[2] @ up) < 1 - 1e-6:
+        third = box.axes[2].tolist()
+        raise InputError(f"'table' 'box' 'axes' third row is {third}; expected the up {up.tolist()}", source=source)
+    result = Table(box, floor)
+    if not (np.isfinite(floor) and floor < result.top_height):
+        raise InputError(f"'table' 'floor_height' is {floor!r}; expected a finite height below the top", source=source)
+    return result
 
 
 def read_ground_truth(scene_dir: str | Path) -> GroundTruth:

@@ -33,6 +33,7 @@ Evaluation only: the method never reads a spec.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,7 +44,7 @@ from ..errors import InputError
 from ..geometry import any_horizontal, view_angles
 from ..measure import CheckReport, CheckRow, ConstraintChecker, interval_distance, wrap_deg
 from ..scene import Camera
-from .ground_truth import GroundTruth
+from .ground_truth import GroundTruth, GTObject
 
 # The main difficulty of an instruction (what a failure on it is counted under).
 KINDS = ("phrasing", "view", "height", "size", "framing", "typo", "roll", "subject")
@@ -284,14 +285,30 @@ def support_level(truth: GroundTruth) -> float:
     return min(bottoms)
 
 
-def clearance(truth: GroundTruth, walls: list[str], centre: np.ndarray) -> list[str]:
+def below_support(truth: GroundTruth, centre: np.ndarray) -> bool:
+    """Whether a camera centre lies below the surface the objects stand on: under the table top
+    (within its extent) or under the floor it stands on, when the ground truth records the table
+    (a camera beside a table, lower than its top, stands in the room); else below
+    :func:`support_level` anywhere (the floor or ground, or a table top taken as an unbounded
+    plane, which counts a camera beside the table as below it)."""
+    height = float(centre @ truth.up)
+    if truth.table is not None:
+        table = truth.table
+        return height < table.floor_height or (height < table.top_height and table.over(centre))
+    return height < support_level(truth)
+
+
+def clearance(
+    truth: GroundTruth, walls: list[str], centre: np.ndarray, enclosed: Callable[[GTObject, np.ndarray], bool] | None = None
+) -> list[str]:
     """Why a camera centre is physically impossible in a synthetic scene (empty when it is not):
-    ``below the support`` (under the floor, ground or table top the objects stand on),
-    ``behind the <±x|±y> wall`` (``walls`` lists the room's walls, ground_truth.json
-    ``room.walls``), ``above the walls`` (a synthetic room has no ceiling, a real one has),
-    ``inside <object>`` (inside its oriented box)."""
+    ``below the support`` (:func:`below_support`), ``behind the <±x|±y> wall`` (``walls`` lists
+    the room's walls, ground_truth.json ``room.walls``), ``above the walls`` (a synthetic room has
+    no ceiling, a real one has), ``inside <object>`` (inside its oriented box and, when
+    ``enclosed`` is given, enclosed by its surface: ``enclosed(object, centre)``; a box is a
+    loose bound of a tree, whose crown leaves open air below and around it, or of a sofa's seat)."""
     out = []
-    if centre @ truth.up < support_level(truth):
+    if below_support(truth, centre):
         out.append("below the support")
     if truth.room is not None:
         local = truth.room.rotation.T @ centre
@@ -303,9 +320,19 @@ def clearance(truth: GroundTruth, walls: list[str], centre: np.ndarray) -> list[
         if local[2] > truth.room.size[2]:
             out.append("above the walls (a real room's ceiling)")
     for o in truth.objects:
-        if o.box is not None and o.box.contains(centre):
+        if o.box is not None and o.box.contains(centre) and (enclosed is None or enclosed(o, centre)):
             out.append(f"inside {truth.reference_name(o)}")
     return out
 
 
-__all__ = ["KINDS", "REASONS", "InstructionSpec", "arc_deviation", "clearance", "judge", "parse_spec", "support_level"]
+__all__ = [
+    "KINDS",
+    "REASONS",
+    "InstructionSpec",
+    "arc_deviation",
+    "below_support",
+    "clearance",
+    "judge",
+    "parse_spec",
+    "support_level",
+]

@@ -187,13 +187,16 @@ def write_ground_result(
 def closest_answer(
     scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, refined: Refined, occupancy: Occupancy | None = None
 ) -> tuple[Refined, list[CheckReport]]:
-    """Refine's poses and their own reports, the answer first (:func:`report_order`). When every
-    refined pose hides a subject (Refine's loss does not see other objects in the way, and an
-    asked height may lie under a table top), the views Refine started from, which were chosen
-    for showing the subjects, join them unrefined (:func:`unrefined`): a camera that shows the
-    subject, reported as failing what it fails, is closer to the request than one that does not."""
+    """Refine's poses and their own reports, the answer first (:func:`report_order`). When no
+    refined pose satisfies every clause, the views Refine started from join them unrefined
+    (:func:`unrefined`): Refine's loss does not see a subject hidden by other objects (an asked
+    height may lie under a table top), and it trades an asked angle against the layout where
+    free space bounds the distance (a ceiling over a top-down view), so a start chosen for
+    showing the subjects at the asked angles may fail fewer clauses than where Refine ended; a
+    camera that shows the subject, reported as failing what it fails, is closer to the request
+    than one that does not."""
     reports = [own_report(scene, labels, parsed, c, occupancy) for c in refined.cameras]
-    if not any(shows_subjects(r) for r in reports):
+    if not any(r.all_satisfied for r in reports):
         starts = [(start, unrefined(result)) for start, result in refined.runs]
         reports += [own_report(scene, labels, parsed, start, occupancy) for start, _ in starts]
         refined = Refined(refined.runs + starts, refined.solved)

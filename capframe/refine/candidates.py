@@ -304,7 +304,7 @@ def _place(
     reference: Camera,
 ) -> tuple[Camera, float, tuple[float, float], str]:
     """The first camera along ``direction`` from ``centroid``, at the :data:`SLIDES` shares of
-    ``distance``, that is free (at least the occupancy's margin of clearance) and sees the
+    ``distance``, that is free (it keeps the occupancy's margins: :meth:`Occupancy.slack`) and sees the
     subject (of the first :data:`RENDERS_PER_RAY` free ones); else the first free one
     (``occluded`` or ``too close``), else the farthest (``inside geometry``). Returns it, its
     clearance, (visible, in-frame) shares and status."""
@@ -316,7 +316,7 @@ def _place(
         clearance = float(occupancy.clearance(torch.as_tensor(centre)))
         camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
         outermost = outermost or (camera, clearance, (0.0, 0.0), "inside geometry")
-        if not clearance >= occupancy.margin:  # written so that a NaN clearance is never free
+        if not float(occupancy.slack(torch.as_tensor(centre))) >= 0:  # written so that a NaN is never free
             continue
         seen = sight(camera)
         renders += 1

@@ -402,10 +402,11 @@ class Occluders:
 
 
 def free_space_loss(T_cw: Tensor, occupancy: Occupancy) -> Tensor:
-    """``max(0, 1 - clearance / margin)`` of the camera centre: zero with at least the margin
-    of free space around the camera, growing linearly (in margins) into walls, floors and objects. ()"""
-    clearance = occupancy.clearance(camera_center(T_cw).unsqueeze(0))[0]
-    return (1.0 - clearance / occupancy.margin).clamp_min(0.0)
+    """``max(0, -slack / margin)`` of the camera centre (:meth:`Occupancy.slack`): zero while
+    the camera keeps its margin of free space, growing linearly (in margins) into walls, floors
+    and objects. ()"""
+    slack = occupancy.slack(camera_center(T_cw).unsqueeze(0))[0]
+    return (-slack / occupancy.margin).clamp_min(0.0)
 
 
 def _yaw_scan(objective: _Objective, T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:

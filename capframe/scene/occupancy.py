@@ -16,6 +16,12 @@ Gaussians (:func:`build_occupancy`, cached by :func:`cached_occupancy`):
   middle of the footprint meet a column reaching the top of the occupied heights), a ceiling at
   the walls' top (:func:`_walls`; a room captured without one has one in reality, and a camera
   over a wall would leave the room), or -1 without walls;
+* **surfaces**: an occupied voxel above the floor with a free voxel over it whose solid samples
+  all lie within :data:`FLAT_VOXELS` of one height (a table top, a seat, the top of a box) is a
+  flat upward surface: the clearance over it is the height above its highest sample
+  (:meth:`Occupancy.clearance`), not the distance to the voxel's top, which may lie most of a
+  voxel higher (a camera at a small object's own height on a table would count as inside the
+  table top);
 * **free**: empty voxels above the floor and below the ceiling that connect (6-neighbourhood) to
   a training camera, or to the top of the grid for a scene without cameras. The inside of a
   closed object or of a room's wall is not free, even where no Gaussian sits (Gaussians only
@@ -44,7 +50,7 @@ from ..errors import InputError
 from ._io import write_npz
 from .model import Camera, GaussianScene
 
-FORMAT = 4
+FORMAT = 6
 VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
@@ -60,9 +66,18 @@ FRINGE_HEIGHT = 0.25
 # A camera keeps this many voxels between itself and any surface (the surface is known to about
 # half a voxel).
 MARGIN_VOXELS = 0.5
+# ... and this many voxels above the floor plane or a flat surface, which their own Gaussians
+# place (Occupancy.slack).
+FLOOR_MARGIN_VOXELS = 0.25
+# An occupied voxel under a free one is a flat surface when its solid samples' heights span at
+# most this many voxels.
+FLAT_VOXELS = 0.25
 # The floor plane lies at this quantile of the heights of the solid samples in the floor's layers
 # (grass, rugs and the bases of objects standing on it lie above most of the floor's own samples).
 FLOOR_QUANTILE = 0.9
+# The ceiling plane lies at this quantile of the heights of the solid Gaussians' centres in the
+# walls' two top layers (their 1-sigma points reach above the walls; a few floaters may too).
+CEILING_QUANTILE = 0.98
 
 
 @dataclass
@@ -81,6 +96,11 @@ class Occupancy:
         sdf: (X, Y, Z) float32 signed clearance at the voxel centres (world units; see the module),
             with the floor's layers free below free columns (the floor plane bounds it instead).
         floor_height: grid-frame height (along the up) of the floor plane, or NaN without a floor.
+        ceiling_height: grid-frame height of the ceiling plane (the walls' top), or NaN without
+            walls or when a training camera stands over them (the ceiling layer bounds it then).
+        surface_layer: (X, Y) int16, the layer of the flat upward surface in each column, or -1.
+        surface_height: (X, Y) float32, its grid-frame height (the highest of its samples; 0
+            where there is none).
     """
 
     rotation: np.ndarray
@@ -92,6 +112,9 @@ class Occupancy:
     sdf: np.ndarray
     ceiling: int = -1
     floor_height: float = math.nan
+    ceiling_height: float = math.nan
+    surface_layer: np.ndarray | None = None
+    surface_height: np.ndarray | None = None
 
     @property
     def margin(self) -> float:
@@ -107,8 +130,28 @@ class Occupancy:
     def clearance(self, points: Tensor | np.ndarray) -> Tensor:
         """Signed clearance (world units) of (..., 3) points: trilinear in the voxel values,
         differentiable. Beyond the grid it grows with the distance outside it, with the sign of
-        the nearest border voxel (the grid's padding is free except below the floor); never more
-        than the height above the floor plane."""
+        the nearest border voxel (the grid's padding is free except below the floor), except in a
+        room, where it falls with that distance (the grid holds the room and every training
+        camera with a padding: beyond it, past an open side, stands the room's fourth wall); never more
+        than the height above the floor plane or a flat surface in the point's column (within a
+        voxel of the surface's; negative under it), nor than the depth below the ceiling plane."""
+        voxels, floor, ceiling = self._terms(points)
+        return torch.minimum(torch.minimum(voxels, floor), ceiling)
+
+    def slack(self, points: Tensor | np.ndarray) -> Tensor:
+        """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
+        (< 0: too near a surface), differentiable: the voxel clearance less the :attr:`margin`,
+        the height above the floor plane or a flat surface less :data:`FLOOR_MARGIN_VOXELS` voxels (the plane is
+        measured from the floor's own Gaussians, not known to half a voxel only: a camera at a
+        small object's own height, or low under it, stands within half a voxel of the floor), the
+        depth below the ceiling plane less the margin (the walls' top is known as the floor is,
+        but it is inferred: a room captured without a ceiling has one)."""
+        voxels, floor, ceiling = self._terms(points)
+        return torch.minimum(torch.minimum(voxels - self.margin, floor - FLOOR_MARGIN_VOXELS * self.voxel), ceiling - self.margin)
+
+    def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
+        """(voxel clearance, height above the floor plane or the flat surface under the point,
+        depth below the ceiling plane) of (..., 3) points; +inf where there is none."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
         g = self.grid_coordinates(points.to(dtype))
@@ -117,10 +160,23 @@ class Occupancy:
         outside = (g - inside).norm(dim=-1) * self.voxel
         value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
         value = value + torch.where(value >= 0, outside, -outside)
-        if math.isfinite(self.floor_height):
-            height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
-            value = torch.minimum(value, height - self.floor_height)
-        return value
+        if self.ceiling >= 0:  # a room: beyond the grid (past its open side) is outside the room
+            value = torch.where(outside > 0, value.clamp_max(0.0) - outside, value)
+        height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
+        unbounded = torch.full_like(value, math.inf)
+        floor = height - self.floor_height if math.isfinite(self.floor_height) else unbounded
+        if self.surface_layer is not None:
+            cell = g.detach().round().long()
+            column = ((cell[..., :2] >= 0) & (cell[..., :2] < shape[:2].long())).all(-1)
+            i, j = (cell[..., a].clamp(0, self.sdf.shape[a] - 1) for a in range(2))
+            layer = torch.as_tensor(self.surface_layer, dtype=torch.long)[i, j]
+            # Its voxel, the one over it and the one under it: the slab under a surface stays
+            # solid for a voxel (it was taken out of the voxel values).
+            above = column & (layer >= 0) & (cell[..., 2] >= layer - 1) & (cell[..., 2] <= layer + 1)
+            surface = height - torch.as_tensor(self.surface_height, dtype=dtype)[i, j]
+            floor = torch.where(above, torch.minimum(floor, surface), floor)
+        ceiling = self.ceiling_height - height if math.isfinite(self.ceiling_height) else unbounded
+        return value, floor, ceiling
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
         """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
@@ -168,8 +224,8 @@ def up_frame(up: np.ndarray) -> np.ndarray:
 
 
 def _solid_samples(gaussians: GaussianScene) -> Tensor:
-    """(7 S, 3) float64 world points: the centre of each solid Gaussian and the six points one
-    standard deviation from it along its axes (S solid Gaussians)."""
+    """(7 S, 3) float64 world points: the centre of each solid Gaussian (the first S rows) and the
+    six points one standard deviation from it along its axes (S solid Gaussians)."""
     from ..geometry.quaternion import quat_to_rotmat
 
     solid = torch.sigmoid(gaussians.opacity_logits.detach()) >= SOLID_OPACITY
@@ -219,6 +275,43 @@ def _floor_height(points: Tensor, grid: Occupancy) -> float:
     high = grid.origin[2] + (grid.floor_top + 1) * grid.voxel
     inside = heights[(heights >= low) & (heights < high)]
     return float(inside.quantile(FLOOR_QUANTILE)) if len(inside) else high
+
+
+def _flat_surfaces(points: Tensor, grid: Occupancy) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The flat upward surfaces above the floor (module docstring) from the (P, 3) grid-frame
+    solid ``points``: (X, Y) int16 layer (-1 where none), (X, Y) float32 height of the highest
+    sample there, and the (X, Y, Z) bool surface voxels. A column keeps its highest surface."""
+    shape = grid.occupied.shape
+    over = np.zeros(shape, dtype=bool)
+    over[:, :, :-1] = grid.free[:, :, 1:]
+    candidate = grid.occupied & over
+    candidate[:, :, : grid.floor_top + 1] = False
+    index = ((points - torch.as_tensor(grid.origin)) / grid.voxel).floor().long().numpy()
+    valid = ((index >= 0) & (index < np.array(shape))).all(1)
+    index, heights = index[valid], points[valid, 2].numpy()
+    keep = candidate[index[:, 0], index[:, 1], index[:, 2]]
+    flat_index = np.ravel_multi_index(tuple(index[keep].T), shape)
+    high = np.full(math.prod(shape), -np.inf)
+    low = np.full(math.prod(shape), np.inf)
+    np.maximum.at(high, flat_index, heights[keep])
+    np.minimum.at(low, flat_index, heights[keep])
+    flat = (candidate.reshape(-1) & (high - low <= FLAT_VOXELS * grid.voxel)).reshape(shape)
+    layer = np.where(flat.any(2), shape[2] - 1 - np.argmax(flat[:, :, ::-1], axis=2), -1).astype(np.int16)
+    i, j = np.nonzero(layer >= 0)
+    height = np.zeros(shape[:2], dtype=np.float32)
+    height[i, j] = high.reshape(shape)[i, j, layer[i, j]]
+    return layer, height, flat
+
+
+def _ceiling_height(means: Tensor, grid: Occupancy) -> float:
+    """Grid-frame height of the ceiling plane: the :data:`CEILING_QUANTILE` of the heights of the
+    (S, 3) grid-frame solid Gaussian centres in the two layers below ``grid.ceiling`` (the walls'
+    top layers; centres, not 1-sigma points, which reach above the walls), or the bottom of the
+    ceiling layer when none lies there."""
+    heights = means[:, 2]
+    high = grid.origin[2] + grid.ceiling * grid.voxel
+    inside = heights[(heights >= high - 2 * grid.voxel) & (heights < high)]
+    return float(inside.quantile(CEILING_QUANTILE)) if len(inside) else high
 
 
 def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple[int, np.ndarray | None]:
@@ -336,7 +429,10 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     if grid.floor_top >= 0:
         grid.ceiling, inside = _walls(grid.occupied, grid.floor_top)
     if grid.ceiling >= 0:  # a room: no camera over or behind its walls (nor below a training camera)
+        walls_top = grid.ceiling
         grid.ceiling = max(grid.ceiling, int(np.flatnonzero(seeds.any((0, 1))).max(initial=-1)) + 1)
+        if grid.ceiling == walls_top:
+            grid.ceiling_height = _ceiling_height(points[: len(points) // 7], grid)
         empty[:, :, grid.ceiling :] = False
         empty &= inside[:, :, None] | seeds.any(2, keepdims=True)
     if not (seeds & empty).any():  # no camera in free space: the sky is outside everything
@@ -353,6 +449,10 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
         room = grid.free.copy()
         layers = slice(0, grid.floor_top + 1)
         room[:, :, layers] |= grid.free[:, :, grid.floor_top + 1 : grid.floor_top + 2] & ~raised[:, :, layers]
+    # Flat upward surfaces count as free, their height bounding the clearance in their column
+    # (Occupancy._terms), as the floor's layers do.
+    grid.surface_layer, grid.surface_height, flat = _flat_surfaces(points, grid)
+    room = room | flat
     if grid.free.any():
         outside = _distance_to(~room) - 0.5
         inside = _distance_to(room) - 0.5
@@ -360,6 +460,31 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     else:
         grid.sdf = np.full(shape, -voxel, dtype=np.float32)
     return grid
+
+
+def enclosed(gaussians: GaussianScene, point: np.ndarray, cells: int = 32) -> bool:
+    """Whether the world ``point`` (3,) lies inside the closed surface of ``gaussians`` (one
+    object's): in a voxel holding one of their solid samples (:func:`_solid_samples`), or in an
+    empty voxel that no 6-connected path of empty voxels joins to the outside of their bounding
+    box. The grid spans the box (axis-aligned in the world) with ``cells`` voxels along its longest
+    side and one empty voxel around it, fine enough that a surface sampled every few percent of
+    the object's size is closed, coarse enough that its 1-sigma points leave no holes in it."""
+    samples = _solid_samples(gaussians)
+    if len(samples) == 0:
+        return False
+    lo, hi = samples.min(0).values.numpy(), samples.max(0).values.numpy()
+    voxel = float((hi - lo).max()) / cells
+    if not voxel > 0 or ((point < lo) | (point > hi)).any():
+        return False
+    origin = lo - voxel
+    shape = tuple(int(math.ceil(s)) + 2 for s in (hi - lo) / voxel)
+    grid = Occupancy(np.eye(3), origin, voxel, np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), -1, np.zeros(shape))
+    solid = _occupied(grid, samples)
+    border = np.zeros(shape, dtype=bool)
+    border[[0, -1], :, :] = border[:, [0, -1], :] = border[:, :, [0, -1]] = True
+    outside = _flood(~solid, border)
+    i, j, k = np.floor((point - origin) / voxel).astype(int)
+    return not outside[i, j, k]
 
 
 # --- cache ----------------------------------------------------------------------------------------
@@ -379,6 +504,7 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
     constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT)
+    constants += (CEILING_QUANTILE,)
     h = hashlib.sha256(":".join(map(str, constants)).encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
@@ -397,10 +523,14 @@ def save_occupancy(grid: Occupancy, path: str | Path, fingerprint: str, gaussian
         "floor_top": grid.floor_top,
         "ceiling": grid.ceiling,
         "floor_height": None if math.isnan(grid.floor_height) else grid.floor_height,
+        "ceiling_height": None if math.isnan(grid.ceiling_height) else grid.ceiling_height,
     }
     if gaussians is not None:
         meta["gaussians"] = gaussians
-    write_npz(path, meta, rotation=grid.rotation, origin=grid.origin, occupied=grid.occupied, free=grid.free, sdf=grid.sdf)
+    arrays = dict(rotation=grid.rotation, origin=grid.origin, occupied=grid.occupied, free=grid.free, sdf=grid.sdf)
+    if grid.surface_layer is not None:
+        arrays |= dict(surface_layer=grid.surface_layer, surface_height=grid.surface_height)
+    write_npz(path, meta, **arrays)
 
 
 def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: str | None = None) -> Occupancy | None:
@@ -424,8 +554,10 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             if meta.get("format") != FORMAT or fingerprint not in (None, meta.get("fingerprint")):
                 return None
             arrays = {k: data[k] for k in ("rotation", "origin", "occupied", "free", "sdf")}
+            arrays |= {k: data[k] for k in ("surface_layer", "surface_height") if k in data}
             voxel, floor_top, ceiling = float(meta["voxel"]), meta["floor_top"], meta["ceiling"]
             floor_height = math.nan if meta["floor_height"] is None else float(meta["floor_height"])
+            ceiling_height = math.nan if meta["ceiling_height"] is None else float(meta["ceiling_height"])
     except (OSError, EOFError, ValueError, TypeError, KeyError, zipfile.BadZipFile) as err:
         raise InputError(f"is not an occupancy file ({err}); rebuild it with capframe occupancy", source=source) from None
     problem = _occupancy_problem(arrays, voxel, floor_top, ceiling)
@@ -443,7 +575,14 @@ def load_occupancy(path: str | Path, fingerprint: str | None = None, gaussians: 
             "floor; rebuild it with capframe occupancy",
             source=source,
         )
-    return Occupancy(voxel=voxel, floor_top=floor_top, ceiling=ceiling, floor_height=floor_height, **arrays)
+    if ceiling < 0 and math.isfinite(ceiling_height):
+        raise InputError(
+            f"ceiling_height is {ceiling_height} without a ceiling (ceiling -1); rebuild it with capframe occupancy",
+            source=source,
+        )
+    return Occupancy(
+        voxel=voxel, floor_top=floor_top, ceiling=ceiling, floor_height=floor_height, ceiling_height=ceiling_height, **arrays
+    )
 
 
 def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top, ceiling) -> str | None:
@@ -464,6 +603,20 @@ def _occupancy_problem(arrays: dict[str, np.ndarray], voxel: float, floor_top, c
             return f"{name} holds NaN or infinite numbers; expected finite numbers"
     if np.abs(rotation @ rotation.T - np.eye(3)).max() > 1e-6:
         return "rotation is not a rotation matrix"
+    if ("surface_layer" in arrays) != ("surface_height" in arrays):
+        return "holds one of surface_layer and surface_height; expected both or neither"
+    if "surface_layer" in arrays:
+        layer, height = arrays["surface_layer"], arrays["surface_height"]
+        if layer.shape != sdf.shape[:2] or height.shape != sdf.shape[:2] or layer.dtype.kind != "i":
+            shapes = f"{layer.shape}, {height.shape}"
+            return f"surface_layer / surface_height have shapes {shapes}; expected integers and floats of {sdf.shape[:2]}"
+        if (
+            height.dtype.kind != "f"
+            or not np.isfinite(height).all()
+            or layer.min(initial=-1) < -1
+            or layer.max(initial=-1) >= sdf.shape[2]
+        ):
+            return "surface_layer / surface_height hold layers outside the grid or numbers that are not finite"
     for name, layer in (("floor_top", floor_top), ("ceiling", ceiling)):
         if isinstance(layer, bool) or not isinstance(layer, int) or not -1 <= layer <= sdf.shape[2]:
             return f"{name} is {layer!r}; expected a layer index of the grid or -1"

@@ -547,6 +547,16 @@ def _place(objects: list[BuiltObject], stage: Stage, cameras: list, rng) -> list
 # --- environment ---------------------------------------------------------------------------------
 
 
+TABLE_THICKNESS = 0.04  # the table top's edge strip (tabletop preset)
+TABLE_HEIGHT = 0.74  # the floor under the table lies this far below its top
+
+
+def table_half_size(stage: Stage) -> tuple[float, float]:
+    """Half the size (x, y) of a tabletop stage's table top, centred on the origin at height 0."""
+    r = stage.region[1]
+    return max(0.75, r + 0.55), max(0.6, r + 0.4)
+
+
 def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int], density: float, rng) -> Soup:
     """Ground, table, walls and backdrop Gaussians (unlabelled), textured and lit. Surfaces are
     sampled by :class:`Resolution`: about :data:`PIXELS_PER_SAMPLE` px per sample in the nearest
@@ -566,11 +576,10 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
 
     parts = []
     if stage.preset == "tabletop":
-        r = stage.region[1]
-        hx, hy = max(0.75, r + 0.55), max(0.6, r + 0.4)
+        hx, hy = table_half_size(stage)
         cell = 0.035
         parts.append(_plane((0, 0, 0), (1, 0, 0), (0, 1, 0), (-hx, hx), (-hy, hy), resolution(cell, 0.03), "table", cell, rng))
-        thick = 0.04
+        thick = TABLE_THICKNESS
         for sign in (-1.0, 1.0):  # table edges
             parts.append(
                 _plane(
@@ -607,7 +616,7 @@ def _environment(stage: Stage, cameras: list, focal: float, size: tuple[int, int
                     )
         parts.append(
             _plane(
-                (0, 0, -0.74),
+                (0, 0, -TABLE_HEIGHT),
                 (1, 0, 0),
                 (0, 1, 0),
                 (-5.0, 5.0),
@@ -911,6 +920,16 @@ def build_scene(
         },
         "cameras": [{"name": c.name, "T_cw": c.T_cw, "K": c.K, "width": c.width, "height": c.height} for c in cams],
     }
+    if preset == "tabletop":  # the top the objects stand on, and the floor under it (evaluation only)
+        hx, hy = table_half_size(stage)
+        ground_truth["table"] = {
+            "box": {
+                "center": S * (R_world @ np.array([0.0, 0.0, -TABLE_THICKNESS / 2])),
+                "axes": R_world.T,
+                "half_extents": S * np.array([hx, hy, TABLE_THICKNESS / 2]),
+            },
+            "floor_height": -S * TABLE_HEIGHT,
+        }
     aligned = poses and tilt_deg == 0
     meta = SceneMeta(up=up if aligned else None, aligned=aligned)
     return SynthScene(gaussians, cams, semantics, ground_truth, BACKGROUNDS[preset], meta, poses)
