@@ -81,7 +81,8 @@ Mappings that are choices (the phrase tables are the full list):
 * elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
   "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
   in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
-  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one. Moving or pointing the
+  ground looking up" is a low angle, looking straight up from there a worm's-eye view, "aerial" a
+  bird's-eye one. Moving or pointing the
   camera is a hint too: "get down low", "shoot up at", "from floor level", "shot from low" (low
   angle), "climb up high", "aim down" (high angle); so is "low" or "high" alone as a clause ("the
   car from behind, low"; "low in the frame" is a region). The height of a surface the subject rests or sits on ("at
@@ -134,6 +135,7 @@ from .vocabulary import (
     ATTRIBUTES,
     DEGREE_SCALE,
     DETERMINERS,
+    END_PARTS,
     EYE_VIEWS,
     FILLER_WORDS,
     HEAD_ON_WORDS,
@@ -147,6 +149,7 @@ from .vocabulary import (
     TAIL_ON_WORDS,
     Vocabulary,
     singular,
+    slip_of,
     words,
 )
 
@@ -163,7 +166,7 @@ from .vocabulary import (
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
-FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder)"
+FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
 SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
 HEAD_LINK = "(of|with|showing|featuring)"
@@ -237,18 +240,19 @@ SHOT_ADJECTIVES = {
 # degree scale may grade it ("real close", "way wide").
 ALONE = (
     "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |nice and |{VERY} |extra )?{WORD}"
+    "{obj} (is |looking |nice and |{VERY} |{WEAK} |extra )?{WORD}"
     "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
 )
 
 SHOT_CLAUSES = {
     "close-up": [
+        "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
         "the (whole |entire )?{FRAME}",
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
@@ -281,14 +285,19 @@ SHOT_CLAUSES = {
         "((framed|shot|seen|taken) )?(at|from) (a )?(mid|medium|moderate) (distance|range)",
         "(taking up|occupying|filling) (a )?(moderate|medium) (part|portion|amount|share) of the {FRAME}",
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
-        "(medium|moderately) sized( in (the )?{FRAME})?",
+        "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not (too |so |that |overly |very )close( (and |but |or |, )?not (too |so |that |overly |very )far( away)?)?",
+        "not (too |so |that |overly |very )(close|tight)"
+        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide)( away)?)?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
+        # "the whole set in view").
+        "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
+        "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
@@ -304,6 +313,9 @@ SHOT_CLAUSES = {
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        # Room to breathe around it ("with breathing room around it", "some elbow room").
+        "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
+        "( (around|round|about) {obj})?",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
         "(with )?{PLENTY} ([a-z]+ )?(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
         "( (around|round|about) {obj})?",
@@ -439,6 +451,8 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
 for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
     VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
+    # The side said as a place after the diagonal's end ("rear three-quarter on the right").
+    VIEW_SIDE_WORDS[f"back-{_lat}"].append(f"(back|rear) three quarters? (on|to|from|at) the {_lat}( hand)?( side)?")
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -460,6 +474,8 @@ VIEW_FRAMES = [
     "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
+    # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
+    "((?<=^ )|{CLAUSE}){SIDE}{PART} of {obj}",
     NOT_A_RELATION + "{P} {SIDE}{PART}" + NOT_TURNED_AWAY,
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
@@ -472,6 +488,7 @@ VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
+        "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
         CAMERA + " in front of {obj}",
@@ -491,8 +508,19 @@ VIEW_PHRASES = {
         "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
     # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
-    "front-exact": ["(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?"],
-    "back-exact": ["(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?"],
+    "front-exact": [
+        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
+        # Its front squared to the camera ("square to the lens", "face it square", "shooting
+        # straight at it").
+        "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
+        "(face|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
+        "(looking|look|{AIM}) ({STRONG}) (at|into) {obj}",
+    ],
+    "back-exact": [
+        "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
+        # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
+        "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
+    ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
     "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
@@ -507,6 +535,12 @@ VIEW_PHRASES = {
         "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
     ],
 }
+# A part found only at one end names that end ("bench backrest side", "its tail lights":
+# vocabulary.END_PARTS), unless turned away ("with its backrest to the wall").
+for _end, _parts in END_PARTS.items():
+    VIEW_PHRASES[_end].append(
+        NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY
+    )
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
     VIEW_PHRASES[f"back-{_lat}"] = [SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?"]
@@ -546,10 +580,15 @@ SLIGHT_VIEW_FRAMES = [
 # may name the front it starts from; a side said first and the angle after it count from the front
 # towards that side ("from its right side, about 45 degrees off").
 FROM_FRONT = "( ,)?( (starting |counting )?from (the|{P}) front( of {obj})?)?"
+# The front an angle is turned away from, said between the angle and its side ("turned 30 degrees
+# away from straight-on toward its left").
+AWAY_FROM_FRONT = "( away)?( from ((the|{P}) front|(a |the )?(straight|head|dead|square|face|front) on|(the )?center))?( ,)?"
 AZIMUTH_PHRASES = [
     SEEN + "(from )?{d}( turn| swing| rotation)? (a?round|over|off|across|towards|to)( to)? (the|{P}) {LAT}( hand)?( side)?"
     "( of {obj})?" + FROM_FRONT,
-    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d} (to|towards) (the|{P}) {LAT}( hand)?( side)?"
+    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d}"
+    + AWAY_FROM_FRONT
+    + " (to|towards) (the|{P}) {LAT}( hand)?( side)?"
     + FROM_FRONT,
     "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
     SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
@@ -625,19 +664,24 @@ ELEVATION_PHRASES = {
         # Level with a part or a surface named by a height anchor ("level with the seat").
         "({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
         "flat on",
+        # The camera brought to the subject's height ("camera lowered to the car's level").
+        "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
+        "(the |a |{P} )?(own )?({ANCHOR_EYE} )?(level|height)( of {obj})?",
+        # "Level" alone as a clause, of the camera ("bench from behind, level").
+        "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
     ],
     "slightly above": [
         "(from |with the camera )?({WEAK}|just) (above|higher( up)?)( {obj}| than {obj})?",
         "{WEAK} from above",
-        "looking {WEAK} down( (at|on) {obj})?",
+        "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
         # Degree words after or around a height ("a touch high", "looking down a bit").
-        "{WEAK} (high|higher|up|raised|elevated|lifted)( up)?(?! (in|on|at) )",
-        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
-        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) down( (at|on|onto) {obj})? {WEAK}",
+        "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
+        "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
         "(from )?{WEAK} (above|over|higher than) {obj}",
     ],
@@ -687,13 +731,13 @@ ELEVATION_PHRASES = {
     "slightly below": [
         "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
         "{WEAK} from (below|beneath)",
-        "looking {WEAK} up( at {obj})?",
+        "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
-        "{WEAK} (low|lower)( down)?(?! (in|on|at) )",
-        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
-        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
+        "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
+        "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
     ],
     "worm's-eye": [
@@ -703,7 +747,7 @@ ELEVATION_PHRASES = {
         "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
         "(a |an |the )?zenith( (shot|view|angle|perspective))?",
-        "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
+        "from the ground( level)?( ,)? looking (steeply|straight) up( at {obj})?",
         "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
         "(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
         "(steeply|strongly|sharply) from (below|beneath)",
@@ -722,7 +766,7 @@ ELEVATION_HINTS = {
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
         "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
-        "(with )?(the )?(camera|lens) {AIM} (down|downwards|at the (floor|ground|grass))",
+        "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
         ALONE.replace("{WORD}", "(elevated|raised)"),
     ],
     "bird's-eye": [
@@ -730,7 +774,8 @@ ELEVATION_HINTS = {
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(floor|ground|grass|lawn)(?! (level|height) )",
+        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the )?"
+        "(floor|ground|grass|lawn)(?! (level|height) )",
         "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
@@ -759,15 +804,17 @@ EXPLICIT_ELEVATION_PHRASES = {
     1.0: [
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
-        "{d} (up|upwards|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
+        "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
         "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
-        "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)",
+        "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
         "elevated (by )?{d}",
+        # "10 degrees high": the degrees said, so a height word is no size ("2 high").
+        "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
     ],
     -1.0: [
@@ -776,7 +823,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} below {obj}",
         "looking up( at {obj})? from {d} below",
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
-        "(at |from |with )?(an |a )?{d} (low angle|upward angle)",
+        "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
     ],
 }
@@ -786,8 +833,16 @@ EXPLICIT_ELEVATION_PHRASES = {
 PLACE_PHRASES = [
     "(?<=@\\d )((sitting|lying|standing|resting|placed|left|parked|sat) )?(on|upon|by|against) (the )?"
     "(floor|ground|grass|lawn|carpet|rug)(?! (level|height))",
-    "(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?(shot|frame|picture|photo|image|pic)"
-    "( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+]
+# A subject asked only to be in the picture ("the bench in the frame too", "with the plant in the
+# back too", "the cone should be in the picture too", "all in view"): understood, and such a
+# subject takes no size, place or side said in a later clause of its own; those belong to the
+# subject the picture is of ("cushion bottom left, bench in the frame too, wide": a wide cushion).
+SEEN_PHRASES = [
+    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
+    "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+    "(somewhere )?(in|at) the (background|distance)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+    "(somewhere )?(in|at) the (back|foreground)( too| as well| also)(?= ([,.;!]|$|and |with ))",
 ]
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
@@ -810,6 +865,7 @@ ROLL_PHRASES = {
         # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
         # 10", "roll 5 degrees CCW").
         "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(roll|rolled|rolling|cant|canted) it (by )?{d} {dir}",
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
         "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
@@ -1145,6 +1201,46 @@ SURROUNDINGS = frozenset(
 PLACE_PREPOSITIONS = frozenset(
     {"beside", "below", "above", "beneath", "underneath", "against", "alongside", "between", "among", "inside", "outside", "atop"}
 )
+# What relates a thing to a place: a preposition of place or a verb of resting ("the wristwatch
+# lying by the mug", "skateboard under the bench", "a hammock strung from the tree"). A noun
+# phrase opening the sentence and related so to a named object is the subject, the object a
+# secondary one (:meth:`RuleParser._leftovers`).
+RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
+    {
+        "by",
+        "under",
+        "near",
+        "next",
+        "upon",
+        "lying",
+        "lies",
+        "laying",
+        "sitting",
+        "sits",
+        "sat",
+        "standing",
+        "stands",
+        "resting",
+        "rests",
+        "hanging",
+        "hangs",
+        "hung",
+        "leaning",
+        "leans",
+        "perched",
+        "parked",
+        "propped",
+        "strung",
+        "tied",
+        "hidden",
+        "hiding",
+        "tucked",
+        "sleeping",
+        "stacked",
+        "balanced",
+        "dropped",
+    }
+)
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
@@ -1253,6 +1349,10 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("region", region, template, False))
             # ... or alone as a clause ("bench, left third, from low down").
             rows.append(("region", region, f"{{CLAUSE}}(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
+        if region in ("left", "right"):
+            # A lone left or right straight after its subject, ending the clause, is where it
+            # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
+            rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
@@ -1274,6 +1374,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
+    rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -1301,12 +1402,15 @@ class _Mention:
 @dataclass
 class _Run:
     """Words no phrase explains, from token ``at``; ``slot``: in a subject's place;
-    ``determiner``: right after "the"/"a"... (a noun phrase)."""
+    ``determiner``: right after "the"/"a"... (a noun phrase); ``subject``: the noun phrase of
+    unknown words the run opens the sentence with, when a place relation ties it to a named object
+    ("wristwatch" of "wristwatch lying by the mug"), else None."""
 
     at: int
     text: str
     slot: bool
     determiner: bool
+    subject: str | None = None
 
 
 @dataclass
@@ -1340,13 +1444,17 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, mentions, corrected = self._spot(words(text), vocabulary)
+        tokens, slips = self._unslip(words(text), vocabulary)
+        tokens, mentions, corrected = self._spot(tokens, vocabulary)
+        corrected = slips + corrected
         cues = self._cues(tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
+            if run.subject is not None:  # the sentence's subject: a scene object, or refused naming the closest
+                mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            if run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
+            elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             else:
                 unparsed.append(run)
@@ -1369,6 +1477,19 @@ class RuleParser:
             subjects += [ParsedSubject(n, n, "secondary", vocabulary.symmetric(n)) for n in vocabulary.names if n not in named]
         elevation, elevation_deg = _elevation(cues)
         return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text, corrected)
+
+    def _unslip(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[dict[str, str]]]:
+        """``tokens`` with each mistyped table word read as it (:func:`~capframe.translate.vocabulary.slip_of`:
+        "hight" -> "height"), and those readings; a word the tables or the scene's names use is
+        never one."""
+        names = {w for form in vocabulary.forms() for w in form}
+        out, read = [], []
+        for token in tokens:
+            target = None if token in self.lexicon or singular(token) in names else slip_of(token)
+            out.append(target or token)
+            if target:
+                read.append({"said": token, "read": target})
+        return out, read
 
     def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention], list[dict[str, str]]]:
         """Replace each subject mention by a placeholder ``@k``: the longest name or alias at each
@@ -1476,6 +1597,10 @@ class RuleParser:
                 or _coordinated(tokens, span)
                 or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
             )
+            opening = (before is not None and before.forward) or all(
+                t in STOPWORDS or t in PUNCTUATION for t in tokens[: span[0]]
+            )
+            subject = self._related_subject(tokens, span) if opening else None
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
                 lo, hi = 0, len(run)
@@ -1484,8 +1609,26 @@ class RuleParser:
                 while hi > lo and run[hi - 1] in STOPWORDS:
                     hi -= 1
                 if lo < hi:
-                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
+                    determiner = lo > 0 and run[lo - 1] in MENTION_DETERMINERS
+                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
         return runs
+
+    def _related_subject(self, tokens: list[str], span: list[int]) -> str | None:
+        """The noun phrase ``span`` opens with when a place relation (:data:`RELATION_WORDS`) ties
+        it to the named object right after the span ("sunglasses lying next to | the teddy"): words
+        the tables do not use, attributes aside ("tall mirror"), or any words after a determiner
+        ("a cat sat on the sofa": "cat" is also a table word, of "a cat's-eye view"); None
+        otherwise. Such a phrase is the sentence's subject, whatever it names."""
+        if span[-1] + 1 >= len(tokens) or not tokens[span[-1] + 1].startswith("@"):
+            return None
+        cut = next((k for k, at in enumerate(span) if tokens[at] in RELATION_WORDS), None)
+        phrase = [tokens[at] for at in span[:cut] if tokens[at] not in STOPWORDS] if cut else []
+        if not phrase or all(w in ATTRIBUTES for w in phrase) or _never_a_name(" ".join(phrase)):
+            return None
+        determined = tokens[span[0]] in MENTION_DETERMINERS
+        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in phrase):
+            return None  # "focus on the mug": a verb of the tables, not a thing
+        return " ".join(phrase)
 
 
 def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
@@ -1594,10 +1737,11 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         if m.name not in subjects:
             role = "secondary" if subjects else "primary"
             subjects[m.name] = ParsedSubject(m.text, m.name, role, vocabulary.symmetric(m.name))
+    seen_only = _seen_only(cues, mentions, tokens)
     for cue in cues:
         if cue.field not in SUBJECT_FIELDS:
             continue
-        names = _candidates(cue, mentions)
+        names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
         combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
@@ -1611,6 +1755,20 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         else:
             raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
     return list(subjects.values())
+
+
+def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
+    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` after
+    them, stopwords between), but the first mention's."""
+    starts = {c.start for c in cues if c.field == "seen"}
+    out = set()
+    for m in mentions[1:]:
+        for k in range(m.at + 1, len(tokens)):
+            if k in starts:
+                out.add(m.at)
+            if k in starts or tokens[k] not in STOPWORDS:
+                break
+    return out
 
 
 def _leads_into(cue: _Cue, name: str, mentions: list[_Mention], tokens: list[str]) -> bool:

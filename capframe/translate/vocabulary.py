@@ -83,6 +83,11 @@ SPELLINGS = {
     "lil": "little",
     "lvl": "level",
     "med": "medium",
+    # Directions said with a "-ward(s)" suffix are the plain direction ("looking upward a little").
+    "upward": "up",
+    "upwards": "up",
+    "downward": "down",
+    "downwards": "down",
 }
 # Shot-size abbreviations of shot lists and storyboards ("ECU of the bear", "MS, eye level"),
 # spelt out so the shot-size tables read them. Two letters are enough: none of these is an
@@ -187,11 +192,20 @@ def _hedges(tokens: list[str]) -> list[str]:
     for token in tokens:
         if token == "ish" and out and out[-1] in HEDGED_WORDS:
             out[-1:] = ["a", "bit", out[-1]]
-        elif token.endswith("ish") and token[:-3] in HEDGED_WORDS:
-            out += ["a", "bit", token[:-3]]
+        elif token.endswith("ish") and _hedged(token[:-3]):
+            out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
     return out
+
+
+def _hedged(stem: str) -> str | None:
+    """The word of :data:`HEDGED_WORDS` a "-ish" stem spells, with the final consonant doubled
+    ("biggish") or the final "e" dropped ("widish", "closish") as English writes them; else None."""
+    for word in (stem, stem[:-1] if stem[-2:-1] == stem[-1:] else "", stem + "e"):
+        if word in HEDGED_WORDS:
+            return word
+    return None
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -277,6 +291,57 @@ FILLER_WORDS = frozenset(
 )
 
 
+# Words of the phrase tables people often mistype ("eye hight", "from the rigth", "a bit abvoe").
+# A word is read as one of these when it is no word the tables or the scene's names use and it is
+# the target with two adjacent letters swapped or one letter doubled (4 letters or more), or with
+# one letter dropped (6 letters or more: shorter targets lose a letter into ordinary words, "blow",
+# "lose"); :func:`slip_of` decides, the parser reports each reading.
+SLIP_TARGETS = (
+    "height",
+    "level",
+    "above",
+    "below",
+    "behind",
+    "front",
+    "left",
+    "right",
+    "center",
+    "middle",
+    "close",
+    "angle",
+    "frame",
+    "degrees",
+    "clockwise",
+    "counterclockwise",
+    "overhead",
+    "profile",
+    "quarter",
+    "corner",
+    "bottom",
+    "straight",
+    "slightly",
+    "underneath",
+    "beneath",
+    "vertical",
+    "horizon",
+    "looking",
+)
+MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
+MIN_DROPPED_LETTERS = 6  # a dropped letter
+
+
+def slip_of(word: str) -> str | None:
+    """The word of :data:`SLIP_TARGETS` that ``word`` mistypes (see there), or None."""
+    if not word.isalpha() or word in SLIP_TARGETS or len(word) < MIN_SLIP_LETTERS - 1:
+        return None
+    for target in SLIP_TARGETS:
+        if len(target) >= MIN_SLIP_LETTERS and (transposed(word, target) or doubled(word, target)):
+            return target
+        if len(target) >= MIN_DROPPED_LETTERS and dropped(word, target):
+            return target
+    return None
+
+
 # --- graded words (the parser's tables read these) -----------------------------------------------
 
 # How strongly a side, a height or a size is asked, applied alike to all three ("a touch high",
@@ -303,6 +368,17 @@ DEGREE_SCALE = {
         "a hair",
         "a shade",
         "a fraction",
+        "a notch",
+        "one notch",
+        "a nudge",
+        "a skosh",
+        "a teeny bit",
+        "a little tiny bit",
+        "ever so slightly",
+        "just a little",
+        "just a touch",
+        "just a tad",
+        "just slightly",
         "kind of",
         "sort of",
         # Said without the article ("bit above", "little bit to the left").
@@ -349,6 +425,25 @@ TAIL_ON_WORDS = ("tail", "rear", "stern", "butt")
 # Parts of a subject that lie on one side of it: naming one names that side ("its left flank",
 # "from its right arm end", "the fridge's left-hand side panel").
 SIDE_PARTS = ("side", "profile", "flank", "end", "hand end", "hand side", "arm", "arm end", "side panel", "panel", "corner")
+# Parts found only at one end of a subject: naming one names that end ("the bench's backrest
+# side", "its tail lights", "the grille of the car").
+END_PARTS = {
+    "back": (
+        "backrest",
+        "back rest",
+        "back panel",
+        "rear panel",
+        "tail light",
+        "tail lights",
+        "taillight",
+        "taillights",
+        "tailgate",
+        "rear window",
+        "rear bumper",
+        "spine",
+    ),
+    "front": ("headlight", "headlights", "grille", "front bumper", "windscreen", "windshield", "front panel", "dial"),
+}
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
 # god's-eye view" is a bird's-eye one, "an ant's-eye view" a worm's-eye one, "a frog's-eye view"
 # a low angle).
@@ -393,6 +488,14 @@ HEIGHT_ANCHORS = {
         "same",
         "its",
         "subject",
+        # Parts at a subject's own middle height ("at screen height", "level with its nose").
+        "screen",
+        "nose",
+        "mouth",
+        "chin",
+        "neck",
+        "torso",
+        "handle",
     ),
     "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe"),
 }
@@ -760,6 +863,11 @@ def diminutive(a: str, b: str) -> bool:
 def doubled(a: str, b: str) -> bool:
     """Whether ``a`` is ``b`` with one letter written twice ("sofaa" of "sofa", "bearr" of "bear")."""
     return len(a) == len(b) + 1 and any(a[i] == a[i + 1] and a[:i] + a[i + 1 :] == b for i in range(len(a) - 1))
+
+
+def dropped(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with one letter left out ("hight" of "height")."""
+    return len(a) + 1 == len(b) and any(b[:i] + b[i + 1 :] == a for i in range(len(b)))
 
 
 def edit_distance(a: str, b: str, cap: int) -> int:
