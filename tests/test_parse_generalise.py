@@ -209,7 +209,7 @@ def test_a_lone_side_after_each_subject_is_its_region():
 @pytest.mark.parametrize(
     "text, subjects",
     [
-        ("the sofa, the tv in the background, close up", [(SOFA, None, "close-up", None), (TV, None, None, None)]),
+        ("the sofa, the tv in the shot as well, close up", [(SOFA, None, "close-up", None), (TV, None, None, None)]),
         ("mug top left, car in the shot too, tight", [(MUG, "upper left", "close-up", None), (CAR, None, None, None)]),
         ("the mug, the bench in view as well, on the left", [(MUG, "left", None, None), (BENCH, None, None, None)]),
     ],
@@ -217,6 +217,17 @@ def test_a_lone_side_after_each_subject_is_its_region():
 def test_a_subject_only_asked_to_be_seen_takes_no_later_cue(text, subjects):
     """A size or place said after "X in the shot too" is the picture's subject's, not X's."""
     assert read(text)["subjects"] == subjects
+
+
+def test_a_subject_placed_in_depth_takes_no_later_cue_and_its_depth_is_reported():
+    """ "In the background", "behind it": only to be seen as far as cues go; the depth order is no
+    constraint the camera keeps, so those words stay not understood."""
+    got = read("the sofa, the tv in the background, close up")
+    assert got["subjects"] == [(SOFA, None, "close-up", None), (TV, None, None, None)]
+    assert got["not_understood"] == ["background"]
+    got = read("the mug, teddy behind it, smallish")
+    assert got["subjects"] == [(MUG, None, "wide", None), (BEAR, None, None, None)]
+    assert got["not_understood"] == ["behind"]
 
 
 def test_a_later_cue_still_goes_to_a_second_subject_named_for_itself():
@@ -233,3 +244,38 @@ def test_roll_said_of_it(text, roll):
 
 def test_ward_suffix_is_the_plain_direction():
     assert words("looking upwards, then downward") == ["looking", "up", ",", "then", "down"]
+
+
+# --- clock directions, a side short of an end, off-centre regions, more heights --------------------
+
+MORE = [
+    # The clock face seen from above, 12 at the subject's front: 3 o'clock its right, 30 degrees an hour.
+    ("the teddy from 3 o'clock", one(BEAR, view="right-exact")),
+    ("the bench at the nine oclock position", one(BENCH, view="left-exact")),
+    ("the sofa from its 6 o’clock", one(SOFA, view="back-exact")),
+    ("the toy car from 2 o'clock", one(CAR, view="right-slight-front")),
+    ("the toy car from 7 o'clock, eye level", one(CAR, view="back-slight-left", elevation="eye level")),
+    ("the toy car from eight o'clock", one(CAR, view="left-slight-back")),
+    # A side, a little towards an end (20 degrees off it, as the slight sides are off the front).
+    ("the sofa from the left, slightly toward the rear", one(SOFA, view="left-slight-back")),
+    ("the bench, a touch towards the front from its right side", one(BENCH, view="right-slight-front")),
+    ("the tv from its right end, a bit to the back", one(TV, view="right-slight-back")),
+    # Off the centre of the frame towards one side: that half.
+    ("the mug a little left of center", one(MUG, region="left")),
+    ("the mug just right of the middle of the picture", one(MUG, region="right")),
+    ("the bench off-centre towards the right", one(BENCH, region="right")),
+    ("the mug, standing height", one(MUG, elevation="eye level")),
+    ("the bench from a steep downward angle", one(BENCH, elevation="bird's-eye")),
+    ("the mug on a slant", one(MUG, roll_deg=15.0)),
+    ("the sofa, lens dead level with the seat", one(SOFA, elevation="eye level")),
+    ("the tv, camera a bit higher than the screen", one(TV, elevation="slightly above")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(MORE))
+def test_clock_sides_regions_and_heights(text, want):
+    assert read(text) == want
+
+
+def test_a_slant_with_degrees_keeps_the_degrees():
+    assert read("the mug at a slant, 12 degrees anticlockwise")["roll_deg"] == -12.0

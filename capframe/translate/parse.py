@@ -380,6 +380,12 @@ REGION_AREAS = {
         "right bottom corner",
     ],
 }
+# Off the centre towards a side ("a bit left of centre", "off-centre to the right", "just above
+# the middle"): that half of the frame.
+OFF_CENTER = [
+    "(({WEAK}|just|{VERY}) )?(to the )?{TOWARD} of (the )?(center|middle)( of (the )?{FRAME})?",
+    "(({WEAK}|just|{VERY}) )?off (the )?(center|middle) (to|towards) the {TOWARD}( of (the )?{FRAME})?",
+]
 REGION_PHRASES = {
     "left": ["(on |at |in )?(the )?{FRAME} left", "left of (the )?{FRAME}"],
     "right": ["(on |at |in )?(the )?{FRAME} right", "right of (the )?{FRAME}"],
@@ -523,7 +529,12 @@ VIEW_PHRASES = {
     ],
     "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
+    "side": [
+        "in profile",
+        "(seen )?({STRONG} )?side on",
+        "from (either|one|a) side",
+        "(a |the )?(side )?profile( view| shot)? of {obj}",
+    ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
@@ -574,6 +585,13 @@ SLIGHT_VIEW_FRAMES = [
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
 ]
+# Off a side towards an end, short of the diagonal ("from its right side, a little towards the
+# front": ``right-slight-front``).
+SIDE_SLIGHT_VIEW_FRAMES = [
+    SEEN + "from (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?( ,)? (and |but )?{WEAK} (towards|to|toward) (the|{P}) {LON}"
+    "( side| end)?",
+    SEEN + "{WEAK} (towards|to|toward) (the|{P}) {LON}( side| end)? (from|of) (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?",
+]
 # An explicit azimuth from the front towards a side ("45 degrees round to its right", "turned 30
 # degrees to the left"): the side whose azimuth is nearest (:func:`_nearest_side`).
 # The turn may be a fraction of one ("a quarter turn": vocabulary.words writes 90 degrees) and
@@ -594,6 +612,14 @@ AZIMUTH_PHRASES = [
     SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
     "{d} (off|round|around|in|over)",
 ]
+
+# A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
+# face seen from above with 12 at the subject's front, so 3 o'clock is its right (+90 degrees) and
+# each hour 30 degrees; read as the side nearest that azimuth, like an explicit angle.
+CLOCK_PHRASES = [
+    SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
+]
+CLOCK_HOUR_DEG = 30.0
 
 # View cues for one subject that together name one side ("a three-quarter view ... from its
 # left" is the front-left); any other two different sides contradict each other.
@@ -616,6 +642,8 @@ VIEW_COMBINATIONS = {
         (("front", f"front-slight-{lat}"), f"front-slight-{lat}"),
         (("back", f"front-slight-{lat}"), f"back-slight-{lat}"),
         (("back", f"back-slight-{lat}"), f"back-slight-{lat}"),
+        ((lat, f"{lat}-slight-front"), f"{lat}-slight-front"),
+        ((lat, f"{lat}-slight-back"), f"{lat}-slight-back"),
     ]
 } | {
     frozenset(("three-quarter", "front")): "three-quarter",
@@ -662,7 +690,7 @@ ELEVATION_PHRASES = {
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
         "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
-        "({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
+        "((the )?(camera|lens) )?({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
         "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
@@ -678,6 +706,8 @@ ELEVATION_PHRASES = {
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
+        # Slightly higher than a part at the subject's height ("slightly higher than the seat").
+        "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
@@ -703,6 +733,7 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed) )?from the top",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
@@ -834,16 +865,18 @@ PLACE_PHRASES = [
     "(?<=@\\d )((sitting|lying|standing|resting|placed|left|parked|sat) )?(on|upon|by|against) (the )?"
     "(floor|ground|grass|lawn|carpet|rug)(?! (level|height))",
 ]
-# A subject asked only to be in the picture ("the bench in the frame too", "with the plant in the
-# back too", "the cone should be in the picture too", "all in view"): understood, and such a
-# subject takes no size, place or side said in a later clause of its own; those belong to the
-# subject the picture is of ("cushion bottom left, bench in the frame too, wide": a wide cushion).
+# A subject asked only to be in the picture ("the bench in the frame too", "the cone should be in
+# the picture too", "all in view"): understood, and such a subject takes no size, place or side
+# said in a later clause of its own; those belong to the subject the picture is of ("cushion
+# bottom left, bench in the frame too, wide": a wide cushion).
 SEEN_PHRASES = [
     "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
-    "(somewhere )?(in|at) the (background|distance)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
-    "(somewhere )?(in|at) the (back|foreground)( too| as well| also)(?= ([,.;!]|$|and |with ))",
 ]
+# Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
+# background"): it too is only asked to be seen as far as cues go, but the depth order is no
+# constraint the camera keeps, so these words stay reported as not understood.
+DEPTH_WORDS = frozenset({"behind", "beyond", "background", "back", "distance", "foreground"})
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
@@ -857,6 +890,7 @@ ROLL_PHRASES = {
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
+        "(at|on) (a |an )?({mod} )?slant",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?rolled (by )?{sd}",
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
@@ -1340,7 +1374,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         )
         rows.append(("region", region, template, False))
         # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
-        rows.append(("region", region, f"(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
+        rows.append(("region", region, f"{REGION_LEAD}(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
@@ -1354,6 +1388,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
             rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
+    for region, toward in (("left", "left"), ("right", "right"), ("top", "(above|top)"), ("bottom", "(below|bottom)")):
+        rows += [("region", region, t.replace("{TOWARD}", toward), False) for t in OFF_CENTER]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
@@ -1364,11 +1400,17 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
+            rows += [
+                ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
+                for t in SIDE_SLIGHT_VIEW_FRAMES
+            ]
         for lon, phrase in LONGITUDINAL.items():
             for degree, frame in COMBINED_VIEW_FRAMES:
                 t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
@@ -1758,13 +1800,14 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
 
 
 def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
-    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` after
-    them, stopwords between), but the first mention's."""
+    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` or a
+    depth word, :data:`DEPTH_WORDS`, after them, stopwords between), but the first mention's."""
     starts = {c.start for c in cues if c.field == "seen"}
+    covered = {k for c in cues for k in range(c.start, c.end)}  # "seen from behind" is a view, no depth
     out = set()
     for m in mentions[1:]:
         for k in range(m.at + 1, len(tokens)):
-            if k in starts:
+            if k in starts or (tokens[k] in DEPTH_WORDS and k not in covered):
                 out.add(m.at)
             if k in starts or tokens[k] not in STOPWORDS:
                 break

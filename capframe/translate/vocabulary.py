@@ -66,6 +66,7 @@ SPELLINGS = {
     "degs": "degrees",
     "favourite": "favorite",
     "toward": "towards",
+    "oclock": "o clock",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
@@ -486,6 +487,8 @@ HEIGHT_ANCHORS = {
         "worktop",
         "own",
         "same",
+        # A person's own eye height, standing ("at standing height").
+        "standing",
         "its",
         "subject",
         # Parts at a subject's own middle height ("at screen height", "level with its nose").
