@@ -279,3 +279,25 @@ def test_clock_sides_regions_and_heights(text, want):
 
 def test_a_slant_with_degrees_keeps_the_degrees():
     assert read("the mug at a slant, 12 degrees anticlockwise")["roll_deg"] == -12.0
+
+
+EVEN_MORE = [
+    ("the sofa, camera at sitting height", one(SOFA, elevation="eye level")),
+    ("the toy car from a low front three quarter", one(CAR, view="three-quarter", elevation="low angle")),
+    ("the sofa from a high side angle", one(SOFA, view="side", elevation="high angle")),
+    ("bench from slightly to the right of the front", one(BENCH, view="front-slight-right")),
+    ("the teddy, left flank, close", one(BEAR, shot="close-up", view="left")),
+    ("the bench half the frame, eye level", one(BENCH, shot="medium", elevation="eye level")),
+    ("an aerial view of the sofa, roughly sixty degrees", one(SOFA, elevation_deg=60.0)),
+    ("a worm's eye view of the bench, about 55°", one(BENCH, elevation_deg=-55.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(EVEN_MORE))
+def test_heights_before_views_profiles_halves_and_degrees_after_a_named_elevation(text, want):
+    assert read(text) == want
+
+
+def test_degrees_after_a_named_elevation_that_say_their_own_direction_still_conflict():
+    with pytest.raises(InputError, match="conflicting elevations"):
+        parse_instruction("the mug from a low angle, 40 degrees above", SCENE)

@@ -285,6 +285,7 @@ SHOT_CLAUSES = {
         "((framed|shot|seen|taken) )?(at|from) (a )?(mid|medium|moderate) (distance|range)",
         "(taking up|occupying|filling) (a )?(moderate|medium) (part|portion|amount|share) of the {FRAME}",
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
+        "((at|to) )?(about |roughly |around |some )?half (of )?the {FRAME}( (height|width|high|tall|wide))?",
         "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
         "not (too |so |that |overly |very )(close|tight)"
@@ -487,6 +488,9 @@ VIEW_FRAMES = [
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
 VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+# A left or right profile or flank as a clause ("the bear's profile, left side" is its left; a
+# bare "left side" there stays a region).
+PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
 # bear three quarter rear right", "chair front, medium").
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
@@ -580,6 +584,8 @@ COMBINED_VIEW_FRAMES = [
 SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
+    # Said off the front it starts from ("from slightly to the right of the front").
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of (the|{P}) front( of {obj})?",
     "{WEAK} " + LATERAL_OWN,
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
@@ -794,6 +800,7 @@ ELEVATION_HINTS = {
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
+        "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
         "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
@@ -812,6 +819,8 @@ ELEVATION_HINTS = {
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (down )?(low|lower)( down)?",
+        # A height before a view ("from a low front three-quarter", "a low side view").
+        "(from )?(a |an )?low(?= (front|rear|back|side|three|profile|left|right) )",
         # A height alone as a clause ("the car from behind, low").
         ALONE.replace("{WORD}", "(low|low down|down low)"),
         # A height named by the ground or a crouch ("knee height", "crouch down", "from the grass").
@@ -847,6 +856,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
+        # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
+        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?((about|around|roughly|approximately|some) )?{d}(?<= degrees)"
+        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
@@ -856,6 +868,8 @@ EXPLICIT_ELEVATION_PHRASES = {
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
+        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?((about|around|roughly|approximately|some) )?{d}(?<= degrees)"
+        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
 }
 
@@ -1310,6 +1324,10 @@ _MACROS = {
     "{WEAKROLL}": _alternatives(DEGREE_SCALE["slight"], "(?P<weak>"),
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
+    # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
+    "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
+    "(?: (?:view|shot|angle|perspective))?|from above)",
+    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
     "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
@@ -1400,6 +1418,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)

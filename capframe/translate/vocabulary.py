@@ -487,8 +487,10 @@ HEIGHT_ANCHORS = {
         "worktop",
         "own",
         "same",
-        # A person's own eye height, standing ("at standing height").
+        # A person's own eye height, standing or seated ("at standing height", "sitting height").
         "standing",
+        "sitting",
+        "seated",
         "its",
         "subject",
         # Parts at a subject's own middle height ("at screen height", "level with its nose").
