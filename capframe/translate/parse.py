@@ -1327,7 +1327,8 @@ _MACROS = {
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|from above)",
-    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)(?: (?:view|shot|angle|perspective))?|from below)",
+    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
+    "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
     "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
