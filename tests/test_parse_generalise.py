@@ -61,6 +61,10 @@ REFUSED = [
     ("picture of a cat sat on the sofa", "cat"),  # "cat" is also a table word ("a cat's-eye view")
     ("the dog lying under the bench", "dog"),
     ("Hi, skateboard underneath the toy car please", "skateboard"),
+    ("get the kitten curled up on the sofa", "kitten"),
+    ("a frame of the candle in front of the television", "candle"),
+    ("the book on top of the bench", "book"),
+    ("photograph the jar of pickles next to the mug", "jar of pickles"),
 ]
 
 
@@ -301,3 +305,16 @@ def test_heights_before_views_profiles_halves_and_degrees_after_a_named_elevatio
 def test_degrees_after_a_named_elevation_that_say_their_own_direction_still_conflict():
     with pytest.raises(InputError, match="conflicting elevations"):
         parse_instruction("the mug from a low angle, 40 degrees above", SCENE)
+
+
+@pytest.mark.parametrize(
+    "text, subjects",
+    [
+        ("the teddy on the sofa, from the front", [(BEAR, None, None, "front"), (SOFA, None, None, None)]),
+        ("the mug resting on the bench, close up", [(MUG, None, "close-up", None), (BENCH, None, None, None)]),
+        ("the toy car under the bench, in the left third", [(CAR, "left third", None, None), (BENCH, None, None, None)]),
+    ],
+)
+def test_the_object_of_a_place_relation_takes_no_later_cue(text, subjects):
+    """ "X on Y, <cue>": the cue is X's; Y only places X."""
+    assert read(text)["subjects"] == subjects

@@ -1287,8 +1287,25 @@ RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
         "stacked",
         "balanced",
         "dropped",
+        "curled",
+        "sprawled",
+        "draped",
+        "lounging",
+        "nestled",
+        "wedged",
+        "stuck",
+        "perched",
+        "posed",
+        "displayed",
+        "mounted",
+        "attached",
+        "piled",
     }
 )
+# Prepositions that tie a thing to the object after them only in a noun phrase's place ("the book
+# on top of | the bench"): too common after verbs ("focus on") to mark a subject without a
+# determiner.
+RELATION_OBJECT_WORDS = frozenset({"on", "in", "at", "top", "front", "inside", "across", "along", "against", "upon", "onto"})
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
@@ -1683,12 +1700,20 @@ class RuleParser:
         otherwise. Such a phrase is the sentence's subject, whatever it names."""
         if span[-1] + 1 >= len(tokens) or not tokens[span[-1] + 1].startswith("@"):
             return None
-        cut = next((k for k, at in enumerate(span) if tokens[at] in RELATION_WORDS), None)
-        phrase = [tokens[at] for at in span[:cut] if tokens[at] not in STOPWORDS] if cut else []
-        if not phrase or all(w in ATTRIBUTES for w in phrase) or _never_a_name(" ".join(phrase)):
+        lead = next((tokens[at] for at in span if tokens[at] in MENTION_DETERMINERS or tokens[at] not in STOPWORDS), "")
+        determined = lead in MENTION_DETERMINERS  # "(of) the candle in front of": a noun phrase
+        relation = RELATION_WORDS | RELATION_OBJECT_WORDS if determined else RELATION_WORDS
+        start = next(k for k, at in enumerate(span) if tokens[at] == lead) if lead else 0
+        cut = next((k for k, at in enumerate(span) if k > start and tokens[at] in relation), None)
+        phrase = [tokens[at] for at in span[:cut]] if cut else []
+        while phrase and phrase[0] in STOPWORDS:
+            phrase.pop(0)
+        while phrase and phrase[-1] in STOPWORDS:
+            phrase.pop()
+        content = [w for w in phrase if w not in STOPWORDS]
+        if not content or all(w in ATTRIBUTES for w in content) or _never_a_name(" ".join(content)):
             return None
-        determined = tokens[span[0]] in MENTION_DETERMINERS
-        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in phrase):
+        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing
         return " ".join(phrase)
 
@@ -1799,7 +1824,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         if m.name not in subjects:
             role = "secondary" if subjects else "primary"
             subjects[m.name] = ParsedSubject(m.text, m.name, role, vocabulary.symmetric(m.name))
-    seen_only = _seen_only(cues, mentions, tokens)
+    seen_only = _seen_only(cues, mentions, tokens) | _related_objects(cues, mentions, tokens)
     for cue in cues:
         if cue.field not in SUBJECT_FIELDS:
             continue
@@ -1831,6 +1856,25 @@ def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) ->
                 out.add(m.at)
             if k in starts or tokens[k] not in STOPWORDS:
                 break
+    return out
+
+
+def _related_objects(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
+    """Token positions of the mentions that are the object of a place relation to the mention
+    before them, in one clause ("the teddy on | the sofa", "the bear lying next to | the mug"):
+    words between them only relation words (:data:`RELATION_WORDS`, :data:`RELATION_OBJECT_WORDS`)
+    and stopwords, none a cue's. What the sentence asks later belongs to the first of them ("the
+    teddy on the sofa, from the front" is the teddy's front)."""
+    covered = {k for c in cues for k in range(c.start, c.end)}
+    out = set()
+    for before, m in zip(mentions, mentions[1:]):
+        between = range(before.at + 1, m.at)
+        related = any(tokens[k] in RELATION_WORDS or tokens[k] in RELATION_OBJECT_WORDS for k in between)
+        if related and all(
+            k not in covered and (tokens[k] in STOPWORDS or tokens[k] in RELATION_WORDS or tokens[k] in RELATION_OBJECT_WORDS)
+            for k in between
+        ):
+            out.add(m.at)
     return out
 
 
