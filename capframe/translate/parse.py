@@ -1294,7 +1294,6 @@ RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
         "nestled",
         "wedged",
         "stuck",
-        "perched",
         "posed",
         "displayed",
         "mounted",
