@@ -318,3 +318,19 @@ def test_degrees_after_a_named_elevation_that_say_their_own_direction_still_conf
 def test_the_object_of_a_place_relation_takes_no_later_cue(text, subjects):
     """ "X on Y, <cue>": the cue is X's; Y only places X."""
     assert read(text)["subjects"] == subjects
+
+
+@pytest.mark.parametrize(
+    "text, shot",
+    [
+        ("the mug filling about 70% of the frame", "close-up"),
+        ("the sofa taking up two-thirds of the picture", "close-up"),
+        ("the bench, a third of the frame", "medium"),
+        ("the teddy at roughly 45 percent of the image height", "medium"),
+        ("the toy car, only a fifth of the frame", "wide"),
+        ("teddy, a quarter of the frame high", "wide"),  # 0.25: in medium and wide, nearer wide's middle
+        ("the mug 58% of the frame", "medium"),  # 0.58: in medium and close-up, nearer medium's middle
+    ],
+)
+def test_a_share_of_the_frame_is_the_shot_size_holding_it(text, shot):
+    assert read(text)["subjects"][0][2] == shot

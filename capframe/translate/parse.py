@@ -128,7 +128,7 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, arc_deg, view_tolerance_deg
+from ..constraints import ELEVATIONS, EXACT_ENDS, SHOT_SIZES, VIEW_SIDES, arc_deg, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
@@ -138,6 +138,7 @@ from .vocabulary import (
     END_PARTS,
     EYE_VIEWS,
     FILLER_WORDS,
+    FRAME_FRACTIONS,
     HEAD_ON_WORDS,
     HEIGHT_ANCHORS,
     NUMBER,
@@ -330,6 +331,14 @@ SHOT_CLAUSES = {
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
+
+# The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
+# the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
+SHARE_PHRASES = [
+    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|at|to|so it fills) )?"
+    "((about|around|roughly|approximately|some|only|just|nearly|almost|maybe) )?"
+    "({SHARE}) (of )?(the )?{FRAME}( (height|width|high|tall|wide|across))?",
+]
 
 # Regions: "PREPOSITION the AREA [of the FRAME]", never followed by "of" (relations between
 # objects such as "to the left of the vase" are not regions of the frame).
@@ -1340,6 +1349,7 @@ _MACROS = {
     "{WEAKROLL}": _alternatives(DEGREE_SCALE["slight"], "(?P<weak>"),
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
+    "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|from above)",
@@ -1401,6 +1411,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
             rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
+    rows += [("shot", "share", t, False) for t in SHARE_PHRASES]
     for region, areas in REGION_AREAS.items():
         template = f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?{_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
@@ -1788,12 +1799,27 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value = rule.value * float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
+    elif rule.field == "shot" and rule.value == "share":
+        value = _shot_of_share(groups["share"])
     elif rule.field == "view" and isinstance(rule.value, tuple):
         value = _nearest_side(rule.value[1] * float(groups["d"]))
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
+
+
+def _shot_of_share(said: str) -> str:
+    """The shot size of a share of the frame ("a third", "70 percent"): the one whose range of
+    :data:`~capframe.constraints.SHOT_SIZES` holds it, of two the one whose middle (within the
+    frame: a close-up's range runs past 1) is nearer."""
+    share = float(said.split()[0]) / 100.0 if said.endswith("percent") else FRAME_FRACTIONS[said]
+
+    def off_middle(size: str) -> float:
+        lo, hi = SHOT_SIZES[size]
+        return abs((lo + min(hi, 1.0)) / 2 - share)
+
+    return min((k for k, (lo, hi) in SHOT_SIZES.items() if lo <= share <= hi), key=off_middle, default="close-up")
 
 
 def _nearest_side(azimuth: float) -> str:

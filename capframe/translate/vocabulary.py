@@ -157,6 +157,7 @@ def words(text: str) -> list[str]:
     s = text.lower()
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
+    s = s.replace("%", " percent ")
     s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
@@ -562,6 +563,22 @@ SIZE_IDIOMS = {
         "establishing",
         "from a way off",
     ),
+}
+# Shares of the frame said as fractions ("a third of the frame", "two-thirds of the picture"); a
+# percentage is read from its digits ("70% of the frame").
+FRAME_FRACTIONS = {
+    "a tenth": 0.1,
+    "a fifth": 0.2,
+    "a quarter": 0.25,
+    "one quarter": 0.25,
+    "a third": 1 / 3,
+    "one third": 1 / 3,
+    "half": 0.5,
+    "a half": 0.5,
+    "one half": 0.5,
+    "two thirds": 2 / 3,
+    "three quarters": 0.75,
+    "four fifths": 0.8,
 }
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
