@@ -65,6 +65,7 @@ REFUSED = [
     ("a frame of the candle in front of the television", "candle"),
     ("the book on top of the bench", "book"),
     ("photograph the jar of pickles next to the mug", "jar of pickles"),
+    ("the lantern on the windowsill", "lantern"),  # no scene object named at all: the thing, not its place
 ]
 
 
@@ -334,3 +335,25 @@ def test_the_object_of_a_place_relation_takes_no_later_cue(text, subjects):
 )
 def test_a_share_of_the_frame_is_the_shot_size_holding_it(text, shot):
     assert read(text)["subjects"][0][2] == shot
+
+
+OBLIQUE = [
+    ("the sofa diagonally from the rear right", one(SOFA, view="back-right")),
+    ("an oblique view of the tv from its left", one(TV, view="front-left")),
+    ("the bench seen obliquely", one(BENCH, view="three-quarter")),
+    ("the sofa end-on", one(SOFA, view="side")),
+    ("the toy car from a thirty degree angle on its right", one(CAR, view="front-slight-right")),
+    ("the teddy from the front, offset a little to the left", one(BEAR, view="front-slight-left")),
+    ("the sofa, rear view, a touch right", one(SOFA, view="back-slight-right")),
+    ("the toy car, looking at its grille", one(CAR, view="front")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(OBLIQUE))
+def test_oblique_views_offsets_and_parts_looked_at(text, want):
+    assert read(text) == want
+
+
+def test_a_slight_side_alone_stays_unread():
+    """ "Slightly left" after no view nor camera offset may be the frame's: reported, not guessed."""
+    assert read("the mug, slightly left")["not_understood"] == ["slightly left"]

@@ -475,7 +475,8 @@ for _lat in ("left", "right"):
 # back to the wall"). Closing in on a side is no relation ("close on its face", "zoom in on its
 # back").
 NOT_A_RELATION = (
-    "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )"
+    "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
+    "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
     "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
@@ -544,13 +545,17 @@ VIEW_PHRASES = {
     "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
     "side": [
         "in profile",
-        "(seen )?({STRONG} )?side on",
+        "(seen )?({STRONG} )?(side|end) on",
         "from (either|one|a) side",
         "(a |the )?(side )?profile( view| shot)? of {obj}",
     ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
+        # A view across the subject's diagonal said without "three-quarter" ("diagonally from the
+        # front left", "an oblique view"): it combines with a side as three-quarter does.
+        "(seen |shot |viewed )?(diagonally|obliquely|on the diagonal|on a diagonal)",
+        "(from |in |at |as )?(a |an )?(oblique|diagonal|angled) (view|angle|shot|perspective)",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
     "back-three-quarter": [
@@ -562,9 +567,10 @@ VIEW_PHRASES = {
 # A part found only at one end names that end ("bench backrest side", "its tail lights":
 # vocabulary.END_PARTS), unless turned away ("with its backrest to the wall").
 for _end, _parts in END_PARTS.items():
-    VIEW_PHRASES[_end].append(
-        NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY
-    )
+    VIEW_PHRASES[_end] += [
+        NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
+        "(looking|look|aimed|aiming|pointing|pointed) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+    ]
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
     VIEW_PHRASES[f"back-{_lat}"] = [SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?"]
@@ -590,7 +596,12 @@ COMBINED_VIEW_FRAMES = [
     ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
 ]
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
+# Said of the camera's offset ("offset slightly right") or as a clause right after a view ("rear
+# view, slightly left"), it combines with that view's end (:data:`VIEW_COMBINATIONS`).
+AFTER_VIEW = "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , ))"
 SLIGHT_VIEW_FRAMES = [
+    "(offset|off set|shifted|moved|off) {WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
+    AFTER_VIEW + "{WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
     # Said off the front it starts from ("from slightly to the right of the front").
@@ -624,6 +635,7 @@ AZIMUTH_PHRASES = [
     + " (to|towards) (the|{P}) {LAT}( hand)?( side)?"
     + FROM_FRONT,
     "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
+    SEEN + "(from |at )?(a |an )?{d} angle (on|to|from|off|towards) (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
     "{d} (off|round|around|in|over)",
 ]
@@ -1544,7 +1556,7 @@ class RuleParser:
                 mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
             elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
-                mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
+                mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
@@ -1726,6 +1738,14 @@ class RuleParser:
         if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing
         return " ".join(phrase)
+
+
+def _before_relation(text: str) -> str:
+    """A noun phrase's words before a place relation ("vase" of "vase on its left"), so a refusal
+    names the thing; ``text`` whole when none follows its first word."""
+    said = text.split()
+    cut = next((k for k in range(1, len(said)) if said[k] in RELATION_WORDS or said[k] in RELATION_OBJECT_WORDS), len(said))
+    return " ".join(said[:cut])
 
 
 def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
