@@ -367,7 +367,7 @@ JARGON = [
     ("the tree from a heroic angle", want(s(TREE), elevation="low angle")),
     ("the chair with the camera near the floor", want(s(CHAIR), elevation="low angle")),
     ("the bench, lens pointed straight down", want(s(BENCH), elevation="top-down")),
-    ("the tree, camera aimed straight up", want(s(TREE), elevation="worm's-eye")),
+    ("the tree, camera aimed straight up", want(s(TREE), elevation_deg=-90.0)),
     # Views: ends "on", shoulders, side parts, turns and angles off a named side, a side after its subject.
     ("teddy tail on, wide", want(s(BEAR, shot="wide", view="back-exact"))),
     ("the bench nose on", want(s(BENCH, view="front-exact"))),

@@ -151,7 +151,11 @@ HEIGHTS = [
     ("the sofa, twenty degrees high", one(SOFA, elevation_deg=20.0)),
     ("the bench, 15° high", one(BENCH, elevation_deg=15.0)),
     ("from the ground looking up at the bench", one(BENCH, elevation="low angle")),
-    ("from the ground looking straight up at the bench", one(BENCH, elevation="worm's-eye")),
+    ("from the ground looking steeply up at the bench", one(BENCH, elevation="worm's-eye")),
+    # Straight up is vertical, the mirror of top-down: -90 degrees (its tolerance keeps -90 to -80).
+    ("from the ground looking straight up at the bench", one(BENCH, elevation_deg=-90.0)),
+    ("the mug from directly underneath, lens pointed vertically up", one(MUG, elevation_deg=-90.0)),
+    ("the sofa, a worm's-eye view from right below it", one(SOFA, elevation_deg=-90.0)),
     ("the teddy shot upwards from near the floor", one(BEAR, elevation="low angle")),
 ]
 

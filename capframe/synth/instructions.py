@@ -269,7 +269,7 @@ ELEVATION_PHRASES = {
         "as a bird's-eye shot",
     ],
     "low angle": ["from a low angle", "looking up at {obj}", "in a low-angle shot", "with the camera below {obj}, looking up"],
-    "worm's-eye": ["from a worm's-eye view", "looking straight up at {obj}", "from the ground looking steeply up"],
+    "worm's-eye": ["from a worm's-eye view", "looking steeply up at {obj}", "from the ground looking steeply up"],
     "top-down": ["from directly above", "looking straight down at {obj}", "as a top-down view", "from straight above"],
     "slightly below": [
         "from slightly below",

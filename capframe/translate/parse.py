@@ -800,16 +800,9 @@ ELEVATION_PHRASES = {
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
-        "looking (straight|directly|steeply|vertically) up( at {obj})?",
-        # The camera pointed vertically up, the mirror of top-down ("pointing the lens straight up").
-        "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
-        "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
-        "(a |an |the )?zenith( (shot|view|angle|perspective))?",
-        "from the ground( level)?( ,)? looking (steeply|straight) up( at {obj})?",
-        "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
-        "(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
+        "looking steeply up( at {obj})?",
+        "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
-        "straight up at {obj}",
     ],
 }
 ELEVATION_HINTS = {
@@ -859,6 +852,23 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
     ELEVATION_PHRASES[_elevation_class].append(
         "(from |in |as )?(a |an )?(" + "|".join(_creatures) + ")( 's)? eye( (view|shot|angle|perspective|level))?"
     )
+
+# Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
+# degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
+# specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
+VERTICAL_UP_DEG = -90.0
+VERTICAL_UP_PHRASES = [
+    "looking (straight|directly|vertically) up( at {obj})?",
+    # The camera pointed vertically up ("pointing the lens straight up").
+    "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
+    "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
+    # The zenith: the point straight above the camera.
+    "(a |an |the )?zenith( (shot|view|angle|perspective))?",
+    "from the ground( level)?( ,)? looking straight up( at {obj})?",
+    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
+    "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
+    "straight up at {obj}",
+]
 
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
 EXPLICIT_ELEVATION_PHRASES = {
@@ -1474,6 +1484,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
+    rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
@@ -1816,7 +1827,7 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     ref = int(slot.split()[0][1:]) if slot and slot.startswith("@") else None
     value, weak = rule.value, rule.weak
     if rule.field == "elevation_deg":
-        value = rule.value * float(groups["d"])
+        value = rule.value[1] if isinstance(rule.value, tuple) else rule.value * float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "shot" and rule.value == "share":
