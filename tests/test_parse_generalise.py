@@ -156,6 +156,9 @@ HEIGHTS = [
     ("from the ground looking straight up at the bench", one(BENCH, elevation_deg=-90.0)),
     ("the mug from directly underneath, lens pointed vertically up", one(MUG, elevation_deg=-90.0)),
     ("the sofa, a worm's-eye view from right below it", one(SOFA, elevation_deg=-90.0)),
+    # From under what the subject stands on: below the support, looking steeply up.
+    ("the mug, shot from below the desk", one(MUG, elevation="worm's-eye")),
+    ("the teddy from beneath the ground level", one(BEAR, elevation="worm's-eye")),
     ("the teddy shot upwards from near the floor", one(BEAR, elevation="low angle")),
 ]
 

@@ -803,6 +803,10 @@ ELEVATION_PHRASES = {
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
+        # From under what the subject stands on ("from underneath the table", "from beneath the
+        # floor"): below the support, looking steeply up.
+        "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
+        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)",
     ],
 }
 ELEVATION_HINTS = {
