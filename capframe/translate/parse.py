@@ -806,7 +806,8 @@ ELEVATION_PHRASES = {
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
-        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)( (surface|level))?",
+        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)"
+        "( (surface|level))?",
     ],
 }
 ELEVATION_HINTS = {
