@@ -364,3 +364,27 @@ def test_oblique_views_offsets_and_parts_looked_at(text, want):
 def test_a_slight_side_alone_stays_unread():
     """ "Slightly left" after no view nor camera offset may be the frame's: reported, not guessed."""
     assert read("the mug, slightly left")["not_understood"] == ["slightly left"]
+
+
+@pytest.mark.parametrize(
+    "text, roll",
+    [
+        # The horizon (the picture) turns against the camera: tilted to the right is clockwise, so
+        # the camera rolled counter-clockwise (DESIGN §3).
+        ("the mug, horizon leaning a bit to the right", -10.0),
+        ("the bench, horizon tilted twelve degrees to the left", 12.0),
+        ("the sofa with a subtle counter-clockwise tilt", -10.0),
+        ("the toy car, strong dutch towards the right", 30.0),
+        ("the teddy, no canted angle", 0.0),
+        ("the mug, not rolled", 0.0),
+        ("the bench, horizon dead level", 0.0),
+        ("the sofa, a perfectly flat horizon", 0.0),
+    ],
+)
+def test_roll_directions_sizes_and_absences(text, roll):
+    got = read(text)
+    assert got["roll_deg"] == roll and got["not_understood"] == []
+
+
+def test_an_offset_leads_into_a_region():
+    assert read("the bench offset to the right of the pic")["subjects"] == [(BENCH, "right", None, None)]

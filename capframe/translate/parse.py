@@ -346,7 +346,7 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # What may lead into a region: a placing verb or a direction ("tucked into the top-left corner",
 # "up in the top half").
 REGION_LEAD = (
-    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved"
+    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up) )?"
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
@@ -941,6 +941,9 @@ ROLL_PHRASES = {
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
         "(at|on) (a |an )?({mod} )?slant",
+        # A direction or side without degrees ("a gentle clockwise tilt", "slight dutch to the left").
+        "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?rolled (by )?{sd}",
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
@@ -961,12 +964,16 @@ ROLL_PHRASES = {
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
+        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted|leaning) "
+        "({WEAKROLL} |(by )?{d} )?(to the |towards the )?{side}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
-        "(with )?(a |the )?(level|straight|flat|horizontal) horizon",
+        "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
+        # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
+        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
         "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
