@@ -180,6 +180,8 @@ SIZES = [
     ("the sofa, widish", one(SOFA, shot="wide")),
     ("the mug, biggish", one(MUG, shot="close-up")),
     ("teddy near enough to fill the frame", one(BEAR, shot="close-up")),
+    ("the teddy as large as you can get it", one(BEAR, shot="close-up")),
+    ("the mug, as close as it gets", one(MUG, shot="close-up")),
 ]
 
 
