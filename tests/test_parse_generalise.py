@@ -390,3 +390,30 @@ def test_roll_directions_sizes_and_absences(text, roll):
 
 def test_an_offset_leads_into_a_region():
     assert read("the bench offset to the right of the pic")["subjects"] == [(BENCH, "right", None, None)]
+
+
+CAMERA_HEIGHTS = [
+    ("the mug from slightly overhead", one(MUG, elevation="slightly above")),
+    ("the bench from up on a stool", one(BENCH, elevation="high angle")),
+    ("the sofa, camera held high", one(SOFA, elevation="high angle")),
+    ("the sofa from a seated position", one(SOFA, elevation="eye level")),
+    ("the tv from the height of the coffee table", one(TV, elevation="eye level")),
+    ("the teddy at its eyeline", one(BEAR, elevation="eye level")),
+    # Just off the ground is low, however "above" it is said.
+    ("the toy car from right above the floor", one(CAR, elevation="low angle")),
+    ("the bench from a lowered vantage point", one(BENCH, elevation="low angle")),
+    ("the toy car, lens kept low", one(CAR, elevation="low angle")),
+    ("the teddy, gentle downward tilt", one(BEAR, elevation="slightly above")),
+    ("the teddy, a slight upward angle", one(BEAR, elevation="slightly below")),
+    ("mug, camera angled down a touch", one(MUG, elevation="slightly above")),
+    ("the sofa, camera tilted a little up", one(SOFA, elevation="slightly below")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(CAMERA_HEIGHTS))
+def test_camera_heights_said_of_the_camera_or_a_person(text, want):
+    assert read(text) == want
+
+
+def test_the_lens_turned_to_the_floor_is_top_down():
+    assert read("the mug from directly above, camera facing the ground")["elevation"] == "top-down"

@@ -700,7 +700,7 @@ GROUP_PHRASES = [
 # Named elevations; the hints yield to any other elevation in the sentence.
 ELEVATION_PHRASES = {
     "eye level": [
-        "(at |from )?(the )?eye (level|height)( (shot|view|angle|camera))?",
+        "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
@@ -711,7 +711,10 @@ ELEVATION_PHRASES = {
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} (height|level|high)",
+        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
+        "(height|level|high|position)",
+        # The height of a surface or part named ("from the height of the coffee table").
+        "(at|from) (the |a )?(height|level) of (the |a |{P} )?({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
         "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?level with {obj}",
@@ -727,7 +730,9 @@ ELEVATION_PHRASES = {
         "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher( up)?)( {obj}| than {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|overhead)( {obj}| than {obj})?",
+        "(a |an )?({WEAK} |slight |gentle |mild |shallow )(down|high) (angle|tilt)",
+        "(with )?(the )?(camera|lens) {AIM} (down {WEAK}|{WEAK} down)",
         "{WEAK} from above",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
@@ -778,12 +783,17 @@ ELEVATION_PHRASES = {
         # The nadir: the point straight below the camera.
         "(a |an |the )?nadir( (shot|view|angle|perspective))?",
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
+        # The lens turned to the floor ("right above it, lens facing the floor").
+        "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
+        "the (floor|ground|grass|table)",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-        "(from )?(a |an )?low (vantage( point)?|viewpoint|position|perspective)",
+        "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
+        # The camera just off the ground ("from just above the ground", "an inch above the floor").
+        "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
         "(well|far) (below|under|beneath) eye (level|height)",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
@@ -793,6 +803,8 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
+        "(a |an )?({WEAK} |slight |gentle |mild |shallow )(up|low) (angle|tilt)",
+        "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
@@ -824,6 +836,8 @@ ELEVATION_HINTS = {
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
         "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
+        "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
+        "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
         ALONE.replace("{WORD}", "(elevated|raised)"),
     ],
@@ -843,6 +857,7 @@ ELEVATION_HINTS = {
         "(from )?(a |an )?low(?= (front|rear|back|side|three|profile|left|right) )",
         # A height alone as a clause ("the car from behind, low").
         ALONE.replace("{WORD}", "(low|low down|down low)"),
+        "((the )?(camera|lens) )?(held|kept|lowered|dropped) (low|down low|low down|down)(?= ([,.;!]|$))",
         # A height named by the ground or a crouch ("knee height", "crouch down", "from the grass").
         "((with )?(the )?(camera|lens) )?((down |right |low )?(at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",

@@ -67,6 +67,7 @@ SPELLINGS = {
     "favourite": "favorite",
     "toward": "towards",
     "oclock": "o clock",
+    "eyeline": "eye line",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
