@@ -128,6 +128,13 @@ import itertools
 import re
 from dataclasses import dataclass
 
+try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
+    from re import _constants as _re_nodes
+    from re import _parser as _re_parser
+except ImportError:
+    import sre_constants as _re_nodes
+    import sre_parse as _re_parser
+
 from ..constraints import ELEVATIONS, EXACT_ENDS, SHOT_SIZES, VIEW_SIDES, arc_deg, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
@@ -1422,12 +1429,38 @@ _MACROS = {
 
 @dataclass(frozen=True)
 class _Rule:
-    """One template: the field it sets and its value (for numbers: a sign multiplier)."""
+    """One template: the field it sets and its value (for numbers: a sign multiplier); ``needs``:
+    strings every match holds (:func:`_required`), so a text lacking one is not searched."""
 
     field: str
     value: object
     pattern: re.Pattern
     weak: bool = False
+    needs: tuple[str, ...] = ()
+
+
+def _required(pattern: re.Pattern) -> tuple[str, ...]:
+    """Literal strings of 3 characters or more that every match of ``pattern`` contains: runs of
+    literal characters outside optional parts, alternatives and lookarounds (a mandatory group or
+    a repeat of one or more counts as its contents)."""
+    out: list[str] = []
+
+    def walk(items) -> None:
+        run: list[str] = []
+        for op, arg in items:
+            if op is _re_nodes.LITERAL:
+                run.append(chr(arg))
+                continue
+            out.append("".join(run))
+            run = []
+            if op is _re_nodes.SUBPATTERN:
+                walk(arg[-1])
+            elif op in (_re_nodes.MAX_REPEAT, _re_nodes.MIN_REPEAT) and arg[0] >= 1:
+                walk(arg[2])
+        out.append("".join(run))
+
+    walk(_re_parser.parse(pattern.pattern))
+    return tuple(dict.fromkeys(r for r in out if len(r) >= 3))
 
 
 def _compile(template: str) -> re.Pattern:
@@ -1573,7 +1606,8 @@ class RuleParser:
 
     def __init__(self):
         rows = _templates()
-        self.rules = [_Rule(field, value, _compile(t), weak) for field, value, t, weak in rows]
+        compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
+        self.rules = [_Rule(field, value, pattern, weak, _required(pattern)) for field, value, pattern, weak in compiled]
         self.lexicon = _lexicon(rows)
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
@@ -1698,6 +1732,8 @@ class RuleParser:
             position += len(token) + 1
         found = []
         for rule in self.rules:
+            if not all(need in text for need in rule.needs):
+                continue
             for m in rule.pattern.finditer(text):
                 found.append((rule, m, token_at[m.start()], token_at[m.end() + 1] if m.end() + 1 in token_at else len(tokens)))
         found.sort(key=lambda f: (-(f[3] - f[2]), f[2]))
