@@ -440,3 +440,17 @@ def test_the_required_strings_prefilter_changes_no_parse():
             except InputError as err:
                 outcomes.append(str(err))
         assert outcomes[0] == outcomes[1], text
+
+
+@pytest.mark.parametrize(
+    "text, degrees",
+    [
+        ("the mug, approx 30 degrees up", 30.0),
+        ("the sofa, camera 20° lower than it", -20.0),
+        ("the bench, camera fifteen degrees higher than the bench", 15.0),
+        ("the teddy, elevation of about 25 degrees", 25.0),
+        ("the mug, looking down on it at maybe forty degrees", 40.0),
+    ],
+)
+def test_explicit_elevations_hedged_or_compared(text, degrees):
+    assert read(text)["elevation_deg"] == degrees

@@ -644,8 +644,7 @@ AZIMUTH_PHRASES = [
     + FROM_FRONT,
     "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
     SEEN + "(from |at )?(a |an )?{d} angle (on|to|from|off|towards) (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
-    SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
-    "{d} (off|round|around|in|over)",
+    SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ({ABOUT} )?{d} (off|round|around|in|over)",
 ]
 
 # A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
@@ -908,26 +907,30 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
+        "looking down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
         "elevated (by )?{d}",
+        # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
+        "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
         # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
-        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?((about|around|roughly|approximately|some) )?{d}(?<= degrees)"
+        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
+        "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
-        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?((about|around|roughly|approximately|some) )?{d}(?<= degrees)"
+        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
 }
@@ -1407,6 +1410,8 @@ _MACROS = {
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
+    # A hedge before a number ("about 30 degrees", "maybe 40").
+    "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|from above)",

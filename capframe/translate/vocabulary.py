@@ -68,6 +68,7 @@ SPELLINGS = {
     "toward": "towards",
     "oclock": "o clock",
     "eyeline": "eye line",
+    "approx": "approximately",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
