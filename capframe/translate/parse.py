@@ -33,7 +33,11 @@ How a sentence is read:
    "the top", "the back"), a degree (:data:`DEGREE_WORDS`: "a bit") or nothing in particular
    (:data:`GENERIC_NOUNS`, with attributes: "that small thing") are never a subject;
    "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries
-   all its unexplained words.
+   all its unexplained words. The noun phrase opening the sentence (or following a head) and tied
+   to a named object by a place relation (:data:`RELATION_WORDS`: "the wristwatch lying by the
+   mug", "skateboard under the bench") is the subject whatever it names: refused by its own words
+   when the scene lacks it; the related object, like one asked only to be seen ("the bench in
+   the frame too"), takes no cue said after it.
 
 Mappings that are choices (the phrase tables are the full list):
 
