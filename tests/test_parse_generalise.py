@@ -454,3 +454,16 @@ def test_the_required_strings_prefilter_changes_no_parse():
 )
 def test_explicit_elevations_hedged_or_compared(text, degrees):
     assert read(text)["elevation_deg"] == degrees
+
+
+@pytest.mark.parametrize(
+    "text, shot",
+    [
+        ("the mug larger in the picture", "close-up"),
+        ("teddy, tighter", "close-up"),
+        ("the bench a touch smaller, on the right", "wide"),
+        ("the sofa, farther", "wide"),
+    ],
+)
+def test_comparative_sizes_are_their_size(text, shot):
+    assert read(text)["subjects"][0][2] == shot

@@ -274,7 +274,7 @@ SHOT_CLAUSES = {
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge|tight|close|full) (in|on) (the )?{FRAME}",
+        "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
@@ -289,7 +289,7 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
     ],
@@ -317,7 +317,7 @@ SHOT_CLAUSES = {
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
-        "(quite |very |really |rather |fairly )?(small|tiny) (in|on) (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
@@ -339,7 +339,7 @@ SHOT_CLAUSES = {
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off)"),
+        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }

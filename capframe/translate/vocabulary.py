@@ -510,8 +510,8 @@ HEIGHT_ANCHORS = {
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
 # right", "sofa tiny in the upper half", "TV big and square on").
 SIZE_WORDS = {
-    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter"),
-    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide"),
+    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter", "bigger", "larger"),
+    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider"),
 }
 # Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
 SIZE_IDIOMS = {
