@@ -467,3 +467,9 @@ def test_explicit_elevations_hedged_or_compared(text, degrees):
 )
 def test_comparative_sizes_are_their_size(text, shot):
     assert read(text)["subjects"][0][2] == shot
+
+
+def test_words_run_together_are_read_apart():
+    assert read("the mug from infront, eyelevel") == one(MUG, view="front", elevation="eye level")
+    assert read("mug headon, fullframe") == one(MUG, shot="close-up", view="front-exact")
+    assert read("the teddy abit from the lefthand side") == one(BEAR, view="front-slight-left")

@@ -68,6 +68,18 @@ SPELLINGS = {
     "toward": "towards",
     "oclock": "o clock",
     "eyeline": "eye line",
+    # Two words run together ("infront", "eyelevel", "abit").
+    "infront": "in front",
+    "eyelevel": "eye level",
+    "topdown": "top down",
+    "wormseye": "worm 's eye",
+    "fullframe": "full frame",
+    "lefthand": "left hand",
+    "righthand": "right hand",
+    "abit": "a bit",
+    "alittle": "a little",
+    "sideon": "side on",
+    "headon": "head on",
     "approx": "approximately",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
