@@ -473,3 +473,15 @@ def test_words_run_together_are_read_apart():
     assert read("the mug from infront, eyelevel") == one(MUG, view="front", elevation="eye level")
     assert read("mug headon, fullframe") == one(MUG, shot="close-up", view="front-exact")
     assert read("the teddy abit from the lefthand side") == one(BEAR, view="front-slight-left")
+
+
+def test_behind_after_a_later_subject_is_its_depth_not_a_side():
+    got = read("the mug in the foreground, the bench behind")
+    assert got["subjects"] == [(MUG, None, None, None), (BENCH, None, None, None)]
+    assert "behind" in got["not_understood"]
+    assert read("bench behind, low") == one(BENCH, view="back", elevation="low angle")
+
+
+@pytest.mark.parametrize("text", ["the mug front and centre", "the teddy centre stage"])
+def test_front_and_centre_is_the_centre(text):
+    assert read(text)["subjects"][0][1] == "center"

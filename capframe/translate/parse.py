@@ -418,6 +418,7 @@ REGION_PHRASES = {
         "(at |in )?(the )?{FRAME} center",
         "center of (the )?{FRAME}",
         "dead center",
+        "(front and|center) (center|stage)",
     ],
     "top": ["high (up )?in (the )?{FRAME}"],
     "bottom": ["low (down )?in (the )?{FRAME}"],
@@ -514,8 +515,10 @@ VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= (
 # bare "left side" there stays a region).
 PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
-# bear three quarter rear right", "chair front, medium").
-VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
+# bear three quarter rear right", "chair front, medium"); not "behind", which says where the
+# a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
+# its back).
+VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
