@@ -485,3 +485,8 @@ def test_behind_after_a_later_subject_is_its_depth_not_a_side():
 @pytest.mark.parametrize("text", ["the mug front and centre", "the teddy centre stage"])
 def test_front_and_centre_is_the_centre(text):
     assert read(text)["subjects"][0][1] == "center"
+
+
+@pytest.mark.parametrize("text", ["grab a pic of the mug, close", "Gimme the sofa from above", "Just the teddy, nothing fancy"])
+def test_chatty_words_ask_nothing(text):
+    assert read(text)["not_understood"] == []

@@ -302,7 +302,8 @@ FILLER_WORDS = frozenset(
     cosy cozy moody atmospheric arty artsy artistic elegant charming pleasing pleasant inviting
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
-    want like love need have get take make see show give
+    want like love need have get take make see show give grab gimme try go going looking request
+    fancy nothing
     too well visible included inside until while when because""".split()
 )
 
