@@ -490,3 +490,20 @@ def test_front_and_centre_is_the_centre(text):
 @pytest.mark.parametrize("text", ["grab a pic of the mug, close", "Gimme the sofa from above", "Just the teddy, nothing fancy"])
 def test_chatty_words_ask_nothing(text):
     assert read(text)["not_understood"] == []
+
+
+FACING = [
+    ("the teddy staring straight at the lens", one(BEAR, view="front-exact")),
+    ("the toy car heading towards the camera", one(CAR, view="front")),
+    ("the teddy turned to face right", one(BEAR, view="right")),
+    ("the toy car with its nose pointed to the left", one(CAR, view="left")),
+    ("the bench with its right flank towards us", one(BENCH, view="right")),
+    ("the teddy looking off to the left", one(BEAR, view="left")),
+    ("the sofa turned three quarters towards the right", one(SOFA, view="front-right")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(FACING))
+def test_where_the_subject_faces_or_points(text, want):
+    """A subject facing (looking, pointing) one way in the frame shows that side (module doc)."""
+    assert read(text) == want

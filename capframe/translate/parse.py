@@ -480,6 +480,8 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
 for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
     VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
+    # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
+    VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
     # The side said as a place after the diagonal's end ("rear three-quarter on the right").
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(f"(back|rear) three quarters? (on|to|from|at) the {_lat}( hand)?( side)?")
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
@@ -501,7 +503,7 @@ VIEW_FRAMES = [
     SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
     # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
@@ -525,7 +527,10 @@ VIEW_PHRASES = {
         "facing front",
         "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
-        "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
+        "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
+        # The subject moving or pointing at the camera ("the car driving towards us").
+        "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
+        "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
@@ -556,8 +561,22 @@ VIEW_PHRASES = {
         # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
         "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
     ],
-    "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
-    "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
+    "left": [
+        "facing (to the |towards the )?left( in (the )?{FRAME})?",
+        "facing (screen|{FRAME}) left",
+        # Turned, looking or pointing one way in the frame, or its front said so ("turned to face
+        # left", "gazing to the left", "its nose pointing left"): its front points that way.
+        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
+        "(to the |towards the |off to the )?left( in (the )?{FRAME})?",
+        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?left",
+    ],
+    "right": [
+        "facing (to the |towards the )?right( in (the )?{FRAME})?",
+        "facing (screen|{FRAME}) right",
+        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
+        "(to the |towards the |off to the )?right( in (the )?{FRAME})?",
+        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?right",
+    ],
     "side": [
         "in profile",
         "(seen )?({STRONG} )?(side|end) on",
