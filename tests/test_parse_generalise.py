@@ -69,6 +69,7 @@ REFUSED = [
     ("the book on top of the bench", "book"),
     ("photograph the jar of pickles next to the mug", "jar of pickles"),
     ("the lantern on the windowsill", "lantern"),  # no scene object named at all: the thing, not its place
+    ("the mug, and the hairbrush beside it", "hairbrush"),  # a second subject to frame, after a comma
 ]
 
 

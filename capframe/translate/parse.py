@@ -1909,9 +1909,11 @@ def _spottable(form: tuple[str, ...]) -> bool:
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
-    """Whether the run is joined to a subject by "and"/"or" ("the bear and the giraffe")."""
+    """Whether the run is joined to a subject by "and"/"or" ("the bear and the giraffe", "the bear,
+    and the giraffe beside it")."""
     first, last = span[0], span[-1]
-    return (tokens[first] in CONJUNCTIONS and first > 0 and tokens[first - 1].startswith("@")) or (
+    before = next((tokens[k] for k in range(first - 1, -1, -1) if tokens[k] != ","), "")
+    return (tokens[first] in CONJUNCTIONS and before.startswith("@")) or (
         tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")
     )
 
