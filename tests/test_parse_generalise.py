@@ -508,3 +508,17 @@ FACING = [
 def test_where_the_subject_faces_or_points(text, want):
     """A subject facing (looking, pointing) one way in the frame shows that side (module doc)."""
     assert read(text) == want
+
+
+@pytest.mark.parametrize(
+    "text, view",
+    [
+        ("the teddy halfway between its front and its left side", "front-left"),
+        ("the sofa, between the back and the right side", "back-right"),
+        ("the tv midway between its right end and its face", "front-right"),
+        ("the teddy from somewhere between the front and the side", "three-quarter"),
+        ("the bench between the rear and the side", "back-three-quarter"),
+    ],
+)
+def test_between_an_end_and_a_side_is_the_diagonal(text, view):
+    assert read(text)["subjects"][0][3] == view and read(text)["not_understood"] == []

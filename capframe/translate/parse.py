@@ -605,9 +605,20 @@ for _end, _parts in END_PARTS.items():
         NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
         "(looking|look|aimed|aiming|pointing|pointed) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
     ]
+# Between an end and a side: the diagonal ("halfway between its front and its left side"); between
+# an end and "the side" either diagonal of that end.
+BETWEEN = "(((half|half way|halfway|midway|somewhere) )?between) (the |{P} )?{A}( side| end)? and (the |{P} )?{B}( side| end)?"
+for _lon, _lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
+    for _lat in ("left", "right"):
+        VIEW_PHRASES.setdefault(f"{_lon}-{_lat}", []).extend(
+            BETWEEN.replace("{A}", a).replace("{B}", b) for a, b in ((_lon_words, _lat), (_lat, _lon_words))
+        )
+    VIEW_PHRASES["three-quarter" if _lon == "front" else "back-three-quarter"].extend(
+        BETWEEN.replace("{A}", a).replace("{B}", b) for a, b in ((_lon_words, "side"), ("side", _lon_words))
+    )
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
-    VIEW_PHRASES[f"back-{_lat}"] = [SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?"]
+    VIEW_PHRASES.setdefault(f"back-{_lat}", []).append(SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?")
 
 # A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
