@@ -522,3 +522,9 @@ def test_where_the_subject_faces_or_points(text, want):
 )
 def test_between_an_end_and_a_side_is_the_diagonal(text, view):
     assert read(text)["subjects"][0][3] == view and read(text)["not_understood"] == []
+
+
+@pytest.mark.parametrize("text", ["the teddy from the waist up", "a head and shoulders shot of the teddy", "teddy, chest up"])
+def test_a_figure_cut_at_the_body_is_a_close_up(text):
+    """The subject cropped at its waist or chest fills the frame: its extent is a close-up's."""
+    assert read(text)["subjects"][0][2] == "close-up"

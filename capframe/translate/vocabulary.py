@@ -544,6 +544,18 @@ SIZE_IDIOMS = {
         "tighten up",
         "fill up the frame",
         "macro",
+        # Framings named by where the figure is cut: part of it fills the frame, whatever film
+        # usage calls the shot ("from the waist up" is a medium shot of a person standing in a
+        # scene, but of the subject it is a crop larger than the frame).
+        "from the waist up",
+        "waist up",
+        "from the knees up",
+        "knees up",
+        "head and shoulders",
+        "from the chest up",
+        "chest up",
+        "from the shoulders up",
+        "shoulders up",
     ),
     "medium": (
         "head to toe",
