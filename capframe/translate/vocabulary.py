@@ -349,7 +349,7 @@ MIN_DROPPED_LETTERS = 6  # a dropped letter
 
 def slip_of(word: str) -> str | None:
     """The word of :data:`SLIP_TARGETS` that ``word`` mistypes (see there), or None."""
-    if not word.isalpha() or word in SLIP_TARGETS or len(word) < MIN_SLIP_LETTERS - 1:
+    if not word.isalpha() or word in SLIP_TARGETS or len(word) < MIN_SLIP_LETTERS:
         return None
     for target in SLIP_TARGETS:
         if len(target) >= MIN_SLIP_LETTERS and (transposed(word, target) or doubled(word, target)):
