@@ -528,3 +528,23 @@ def test_between_an_end_and_a_side_is_the_diagonal(text, view):
 def test_a_figure_cut_at_the_body_is_a_close_up(text):
     """The subject cropped at its waist or chest fills the frame: its extent is a close-up's."""
     assert read(text)["subjects"][0][2] == "close-up"
+
+
+REGIONS_AND_SPANS = [
+    ("the toy car in the extreme left of the picture", one(CAR, region="left")),
+    ("the teddy just left of frame center", one(BEAR, region="left")),
+    ("the bench touching the right edge", one(BENCH, region="right")),
+    ("the mug in the bottom left-hand corner", one(MUG, region="lower left")),
+    ("the sofa on the right thirds line", one(SOFA, region="right third")),
+    ("the sofa filling the full height of the frame", one(SOFA, shot="close-up")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(REGIONS_AND_SPANS))
+def test_regions_said_to_the_edge_and_spans_of_the_frame(text, want):
+    assert read(text) == want
+
+
+def test_a_position_word_in_a_subjects_place_is_never_a_subject():
+    """ "The far left" names no object: a feasible text is never refused for it."""
+    assert read("the toy car in the far left")["subjects"] == [(CAR, "left", None, None)]

@@ -267,6 +267,10 @@ SHOT_CLAUSES = {
         "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
         "the (whole |entire )?{FRAME}",
+        # The whole width or height of the frame ("filling the width of the frame", "spanning the
+        # whole frame width").
+        "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?(width|height) of the {FRAME}",
+        "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?{FRAME} (width|height)",
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
@@ -390,22 +394,34 @@ REGION_AREAS = {
         "bottom third",
         "lower third",
     ],
-    "left third": ["left third", "leftmost third", "first third", "left third line", "left hand third"],
+    "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
-    "right third": ["right third", "rightmost third", "last third", "right third line", "right hand third"],
-    "upper left": ["upper left( corner| quadrant| quarter)?", "top left( corner| quadrant| quarter)?", "left top corner"],
-    "upper right": ["upper right( corner| quadrant| quarter)?", "top right( corner| quadrant| quarter)?", "right top corner"],
-    "lower left": ["lower left( corner| quadrant| quarter)?", "bottom left( corner| quadrant| quarter)?", "left bottom corner"],
+    "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
+    "upper left": [
+        "upper left( hand)?( corner| quadrant| quarter)?",
+        "top left( hand)?( corner| quadrant| quarter)?",
+        "left top corner",
+    ],
+    "upper right": [
+        "upper right( hand)?( corner| quadrant| quarter)?",
+        "top right( hand)?( corner| quadrant| quarter)?",
+        "right top corner",
+    ],
+    "lower left": [
+        "lower left( hand)?( corner| quadrant| quarter)?",
+        "bottom left( hand)?( corner| quadrant| quarter)?",
+        "left bottom corner",
+    ],
     "lower right": [
-        "lower right( corner| quadrant| quarter)?",
-        "bottom right( corner| quadrant| quarter)?",
+        "lower right( hand)?( corner| quadrant| quarter)?",
+        "bottom right( hand)?( corner| quadrant| quarter)?",
         "right bottom corner",
     ],
 }
 # Off the centre towards a side ("a bit left of centre", "off-centre to the right", "just above
 # the middle"): that half of the frame.
 OFF_CENTER = [
-    "(({WEAK}|just|{VERY}) )?(to the )?{TOWARD} of (the )?(center|middle)( of (the )?{FRAME})?",
+    "(({WEAK}|just|{VERY}) )?(to the )?{TOWARD} of (the )?({FRAME} )?(center|middle)( of (the )?{FRAME})?",
     "(({WEAK}|just|{VERY}) )?off (the )?(center|middle) (to|towards) the {TOWARD}( of (the )?{FRAME})?",
 ]
 REGION_PHRASES = {
@@ -1236,6 +1252,9 @@ RESERVED = frozenset(
 # Parts of and positions on an object or the frame: a run of these is never a subject.
 POSITION_WORDS = frozenset(
     {
+        "far",
+        "extreme",
+        "outer",
         "front",
         "back",
         "rear",
@@ -1538,10 +1557,15 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     rows += [("shot", "share", t, False) for t in SHARE_PHRASES]
     for region, areas in REGION_AREAS.items():
-        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?{_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        # "The far left", "the very top": the same area, said to its edge.
+        template = (
+            f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?((far|extreme|very|outer) )?{_alternatives(areas)}"
+            "( (of|in) (the )?{FRAME})?(?! of )"
+        )
         rows.append(("region", region, template, False))
         template = (
-            f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+            f"(taking up|occupying|filling|covering|spanning|hugging|touching) the {_alternatives(areas)}"
+            "( (of|in) (the )?{FRAME})?(?! of )"
         )
         rows.append(("region", region, template, False))
         # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
