@@ -548,3 +548,25 @@ def test_regions_said_to_the_edge_and_spans_of_the_frame(text, want):
 def test_a_position_word_in_a_subjects_place_is_never_a_subject():
     """ "The far left" names no object: a feasible text is never refused for it."""
     assert read("the toy car in the far left")["subjects"] == [(CAR, "left", None, None)]
+
+
+@pytest.mark.parametrize(
+    "text, region",
+    [
+        # Room left on one side puts the subject in the other half.
+        ("the mug, a little bit of space on the left", "right"),
+        ("the teddy with some breathing space to the right of the frame", "left"),
+        ("the bench with headroom above", "bottom"),
+        # A half said as any part of the frame.
+        ("the teddy in the upper region", "top"),
+        ("the sofa in the lower portion of the frame", "bottom"),
+        ("the toy car in the left-hand section", "left"),
+    ],
+)
+def test_room_on_one_side_and_parts_of_the_frame(text, region):
+    assert read(text)["subjects"][0][1] == region
+
+
+def test_the_middle_ground_is_depth_not_the_centre():
+    got = read("the toy car in the middle ground")
+    assert got["subjects"] == [(CAR, None, None, None)] and got["not_understood"] == ["middle ground"]

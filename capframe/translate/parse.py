@@ -418,6 +418,29 @@ REGION_AREAS = {
         "right bottom corner",
     ],
 }
+# A half said as any part of the frame ("the upper area", "the lower portion", "the left section").
+for _region, _words in (
+    ("left", "(left|left hand)"),
+    ("right", "(right|right hand)"),
+    ("top", "(top|upper)"),
+    ("bottom", "(bottom|lower)"),
+):
+    REGION_AREAS[_region].append(f"{_words} (area|region|portion|section|zone|band|strip)")
+# Room left on one side of the subject ("a bit of space on the left", "headroom above it"): the
+# subject sits in the other half.
+ROOM_SIDES = {"left": "right", "right": "left", "top": "bottom", "bottom": "top"}
+ROOM_PHRASES = [
+    "(with )?(({WEAK}|some|a bit of|a little bit of|plenty of|lots of|more) )?(of )?(empty |negative |free |lead |breathing )?"
+    "(space|room|headroom|air) (on|to|at|in) the {SIDE}( side| half)?( of (the )?{FRAME})?",
+    "(with )?(({WEAK}|some|a bit of|a little bit of|plenty of|lots of|more) )?(of )?(empty |negative |free |lead |breathing )?"
+    "(space|room|headroom|air) {BESIDE}( {obj}| the subject)?(?= ([,.;!]|$|and |with ))",
+]
+ROOM_BESIDE = {
+    "left": "(to the )?left of",
+    "right": "(to the )?right of",
+    "top": "(above|over)",
+    "bottom": "(below|beneath|under)",
+}
 # Off the centre towards a side ("a bit left of centre", "off-centre to the right", "just above
 # the middle"): that half of the frame.
 OFF_CENTER = [
@@ -1560,7 +1583,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # "The far left", "the very top": the same area, said to its edge.
         template = (
             f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?((far|extreme|very|outer) )?{_alternatives(areas)}"
-            "( (of|in) (the )?{FRAME})?(?! of )"
+            "( (of|in) (the )?{FRAME})?(?! of )(?! ground )"
         )
         rows.append(("region", region, template, False))
         template = (
@@ -1583,6 +1606,11 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
             rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
+    for room, region in ROOM_SIDES.items():
+        side = {"top": "(top|above)", "bottom": "(bottom|below)"}.get(room, room)
+        rows += [
+            ("region", region, t.replace("{SIDE}", side).replace("{BESIDE}", ROOM_BESIDE[room]), False) for t in ROOM_PHRASES
+        ]
     for region, toward in (("left", "left"), ("right", "right"), ("top", "(above|top)"), ("bottom", "(below|bottom)")):
         rows += [("region", region, t.replace("{TOWARD}", toward), False) for t in OFF_CENTER]
     for view, sides in VIEW_SIDE_WORDS.items():
