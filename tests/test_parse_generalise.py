@@ -570,3 +570,24 @@ def test_room_on_one_side_and_parts_of_the_frame(text, region):
 def test_the_middle_ground_is_depth_not_the_centre():
     got = read("the toy car in the middle ground")
     assert got["subjects"] == [(CAR, None, None, None)] and got["not_understood"] == ["middle ground"]
+
+
+@pytest.mark.parametrize(
+    "text, subject",
+    [
+        ("An interesting angle on the mug", MUG),
+        ("The best side of the teddy", BEAR),
+        ("The perspective from the floor, teddy in frame", BEAR),
+        ("The lighting from the left on the sofa", SOFA),
+    ],
+)
+def test_a_noun_of_the_picture_is_never_the_subject(text, subject):
+    """A noun phrase headed by a word of the picture or a position is no object: the instruction
+    is not refused for it; the words stay reported."""
+    got = read(text)
+    assert got["subjects"][0][0] == subject and got["not_understood"]
+
+
+def test_an_unknown_object_before_a_picture_word_is_still_refused():
+    with pytest.raises(InputError, match="subject 'light bulb' is not in this scene"):
+        parse_instruction("the light bulb beside the mug", SCENE)

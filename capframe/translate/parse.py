@@ -1453,6 +1453,11 @@ RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
 # on top of | the bench"): too common after verbs ("focus on") to mark a subject without a
 # determiner.
 RELATION_OBJECT_WORDS = frozenset({"on", "in", "at", "top", "front", "inside", "across", "along", "against", "upon", "onto"})
+# Nouns of the picture itself, not of what is in it ("an interesting angle on the mug").
+PICTURE_NOUNS = frozenset(
+    {"angle", "angles", "perspective", "viewpoint", "vantage", "light", "lighting", "composition", "framing", "focus"}
+    | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
+)
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
@@ -1946,7 +1951,17 @@ def _never_a_name(text: str) -> bool:
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
     never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
-    return bool(content) and all(w in never for w in content)
+    if bool(content) and all(w in never for w in content):
+        return True
+    # A noun phrase whose head is a word of the picture or a position ("the best side", "an
+    # interesting angle", "the angle should be low", "the light from the left"): its head is the
+    # last word before the first function word or preposition ("the fountain | behind the tree").
+    said = text.split()
+    while said and said[0] in STOPWORDS:
+        said.pop(0)
+    ends = STOPWORDS | RELATION_WORDS | {"behind", "beyond"}
+    phrase = list(itertools.takewhile(lambda w: w not in ends, said))
+    return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
 
 def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bool]) -> bool:
