@@ -591,3 +591,11 @@ def test_a_noun_of_the_picture_is_never_the_subject(text, subject):
 def test_an_unknown_object_before_a_picture_word_is_still_refused():
     with pytest.raises(InputError, match="subject 'light bulb' is not in this scene"):
         parse_instruction("the light bulb beside the mug", SCENE)
+
+
+@pytest.mark.parametrize(
+    "text", ["the sofa, base to backrest in frame", "the bench from the ground to the top in frame", "teddy from ear to ear"]
+)
+def test_from_one_end_to_the_other_is_all_of_it(text):
+    got = read(text)
+    assert got["subjects"][0][1:3] == (None, "medium") and got["elevation"] is None and got["not_understood"] == []

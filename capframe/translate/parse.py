@@ -317,6 +317,8 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
+        "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
@@ -1494,6 +1496,9 @@ _MACROS = {
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
+    # An end of a subject, from which to which all of it is seen.
+    "{END}": "(?:base|bottom|top|floor|ground|foot|feet|toe|toes|head|bulb|shade|tip|end|ear|arm|leg|legs|wheel|wheels"
+    "|roof|lid|rim|handle|edge|pot|leaves|crown|trunk|seat|backrest)",
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
