@@ -55,6 +55,12 @@ VIEW_SIDES: dict[str, tuple[float, ...]] = {
     "front-slight-right": (20.0,),
     "back-slight-left": (-160.0,),
     "back-slight-right": (160.0,),
+    # "from its right side, a little towards the front": off a side towards the front (back), as far
+    # from that side as the slight sides above are from the front.
+    "left-slight-front": (-70.0,),
+    "left-slight-back": (-110.0,),
+    "right-slight-front": (70.0,),
+    "right-slight-back": (110.0,),
     # "dead on", "directly from the left", "tail on": one end exactly, at half the tolerance.
     "front-exact": (0.0,),
     "back-exact": (180.0,),
@@ -69,6 +75,10 @@ VIEW_TOLERANCES_DEG: dict[str, float] = {
     "front-slight-right": 15.0,
     "back-slight-left": 15.0,
     "back-slight-right": 15.0,
+    "left-slight-front": 15.0,
+    "left-slight-back": 15.0,
+    "right-slight-front": 15.0,
+    "right-slight-back": 15.0,
     "front-exact": 15.0,
     "back-exact": 15.0,
     "left-exact": 15.0,

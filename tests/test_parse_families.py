@@ -103,7 +103,9 @@ NUMBERS = [
     ("the sofa 30 deg round to its left", want(s(SOFA, view="front-slight-left"))),
     ("the chair turned 90 degrees to the right", want(s(CHAIR, view="right-exact"))),
     ("teddy seen 170 degrees round to its left", want(s(BEAR, view="back-exact"))),
-    ("the fridge seen sixty degrees round to the left", want(s(FRIDGE, view="front-left"))),
+    # 60 degrees is nearer the side slightly towards the front (-70) than the diagonal (-45).
+    ("the fridge seen sixty degrees round to the left", want(s(FRIDGE, view="left-slight-front"))),
+    ("the fridge seen fifty degrees round to the left", want(s(FRIDGE, view="front-left"))),
     ("tree, roll 7 degrees CCW", want(s(TREE), roll=-7.0)),
     ("mug with a 12 degree CW dutch tilt", want(s(MUG), roll=12.0)),
     ("dutch angle 10, bench centred", want(s(BENCH, region="center"), roll=10.0)),
@@ -365,7 +367,7 @@ JARGON = [
     ("the tree from a heroic angle", want(s(TREE), elevation="low angle")),
     ("the chair with the camera near the floor", want(s(CHAIR), elevation="low angle")),
     ("the bench, lens pointed straight down", want(s(BENCH), elevation="top-down")),
-    ("the tree, camera aimed straight up", want(s(TREE), elevation="worm's-eye")),
+    ("the tree, camera aimed straight up", want(s(TREE), elevation_deg=-90.0)),
     # Views: ends "on", shoulders, side parts, turns and angles off a named side, a side after its subject.
     ("teddy tail on, wide", want(s(BEAR, shot="wide", view="back-exact"))),
     ("the bench nose on", want(s(BENCH, view="front-exact"))),
@@ -373,7 +375,7 @@ JARGON = [
     ("the chair from its left arm", want(s(CHAIR, view="left"))),
     ("the fridge's right side panel", want(s(FRIDGE, view="right"))),
     ("the fridge, a quarter turn to its right", want(s(FRIDGE, view="right-exact"))),
-    ("the sofa from its left side, about 60 degrees off", want(s(SOFA, view="front-left"))),
+    ("the sofa from its left side, about 60 degrees off", want(s(SOFA, view="left-slight-front"))),
     ("the fridge side, low", want(s(FRIDGE, view="side"), elevation="low angle")),
     # Regions without a preposition or article, graded, or led by a verb of being.
     ("the mug, top left of the picture", want(s(MUG, region="upper left"))),

@@ -33,7 +33,11 @@ How a sentence is read:
    "the top", "the back"), a degree (:data:`DEGREE_WORDS`: "a bit") or nothing in particular
    (:data:`GENERIC_NOUNS`, with attributes: "that small thing") are never a subject;
    "the top of the X" leaves "X" in the subject's place. A sentence with no name spotted tries
-   all its unexplained words.
+   all its unexplained words. The noun phrase opening the sentence (or following a head) and tied
+   to a named object by a place relation (:data:`RELATION_WORDS`: "the wristwatch lying by the
+   mug", "skateboard under the bench") is the subject whatever it names: refused by its own words
+   when the scene lacks it; the related object, like one asked only to be seen ("the bench in
+   the frame too"), takes no cue said after it.
 
 Mappings that are choices (the phrase tables are the full list):
 
@@ -81,7 +85,8 @@ Mappings that are choices (the phrase tables are the full list):
 * elevation: "from above"/"looking down"/"from up high"/"a higher angle" alone is a high angle,
   "from below"/"looking up"/"a lower angle" a low angle; all yield to any more specific elevation
   in the same sentence ("from slightly above, looking down at it" is slightly above). "From the
-  ground looking up" is a worm's-eye view, "aerial" a bird's-eye one. Moving or pointing the
+  ground looking up" is a low angle, looking straight up from there a worm's-eye view, "aerial" a
+  bird's-eye one. Moving or pointing the
   camera is a hint too: "get down low", "shoot up at", "from floor level", "shot from low" (low
   angle), "climb up high", "aim down" (high angle); so is "low" or "high" alone as a clause ("the
   car from behind, low"; "low in the frame" is a region). The height of a surface the subject rests or sits on ("at
@@ -127,15 +132,24 @@ import itertools
 import re
 from dataclasses import dataclass
 
-from ..constraints import ELEVATIONS, EXACT_ENDS, VIEW_SIDES, arc_deg, view_tolerance_deg
+try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
+    from re import _constants as _re_nodes
+    from re import _parser as _re_parser
+except ImportError:
+    import sre_constants as _re_nodes
+    import sre_parse as _re_parser
+
+from ..constraints import ELEVATIONS, EXACT_ENDS, SHOT_SIZES, VIEW_SIDES, arc_deg, view_tolerance_deg
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
     ATTRIBUTES,
     DEGREE_SCALE,
     DETERMINERS,
+    END_PARTS,
     EYE_VIEWS,
     FILLER_WORDS,
+    FRAME_FRACTIONS,
     HEAD_ON_WORDS,
     HEIGHT_ANCHORS,
     NUMBER,
@@ -147,6 +161,7 @@ from .vocabulary import (
     TAIL_ON_WORDS,
     Vocabulary,
     singular,
+    slip_of,
     words,
 )
 
@@ -163,7 +178,7 @@ from .vocabulary import (
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
-FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder)"
+FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
 SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
 HEAD_LINK = "(of|with|showing|featuring)"
@@ -237,20 +252,25 @@ SHOT_ADJECTIVES = {
 # degree scale may grade it ("real close", "way wide").
 ALONE = (
     "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |nice and |{VERY} |extra )?{WORD}"
+    "{obj} (is |looking |nice and |{VERY} |{WEAK} |extra )?{WORD}"
     "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
 )
 
 SHOT_CLAUSES = {
     "close-up": [
+        "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
         "the (whole |entire )?{FRAME}",
+        # The whole width or height of the frame ("filling the width of the frame", "spanning the
+        # whole frame width").
+        "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?(width|height) of the {FRAME}",
+        "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?{FRAME} (width|height)",
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
@@ -258,8 +278,9 @@ SHOT_CLAUSES = {
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight)",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge|tight|close|full) (in|on) (the )?{FRAME}",
+        "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
+        "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
@@ -272,7 +293,7 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
     ],
@@ -281,20 +302,28 @@ SHOT_CLAUSES = {
         "((framed|shot|seen|taken) )?(at|from) (a )?(mid|medium|moderate) (distance|range)",
         "(taking up|occupying|filling) (a )?(moderate|medium) (part|portion|amount|share) of the {FRAME}",
         "(taking up|filling|occupying) (about |roughly |around )?half (of )?the {FRAME}",
-        "(medium|moderately) sized( in (the )?{FRAME})?",
+        "((at|to) )?(about |roughly |around |some )?half (of )?the {FRAME}( (height|width|high|tall|wide))?",
+        "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not (too |so |that |overly |very )close( (and |but |or |, )?not (too |so |that |overly |very )far( away)?)?",
+        "not (too |so |that |overly |very )(close|tight)"
+        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide)( away)?)?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
+        # "the whole set in view").
+        "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
+        "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
+        "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
-        "(quite |very |really |rather |fairly )?(small|tiny) (in|on) (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(from )?(very )?far away",
         "from afar",
@@ -304,6 +333,9 @@ SHOT_CLAUSES = {
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        # Room to breathe around it ("with breathing room around it", "some elbow room").
+        "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
+        "( (around|round|about) {obj})?",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
         "(with )?{PLENTY} ([a-z]+ )?(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
         "( (around|round|about) {obj})?",
@@ -313,10 +345,18 @@ SHOT_CLAUSES = {
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off)"),
+        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
+
+# The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
+# the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
+SHARE_PHRASES = [
+    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|at|to|so it fills) )?"
+    "((about|around|roughly|approximately|some|only|just|nearly|almost|maybe) )?"
+    "({SHARE}) (of )?(the )?{FRAME}( (height|width|high|tall|wide|across))?",
+]
 
 # Regions: "PREPOSITION the AREA [of the FRAME]", never followed by "of" (relations between
 # objects such as "to the left of the vase" are not regions of the frame).
@@ -324,7 +364,7 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # What may lead into a region: a placing verb or a direction ("tucked into the top-left corner",
 # "up in the top half").
 REGION_LEAD = (
-    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved"
+    "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up) )?"
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
@@ -356,18 +396,59 @@ REGION_AREAS = {
         "bottom third",
         "lower third",
     ],
-    "left third": ["left third", "leftmost third", "first third", "left third line", "left hand third"],
+    "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
-    "right third": ["right third", "rightmost third", "last third", "right third line", "right hand third"],
-    "upper left": ["upper left( corner| quadrant| quarter)?", "top left( corner| quadrant| quarter)?", "left top corner"],
-    "upper right": ["upper right( corner| quadrant| quarter)?", "top right( corner| quadrant| quarter)?", "right top corner"],
-    "lower left": ["lower left( corner| quadrant| quarter)?", "bottom left( corner| quadrant| quarter)?", "left bottom corner"],
+    "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
+    "upper left": [
+        "upper left( hand)?( corner| quadrant| quarter)?",
+        "top left( hand)?( corner| quadrant| quarter)?",
+        "left top corner",
+    ],
+    "upper right": [
+        "upper right( hand)?( corner| quadrant| quarter)?",
+        "top right( hand)?( corner| quadrant| quarter)?",
+        "right top corner",
+    ],
+    "lower left": [
+        "lower left( hand)?( corner| quadrant| quarter)?",
+        "bottom left( hand)?( corner| quadrant| quarter)?",
+        "left bottom corner",
+    ],
     "lower right": [
-        "lower right( corner| quadrant| quarter)?",
-        "bottom right( corner| quadrant| quarter)?",
+        "lower right( hand)?( corner| quadrant| quarter)?",
+        "bottom right( hand)?( corner| quadrant| quarter)?",
         "right bottom corner",
     ],
 }
+# A half said as any part of the frame ("the upper area", "the lower portion", "the left section").
+for _region, _words in (
+    ("left", "(left|left hand)"),
+    ("right", "(right|right hand)"),
+    ("top", "(top|upper)"),
+    ("bottom", "(bottom|lower)"),
+):
+    REGION_AREAS[_region].append(f"{_words} (area|region|portion|section|zone|band|strip)")
+# Room left on one side of the subject ("a bit of space on the left", "headroom above it"): the
+# subject sits in the other half.
+ROOM_SIDES = {"left": "right", "right": "left", "top": "bottom", "bottom": "top"}
+ROOM_PHRASES = [
+    "(with )?(({WEAK}|some|a bit of|a little bit of|plenty of|lots of|more) )?(of )?(empty |negative |free |lead |breathing )?"
+    "(space|room|headroom|air) (on|to|at|in) the {SIDE}( side| half)?( of (the )?{FRAME})?",
+    "(with )?(({WEAK}|some|a bit of|a little bit of|plenty of|lots of|more) )?(of )?(empty |negative |free |lead |breathing )?"
+    "(space|room|headroom|air) {BESIDE}( {obj}| the subject)?(?= ([,.;!]|$|and |with ))",
+]
+ROOM_BESIDE = {
+    "left": "(to the )?left of",
+    "right": "(to the )?right of",
+    "top": "(above|over)",
+    "bottom": "(below|beneath|under)",
+}
+# Off the centre towards a side ("a bit left of centre", "off-centre to the right", "just above
+# the middle"): that half of the frame.
+OFF_CENTER = [
+    "(({WEAK}|just|{VERY}) )?(to the )?{TOWARD} of (the )?({FRAME} )?(center|middle)( of (the )?{FRAME})?",
+    "(({WEAK}|just|{VERY}) )?off (the )?(center|middle) (to|towards) the {TOWARD}( of (the )?{FRAME})?",
+]
 REGION_PHRASES = {
     "left": ["(on |at |in )?(the )?{FRAME} left", "left of (the )?{FRAME}"],
     "right": ["(on |at |in )?(the )?{FRAME} right", "right of (the )?{FRAME}"],
@@ -378,6 +459,7 @@ REGION_PHRASES = {
         "(at |in )?(the )?{FRAME} center",
         "center of (the )?{FRAME}",
         "dead center",
+        "(front and|center) (center|stage)",
     ],
     "top": ["high (up )?in (the )?{FRAME}"],
     "bottom": ["low (down )?in (the )?{FRAME}"],
@@ -439,13 +521,18 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
 for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
     VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
+    # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
+    VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
+    # The side said as a place after the diagonal's end ("rear three-quarter on the right").
+    VIEW_SIDE_WORDS[f"back-{_lat}"].append(f"(back|rear) three quarters? (on|to|from|at) the {_lat}( hand)?( side)?")
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
 # back to the wall"). Closing in on a side is no relation ("close on its face", "zoom in on its
 # back").
 NOT_A_RELATION = (
-    "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )"
+    "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
+    "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
     "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
@@ -457,23 +544,34 @@ VIEW_FRAMES = [
     SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
-    "(with )?(the|{P}) {SIDE}( side)? ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
+    # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
+    "((?<=^ )|{CLAUSE}){SIDE}{PART} of {obj}",
     NOT_A_RELATION + "{P} {SIDE}{PART}" + NOT_TURNED_AWAY,
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
 VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+# A left or right profile or flank as a clause ("the bear's profile, left side" is its left; a
+# bare "left side" there stays a region).
+PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
-# bear three quarter rear right", "chair front, medium").
-VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?{SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
+# bear three quarter rear right", "chair front, medium"); not "behind", which says where the
+# a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
+# its back).
+VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
+        "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
-        "(looking|staring|gazing) (at|into|towards) the (camera|lens)",
+        "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
+        # The subject moving or pointing at the camera ("the car driving towards us").
+        "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
+        "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
@@ -491,14 +589,48 @@ VIEW_PHRASES = {
         "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
     # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
-    "front-exact": ["(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?"],
-    "back-exact": ["(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?"],
-    "left": ["facing (to the |towards the )?left( in (the )?{FRAME})?", "facing (screen|{FRAME}) left"],
-    "right": ["facing (to the |towards the )?right( in (the )?{FRAME})?", "facing (screen|{FRAME}) right"],
-    "side": ["in profile", "(seen )?side on", "from (either|one|a) side", "(a |the )?(side )?profile( view| shot)? of {obj}"],
+    "front-exact": [
+        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
+        # Its front squared to the camera ("square to the lens", "face it square", "shooting
+        # straight at it").
+        "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
+        "(face|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
+        "(looking|look|{AIM}) ({STRONG}) (at|into) {obj}",
+    ],
+    "back-exact": [
+        "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
+        # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
+        "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
+    ],
+    "left": [
+        "facing (to the |towards the )?left( in (the )?{FRAME})?",
+        "facing (screen|{FRAME}) left",
+        # Turned, looking or pointing one way in the frame, or its front said so ("turned to face
+        # left", "gazing to the left", "its nose pointing left"): its front points that way.
+        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
+        "(to the |towards the |off to the )?left( in (the )?{FRAME})?",
+        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?left",
+    ],
+    "right": [
+        "facing (to the |towards the )?right( in (the )?{FRAME})?",
+        "facing (screen|{FRAME}) right",
+        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
+        "(to the |towards the |off to the )?right( in (the )?{FRAME})?",
+        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?right",
+    ],
+    "side": [
+        "in profile",
+        "(seen )?({STRONG} )?(side|end) on",
+        "from (either|one|a) side",
+        "(a |the )?(side )?profile( view| shot)? of {obj}",
+    ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
         "(seen )?at three quarters",
+        # A view across the subject's diagonal said without "three-quarter" ("diagonally from the
+        # front left", "an oblique view"): it combines with a side as three-quarter does.
+        "(seen |shot |viewed )?(diagonally|obliquely|on the diagonal|on a diagonal)",
+        "(from |in |at |as )?(a |an )?(oblique|diagonal|angled) (view|angle|shot|perspective)",
         "(in |at )?(a |an )?(front )?three quarter( front)? (view|angle)",
     ],
     "back-three-quarter": [
@@ -507,9 +639,27 @@ VIEW_PHRASES = {
         "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
     ],
 }
+# A part found only at one end names that end ("bench backrest side", "its tail lights":
+# vocabulary.END_PARTS), unless turned away ("with its backrest to the wall").
+for _end, _parts in END_PARTS.items():
+    VIEW_PHRASES[_end] += [
+        NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
+        "(looking|look|aimed|aiming|pointing|pointed) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+    ]
+# Between an end and a side: the diagonal ("halfway between its front and its left side"); between
+# an end and "the side" either diagonal of that end.
+BETWEEN = "(((half|half way|halfway|midway|somewhere) )?between) (the |{P} )?{A}( side| end)? and (the |{P} )?{B}( side| end)?"
+for _lon, _lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
+    for _lat in ("left", "right"):
+        VIEW_PHRASES.setdefault(f"{_lon}-{_lat}", []).extend(
+            BETWEEN.replace("{A}", a).replace("{B}", b) for a, b in ((_lon_words, _lat), (_lat, _lon_words))
+        )
+    VIEW_PHRASES["three-quarter" if _lon == "front" else "back-three-quarter"].extend(
+        BETWEEN.replace("{A}", a).replace("{B}", b) for a, b in ((_lon_words, "side"), ("side", _lon_words))
+    )
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
-    VIEW_PHRASES[f"back-{_lat}"] = [SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?"]
+    VIEW_PHRASES.setdefault(f"back-{_lat}", []).append(SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?")
 
 # A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
@@ -532,13 +682,27 @@ COMBINED_VIEW_FRAMES = [
     ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
 ]
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
+# Said of the camera's offset ("offset slightly right") or as a clause right after a view ("rear
+# view, slightly left"), it combines with that view's end (:data:`VIEW_COMBINATIONS`).
+AFTER_VIEW = "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , ))"
 SLIGHT_VIEW_FRAMES = [
+    "(offset|off set|shifted|moved|off) {WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
+    AFTER_VIEW + "{WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
+    # Said off the front it starts from ("from slightly to the right of the front").
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of (the|{P}) front( of {obj})?",
     "{WEAK} " + LATERAL_OWN,
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+]
+# Off a side towards an end, short of the diagonal ("from its right side, a little towards the
+# front": ``right-slight-front``).
+SIDE_SLIGHT_VIEW_FRAMES = [
+    SEEN + "from (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?( ,)? (and |but )?{WEAK} (towards|to|toward) (the|{P}) {LON}"
+    "( side| end)?",
+    SEEN + "{WEAK} (towards|to|toward) (the|{P}) {LON}( side| end)? (from|of) (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?",
 ]
 # An explicit azimuth from the front towards a side ("45 degrees round to its right", "turned 30
 # degrees to the left"): the side whose azimuth is nearest (:func:`_nearest_side`).
@@ -546,15 +710,28 @@ SLIGHT_VIEW_FRAMES = [
 # may name the front it starts from; a side said first and the angle after it count from the front
 # towards that side ("from its right side, about 45 degrees off").
 FROM_FRONT = "( ,)?( (starting |counting )?from (the|{P}) front( of {obj})?)?"
+# The front an angle is turned away from, said between the angle and its side ("turned 30 degrees
+# away from straight-on toward its left").
+AWAY_FROM_FRONT = "( away)?( from ((the|{P}) front|(a |the )?(straight|head|dead|square|face|front) on|(the )?center))?( ,)?"
 AZIMUTH_PHRASES = [
     SEEN + "(from )?{d}( turn| swing| rotation)? (a?round|over|off|across|towards|to)( to)? (the|{P}) {LAT}( hand)?( side)?"
     "( of {obj})?" + FROM_FRONT,
-    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d} (to|towards) (the|{P}) {LAT}( hand)?( side)?"
+    "(turned|rotated|swung|orbited|moved|circled|walked|go|going) (a?round )?{d}"
+    + AWAY_FROM_FRONT
+    + " (to|towards) (the|{P}) {LAT}( hand)?( side)?"
     + FROM_FRONT,
     "{d} (to the )?{LAT} of (the )?(front|center|straight on|head on)",
-    SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ((about|around|roughly|approximately|some) )?"
-    "{d} (off|round|around|in|over)",
+    SEEN + "(from |at )?(a |an )?{d} angle (on|to|from|off|towards) (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
+    SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ({ABOUT} )?{d} (off|round|around|in|over)",
 ]
+
+# A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
+# face seen from above with 12 at the subject's front, so 3 o'clock is its right (+90 degrees) and
+# each hour 30 degrees; read as the side nearest that azimuth, like an explicit angle.
+CLOCK_PHRASES = [
+    SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
+]
+CLOCK_HOUR_DEG = 30.0
 
 # View cues for one subject that together name one side ("a three-quarter view ... from its
 # left" is the front-left); any other two different sides contradict each other.
@@ -577,6 +754,8 @@ VIEW_COMBINATIONS = {
         (("front", f"front-slight-{lat}"), f"front-slight-{lat}"),
         (("back", f"front-slight-{lat}"), f"back-slight-{lat}"),
         (("back", f"back-slight-{lat}"), f"back-slight-{lat}"),
+        ((lat, f"{lat}-slight-front"), f"{lat}-slight-front"),
+        ((lat, f"{lat}-slight-back"), f"{lat}-slight-back"),
     ]
 } | {
     frozenset(("three-quarter", "front")): "three-quarter",
@@ -605,7 +784,7 @@ GROUP_PHRASES = [
 # Named elevations; the hints yield to any other elevation in the sentence.
 ELEVATION_PHRASES = {
     "eye level": [
-        "(at |from )?(the )?eye (level|height)( (shot|view|angle|camera))?",
+        "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
@@ -616,28 +795,40 @@ ELEVATION_PHRASES = {
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} (height|level|high)",
+        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
+        "(height|level|high|position)",
+        # The height of a surface or part named ("from the height of the coffee table").
+        "(at|from) (the |a )?(height|level) of (the |a |{P} )?({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
         "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?level with {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
         "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
-        "({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
+        "((the )?(camera|lens) )?({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
         "flat on",
+        # The camera brought to the subject's height ("camera lowered to the car's level").
+        "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
+        "(the |a |{P} )?(own )?({ANCHOR_EYE} )?(level|height)( of {obj})?",
+        # "Level" alone as a clause, of the camera ("bench from behind, level").
+        "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher( up)?)( {obj}| than {obj})?",
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|overhead)( {obj}| than {obj})?",
+        "(a |an )?({WEAK} |slight |gentle |mild |shallow )(down|high) (angle|tilt)",
+        "(with )?(the )?(camera|lens) {AIM} (down {WEAK}|{WEAK} down)",
         "{WEAK} from above",
-        "looking {WEAK} down( (at|on) {obj})?",
+        "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
+        # Slightly higher than a part at the subject's height ("slightly higher than the seat").
+        "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
-        "{WEAK} (high|higher|up|raised|elevated|lifted)( up)?(?! (in|on|at) )",
-        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) down {WEAK}( (at|on|onto) {obj})?",
-        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) down( (at|on|onto) {obj})? {WEAK}",
+        "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
+        "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
         "(from )?{WEAK} (above|over|higher than) {obj}",
     ],
@@ -659,6 +850,7 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed) )?from the top",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
@@ -675,39 +867,44 @@ ELEVATION_PHRASES = {
         # The nadir: the point straight below the camera.
         "(a |an |the )?nadir( (shot|view|angle|perspective))?",
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
+        # The lens turned to the floor ("right above it, lens facing the floor").
+        "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
+        "the (floor|ground|grass|table)",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-        "(from )?(a |an )?low (vantage( point)?|viewpoint|position|perspective)",
+        "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
+        # The camera just off the ground ("from just above the ground", "an inch above the floor").
+        "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
         "(well|far) (below|under|beneath) eye (level|height)",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
     "slightly below": [
         "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
         "{WEAK} from (below|beneath)",
-        "looking {WEAK} up( at {obj})?",
+        "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
+        "(a |an )?({WEAK} |slight |gentle |mild |shallow )(up|low) (angle|tilt)",
+        "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
-        "{WEAK} (low|lower)( down)?(?! (in|on|at) )",
-        "(looking|look|looks|aim|aimed|aiming|angled|pointing|pointed|tilted|tilt) up {WEAK}( (at|to|towards) {obj})?",
-        "(looking|look|looks|aimed|angled|pointing|pointed|tilted) up( (at|to|towards) {obj})? {WEAK}",
+        "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
+        "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
-        "looking (straight|directly|steeply|vertically) up( at {obj})?",
-        # The camera pointed vertically up, the mirror of top-down ("pointing the lens straight up").
-        "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
-        "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
-        "(a |an |the )?zenith( (shot|view|angle|perspective))?",
-        "from the ground( level)?( ,)? looking (steeply |straight )?up( at {obj})?",
-        "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
-        "(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
+        "looking steeply up( at {obj})?",
+        "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
-        "straight up at {obj}",
+        # From under what the subject stands on ("from underneath the table", "from beneath the
+        # floor"): below the support, looking steeply up.
+        "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
+        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)"
+        "( (surface|level))?",
     ],
 }
 ELEVATION_HINTS = {
@@ -719,10 +916,13 @@ ELEVATION_HINTS = {
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
+        "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
         "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
-        "(with )?(the )?(camera|lens) {AIM} (down|downwards|at the (floor|ground|grass))",
+        "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
+        "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
+        "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
         ALONE.replace("{WORD}", "(elevated|raised)"),
     ],
     "bird's-eye": [
@@ -730,14 +930,18 @@ ELEVATION_HINTS = {
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(floor|ground|grass|lawn)(?! (level|height) )",
+        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the )?"
+        "(floor|ground|grass|lawn)(?! (level|height) )",
         "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (below|beneath|underneath)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (down )?(low|lower)( down)?",
+        # A height before a view ("from a low front three-quarter", "a low side view").
+        "(from )?(a |an )?low(?= (front|rear|back|side|three|profile|left|right) )",
         # A height alone as a clause ("the car from behind, low").
         ALONE.replace("{WORD}", "(low|low down|down low)"),
+        "((the )?(camera|lens) )?(held|kept|lowered|dropped) (low|down low|low down|down)(?= ([,.;!]|$))",
         # A height named by the ground or a crouch ("knee height", "crouch down", "from the grass").
         "((with )?(the )?(camera|lens) )?((down |right |low )?(at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
@@ -754,30 +958,58 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
         "(from |in |as )?(a |an )?(" + "|".join(_creatures) + ")( 's)? eye( (view|shot|angle|perspective|level))?"
     )
 
+# Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
+# degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
+# specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
+VERTICAL_UP_DEG = -90.0
+VERTICAL_UP_PHRASES = [
+    "looking (straight|directly|vertically) up( at {obj})?",
+    # The camera pointed vertically up ("pointing the lens straight up").
+    "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
+    "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
+    # The zenith: the point straight above the camera.
+    "(a |an |the )?zenith( (shot|view|angle|perspective))?",
+    "from the ground( level)?( ,)? looking straight up( at {obj})?",
+    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
+    "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
+    "straight up at {obj}",
+]
+
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
 EXPLICIT_ELEVATION_PHRASES = {
     1.0: [
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
-        "{d} (up|upwards|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
+        "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
         "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( (at|on|onto) {obj})? (at|from|by) (about |around |roughly |approximately |some )?(an angle of )?{d}",
+        "looking down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
-        "(at |from |with )?(an |a )?{d} (elevation|high angle|downward angle)",
+        "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
         "elevated (by )?{d}",
+        # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
+        "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
+        # "10 degrees high": the degrees said, so a height word is no size ("2 high").
+        "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
+        # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
+        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
+        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
+        "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
         "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
-        "(at |from |with )?(an |a )?{d} (low angle|upward angle)",
+        "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
+        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
+        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
 }
 
@@ -786,9 +1018,19 @@ EXPLICIT_ELEVATION_PHRASES = {
 PLACE_PHRASES = [
     "(?<=@\\d )((sitting|lying|standing|resting|placed|left|parked|sat) )?(on|upon|by|against) (the )?"
     "(floor|ground|grass|lawn|carpet|rug)(?! (level|height))",
-    "(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?(shot|frame|picture|photo|image|pic)"
-    "( too| as well| also)?(?= ([,.;!]|$|and |with ))",
 ]
+# A subject asked only to be in the picture ("the bench in the frame too", "the cone should be in
+# the picture too", "all in view"): understood, and such a subject takes no size, place or side
+# said in a later clause of its own; those belong to the subject the picture is of ("cushion
+# bottom left, bench in the frame too, wide": a wide cushion).
+SEEN_PHRASES = [
+    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
+    "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+]
+# Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
+# background"): it too is only asked to be seen as far as cues go, but the depth order is no
+# constraint the camera keeps, so these words stay reported as not understood.
+DEPTH_WORDS = frozenset({"behind", "beyond", "background", "back", "distance", "foreground"})
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
@@ -802,6 +1044,10 @@ ROLL_PHRASES = {
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
+        "(at|on) (a |an )?({mod} )?slant",
+        # A direction or side without degrees ("a gentle clockwise tilt", "slight dutch to the left").
+        "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?rolled (by )?{sd}",
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
@@ -810,6 +1056,7 @@ ROLL_PHRASES = {
         # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
         # 10", "roll 5 degrees CCW").
         "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(roll|rolled|rolling|cant|canted) it (by )?{d} {dir}",
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
         "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
@@ -821,12 +1068,16 @@ ROLL_PHRASES = {
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
+        "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted|leaning) "
+        "({WEAKROLL} |(by )?{d} )?(to the |towards the )?{side}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
-        "(with )?(a |the )?(level|straight|flat|horizontal) horizon",
+        "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
+        # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
+        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
         "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
@@ -1026,6 +1277,9 @@ RESERVED = frozenset(
 # Parts of and positions on an object or the frame: a run of these is never a subject.
 POSITION_WORDS = frozenset(
     {
+        "far",
+        "extreme",
+        "outer",
         "front",
         "back",
         "rear",
@@ -1145,6 +1399,67 @@ SURROUNDINGS = frozenset(
 PLACE_PREPOSITIONS = frozenset(
     {"beside", "below", "above", "beneath", "underneath", "against", "alongside", "between", "among", "inside", "outside", "atop"}
 )
+# What relates a thing to a place: a preposition of place or a verb of resting ("the wristwatch
+# lying by the mug", "skateboard under the bench", "a hammock strung from the tree"). A noun
+# phrase opening the sentence and related so to a named object is the subject, the object a
+# secondary one (:meth:`RuleParser._leftovers`).
+RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
+    {
+        "by",
+        "under",
+        "near",
+        "next",
+        "upon",
+        "lying",
+        "lies",
+        "laying",
+        "sitting",
+        "sits",
+        "sat",
+        "standing",
+        "stands",
+        "resting",
+        "rests",
+        "hanging",
+        "hangs",
+        "hung",
+        "leaning",
+        "leans",
+        "perched",
+        "parked",
+        "propped",
+        "strung",
+        "tied",
+        "hidden",
+        "hiding",
+        "tucked",
+        "sleeping",
+        "stacked",
+        "balanced",
+        "dropped",
+        "curled",
+        "sprawled",
+        "draped",
+        "lounging",
+        "nestled",
+        "wedged",
+        "stuck",
+        "posed",
+        "displayed",
+        "mounted",
+        "attached",
+        "piled",
+    }
+)
+# Prepositions that tie a thing to the object after them only in a noun phrase's place ("the book
+# on top of | the bench"): too common after verbs ("focus on") to mark a subject without a
+# determiner.
+RELATION_OBJECT_WORDS = frozenset({"on", "in", "at", "top", "front", "inside", "across", "along", "against", "upon", "onto"})
+# Nouns of the picture itself, not of what is in it ("an interesting angle on the mug").
+PICTURE_NOUNS = frozenset(
+    {"angle", "angles", "perspective", "viewpoint", "vantage", "light", "lighting", "composition", "framing", "focus"}
+    | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
+)
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
@@ -1180,6 +1495,17 @@ _MACROS = {
     "{WEAKROLL}": _alternatives(DEGREE_SCALE["slight"], "(?P<weak>"),
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
+    "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
+    # An end of a subject, from which to which all of it is seen.
+    "{END}": "(?:base|bottom|top|floor|ground|foot|feet|toe|toes|head|bulb|shade|tip|end|ear|arm|leg|legs|wheel|wheels"
+    "|roof|lid|rim|handle|edge|pot|leaves|crown|trunk|seat|backrest)",
+    # A hedge before a number ("about 30 degrees", "maybe 40").
+    "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
+    # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
+    "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
+    "(?: (?:view|shot|angle|perspective))?|from above)",
+    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
+    "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
     "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
@@ -1197,12 +1523,38 @@ _MACROS = {
 
 @dataclass(frozen=True)
 class _Rule:
-    """One template: the field it sets and its value (for numbers: a sign multiplier)."""
+    """One template: the field it sets and its value (for numbers: a sign multiplier); ``needs``:
+    strings every match holds (:func:`_required`), so a text lacking one is not searched."""
 
     field: str
     value: object
     pattern: re.Pattern
     weak: bool = False
+    needs: tuple[str, ...] = ()
+
+
+def _required(pattern: re.Pattern) -> tuple[str, ...]:
+    """Literal strings of 3 characters or more that every match of ``pattern`` contains: runs of
+    literal characters outside optional parts, alternatives and lookarounds (a mandatory group or
+    a repeat of one or more counts as its contents)."""
+    out: list[str] = []
+
+    def walk(items) -> None:
+        run: list[str] = []
+        for op, arg in items:
+            if op is _re_nodes.LITERAL:
+                run.append(chr(arg))
+                continue
+            out.append("".join(run))
+            run = []
+            if op is _re_nodes.SUBPATTERN:
+                walk(arg[-1])
+            elif op in (_re_nodes.MAX_REPEAT, _re_nodes.MIN_REPEAT) and arg[0] >= 1:
+                walk(arg[2])
+        out.append("".join(run))
+
+    walk(_re_parser.parse(pattern.pattern))
+    return tuple(dict.fromkeys(r for r in out if len(r) >= 3))
 
 
 def _compile(template: str) -> re.Pattern:
@@ -1236,15 +1588,21 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
             rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
+    rows += [("shot", "share", t, False) for t in SHARE_PHRASES]
     for region, areas in REGION_AREAS.items():
-        template = f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?{_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+        # "The far left", "the very top": the same area, said to its edge.
+        template = (
+            f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?((far|extreme|very|outer) )?{_alternatives(areas)}"
+            "( (of|in) (the )?{FRAME})?(?! of )(?! ground )"
+        )
         rows.append(("region", region, template, False))
         template = (
-            f"(taking up|occupying|filling|covering|spanning) the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
+            f"(taking up|occupying|filling|covering|spanning|hugging|touching) the {_alternatives(areas)}"
+            "( (of|in) (the )?{FRAME})?(?! of )"
         )
         rows.append(("region", region, template, False))
         # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
-        rows.append(("region", region, f"(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
+        rows.append(("region", region, f"{REGION_LEAD}(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
@@ -1253,7 +1611,18 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("region", region, template, False))
             # ... or alone as a clause ("bench, left third, from low down").
             rows.append(("region", region, f"{{CLAUSE}}(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
+        if region in ("left", "right"):
+            # A lone left or right straight after its subject, ending the clause, is where it
+            # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
+            rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
+    for room, region in ROOM_SIDES.items():
+        side = {"top": "(top|above)", "bottom": "(bottom|below)"}.get(room, room)
+        rows += [
+            ("region", region, t.replace("{SIDE}", side).replace("{BESIDE}", ROOM_BESIDE[room]), False) for t in ROOM_PHRASES
+        ]
+    for region, toward in (("left", "left"), ("right", "right"), ("top", "(above|top)"), ("bottom", "(below|bottom)")):
+        rows += [("region", region, t.replace("{TOWARD}", toward), False) for t in OFF_CENTER]
     for view, sides in VIEW_SIDE_WORDS.items():
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
@@ -1264,16 +1633,25 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
+        for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
+            rows += [
+                ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
+                for t in SIDE_SLIGHT_VIEW_FRAMES
+            ]
         for lon, phrase in LONGITUDINAL.items():
             for degree, frame in COMBINED_VIEW_FRAMES:
                 t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
+    rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
+    rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -1301,12 +1679,15 @@ class _Mention:
 @dataclass
 class _Run:
     """Words no phrase explains, from token ``at``; ``slot``: in a subject's place;
-    ``determiner``: right after "the"/"a"... (a noun phrase)."""
+    ``determiner``: right after "the"/"a"... (a noun phrase); ``subject``: the noun phrase of
+    unknown words the run opens the sentence with, when a place relation ties it to a named object
+    ("wristwatch" of "wristwatch lying by the mug"), else None."""
 
     at: int
     text: str
     slot: bool
     determiner: bool
+    subject: str | None = None
 
 
 @dataclass
@@ -1329,7 +1710,8 @@ class RuleParser:
 
     def __init__(self):
         rows = _templates()
-        self.rules = [_Rule(field, value, _compile(t), weak) for field, value, t, weak in rows]
+        compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
+        self.rules = [_Rule(field, value, pattern, weak, _required(pattern)) for field, value, pattern, weak in compiled]
         self.lexicon = _lexicon(rows)
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
@@ -1340,14 +1722,18 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, mentions, corrected = self._spot(words(text), vocabulary)
+        tokens, slips = self._unslip(words(text), vocabulary)
+        tokens, mentions, corrected = self._spot(tokens, vocabulary)
+        corrected = slips + corrected
         cues = self._cues(tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
+            if run.subject is not None:  # the sentence's subject: a scene object, or refused naming the closest
+                mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            if run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
-                mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
+            elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
+                mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
@@ -1369,6 +1755,19 @@ class RuleParser:
             subjects += [ParsedSubject(n, n, "secondary", vocabulary.symmetric(n)) for n in vocabulary.names if n not in named]
         elevation, elevation_deg = _elevation(cues)
         return ParsedInstruction(text, subjects, elevation, elevation_deg, _roll(cues), unparsed_text, corrected)
+
+    def _unslip(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[dict[str, str]]]:
+        """``tokens`` with each mistyped table word read as it (:func:`~capframe.translate.vocabulary.slip_of`:
+        "hight" -> "height"), and those readings; a word the tables or the scene's names use is
+        never one."""
+        names = {w for form in vocabulary.forms() for w in form}
+        out, read = [], []
+        for token in tokens:
+            target = None if token in self.lexicon or singular(token) in names else slip_of(token)
+            out.append(target or token)
+            if target:
+                read.append({"said": token, "read": target})
+        return out, read
 
     def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention], list[dict[str, str]]]:
         """Replace each subject mention by a placeholder ``@k``: the longest name or alias at each
@@ -1437,6 +1836,8 @@ class RuleParser:
             position += len(token) + 1
         found = []
         for rule in self.rules:
+            if not all(need in text for need in rule.needs):
+                continue
             for m in rule.pattern.finditer(text):
                 found.append((rule, m, token_at[m.start()], token_at[m.end() + 1] if m.end() + 1 in token_at else len(tokens)))
         found.sort(key=lambda f: (-(f[3] - f[2]), f[2]))
@@ -1476,6 +1877,10 @@ class RuleParser:
                 or _coordinated(tokens, span)
                 or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
             )
+            opening = (before is not None and before.forward) or all(
+                t in STOPWORDS or t in PUNCTUATION for t in tokens[: span[0]]
+            )
+            subject = self._related_subject(tokens, span) if opening else None
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
                 lo, hi = 0, len(run)
@@ -1484,8 +1889,42 @@ class RuleParser:
                 while hi > lo and run[hi - 1] in STOPWORDS:
                     hi -= 1
                 if lo < hi:
-                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, lo > 0 and run[lo - 1] in MENTION_DETERMINERS))
+                    determiner = lo > 0 and run[lo - 1] in MENTION_DETERMINERS
+                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
         return runs
+
+    def _related_subject(self, tokens: list[str], span: list[int]) -> str | None:
+        """The noun phrase ``span`` opens with when a place relation (:data:`RELATION_WORDS`) ties
+        it to the named object right after the span ("sunglasses lying next to | the teddy"): words
+        the tables do not use, attributes aside ("tall mirror"), or any words after a determiner
+        ("a cat sat on the sofa": "cat" is also a table word, of "a cat's-eye view"); None
+        otherwise. Such a phrase is the sentence's subject, whatever it names."""
+        if span[-1] + 1 >= len(tokens) or not tokens[span[-1] + 1].startswith("@"):
+            return None
+        lead = next((tokens[at] for at in span if tokens[at] in MENTION_DETERMINERS or tokens[at] not in STOPWORDS), "")
+        determined = lead in MENTION_DETERMINERS  # "(of) the candle in front of": a noun phrase
+        relation = RELATION_WORDS | RELATION_OBJECT_WORDS if determined else RELATION_WORDS
+        start = next(k for k, at in enumerate(span) if tokens[at] == lead) if lead else 0
+        cut = next((k for k, at in enumerate(span) if k > start and tokens[at] in relation), None)
+        phrase = [tokens[at] for at in span[:cut]] if cut else []
+        while phrase and phrase[0] in STOPWORDS:
+            phrase.pop(0)
+        while phrase and phrase[-1] in STOPWORDS:
+            phrase.pop()
+        content = [w for w in phrase if w not in STOPWORDS]
+        if not content or all(w in ATTRIBUTES for w in content) or _never_a_name(" ".join(content)):
+            return None
+        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
+            return None  # "focus on the mug": a verb of the tables, not a thing
+        return " ".join(phrase)
+
+
+def _before_relation(text: str) -> str:
+    """A noun phrase's words before a place relation ("vase" of "vase on its left"), so a refusal
+    names the thing; ``text`` whole when none follows its first word."""
+    said = text.split()
+    cut = next((k for k in range(1, len(said)) if said[k] in RELATION_WORDS or said[k] in RELATION_OBJECT_WORDS), len(said))
+    return " ".join(said[:cut])
 
 
 def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
@@ -1517,7 +1956,17 @@ def _never_a_name(text: str) -> bool:
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
     never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
-    return bool(content) and all(w in never for w in content)
+    if bool(content) and all(w in never for w in content):
+        return True
+    # A noun phrase whose head is a word of the picture or a position ("the best side", "an
+    # interesting angle", "the angle should be low", "the light from the left"): its head is the
+    # last word before the first function word or preposition ("the fountain | behind the tree").
+    said = text.split()
+    while said and said[0] in STOPWORDS:
+        said.pop(0)
+    ends = STOPWORDS | RELATION_WORDS | {"behind", "beyond"}
+    phrase = list(itertools.takewhile(lambda w: w not in ends, said))
+    return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
 
 def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bool]) -> bool:
@@ -1543,9 +1992,11 @@ def _spottable(form: tuple[str, ...]) -> bool:
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
-    """Whether the run is joined to a subject by "and"/"or" ("the bear and the giraffe")."""
+    """Whether the run is joined to a subject by "and"/"or" ("the bear and the giraffe", "the bear,
+    and the giraffe beside it")."""
     first, last = span[0], span[-1]
-    return (tokens[first] in CONJUNCTIONS and first > 0 and tokens[first - 1].startswith("@")) or (
+    before = next((tokens[k] for k in range(first - 1, -1, -1) if tokens[k] != ","), "")
+    return (tokens[first] in CONJUNCTIONS and before.startswith("@")) or (
         tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")
     )
 
@@ -1556,15 +2007,30 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     ref = int(slot.split()[0][1:]) if slot and slot.startswith("@") else None
     value, weak = rule.value, rule.weak
     if rule.field == "elevation_deg":
-        value = rule.value * float(groups["d"])
+        value = rule.value[1] if isinstance(rule.value, tuple) else rule.value * float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
+    elif rule.field == "shot" and rule.value == "share":
+        value = _shot_of_share(groups["share"])
     elif rule.field == "view" and isinstance(rule.value, tuple):
         value = _nearest_side(rule.value[1] * float(groups["d"]))
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
+
+
+def _shot_of_share(said: str) -> str:
+    """The shot size of a share of the frame ("a third", "70 percent"): the one whose range of
+    :data:`~capframe.constraints.SHOT_SIZES` holds it, of two the one whose middle (within the
+    frame: a close-up's range runs past 1) is nearer."""
+    share = float(said.split()[0]) / 100.0 if said.endswith("percent") else FRAME_FRACTIONS[said]
+
+    def off_middle(size: str) -> float:
+        lo, hi = SHOT_SIZES[size]
+        return abs((lo + min(hi, 1.0)) / 2 - share)
+
+    return min((k for k, (lo, hi) in SHOT_SIZES.items() if lo <= share <= hi), key=off_middle, default="close-up")
 
 
 def _nearest_side(azimuth: float) -> str:
@@ -1594,10 +2060,11 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         if m.name not in subjects:
             role = "secondary" if subjects else "primary"
             subjects[m.name] = ParsedSubject(m.text, m.name, role, vocabulary.symmetric(m.name))
+    seen_only = _seen_only(cues, mentions, tokens) | _related_objects(cues, mentions, tokens)
     for cue in cues:
         if cue.field not in SUBJECT_FIELDS:
             continue
-        names = _candidates(cue, mentions)
+        names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
         combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
@@ -1611,6 +2078,40 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         else:
             raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
     return list(subjects.values())
+
+
+def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
+    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` or a
+    depth word, :data:`DEPTH_WORDS`, after them, stopwords between), but the first mention's."""
+    starts = {c.start for c in cues if c.field == "seen"}
+    covered = {k for c in cues for k in range(c.start, c.end)}  # "seen from behind" is a view, no depth
+    out = set()
+    for m in mentions[1:]:
+        for k in range(m.at + 1, len(tokens)):
+            if k in starts or (tokens[k] in DEPTH_WORDS and k not in covered):
+                out.add(m.at)
+            if k in starts or tokens[k] not in STOPWORDS:
+                break
+    return out
+
+
+def _related_objects(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
+    """Token positions of the mentions that are the object of a place relation to the mention
+    before them, in one clause ("the teddy on | the sofa", "the bear lying next to | the mug"):
+    words between them only relation words (:data:`RELATION_WORDS`, :data:`RELATION_OBJECT_WORDS`)
+    and stopwords, none a cue's. What the sentence asks later belongs to the first of them ("the
+    teddy on the sofa, from the front" is the teddy's front)."""
+    covered = {k for c in cues for k in range(c.start, c.end)}
+    out = set()
+    for before, m in zip(mentions, mentions[1:]):
+        between = range(before.at + 1, m.at)
+        related = any(tokens[k] in RELATION_WORDS or tokens[k] in RELATION_OBJECT_WORDS for k in between)
+        if related and all(
+            k not in covered and (tokens[k] in STOPWORDS or tokens[k] in RELATION_WORDS or tokens[k] in RELATION_OBJECT_WORDS)
+            for k in between
+        ):
+            out.add(m.at)
+    return out
 
 
 def _leads_into(cue: _Cue, name: str, mentions: list[_Mention], tokens: list[str]) -> bool:

@@ -66,6 +66,21 @@ SPELLINGS = {
     "degs": "degrees",
     "favourite": "favorite",
     "toward": "towards",
+    "oclock": "o clock",
+    "eyeline": "eye line",
+    # Two words run together ("infront", "eyelevel", "abit").
+    "infront": "in front",
+    "eyelevel": "eye level",
+    "topdown": "top down",
+    "wormseye": "worm 's eye",
+    "fullframe": "full frame",
+    "lefthand": "left hand",
+    "righthand": "right hand",
+    "abit": "a bit",
+    "alittle": "a little",
+    "sideon": "side on",
+    "headon": "head on",
+    "approx": "approximately",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
@@ -83,6 +98,11 @@ SPELLINGS = {
     "lil": "little",
     "lvl": "level",
     "med": "medium",
+    # Directions said with a "-ward(s)" suffix are the plain direction ("looking upward a little").
+    "upward": "up",
+    "upwards": "up",
+    "downward": "down",
+    "downwards": "down",
 }
 # Shot-size abbreviations of shot lists and storyboards ("ECU of the bear", "MS, eye level"),
 # spelt out so the shot-size tables read them. Two letters are enough: none of these is an
@@ -151,6 +171,7 @@ def words(text: str) -> list[str]:
     s = text.lower()
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
+    s = s.replace("%", " percent ")
     s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
@@ -187,11 +208,20 @@ def _hedges(tokens: list[str]) -> list[str]:
     for token in tokens:
         if token == "ish" and out and out[-1] in HEDGED_WORDS:
             out[-1:] = ["a", "bit", out[-1]]
-        elif token.endswith("ish") and token[:-3] in HEDGED_WORDS:
-            out += ["a", "bit", token[:-3]]
+        elif token.endswith("ish") and _hedged(token[:-3]):
+            out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
     return out
+
+
+def _hedged(stem: str) -> str | None:
+    """The word of :data:`HEDGED_WORDS` a "-ish" stem spells, with the final consonant doubled
+    ("biggish") or the final "e" dropped ("widish", "closish") as English writes them; else None."""
+    for word in (stem, stem[:-1] if stem[-2:-1] == stem[-1:] else "", stem + "e"):
+        if word in HEDGED_WORDS:
+            return word
+    return None
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -272,9 +302,61 @@ FILLER_WORDS = frozenset(
     cosy cozy moody atmospheric arty artsy artistic elegant charming pleasing pleasant inviting
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
-    want like love need have get take make see show give
+    want like love need have get take make see show give grab gimme try go going looking request
+    fancy nothing
     too well visible included inside until while when because""".split()
 )
+
+
+# Words of the phrase tables people often mistype ("eye hight", "from the rigth", "a bit abvoe").
+# A word is read as one of these when it is no word the tables or the scene's names use and it is
+# the target with two adjacent letters swapped or one letter doubled (4 letters or more), or with
+# one letter dropped (6 letters or more: shorter targets lose a letter into ordinary words, "blow",
+# "lose"); :func:`slip_of` decides, the parser reports each reading.
+SLIP_TARGETS = (
+    "height",
+    "level",
+    "above",
+    "below",
+    "behind",
+    "front",
+    "left",
+    "right",
+    "center",
+    "middle",
+    "close",
+    "angle",
+    "frame",
+    "degrees",
+    "clockwise",
+    "counterclockwise",
+    "overhead",
+    "profile",
+    "quarter",
+    "corner",
+    "bottom",
+    "straight",
+    "slightly",
+    "underneath",
+    "beneath",
+    "vertical",
+    "horizon",
+    "looking",
+)
+MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
+MIN_DROPPED_LETTERS = 6  # a dropped letter
+
+
+def slip_of(word: str) -> str | None:
+    """The word of :data:`SLIP_TARGETS` that ``word`` mistypes (see there), or None."""
+    if not word.isalpha() or word in SLIP_TARGETS or len(word) < MIN_SLIP_LETTERS:
+        return None
+    for target in SLIP_TARGETS:
+        if len(target) >= MIN_SLIP_LETTERS and (transposed(word, target) or doubled(word, target)):
+            return target
+        if len(target) >= MIN_DROPPED_LETTERS and dropped(word, target):
+            return target
+    return None
 
 
 # --- graded words (the parser's tables read these) -----------------------------------------------
@@ -303,6 +385,17 @@ DEGREE_SCALE = {
         "a hair",
         "a shade",
         "a fraction",
+        "a notch",
+        "one notch",
+        "a nudge",
+        "a skosh",
+        "a teeny bit",
+        "a little tiny bit",
+        "ever so slightly",
+        "just a little",
+        "just a touch",
+        "just a tad",
+        "just slightly",
         "kind of",
         "sort of",
         # Said without the article ("bit above", "little bit to the left").
@@ -349,6 +442,25 @@ TAIL_ON_WORDS = ("tail", "rear", "stern", "butt")
 # Parts of a subject that lie on one side of it: naming one names that side ("its left flank",
 # "from its right arm end", "the fridge's left-hand side panel").
 SIDE_PARTS = ("side", "profile", "flank", "end", "hand end", "hand side", "arm", "arm end", "side panel", "panel", "corner")
+# Parts found only at one end of a subject: naming one names that end ("the bench's backrest
+# side", "its tail lights", "the grille of the car").
+END_PARTS = {
+    "back": (
+        "backrest",
+        "back rest",
+        "back panel",
+        "rear panel",
+        "tail light",
+        "tail lights",
+        "taillight",
+        "taillights",
+        "tailgate",
+        "rear window",
+        "rear bumper",
+        "spine",
+    ),
+    "front": ("headlight", "headlights", "grille", "front bumper", "windscreen", "windshield", "front panel", "dial"),
+}
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
 # god's-eye view" is a bird's-eye one, "an ant's-eye view" a worm's-eye one, "a frog's-eye view"
 # a low angle).
@@ -391,16 +503,28 @@ HEIGHT_ANCHORS = {
         "worktop",
         "own",
         "same",
+        # A person's own eye height, standing or seated ("at standing height", "sitting height").
+        "standing",
+        "sitting",
+        "seated",
         "its",
         "subject",
+        # Parts at a subject's own middle height ("at screen height", "level with its nose").
+        "screen",
+        "nose",
+        "mouth",
+        "chin",
+        "neck",
+        "torso",
+        "handle",
     ),
     "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe"),
 }
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
 # right", "sofa tiny in the upper half", "TV big and square on").
 SIZE_WORDS = {
-    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter"),
-    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide"),
+    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter", "bigger", "larger"),
+    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider"),
 }
 # Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
 SIZE_IDIOMS = {
@@ -420,6 +544,18 @@ SIZE_IDIOMS = {
         "tighten up",
         "fill up the frame",
         "macro",
+        # Framings named by where the figure is cut: part of it fills the frame, whatever film
+        # usage calls the shot ("from the waist up" is a medium shot of a person standing in a
+        # scene, but of the subject it is a crop larger than the frame).
+        "from the waist up",
+        "waist up",
+        "from the knees up",
+        "knees up",
+        "head and shoulders",
+        "from the chest up",
+        "chest up",
+        "from the shoulders up",
+        "shoulders up",
     ),
     "medium": (
         "head to toe",
@@ -454,6 +590,22 @@ SIZE_IDIOMS = {
         "establishing",
         "from a way off",
     ),
+}
+# Shares of the frame said as fractions ("a third of the frame", "two-thirds of the picture"); a
+# percentage is read from its digits ("70% of the frame").
+FRAME_FRACTIONS = {
+    "a tenth": 0.1,
+    "a fifth": 0.2,
+    "a quarter": 0.25,
+    "one quarter": 0.25,
+    "a third": 1 / 3,
+    "one third": 1 / 3,
+    "half": 0.5,
+    "a half": 0.5,
+    "one half": 0.5,
+    "two thirds": 2 / 3,
+    "three quarters": 0.75,
+    "four fifths": 0.8,
 }
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
@@ -760,6 +912,11 @@ def diminutive(a: str, b: str) -> bool:
 def doubled(a: str, b: str) -> bool:
     """Whether ``a`` is ``b`` with one letter written twice ("sofaa" of "sofa", "bearr" of "bear")."""
     return len(a) == len(b) + 1 and any(a[i] == a[i + 1] and a[:i] + a[i + 1 :] == b for i in range(len(a) - 1))
+
+
+def dropped(a: str, b: str) -> bool:
+    """Whether ``a`` is ``b`` with one letter left out ("hight" of "height")."""
+    return len(a) + 1 == len(b) and any(b[:i] + b[i + 1 :] == a for i in range(len(b)))
 
 
 def edit_distance(a: str, b: str, cap: int) -> int:
