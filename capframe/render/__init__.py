@@ -306,10 +306,12 @@ def render(
     parts = [eval_sh_colors(gaussians.sh, means_local, sh_degree)] if colors else []
     if extra is not None:
         parts.append(extra.to(dtype))
-    if len(parts) == 1:  # no copy
+    if len(parts) == 1:  # one part is passed as it is, without a copy
         features = parts[0]
+    elif parts:
+        features = torch.cat(parts, -1)
     else:
-        features = torch.cat(parts, -1) if parts else means_local.new_zeros(len(means_local), 0)
+        features = means_local.new_zeros(len(means_local), 0)
     args = (means_local, gaussians.factors, gaussians.opacities, features, view, K)
     if name == "gsplat":
         from .gsplat_backend import rasterize_gsplat
