@@ -70,6 +70,8 @@ REFUSED = [
     ("photograph the jar of pickles next to the mug", "jar of pickles"),
     ("the lantern on the windowsill", "lantern"),  # no scene object named at all: the thing, not its place
     ("the mug, and the hairbrush beside it", "hairbrush"),  # a second subject to frame, after a comma
+    ("the cat asleep on the sofa", "cat"),  # a state between the thing and its place
+    ("an old man seated on the bench, wide", "old man"),
 ]
 
 

@@ -1449,6 +1449,17 @@ RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
         "mounted",
         "attached",
         "piled",
+        # States said between a thing and its place ("the cat asleep on the sofa").
+        "asleep",
+        "awake",
+        "napping",
+        "dozing",
+        "seated",
+        "crouched",
+        "crouching",
+        "kneeling",
+        "floating",
+        "waiting",
     }
 )
 # Prepositions that tie a thing to the object after them only in a noun phrase's place ("the book
