@@ -503,8 +503,20 @@ def gaussians_fingerprint(gaussians: GaussianScene) -> str:
 
 def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera]) -> str:
     """Changes whenever the occupancy would: the solid Gaussians, the up, the camera centres."""
-    constants = (FORMAT, VOXELS, SOLID_OPACITY, PADDING, FLOOR_COVERAGE, ENCLOSED_SHARE, WALL_HEIGHT, FRINGE_HEIGHT)
-    constants += (CEILING_QUANTILE,)
+    # Every constant the stored grid depends on (the margins apply when it is read, not stored).
+    constants = (
+        FORMAT,
+        VOXELS,
+        SOLID_OPACITY,
+        PADDING,
+        FLOOR_COVERAGE,
+        ENCLOSED_SHARE,
+        WALL_HEIGHT,
+        FRINGE_HEIGHT,
+        FLOOR_QUANTILE,
+        FLAT_VOXELS,
+        CEILING_QUANTILE,
+    )
     h = hashlib.sha256(":".join(map(str, constants)).encode())
     h.update(gaussians_fingerprint(gaussians).encode())
     h.update(np.asarray(up, dtype=np.float64).tobytes())
