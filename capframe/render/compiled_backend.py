@@ -74,8 +74,10 @@ _REACH_MARGIN = 1e-4
 _COLUMNS = 7
 # Gaussians per block of the projection backward's interleaved split over threads.
 _BLOCK = 64
-# How many Gaussians ahead the per-Gaussian kernels prefetch the rows they will visit in depth order.
+# How many Gaussians ahead the per-Gaussian kernels prefetch the rows they will visit in depth order,
+# and how many pairs ahead compositing prefetches a tile's next table rows (far apart in the table).
 _AHEAD = 8
+_PAIRS_AHEAD = 4
 # Bits per word of a pair's pixel mask: a 4x4 tile is one word, one vector of float32 lanes.
 _MASK_BITS = 16
 # Index of the lowest set bit of a 32-bit word by a de Bruijn multiply (numba has no public
@@ -465,6 +467,8 @@ def _composite(table, tile_gaussian, tile_range, tiles, tile_size, out, masks, a
             live[word] = (np.int64(1) << min(_MASK_BITS, max(count - word * _MASK_BITS, 0))) - 1
         remaining = count
         for pair in range(start, stop):
+            if pair + _PAIRS_AHEAD < stop:
+                _prefetch_read(table, tile_gaussian[pair + _PAIRS_AHEAD])
             g = tile_gaussian[pair]
             mx, my, half_a, b, half_c, log_opacity = _footprint(table, g)
             threshold = table[g, 6]
@@ -589,6 +593,8 @@ def _tiles_backward(
         T[:count] = 1.0
         done[:count] = 0.0
         for pair in range(start, end):
+            if pair + _PAIRS_AHEAD < end:
+                _prefetch_read(table, tile_gaussian[pair + _PAIRS_AHEAD])
             drawn = 0
             for word in range(words):
                 drawn |= masks[pair, word]
