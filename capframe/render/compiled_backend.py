@@ -222,9 +222,9 @@ def _project(
 
     * ``table`` (N, 7 + D + 2), render dtype: in row ``rank[n]`` (its place in depth order,
       :func:`_depth_order`), the compositing table's row (see ``_COLUMNS``);
-    * ``ellipses`` (N, 8) float64: in row ``rank[n]``, the cut-off ellipse for binning, of the table's rounded values: mean
-      x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y, the y of its rightmost point
-      (reach: the cut-off on sigma, with a margin against rounding);
+    * ``ellipses`` (N, 8) float64: in row ``rank[n]``, the cut-off ellipse for binning, of the
+      table's rounded values: mean x, mean y, b, 2 reach a, det = ac - b^2, 1/a, its reach in y,
+      the y of its rightmost point (reach: the cut-off on sigma, with a margin against rounding);
     * ``boxes`` (N, 4) int32: in row ``rank[n]``, first and last tile column and row of its
       footprint box; an empty box (no rows) where the Gaussian is not kept.
 
