@@ -144,6 +144,8 @@ from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
     ATTRIBUTES,
+    CLASS_NOUNS,
+    COURTESIES,
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
@@ -151,13 +153,19 @@ from .vocabulary import (
     FILLER_WORDS,
     FRAME_FRACTIONS,
     HEAD_ON_WORDS,
+    HEADING_TIMES,
     HEIGHT_ANCHORS,
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    SCENE_HEADINGS,
     SIDE_PARTS,
     SIZE_IDIOMS,
     SIZE_WORDS,
+    SLATE_LABELS,
+    SPECK_WORDS,
+    SUBJECT_PARTS,
+    SUPPORT_SURFACES,
     TAIL_ON_WORDS,
     Vocabulary,
     singular,
@@ -250,9 +258,17 @@ SHOT_ADJECTIVES = {
 # attribute ("the wide sofa") is not read as a shot size.
 # A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
 # degree scale may grade it ("real close", "way wide").
+# The clause may be joined on by "and" ("far away and small") and end before "with", "so" or
+# "but" ("kept small with plenty of wall around it").
 ALONE = (
-    "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+    "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
+    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$|with |so |but ))"
+)
+# A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
+# "so it comes out tiny").
+COPULA_SIZE = (
+    "(be|being|is|are|look|looks|appear|appears|seem|seems|remain|remains|come out|comes out|show up|shows up|end up|ends up) "
+    "(nice and |quite |pretty |fairly |rather |{VERY} |{WEAK} )?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
@@ -294,6 +310,11 @@ SHOT_CLAUSES = {
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
+        COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        # Filling the frame from one edge to the other ("filling the frame edge to edge").
+        "(filling|fills|fill|filling up|fills up|spanning|spans|covering|covers) (all of |the whole of )?"
+        "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
+        "(from )?(edge to edge|side to side|corner to corner|border to border) (in|of|across) the {FRAME}",
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
     ],
@@ -317,6 +338,12 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
+        "(the |{P} )?(whole|entire|full|complete) {CLASS}( (is )?(in|inside|within) (the )?({FRAME}|view))?"
+        "( visible| in view| showing)?",
+        # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
+        "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
+        "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
         # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
         "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
@@ -346,6 +373,16 @@ SHOT_CLAUSES = {
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
         ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
+        COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
+        # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
+        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming) )?((just|only|no more than|nothing but) )?(a |an )?"
+        "((small|tiny|little|distant|mere|wee) )?{SPECK}",
+        # Moving back ("go more far", "step a little further away").
+        "(go|going|move|moving|step|stepping|get|getting|stand|standing|back|backing|pull|pulling) "
+        "((a bit|a little|much|way|well|{WEAK}) )?(further|farther)( (away|back|off|out))?( from {obj})?",
+        # The whole of its surroundings around it ("with the whole room around it").
+        "(with )?(the )?(whole|entire) (room|scene|surroundings|setting|table|tabletop|floor|lawn|space|wall)"
+        " (around|round|about) {obj}",
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
@@ -365,7 +402,7 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # "up in the top half").
 REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
-    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up) )?"
+    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be) )?"
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
 REGION_AREAS = {
@@ -469,8 +506,15 @@ REGION_PHRASES = {
     "lower right": ["(bottom|lower) right corner"],
 }
 
+# A corner said with a height ("low in the right corner of the picture", "up in the left corner").
+for _lat in ("left", "right"):
+    for _corner, _height in (("upper", "(high|up|higher) (up )?"), ("lower", "(low|down|lower) (down )?")):
+        REGION_PHRASES[f"{_corner} {_lat}"].append(
+            _height + f"(in|into|at|towards) the {_lat}( hand)? corner( (of|in) (the )?{{FRAME}})?"
+        )
+
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
-SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
+SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
     "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
@@ -478,7 +522,7 @@ CAMERA = (
 )
 VIEW_SIDE_WORDS = {
     "front": ["front", "face", "front end"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -544,6 +588,8 @@ VIEW_FRAMES = [
     SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
+    # Off a side of it ("camera off its left-hand flank", "front three-quarter off its right side").
+    "(" + CAMERA + " )?({EXACT} )?off ({P} {SIDE}{PART}|the {SIDE}{PART} of {obj})",
     "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
@@ -562,6 +608,9 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?=
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
+# A left or right side said as the clause right after its subject ("armchair: right side, half the
+# frame"): with "side" it is the subject's (the frame's would say "on the right side").
+SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
@@ -596,6 +645,11 @@ VIEW_PHRASES = {
         "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
         "(face|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
         "(looking|look|{AIM}) ({STRONG}) (at|into) {obj}",
+        # Facing the camera, insisted on after it ("facing the camera dead straight", "squarely").
+        "(facing|faces|face|faced|turned|pointing|pointed) (towards |to |at |into )?(the (camera|lens|viewer)|us|me)"
+        "( {STRONG})?( {STRONG})( on)?(?= ([,.;!]|$|and |with |at |from ))",
+        # Its front to the lens ("nose-to-lens", "face to camera").
+        "(nose|face|head|snout|muzzle|grille) (to|towards|at|facing) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
@@ -696,6 +750,9 @@ SLIGHT_VIEW_FRAMES = [
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+    # Moved a little round towards a side ("back of the teddy, drifting a little round to its left").
+    "({MOVE} )?{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)?",
+    "({MOVE} )?(a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$|and |with |from |at ))",
 ]
 # Off a side towards an end, short of the diagonal ("from its right side, a little towards the
 # front": ``right-slight-front``).
@@ -790,6 +847,13 @@ ELEVATION_PHRASES = {
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
         "(at|from) {P} (height|level)",
         "level with {obj}",
+        # "eye level with it", "eye-level with the seat".
+        "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
+        # At the height of a subject named ("ball and plant both in the frame, at ball height").
+        "(at|from) (the )?{obj} (height|level)",
+        # Down (or up) to a part's height ("crouched down to its roofline", "lowered to the bonnet").
+        "((the )?(camera|lens) )?(crouched|crouching|crouch|squatting|squat|kneeling|kneel|down|lowered|dropped|brought|raised"
+        "|lifted|held|set|come|coming|get|getting) (down |up )?to (the |{P} )?(own )?{ANCHOR_EYE}( (level|height|line))?",
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
         # The height of the surface the subject rests on, or sits on: level with the subject.
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
@@ -855,7 +919,7 @@ ELEVATION_PHRASES = {
     "top-down": [
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
-        "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?straight down( (at|on) {obj})?",
@@ -897,14 +961,17 @@ ELEVATION_PHRASES = {
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
+        # Below the support itself ("put the camera underground", "from below ground level"), or
+        # looking up through it ("through the grass", "through the wood").
+        "(from )?((right|deep|just) )?(underground|below ground|beneath the ground|under the ground|in the ground)( level)?",
+        "through (the |a )?({SURFACE}|{SUPPORT})( (top|surface))?",
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
-        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)"
-        "( (surface|level))?",
+        "(from )?(underneath|beneath|below|under) (the |a )?{SUPPORT}( (surface|level))?",
     ],
 }
 ELEVATION_HINTS = {
@@ -924,14 +991,15 @@ ELEVATION_HINTS = {
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
         ALONE.replace("{WORD}", "(elevated|raised)"),
+        "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
     ],
     "bird's-eye": [
         "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the )?"
-        "(floor|ground|grass|lawn)(?! (level|height) )",
+        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the |{P} )?"
+        "(floor|ground|grass|lawn|roots|root)(?! (level|height) )",
         "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
@@ -950,6 +1018,12 @@ ELEVATION_HINTS = {
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
         # The camera itself down by the ground ("camera near the ground").
         CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
+        # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
+        "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
+        "(floor|ground|rug|carpet|grass|lawn|mat)",
+        "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
+        # Looking up at a part of it ("looking up at the shade", "looking up the trunk").
+        "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
 }
 # "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
@@ -963,14 +1037,14 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
 # specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
 VERTICAL_UP_DEG = -90.0
 VERTICAL_UP_PHRASES = [
-    "looking (straight|directly|vertically) up( at {obj})?",
+    "looking ({NEARLY} )?(straight|directly|vertically) up( at {obj})?",
     # The camera pointed vertically up ("pointing the lens straight up").
     "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
     "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
     # The zenith: the point straight above the camera.
     "(a |an |the )?zenith( (shot|view|angle|perspective))?",
     "from the ground( level)?( ,)? looking straight up( at {obj})?",
-    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
+    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj}| {P} {PARTS})?",
     "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
     "straight up at {obj}",
 ]
@@ -985,7 +1059,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
         "elevated (by )?{d}",
@@ -1005,7 +1079,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
-        "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
@@ -1026,6 +1100,17 @@ PLACE_PHRASES = [
 SEEN_PHRASES = [
     "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+]
+# Words that label or wrap the request and ask nothing of the camera: a shot list's slate ("SC 12",
+# "SHOT 6 -"), a screenplay's scene heading ("INT. LIVING ROOM - DAY"), courtesies ("if it isn't
+# too much trouble"); the axis a roll turns about
+# ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
+NOTE_PHRASES = [
+    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
+    "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
+    "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
 ]
 # Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
 # background"): it too is only asked to be seen as far as cues go, but the depth order is no
@@ -1055,7 +1140,11 @@ ROLL_PHRASES = {
         "dipping (to the )?{side}( by {d})?",
         # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
         # 10", "roll 5 degrees CCW").
-        "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} (of )?{dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
+        # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
+        "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve) "
+        "((by )?{d} {dir}|{dir} (by )?{d})",
         "(roll|rolled|rolling|cant|canted) it (by )?{d} {dir}",
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
         "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
@@ -1364,6 +1453,7 @@ PART_WORDS = frozenset(
         "shape",
         "outline",
         "silhouette",
+        *(w for parts in SUBJECT_PARTS.values() for part in parts for w in part.split()),
     }
 )
 SURROUNDINGS = frozenset(
@@ -1472,7 +1562,9 @@ PICTURE_NOUNS = frozenset(
     | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
 )
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
-GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
+GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"}) | {
+    w for speck in SPECK_WORDS for w in speck.split() if w not in ("on", "the")
+}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -1524,6 +1616,21 @@ _MACROS = {
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
+    # Moving the camera round ("drifting a little round to its left").
+    "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
+    "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
+    "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
+    # Close to: "almost straight up", "nearly vertically down".
+    "{NEARLY}": "(?:almost|nearly|near|practically|virtually|pretty much|more or less)",
+    "{CLASS}": _alternatives(CLASS_NOUNS, "(?:"),
+    "{SPECK}": _alternatives(SPECK_WORDS, "(?:"),
+    "{SUPPORT}": _alternatives(SUPPORT_SURFACES, "(?:"),
+    # A part of the subject ("its seat", "the shade", "the trunk").
+    "{PARTS}": _alternatives(
+        {p for parts in SUBJECT_PARTS.values() for p in parts}
+        | {"seat", "trunk", "branches", "branch", "leaves", "crown", "canopy", "shade", "screen", "underside", "belly"},
+        "(?:",
+    ),
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
     "{CLAUSE}": "(?<=[,;:.!?] )",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
@@ -1535,13 +1642,15 @@ _MACROS = {
 @dataclass(frozen=True)
 class _Rule:
     """One template: the field it sets and its value (for numbers: a sign multiplier); ``needs``:
-    strings every match holds (:func:`_required`), so a text lacking one is not searched."""
+    strings every match holds (:func:`_required`), and ``needs_any``: groups of strings of which
+    every match holds one (:func:`_required_any`), so a text lacking one is not searched."""
 
     field: str
     value: object
     pattern: re.Pattern
     weak: bool = False
     needs: tuple[str, ...] = ()
+    needs_any: tuple[tuple[str, ...], ...] = ()
 
 
 def _required(pattern: re.Pattern) -> tuple[str, ...]:
@@ -1566,6 +1675,49 @@ def _required(pattern: re.Pattern) -> tuple[str, ...]:
 
     walk(_re_parser.parse(pattern.pattern))
     return tuple(dict.fromkeys(r for r in out if len(r) >= 3))
+
+
+def _required_any(pattern: re.Pattern) -> tuple[tuple[str, ...], ...]:
+    """Groups of literal strings (3 characters or more) of which every match of ``pattern``
+    contains at least one: for each mandatory choice between alternatives ("(tight|close|big)"),
+    one string each alternative must hold (its longest literal run, or the strings of its own
+    first such group); a choice with an alternative holding none gives no group."""
+    groups: list[tuple[str, ...]] = []
+
+    def witnesses(items, mandatory: bool) -> list[str]:
+        """Strings of which a match of ``items`` (a sequence) holds one; empty when unknown.
+        ``mandatory``: every match of the whole pattern goes through ``items`` (not one
+        alternative of several), so its choices are groups of the pattern."""
+        found: list[tuple[str, ...]] = []
+        run: list[str] = []
+        for op, arg in items:
+            if op is _re_nodes.LITERAL:
+                run.append(chr(arg))
+                continue
+            if len(run) >= 3:
+                found.append(("".join(run),))
+            run = []
+            if op is _re_nodes.SUBPATTERN:
+                found += [tuple(w) for w in [witnesses(arg[-1], mandatory)] if w]
+            elif op in (_re_nodes.MAX_REPEAT, _re_nodes.MIN_REPEAT) and arg[0] >= 1:
+                found += [tuple(w) for w in [witnesses(arg[2], mandatory)] if w]
+            elif op is _re_nodes.BRANCH:
+                options = [witnesses(branch, False) for branch in arg[1]]
+                if all(options):
+                    group = tuple(dict.fromkeys(w for option in options for w in option))
+                    found.append(group)
+                    if mandatory:
+                        groups.append(group)
+        if len(run) >= 3:
+            found.append(("".join(run),))
+        # One string alone (the longest) says most; else the smallest group.
+        singles = [f[0] for f in found if len(f) == 1]
+        if singles:
+            return [max(singles, key=len)]
+        return list(min(found, key=len)) if found else []
+
+    witnesses(_re_parser.parse(pattern.pattern), True)
+    return tuple(dict.fromkeys(g for g in groups if len(g) > 1))
 
 
 def _compile(template: str) -> re.Pattern:
@@ -1645,6 +1797,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
@@ -1663,6 +1816,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
+    rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -1722,7 +1876,10 @@ class RuleParser:
     def __init__(self):
         rows = _templates()
         compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
-        self.rules = [_Rule(field, value, pattern, weak, _required(pattern)) for field, value, pattern, weak in compiled]
+        self.rules = [
+            _Rule(field, value, pattern, weak, _required(pattern), _required_any(pattern))
+            for field, value, pattern, weak in compiled
+        ]
         self.lexicon = _lexicon(rows)
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
@@ -1847,7 +2004,9 @@ class RuleParser:
             position += len(token) + 1
         found = []
         for rule in self.rules:
-            if not all(need in text for need in rule.needs):
+            if not all(need in text for need in rule.needs) or not all(
+                any(need in text for need in group) for group in rule.needs_any
+            ):
                 continue
             for m in rule.pattern.finditer(text):
                 found.append((rule, m, token_at[m.start()], token_at[m.end() + 1] if m.end() + 1 in token_at else len(tokens)))

@@ -98,6 +98,7 @@ SPELLINGS = {
     "lil": "little",
     "lvl": "level",
     "med": "medium",
+    "cam": "camera",
     # Directions said with a "-ward(s)" suffix are the plain direction ("looking upward a little").
     "upward": "up",
     "upwards": "up",
@@ -172,6 +173,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = s.replace("%", " percent ")
+    s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
     s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
@@ -181,37 +183,110 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _numbers(_turns(_hedges(_compounds(tokens))))
+    return _numbers(_turns(_hedges(_comparatives(_compounds(tokens)))))
 
 
 # Fractions of a full turn said as an angle ("a quarter turn round to its left").
 TURN_FRACTIONS = {"quarter": "90", "half": "180"}
+# A turn's share said as an ordinal ("a twelfth of a turn", "an eighth of a revolution", "one
+# sixteenth of a full rotation"): 360 degrees over the ordinal's number.
+TURN_ORDINALS = {
+    "half": 2,
+    "third": 3,
+    "quarter": 4,
+    "fifth": 5,
+    "sixth": 6,
+    "eighth": 8,
+    "ninth": 9,
+    "tenth": 10,
+    "twelfth": 12,
+    "sixteenth": 16,
+    "eighteenth": 18,
+    "twentieth": 20,
+    "twenty fourth": 24,
+    "thirty sixth": 36,
+}
+TURN_NOUNS = ("turn", "revolution", "rotation", "circle", "full turn", "full revolution", "full rotation", "full circle")
+ONE_ARTICLES = ("a", "an", "one")
+# The same share written with digits ("1/12 of a turn", "1/8th of a rotation").
+_TURN_SHARE = re.compile(
+    r"\b(\d+)\s*/\s*(\d+)(?:st|nd|rd|th)?\s+of\s+(?:a|one)\s+(?:full\s+)?(?:turn|revolution|rotation|circle)\b"
+)
+
+
+def _turn_degrees(numerator: int, denominator: int) -> str:
+    """``numerator/denominator`` of a full turn in degrees, as the digits :func:`words` writes."""
+    return f"{360.0 * numerator / max(denominator, 1):.4g}"
 
 
 def _turns(tokens: list[str]) -> list[str]:
     """ "quarter turn" / "half turn" as "90 degrees turn" / "180 degrees turn" (not after "three":
-    "three quarter" is a view)."""
+    "three quarter" is a view); "a twelfth of a turn" as "30 degrees" (:data:`TURN_ORDINALS`)."""
     out: list[str] = []
-    for k, token in enumerate(tokens):
+    k = 0
+    while k < len(tokens):
+        token = tokens[k]
         after, before = tokens[k + 1] if k + 1 < len(tokens) else "", out[-1] if out else ""
+        share = _turn_share(tokens, k)
+        if share is not None and before != "three":
+            degrees, k = share
+            if out and out[-1] in ONE_ARTICLES:
+                out.pop()
+            out += [degrees, "degrees"]
+            continue
         if token in TURN_FRACTIONS and after == "turn" and before != "three":
             out += [TURN_FRACTIONS[token], "degrees"]
         else:
             out.append(token)
+        k += 1
     return out
+
+
+def _turn_share(tokens: list[str], k: int) -> tuple[str, int] | None:
+    """(degrees, the index after the phrase) when ``tokens[k:]`` open with "<ordinal> of a
+    <turn>" (:data:`TURN_ORDINALS`, :data:`TURN_NOUNS`), else None."""
+    for ordinal, parts in TURN_ORDINALS.items():
+        said = ordinal.split()
+        if tokens[k : k + len(said)] != said:
+            continue
+        rest = k + len(said)
+        if tokens[rest : rest + 1] != ["of"] or tokens[rest + 1 : rest + 2] not in (["a"], ["one"]):
+            return None
+        for noun in sorted(TURN_NOUNS, key=len, reverse=True):
+            noun_words = noun.split()
+            if tokens[rest + 2 : rest + 2 + len(noun_words)] == noun_words:
+                return _turn_degrees(1, parts), rest + 2 + len(noun_words)
+        return None
+    return None
+
+
+# Hedges after a number ("50-odd degrees", "30ish", "40 or so"): the number itself, whose
+# tolerance already allows for the hedge.
+NUMBER_HEDGES = ("odd", "ish", "or so", "or thereabouts")
 
 
 def _hedges(tokens: list[str]) -> list[str]:
     """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
-    "highish" -> "a bit high")."""
+    "highish" -> "a bit high"); after a number a hedge of :data:`NUMBER_HEDGES` is dropped ("50
+    odd" -> "50"), as is "-ish" after any other word ("macro-ish": a shot word's own range
+    allows for it)."""
     out: list[str] = []
-    for token in tokens:
+    k = 0
+    while k < len(tokens):
+        token = tokens[k]
+        hedge = next((h.split() for h in NUMBER_HEDGES if tokens[k : k + len(h.split())] == h.split()), None)
+        if hedge and out and NUMBER.fullmatch(out[-1]):
+            k += len(hedge)
+            continue
         if token == "ish" and out and out[-1] in HEDGED_WORDS:
             out[-1:] = ["a", "bit", out[-1]]
+        elif token == "ish" and out and out[-1].isalpha():
+            pass
         elif token.endswith("ish") and _hedged(token[:-3]):
             out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
+        k += 1
     return out
 
 
@@ -222,6 +297,33 @@ def _hedged(stem: str) -> str | None:
         if word in HEDGED_WORDS:
             return word
     return None
+
+
+# "more X" said for a short adjective's comparative ("a little more high than", "go more far"),
+# as people writing in a second language do: read as the comparative.
+COMPARATIVES = {
+    "high": "higher",
+    "low": "lower",
+    "far": "farther",
+    "close": "closer",
+    "near": "nearer",
+    "big": "bigger",
+    "large": "larger",
+    "small": "smaller",
+    "wide": "wider",
+    "tight": "tighter",
+}
+
+
+def _comparatives(tokens: list[str]) -> list[str]:
+    """ "more high" -> "higher" (:data:`COMPARATIVES`)."""
+    out: list[str] = []
+    for token in tokens:
+        if out and out[-1] == "more" and token in COMPARATIVES:
+            out[-1] = COMPARATIVES[token]
+        else:
+            out.append(token)
+    return out
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -303,7 +405,7 @@ FILLER_WORDS = frozenset(
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
-    fancy nothing
+    fancy nothing color colors tones vibe vibes
     too well visible included inside until while when because""".split()
 )
 
@@ -470,6 +572,40 @@ EYE_VIEWS = {
     "low angle": ("frog", "mouse", "dog", "cat", "pet"),
 }
 
+# Parts of the catalog's kinds of things, by kind: a camera level with one (or at its height) is
+# level with the subject ("lens level with its snout", "at bonnet height", "crouched down to its
+# roofline"); a part is never a subject. Parts at a subject's foot are not here ("roots": low).
+SUBJECT_PARTS = {
+    "vehicle": (
+        "bonnet",
+        "hood",
+        "roof",
+        "roofline",
+        "roof line",
+        "bumper",
+        "bumpers",
+        "windows",
+        "headlight",
+        "headlights",
+        "headlamp",
+        "headlamps",
+        "grille",
+        "grill",
+        "hubcap",
+        "hubcaps",
+        "wheel arch",
+        "wheel arches",
+        "dashboard",
+        "trunk lid",
+        "number plate",
+        "license plate",
+        "licence plate",
+    ),
+    "creature": ("snout", "muzzle", "ears", "ear", "paw", "paws", "tummy", "eyes", "whiskers", "bow tie"),
+    "furniture": ("backrest", "back rest", "armrest", "armrests", "arms", "seat cushions", "cushions", "headrest"),
+    "thing": ("lid", "rim", "spout", "knob", "dial", "lampshade", "middle shelf"),
+}
+
 # Heights named by what stands at them, each read as one elevation class of
 # :data:`~capframe.constraints.ELEVATIONS`: a body or a surface the subject sits on is level with
 # it ("chest height", "at table height", "at its own height"); the ground, the floor, a knee or a
@@ -517,13 +653,32 @@ HEIGHT_ANCHORS = {
         "neck",
         "torso",
         "handle",
+        # Any part of the subject itself ("lens down at bonnet height", "level with its snout",
+        # "crouched down to its roofline"): the camera at the subject's own height.
+        *(part for parts in SUBJECT_PARTS.values() for part in parts),
     ),
-    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe"),
+    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe", "root", "roots"),
 }
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
-# right", "sofa tiny in the upper half", "TV big and square on").
+# right", "sofa tiny in the upper half", "TV big and square on"), or after a verb of being or
+# seeming ("it must be big", "make the fridge look massive").
 SIZE_WORDS = {
-    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter", "bigger", "larger"),
+    "close-up": (
+        "big",
+        "large",
+        "huge",
+        "massive",
+        "enormous",
+        "giant",
+        "gigantic",
+        "prominent",
+        "close",
+        "tight",
+        "closer",
+        "tighter",
+        "bigger",
+        "larger",
+    ),
     "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider"),
 }
 # Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
@@ -607,6 +762,27 @@ FRAME_FRACTIONS = {
     "three quarters": 0.75,
     "four fifths": 0.8,
 }
+# What a subject seen very small is likened to ("the ball a speck in the middle", "the bench just
+# a dot"): wide; never a subject of its own.
+SPECK_WORDS = ("speck", "dot", "spot", "pinprick", "pin prick", "blip", "pinhead", "smudge", "blob", "dot on the horizon")
+# Nouns for the kind of thing a subject is ("the full vehicle in frame", "the whole animal"):
+# the subject itself, wherever a name would stand in a size phrase.
+CLASS_NOUNS = (
+    "vehicle",
+    "animal",
+    "creature",
+    "object",
+    "item",
+    "figure",
+    "body",
+    "subject",
+    "appliance",
+    "machine",
+    "furniture",
+    "piece of furniture",
+    "structure",
+    "thing",
+)
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
 
@@ -633,6 +809,72 @@ NAME_SYNONYMS = (
     ("tree", "small tree", "sapling"),
 )
 
+
+# What a camera below the subject's support is under, or looks up through ("from below the
+# floorboards", "underground, looking up through the grass", "pointing up through the wood"):
+# the worm's-eye view from under the support.
+SUPPORT_SURFACES = (
+    "floor",
+    "floorboards",
+    "floorboard",
+    "floor boards",
+    "boards",
+    "planks",
+    "decking",
+    "ground",
+    "earth",
+    "soil",
+    "dirt",
+    "turf",
+    "grass",
+    "lawn",
+    "pavement",
+    "paving",
+    "tarmac",
+    "concrete",
+    "tiles",
+    "carpet",
+    "rug",
+    "tabletop",
+    "table top",
+    "table surface",
+    "surface",
+    "wood",
+    "glass",
+)
+# Labels of a shot list or screenplay that name no constraint: a slate ("SC 12", "SHOT 6",
+# "take 3") and a scene heading ("INT. LIVING ROOM - DAY", "EXT. GARDEN").
+SLATE_LABELS = ("sc", "scene", "shot", "take", "setup", "set up", "slate", "panel", "board", "storyboard", "no", "number")
+SCENE_HEADINGS = ("int", "ext", "int ext", "ext int", "i e", "interior", "exterior")
+HEADING_TIMES = ("day", "night", "morning", "evening", "dusk", "dawn", "continuous", "later", "same")
+# Whole phrases of politeness that ask nothing of the camera ("if it isn't too much trouble",
+# "thank you so much"), in normalised words, as "please" and "thanks" alone.
+COURTESIES = (
+    "if it isn t too much trouble",
+    "if it is not too much trouble",
+    "if it s not too much trouble",
+    "if it s no trouble",
+    "if you don t mind",
+    "if you do not mind",
+    "if you wouldn t mind",
+    "if possible",
+    "if you can",
+    "when you get a chance",
+    "when you have a moment",
+    "thank you so much",
+    "thank you very much",
+    "thanks so much",
+    "thanks very much",
+    "thanks a lot",
+    "thanks a bunch",
+    "many thanks",
+    "much appreciated",
+    "it would be great",
+    "that would be great",
+    "that would be lovely",
+    "that d be great",
+    "no rush",
+)
 
 # --- matching ---------------------------------------------------------------------------------
 
@@ -681,6 +923,10 @@ ATTRIBUTES = COLORS | {
     "little",
     "tiny",
     "huge",
+    "giant",
+    "enormous",
+    "gigantic",
+    "massive",
     "tall",
     "short",
     "old",
