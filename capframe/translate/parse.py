@@ -274,8 +274,8 @@ COPULA_SIZE = (
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |nice and |{VERY} |{WEAK} |extra )?{WORD}"
-    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
+    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra )?{WORD}"
+    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but ))"
 )
 
 SHOT_CLAUSES = {
@@ -300,6 +300,9 @@ SHOT_CLAUSES = {
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        # Moving nearer ("move a bit more close", "step closer to it").
+        "(go|going|move|moving|step|stepping|get|getting|come|coming|push|pushing|creep|creeping|lean|leaning) "
+        "((a bit|a little|much|way|well|{WEAK}) )?(closer|nearer)( in)?( to {obj})?",
         "(move|moving|come|coming|go|going|push|pushing|pushed|get|getting|punch|punching|punched|dolly|dollying|crop|cropping"
         "|cut|cutting|creep|creeping|lean|leaning) (right |way )?in( close| closer| tight| tighter)?( (on|to|at) {obj})?",
         "(get|getting|go|going|come|coming|move|moving) (right |really )?(up )?close( (to|on) {obj})?",
@@ -745,13 +748,14 @@ SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
     # Said off the front it starts from ("from slightly to the right of the front").
-    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of (the|{P}) front( of {obj})?",
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of ((the|{P}) front( of {obj})?|{FRONT_ON})",
     "{WEAK} " + LATERAL_OWN,
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
     # Moved a little round towards a side ("back of the teddy, drifting a little round to its left").
-    "({MOVE} )?{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)?",
+    "{MOVE} {WEAK} (a?round |over |across )?(to|towards) (the|{P}) {LAT}( hand)?{PART}",
+    "{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?{PART}",
     "({MOVE} )?(a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$|and |with |from |at ))",
 ]
 # Off a side towards an end, short of the diagonal ("from its right side, a little towards the
@@ -1620,6 +1624,8 @@ _MACROS = {
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
     "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
+    # The front said as the camera's straight-on line ("a touch to his right of dead front").
+    "{FRONT_ON}": "(?:(?:dead|straight|square|head|full) (?:front|on)|dead ahead|straight ahead|(?:the )?center)",
     # Close to: "almost straight up", "nearly vertically down".
     "{NEARLY}": "(?:almost|nearly|near|practically|virtually|pretty much|more or less)",
     "{CLASS}": _alternatives(CLASS_NOUNS, "(?:"),
@@ -1628,7 +1634,8 @@ _MACROS = {
     # A part of the subject ("its seat", "the shade", "the trunk").
     "{PARTS}": _alternatives(
         {p for parts in SUBJECT_PARTS.values() for p in parts}
-        | {"seat", "trunk", "branches", "branch", "leaves", "crown", "canopy", "shade", "screen", "underside", "belly"},
+        | (PART_WORDS - {"detail", "details", "texture", "surface", "shape", "outline", "silhouette"})
+        | {"crown", "canopy", "underside", "belly"},
         "(?:",
     ),
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").

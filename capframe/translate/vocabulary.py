@@ -179,6 +179,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
+    s = re.sub(r"\b(i|we|you|they)'d\b", r"\1 would", s)  # "I'd like": not a stray "d"
     s = re.sub(r"'(?!s\b)", " ", s)  # other apostrophes ("don't") only split words
     tokens = []
     for token in _TOKEN.findall(s):
