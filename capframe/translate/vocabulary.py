@@ -184,7 +184,7 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _numbers(_turns(_hedges(_comparatives(_compounds(tokens)))))
+    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(tokens))))))
 
 
 # Fractions of a full turn said as an angle ("a quarter turn round to its left").
@@ -268,25 +268,32 @@ NUMBER_HEDGES = ("odd", "ish", "or so", "or thereabouts")
 
 def _hedges(tokens: list[str]) -> list[str]:
     """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
-    "highish" -> "a bit high"); after a number a hedge of :data:`NUMBER_HEDGES` is dropped ("50
-    odd" -> "50"), as is "-ish" after any other word ("macro-ish": a shot word's own range
-    allows for it)."""
+    "highish" -> "a bit high"); after any other word it is dropped ("macro-ish": a shot word's
+    own range allows for it)."""
     out: list[str] = []
-    k = 0
-    while k < len(tokens):
-        token = tokens[k]
-        hedge = next((h.split() for h in NUMBER_HEDGES if tokens[k : k + len(h.split())] == h.split()), None)
-        if hedge and out and NUMBER.fullmatch(out[-1]):
-            k += len(hedge)
-            continue
+    for token in tokens:
         if token == "ish" and out and out[-1] in HEDGED_WORDS:
             out[-1:] = ["a", "bit", out[-1]]
         elif token == "ish" and out and out[-1].isalpha():
-            pass
+            continue
         elif token.endswith("ish") and _hedged(token[:-3]):
             out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
+    return out
+
+
+def _number_hedges(tokens: list[str]) -> list[str]:
+    """A hedge of :data:`NUMBER_HEDGES` after a number dropped ("50 odd", "30 ish", "20 or so" ->
+    the number)."""
+    out: list[str] = []
+    k = 0
+    while k < len(tokens):
+        hedge = next((h.split() for h in NUMBER_HEDGES if tokens[k : k + len(h.split())] == h.split()), None)
+        if hedge and out and NUMBER.fullmatch(out[-1]):
+            k += len(hedge)
+            continue
+        out.append(tokens[k])
         k += 1
     return out
 
