@@ -770,3 +770,30 @@ def test_required_any_groups_every_match_holds_one_of():
     assert _required_any(re.compile("(?:abcd|xy)")) == ()
     # Nested: each branch's own longest literal.
     assert _required_any(re.compile("(?:xyz(?:abc|def)|ghi)")) == (("xyz", "ghi"),)
+
+
+MORE_PROBES = [
+    # The camera placed with other verbs, heights joined to a side by "and".
+    ("sofa, camera parked behind it and slightly up", one(SOFA, view="back", elevation="slightly above")),
+    ("the mug from above and to the left", one(MUG, view="left", elevation="high angle")),
+    ("the bench from behind and above", one(BENCH, view="back", elevation="high angle")),
+    ("the teddy from the front and below", one(BEAR, view="front", elevation="low angle")),
+    # Degrees after a named height or a pointing verb; a pitch in degrees stays a hint.
+    ("a high shot of the mug, about 35 degrees", one(MUG, elevation_deg=35.0)),
+    ("the tv, camera tilted down at it about 20 degrees", one(TV, elevation_deg=20.0)),
+    ("the toy car, lens angled 15 degrees upward", one(CAR, elevation="low angle")),
+    ("the bench photographed from beneath at a steep angle", one(BENCH, elevation="worm's-eye")),
+    # Rolls said as a turn or towards a side.
+    ("the sofa, camera twisted a quarter turn clockwise", one(SOFA, roll_deg=90.0)),
+    ("roll the camera twenty degrees to the left, the bench", one(BENCH, roll_deg=-20.0)),
+    # Distances and facing away.
+    ("get right up to the mug", one(MUG, shot="close-up")),
+    ("the bench from a long way off", one(BENCH, shot="wide")),
+    ("the toy car driving away from us", one(CAR, view="back")),
+    ("the teddy, back turned to the camera", one(BEAR, view="back")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(MORE_PROBES))
+def test_camera_verbs_heights_joined_by_and_pitches_turns_and_facing_away(text, want):
+    assert read(text) == want

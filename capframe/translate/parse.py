@@ -300,6 +300,9 @@ SHOT_CLAUSES = {
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        # Right up to it ("get right up to the mug").
+        "(get|getting|go|going|come|coming|move|moving|step|stepping|walk|walking) (right |really )?up "
+        "(to|close to|next to) {obj}",
         # Moving nearer ("move a bit more close", "step closer to it").
         "(go|going|move|moving|step|stepping|get|getting|come|coming|push|pushing|creep|creeping|lean|leaning) "
         "((a bit|a little|much|way|well|{WEAK}) )?(closer|nearer)( in)?( to {obj})?",
@@ -359,6 +362,7 @@ SHOT_CLAUSES = {
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        "(from )?(a )?(long|great|good) way (off|away|back)",
         "far (away )?from {obj}",
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
@@ -521,7 +525,7 @@ SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
     "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
-    "( (placed|positioned|located|set|standing|put|kept))?"
+    "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
     "front": ["front", "face", "front end"],
@@ -613,6 +617,11 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?=
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 # A left or right side said as the clause right after its subject ("armchair: right side, half the
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
+# A side joined to a height ("from above and to the left"): the camera's, not the frame's.
+SIDE_AFTER_HEIGHT = (
+    "(?:(?<=above )|(?<=below )|(?<=overhead )|(?<=high )|(?<=low ))and (off )?(to|on|from) (the|{P}) {LAT}( hand)?( side)?"
+    "(?! (of|in) )"
+)
 SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
@@ -632,7 +641,10 @@ VIEW_PHRASES = {
     ],
     "back": [
         SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
-        "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
+        "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
+        "( from (the (camera|viewer|lens)|us|me))?",
+        # Its back to the camera, said without "with" ("the teddy, back turned to the camera").
+        "((the|{P}) )?(back|rear|backside|tail end) (turned )?(to|towards|facing) (the (camera|viewer|lens)|us|me)",
         CAMERA + " behind {obj}",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
@@ -918,6 +930,7 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed) )?from the top",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
@@ -972,6 +985,7 @@ ELEVATION_PHRASES = {
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
+        "from (below|beneath|underneath)( ,)? (at )?(a )?(steep|sharp) angle",
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
@@ -994,8 +1008,11 @@ ELEVATION_HINTS = {
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
+        "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        # A height joined to a side ("from behind and above").
+        "(?<= and )(from )?(above|overhead|up high|high up)(?= ([,.;!]|$))",
     ],
     "bird's-eye": [
         "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
@@ -1020,12 +1037,15 @@ ELEVATION_HINTS = {
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
+        # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
+        "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
         CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
         # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
         "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
         "(floor|ground|rug|carpet|grass|lawn|mat)",
         "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
+        "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
         # Looking up at a part of it ("looking up at the shade", "looking up the trunk").
         "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
@@ -1064,6 +1084,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
         "elevated (by )?{d}",
@@ -1084,6 +1105,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
@@ -1146,6 +1168,8 @@ ROLL_PHRASES = {
         # 10", "roll 5 degrees CCW").
         "(a |an )?{d} (of )?{dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
         "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
+        "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
+        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
         # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
         "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve) "
         "((by )?{d} {dir}|{dir} (by )?{d})",
@@ -1610,7 +1634,7 @@ _MACROS = {
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
-    "(?: (?:view|shot|angle|perspective))?|from above)",
+    "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
     "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
     "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
@@ -1805,6 +1829,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
