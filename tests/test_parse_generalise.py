@@ -797,3 +797,24 @@ MORE_PROBES = [
 @pytest.mark.parametrize("text, want", rows(MORE_PROBES))
 def test_camera_verbs_heights_joined_by_and_pitches_turns_and_facing_away(text, want):
     assert read(text) == want
+
+
+THIRD_PROBES = [
+    ("the sofa, camera rotated fourty degrees clockwise", one(SOFA, roll_deg=40.0)),  # a number word misspelt
+    ("the mug, camera elevated by roughly fifteen degrees", one(MUG, elevation_deg=15.0)),
+    ("the mug from a really low angle", one(MUG, elevation="low angle")),
+    ("the teddy from just off its left shoulder", one(BEAR, view="left")),
+    ("photograph the bench, camera behind and slightly left", one(BENCH, view="back-slight-left")),
+    ("the bench, camera in front and right", one(BENCH, view="front-right")),
+    ("the sofa, medium-wide", one(SOFA, shot="medium")),
+    ("the bench, wide establishing shot from the front", one(BENCH, shot="wide", view="front")),
+    ("a tight headshot of the teddy", one(BEAR, shot="close-up")),
+    ("the toy car bottom-centre", one(CAR, region="bottom")),
+    ("the mug top centre", one(MUG, region="top")),
+    ("the bench nudged to the right side of the frame", one(BENCH, region="right")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(THIRD_PROBES))
+def test_misspelt_numbers_bare_sides_after_an_end_shot_nouns_taken_by_a_view_and_edge_centres(text, want):
+    assert read(text) == want

@@ -188,7 +188,7 @@ from .vocabulary import (
 
 FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
-SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
+SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop|headshot)"
 HEAD_LINK = "(of|with|showing|featuring)"
 
 # Heads introduce the subject and ask nothing themselves.
@@ -335,7 +335,7 @@ SHOT_CLAUSES = {
         "not (too |so |that |overly |very )(close|tight)"
         "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide)( away)?)?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
-        ALONE.replace("{WORD}", "(medium|mid)"),
+        ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
@@ -409,13 +409,15 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # "up in the top half").
 REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
-    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be) )?"
+    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
+    "|nudged|moved|slid|pulled|set) )?"
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
 REGION_AREAS = {
     "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
     "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
+    # The middle of the top or bottom edge is that half ("bottom-centre", "top middle").
     "top": [
         "top",
         "top half",
@@ -427,6 +429,9 @@ REGION_AREAS = {
         "top side",
         "top third",
         "upper third",
+        "top center",
+        "top middle",
+        "upper center",
     ],
     "bottom": [
         "bottom",
@@ -439,6 +444,9 @@ REGION_AREAS = {
         "bottom side",
         "bottom third",
         "lower third",
+        "bottom center",
+        "bottom middle",
+        "lower center",
     ],
     "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
@@ -745,6 +753,9 @@ LONGITUDINAL = {
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
 COMBINED_VIEW_FRAMES = [
     ("", "{LON} (and )?{LATERAL}"),
+    # The side said bare after the end ("camera behind and left", "behind and slightly right").
+    ("", "{LON}( ,)? and {LAT}( hand)?( side)?(?= ([,.;!]|$))"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} (to )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"),
     ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
     ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
     ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
@@ -914,6 +925,7 @@ ELEVATION_PHRASES = {
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
+        "(from |in |with )?(a |an )?{VERY} high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
         "with the camera (well|high|far) above {obj}",
         "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
@@ -954,6 +966,7 @@ ELEVATION_PHRASES = {
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
+        "(from |in |with )?(a |an )?{VERY} low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
@@ -1087,7 +1100,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
-        "elevated (by )?{d}",
+        "elevated (by )?({ABOUT} )?{d}",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
         "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
@@ -1779,6 +1792,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} {SHOT_NOUN}{link}", False))
+        # Its noun may belong to a view after it ("a wide establishing | shot from the front").
+        rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)}(?= {SHOT_NOUN} (from|at|in|with) )", False))
         if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
             rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]

@@ -98,6 +98,9 @@ SPELLINGS = {
     "lil": "little",
     "lvl": "level",
     "med": "medium",
+    # Number words misspelt as people often do.
+    "fourty": "forty",
+    "ninty": "ninety",
     "cam": "camera",
     # Directions said with a "-ward(s)" suffix are the plain direction ("looking upward a little").
     "upward": "up",
@@ -551,7 +554,20 @@ HEAD_ON_WORDS = (
 TAIL_ON_WORDS = ("tail", "rear", "stern", "butt")
 # Parts of a subject that lie on one side of it: naming one names that side ("its left flank",
 # "from its right arm end", "the fridge's left-hand side panel").
-SIDE_PARTS = ("side", "profile", "flank", "end", "hand end", "hand side", "arm", "arm end", "side panel", "panel", "corner")
+SIDE_PARTS = (
+    "side",
+    "profile",
+    "flank",
+    "end",
+    "hand end",
+    "hand side",
+    "arm",
+    "arm end",
+    "side panel",
+    "panel",
+    "corner",
+    "shoulder",
+)
 # Parts found only at one end of a subject: naming one names that end ("the bench's backrest
 # side", "its tail lights", "the grille of the car").
 END_PARTS = {
@@ -705,6 +721,8 @@ SIZE_IDIOMS = {
         "crop in",
         "cut in",
         "tighten up",
+        "headshot",
+        "head shot",
         "fill up the frame",
         "macro",
         # Framings named by where the figure is cut: part of it fills the frame, whatever film
