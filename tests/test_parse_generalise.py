@@ -818,3 +818,10 @@ THIRD_PROBES = [
 @pytest.mark.parametrize("text, want", rows(THIRD_PROBES))
 def test_misspelt_numbers_bare_sides_after_an_end_shot_nouns_taken_by_a_view_and_edge_centres(text, want):
     assert read(text) == want
+
+
+def test_a_camera_inside_its_subject_is_reported_not_dropped():
+    """ "Inside" asks something no constraint holds: it stays not understood (so no report claims
+    every clause holds), while "inside the frame" only asks the subject to be seen."""
+    assert read("the sofa, camera inside the sofa")["not_understood"] == ["inside"]
+    assert read("the mug, visible inside the frame") == one(MUG)

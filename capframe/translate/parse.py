@@ -1137,7 +1137,7 @@ PLACE_PHRASES = [
 # said in a later clause of its own; those belong to the subject the picture is of ("cushion
 # bottom left, bench in the frame too, wide": a wide cushion).
 SEEN_PHRASES = [
-    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
+    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within|inside) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
 ]
 # Words that label or wrap the request and ask nothing of the camera: a shot list's slate ("SC 12",
