@@ -825,3 +825,25 @@ def test_a_camera_inside_its_subject_is_reported_not_dropped():
     every clause holds), while "inside the frame" only asks the subject to be seen."""
     assert read("the sofa, camera inside the sofa")["not_understood"] == ["inside"]
     assert read("the mug, visible inside the frame") == one(MUG)
+
+
+FOURTH_PROBES = [
+    ("the mug at a 45 degree angle looking down", one(MUG, elevation_deg=45.0)),
+    ("looking up at the tv at a 30 degree angle", one(TV, elevation_deg=-30.0)),
+    ("the teddy at minus 15 degrees elevation", one(BEAR, elevation_deg=-15.0)),
+    ("the bench, camera 25 degrees under it", one(BENCH, elevation_deg=-25.0)),
+    ("the teddy from way below", one(BEAR, elevation="low angle")),
+    ("the bench so it just fits in the frame", one(BENCH, shot="medium")),
+    ("the toy car so it only just fits", one(CAR, shot="medium")),
+    ("the toy car with its nose pointing at the camera", one(CAR, view="front")),
+    ("the toy car, camera cocked 12 degrees clockwise", one(CAR, roll_deg=12.0)),
+    ("a canted 8 degree frame of the mug", one(MUG, roll_deg=8.0)),
+    ("the sofa with a clockwise dutch of 20 degrees", one(SOFA, roll_deg=20.0)),
+    # The horizon's right end dipping is the picture turned clockwise: the camera rolled the other way.
+    ("horizon sloping down to the right, the bench", one(BENCH, roll_deg=-15.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(FOURTH_PROBES))
+def test_degrees_with_a_pointing_verb_fitting_just_in_noses_at_the_lens_and_canted_frames(text, want):
+    assert read(text) == want

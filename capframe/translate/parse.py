@@ -344,6 +344,8 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
+        "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
         # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
         "(the |{P} )?(whole|entire|full|complete) {CLASS}( (is )?(in|inside|within) (the )?({FRAME}|view))?"
         "( visible| in view| showing)?",
@@ -639,6 +641,9 @@ VIEW_PHRASES = {
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
         # The subject moving or pointing at the camera ("the car driving towards us").
+        # Its front pointed at the camera ("with its nose pointing at the camera").
+        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) (straight )?"
+        "(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
@@ -973,6 +978,7 @@ ELEVATION_PHRASES = {
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
         "(well|far) (below|under|beneath) eye (level|height)",
+        "(from )?(well|far|way) (below|beneath|under)( {obj})?",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
     "slightly below": [
@@ -1099,7 +1105,11 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
-        "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
+        "(at |from |with )?(an |a )?{sd} (elevation|elevation angle)",
+        "(at |from |with )?(an |a )?{d} (high angle|down angle)",
+        # Degrees and the way the camera points ("at a 45 degree angle looking down").
+        "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) down( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
         "elevated (by )?({ABOUT} )?{d}",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
@@ -1113,6 +1123,9 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
+        "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
         "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
@@ -1161,7 +1174,7 @@ DEPTH_WORDS = frozenset({"behind", "beyond", "background", "back", "distance", "
 ROLL_PHRASES = {
     1.0: [
         "(with )?(a |an )?{d}( {dir})? (dutch|canted)( (angle|tilt))?",
-        "(with )?(a |an )?({dir} )?(dutch|canted) (angle|tilt)( of)? {d}( {dir})?",
+        "(with )?(a |an )?({dir} )?(dutch|canted)( (angle|tilt))?( of)? {d}( {dir})?( (frame|shot|view|composition))?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) {dir} (by )?{d}",
@@ -1184,7 +1197,7 @@ ROLL_PHRASES = {
         "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
         "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
         # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
-        "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve) "
+        "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve|cocked|cock) "
         "((by )?{d} {dir}|{dir} (by )?{d})",
         "(roll|rolled|rolling|cant|canted) it (by )?{d} {dir}",
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
@@ -1199,7 +1212,7 @@ ROLL_PHRASES = {
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted|leaning) "
-        "({WEAKROLL} |(by )?{d} )?(to the |towards the )?{side}",
+        "({WEAKROLL} |(by )?{d} )?(down |downwards |downward )?(to the |towards the )?{side}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
