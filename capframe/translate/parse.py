@@ -123,7 +123,20 @@ Mappings that are choices (the phrase tables are the full list):
   (``SIDE_PARTS``: "its right arm end", "the left-hand side panel"), nadir / zenith, a heroic
   angle (low), "N degrees up", an area "of the frame" without a preposition ("bottom right of the
   frame"). Words that ask nothing beyond a subject's being seen are understood and ask nothing:
-  where it rests ("the bear on the floor"), "in the same shot", mood words ("a cosy shot").
+  where it rests ("the bear on the floor"), "in the same shot", mood words ("a cosy shot");
+* more families of the same kind: a turn's share as an angle ("a twelfth of a turn", "1/8 of a
+  rotation": 360/N), a comparative said with "more" ("a little more high than it"), a hedged
+  number ("50-odd", "30ish", "20 or so"), a part of the subject as its height (``SUBJECT_PARTS``:
+  "at bonnet height", "level with its snout", "crouched down to its roofline": eye level), the
+  support the subject stands on (``SUPPORT_SURFACES``: "below the floorboards", "underground",
+  "through the grass": worm's-eye), a size after a verb of being ("it must be big", "look
+  massive") or likened to a speck (``SPECK_WORDS``: "the ball a speck"), the whole of its kind
+  (``CLASS_NOUNS``: "full vehicle in frame"), slates and scene headings (``SLATE_LABELS``,
+  ``SCENE_HEADINGS``: "SC 12", "INT. LIVING ROOM - WIDE") and courtesies (``COURTESIES``) that
+  ask nothing, a roll spun about the lens axis or "N degrees of clockwise roll", a side "off" the
+  subject ("off its left-hand flank"), a slight side drifted round to ("back of the bear,
+  drifting a little round to its left"), a height joined to a side by "and" ("from above and to
+  the left"), a corner said with a height ("low in the right corner").
 """
 
 from __future__ import annotations
