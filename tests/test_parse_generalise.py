@@ -847,3 +847,23 @@ FOURTH_PROBES = [
 @pytest.mark.parametrize("text, want", rows(FOURTH_PROBES))
 def test_degrees_with_a_pointing_verb_fitting_just_in_noses_at_the_lens_and_canted_frames(text, want):
     assert read(text) == want
+
+
+FIFTH_PROBES = [
+    # "A little more" is a degree, never a subject; said after an end it is the slight side.
+    ("the mug from its front, but a little more to the right", one(MUG, view="front-slight-right")),
+    ("the toy car with the camera a touch left of dead behind", one(CAR, view="back-slight-left")),
+    # A side said after a view's noun completes it; a diagonal said as a place is the camera's.
+    ("the teddy from a rear three quarter angle on its right side", one(BEAR, view="back-right")),
+    ("the toy car from a low three-quarter angle at the front right", one(CAR, view="front-right", elevation="low angle")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(FIFTH_PROBES))
+def test_more_as_a_degree_sides_after_a_view_noun_and_diagonals_as_places(text, want):
+    assert read(text) == want
+
+
+def test_a_little_more_alone_is_never_a_subject():
+    got = read("the sofa a little more to the left")
+    assert got["subjects"] == [(SOFA, "left", None, None)] and got["not_understood"] == ["little more"]

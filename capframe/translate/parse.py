@@ -598,7 +598,9 @@ for _lat in ("left", "right"):
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
     # The side said as a place after the diagonal's end ("rear three-quarter on the right").
-    VIEW_SIDE_WORDS[f"back-{_lat}"].append(f"(back|rear) three quarters? (on|to|from|at) the {_lat}( hand)?( side)?")
+    VIEW_SIDE_WORDS[f"back-{_lat}"].append(
+        f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
+    )
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -644,6 +646,12 @@ VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle
 SIDE_AFTER_HEIGHT = (
     "(?:(?<=above )|(?<=below )|(?<=overhead )|(?<=high )|(?<=low ))and (off )?(to|on|from) (the|{P}) {LAT}( hand)?( side)?"
     "(?! (of|in) )"
+)
+# A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
+# side"): it completes that view (:data:`VIEW_COMBINATIONS`).
+SIDE_AFTER_VIEW = (
+    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
+    "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
 )
 SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
 VIEW_PHRASES = {
@@ -776,7 +784,7 @@ COMBINED_VIEW_FRAMES = [
     ("slight", "{LON}( ,)? (and |but )?{WEAK} (to )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"),
     ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
     ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
-    ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} (more )?{LATERAL}"),
     ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
 ]
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
@@ -799,6 +807,11 @@ SLIGHT_VIEW_FRAMES = [
     "{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?{PART}",
     "({MOVE} )?(a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$|and |with |from |at ))",
 ]
+# A slight side said off the back ("a touch left of dead behind"): the slight side of the back.
+BACK_SLIGHT_VIEW = (
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of "
+    "((the|{P}) (back|rear)( of {obj})?|(dead|straight|directly|right) behind)"
+)
 # Off a side towards an end, short of the diagonal ("from its right side, a little towards the
 # front": ``right-slight-front``).
 SIDE_SLIGHT_VIEW_FRAMES = [
@@ -1464,6 +1477,9 @@ POSITION_WORDS = frozenset(
 # never a subject ("the bear a bit to the right" names no object "bit").
 DEGREE_WORDS = frozenset(
     {
+        "more",
+        "less",
+        "much",
         "slightly",
         "somewhat",
         "marginally",
@@ -1862,15 +1878,19 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
+        if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
+            rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        rows.append(("view", f"back-slight-{lat}", BACK_SLIGHT_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
