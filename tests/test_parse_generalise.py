@@ -867,3 +867,10 @@ def test_more_as_a_degree_sides_after_a_view_noun_and_diagonals_as_places(text, 
 def test_a_little_more_alone_is_never_a_subject():
     got = read("the sofa a little more to the left")
     assert got["subjects"] == [(SOFA, "left", None, None)] and got["not_understood"] == ["little more"]
+
+
+def test_plus_joins_subjects_and_a_pair_is_never_a_subject():
+    assert read("the mug plus the teddy in view") == {**one(MUG), "subjects": [(MUG, None, None, None), (BEAR, None, None, None)]}
+    assert read("the mug, plus the bench on the right")["subjects"] == [(MUG, None, None, None), (BENCH, "right", None, None)]
+    with pytest.raises(InputError, match="no subject in"):
+        parse_instruction("the pair of them from above", SCENE)

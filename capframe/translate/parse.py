@@ -1645,11 +1645,11 @@ PICTURE_NOUNS = frozenset(
     | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
 )
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
-GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"}) | {
+GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece", "pair"}) | {
     w for speck in SPECK_WORDS for w in speck.split() if w not in ("on", "the")
 }
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
-CONJUNCTIONS = frozenset({"and", "or"})
+CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
 
 SUBJECT_FIELDS = ("region", "shot", "view")

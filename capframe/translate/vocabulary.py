@@ -407,7 +407,7 @@ def singular(word: str) -> str:
 # (:meth:`~capframe.translate.instruction.ParsedInstruction.not_understood`).
 FILLER_WORDS = frozenset(
     """a an the this that these those it its them their his her my our your me us we i you 's
-    of with and or in on at to from by for as so but into onto about then also both there here
+    of with and or plus in on at to from by for as so but into onto about then also both there here
     is are be being was were am do does did can could would will should shall may might must let
     please kindly thanks thank cheers hey hi hello ok okay maybe perhaps possibly just really
     nice lovely beautiful pretty good great cool neat clean simple cute gorgeous stunning
