@@ -109,13 +109,15 @@ def test_a_known_subject_before_a_place_relation_is_unchanged():
 @pytest.mark.parametrize(
     "said, meant",
     [("hight", "height"), ("heigth", "height"), ("rigth", "right"), ("lfet", "left"), ("abvoe", "above"), ("levell", "level")]
-    + [("bleow", "below"), ("behnd", "behind"), ("angel", "angle"), ("clockwse", "clockwise")],
+    + [("bleow", "below"), ("behnd", "behind"), ("angel", "angle"), ("clockwse", "clockwise")]
+    # A letter dropped from a word of five letters, and "from" with two letters swapped.
+    + [("frnt", "front"), ("abov", "above"), ("levl", "level"), ("rigt", "right"), ("form", "from")],
 )
 def test_slip_of_reads_swaps_doubles_and_dropped_letters(said, meant):
     assert slip_of(said) == meant
 
 
-@pytest.mark.parametrize("word", ["blow", "lose", "closed", "light", "sight", "fame", "height", "teddy"])
+@pytest.mark.parametrize("word", ["blow", "lose", "closed", "light", "sight", "fame", "height", "teddy", "font"])
 def test_slip_of_leaves_ordinary_words(word):
     """Short targets lose a letter into real words ("blow", "lose"); a letter added ("closed") or
     changed ("light") is another word."""
@@ -874,3 +876,9 @@ def test_plus_joins_subjects_and_a_pair_is_never_a_subject():
     assert read("the mug, plus the bench on the right")["subjects"] == [(MUG, None, None, None), (BENCH, "right", None, None)]
     with pytest.raises(InputError, match="no subject in"):
         parse_instruction("the pair of them from above", SCENE)
+
+
+def test_dropped_letters_in_five_letter_table_words_are_read_and_reported():
+    got = parse_instruction("the sofa from the frnt, slightly belw eye levl", SCENE)
+    assert (got.subjects[0].view, got.elevation) == ("front", "slightly below")
+    assert {"said": "frnt", "read": "front"} in got.corrected

@@ -424,9 +424,11 @@ FILLER_WORDS = frozenset(
 # Words of the phrase tables people often mistype ("eye hight", "from the rigth", "a bit abvoe").
 # A word is read as one of these when it is no word the tables or the scene's names use and it is
 # the target with two adjacent letters swapped or one letter doubled (4 letters or more), or with
-# one letter dropped (6 letters or more: shorter targets lose a letter into ordinary words, "blow",
-# "lose"); :func:`slip_of` decides, the parser reports each reading.
+# one letter dropped (5 letters or more: "frnt", "abov", "levl"), unless that makes an ordinary
+# word (:data:`DROPPED_INTO_WORDS`: "below" loses a letter into "blow", "close" into "lose");
+# :func:`slip_of` decides, the parser reports each reading.
 SLIP_TARGETS = (
+    "from",
     "height",
     "level",
     "above",
@@ -457,7 +459,9 @@ SLIP_TARGETS = (
     "looking",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
-MIN_DROPPED_LETTERS = 6  # a dropped letter
+MIN_DROPPED_LETTERS = 5  # a dropped letter
+# Ordinary words a target of 5 letters becomes with one letter dropped: never read as it.
+DROPPED_INTO_WORDS = frozenset({"blow", "lose", "font", "fame"})
 
 
 def slip_of(word: str) -> str | None:
@@ -467,7 +471,7 @@ def slip_of(word: str) -> str | None:
     for target in SLIP_TARGETS:
         if len(target) >= MIN_SLIP_LETTERS and (transposed(word, target) or doubled(word, target)):
             return target
-        if len(target) >= MIN_DROPPED_LETTERS and dropped(word, target):
+        if len(target) >= MIN_DROPPED_LETTERS and word not in DROPPED_INTO_WORDS and dropped(word, target):
             return target
     return None
 
