@@ -882,3 +882,25 @@ def test_dropped_letters_in_five_letter_table_words_are_read_and_reported():
     got = parse_instruction("the sofa from the frnt, slightly belw eye levl", SCENE)
     assert (got.subjects[0].view, got.elevation) == ("front", "slightly below")
     assert {"said": "frnt", "read": "front"} in got.corrected
+
+
+@pytest.mark.parametrize(
+    "text, want",
+    rows(
+        [
+            # Near an edge of the frame is a place, not a size.
+            ("the mug close to the left edge of the frame", {**one(MUG, region="left"), "not_understood": ["close"]}),
+            # Near another object relates the two (reported), not a close-up of either.
+            (
+                "the teddy close to the sofa",
+                {**one(BEAR), "subjects": [(BEAR, None, None, None), (SOFA, None, None, None)], "not_understood": ["close"]},
+            ),
+            ("the mug from close to it", one(MUG, shot="close-up")),
+            ("the tv not too big, not too small", one(TV, shot="medium")),
+            ("the toy car, centre left", one(CAR, region="left")),
+            ("the mug in the centre-right of the frame", one(MUG, region="right")),
+        ]
+    ),
+)
+def test_close_to_an_edge_or_an_object_is_no_size_and_sizes_said_as_neither(text, want):
+    assert read(text) == want

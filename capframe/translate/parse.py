@@ -323,7 +323,8 @@ SHOT_CLAUSES = {
         "|cut|cutting|creep|creeping|lean|leaning) (right |way )?in( close| closer| tight| tighter)?( (on|to|at) {obj})?",
         "(get|getting|go|going|come|coming|move|moving) (right |really )?(up )?close( (to|on) {obj})?",
         "(close|closing) in on {obj}",
-        "(from )?(very )?close (by|to {obj})",
+        # Close to it, of the camera; "the teddy close to the sofa" relates two objects.
+        "(from (very )?close (by|to {obj})|(very )?close (by|to (it|them)))",
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on {obj}",
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
@@ -335,7 +336,9 @@ SHOT_CLAUSES = {
         "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
         "(from )?(edge to edge|side to side|corner to corner|border to border) (in|of|across) the {FRAME}",
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
-        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
+        # Not a place near an edge ("the mug close to the left edge of the frame").
+        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")")
+        + "(?! to (the )?(left|right|top|bottom|edge|edges|corner|side|center|middle|border|@\\d)( |$))",
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -345,8 +348,8 @@ SHOT_CLAUSES = {
         "((at|to) )?(about |roughly |around |some )?half (of )?the {FRAME}( (height|width|high|tall|wide))?",
         "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not (too |so |that |overly |very )(close|tight)"
-        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide)( away)?)?",
+        "not (too |so |that |overly |very )(close|tight|big|large)"
+        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide|small|tiny)( away)?)?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
@@ -429,8 +432,28 @@ REGION_LEAD = (
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
 REGION_AREAS = {
-    "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
-    "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
+    "left": [
+        "left",
+        "left side",
+        "left half",
+        "left hand side",
+        "left part",
+        "left edge",
+        "left hand part",
+        "center left",
+        "middle left",
+    ],
+    "right": [
+        "right",
+        "right side",
+        "right half",
+        "right hand side",
+        "right part",
+        "right edge",
+        "right hand part",
+        "center right",
+        "middle right",
+    ],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
     # The middle of the top or bottom edge is that half ("bottom-centre", "top middle").
     "top": [
