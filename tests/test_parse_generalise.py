@@ -904,3 +904,23 @@ def test_dropped_letters_in_five_letter_table_words_are_read_and_reported():
 )
 def test_close_to_an_edge_or_an_object_is_no_size_and_sizes_said_as_neither(text, want):
     assert read(text) == want
+
+
+SIXTH_PROBES = [
+    ("the mug as large as the frame allows", one(MUG, shot="close-up")),
+    ("the teddy cropped close", one(BEAR, shot="close-up")),
+    ("crop tight on the toy car", one(CAR, shot="close-up")),
+    ("the sofa from the ceiling looking down", one(SOFA, elevation="bird's-eye")),
+    ("the mug from up near the ceiling", one(MUG, elevation="bird's-eye")),
+    ("the tv rolled through 20 degrees clockwise", one(TV, roll_deg=20.0)),
+    ("tilt the camera left by 10 degrees, the teddy", one(BEAR, roll_deg=-10.0)),
+    # The camera turned to a side is a roll; the subject turned so is its azimuth.
+    ("the toy car, lens rotated ten degrees to the right", one(CAR, roll_deg=10.0)),
+    ("the teddy turned 30 degrees to the left", one(BEAR, view="front-slight-left")),
+    ("the mug with no tilt whatsoever", one(MUG, roll_deg=0.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(SIXTH_PROBES))
+def test_crops_the_ceiling_and_the_camera_turned_to_a_side(text, want):
+    assert read(text) == want

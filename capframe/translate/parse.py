@@ -305,11 +305,13 @@ SHOT_CLAUSES = {
         "(very )?tightly",
         "(from )?up close",
         "(from )?close up",
-        "(framed|cropped) (very )?(tightly|tight)",
+        "(framed|cropped) (very )?(tightly|tight|close|closely)",
+        "(crop|cropping|frame|framing) (in )?(tight|tightly|close|closely)( (on|to) {obj})?",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
+        "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
         "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
@@ -994,6 +996,8 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed) )?from overhead",
         "(from |in |as )?(a |an )?top view",
         "((seen|shot|viewed) )?from the top",
+        # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
+        "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
@@ -1225,7 +1229,7 @@ ROLL_PHRASES = {
         "(with )?(a |an )?{d}( {dir})? (dutch|canted)( (angle|tilt))?",
         "(with )?(a |an )?({dir} )?(dutch|canted)( (angle|tilt))?( of)? {d}( {dir})?( (frame|shot|view|composition))?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
-        "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
+        "(rolled|tilted|rotated|canted|turned) (by |through )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) {dir} (by )?{d}",
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
@@ -1245,6 +1249,10 @@ ROLL_PHRASES = {
         "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
         "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
         "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
+        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)( the camera| the lens| it)? "
+        "(to the |towards the )?{side} (by )?{d}",
+        # The camera itself turned to a side is a roll, not the subject's azimuth ("lens rotated ten degrees to the right").
+        "(the )?(camera|lens) (rolled|rotated|tilted|turned|canted|twisted|spun) (by )?{d} (to|towards) the {side}",
         # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
         "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve|cocked|cock) "
         "((by )?{d} {dir}|{dir} (by )?{d})",
