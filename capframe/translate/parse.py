@@ -1834,7 +1834,10 @@ def _required_any(pattern: re.Pattern) -> tuple[tuple[str, ...], ...]:
         return list(min(found, key=len)) if found else []
 
     witnesses(_re_parser.parse(pattern.pattern), True)
-    return tuple(dict.fromkeys(g for g in groups if len(g) > 1))
+    # A string holding another of its group adds nothing ("a little bit" holds "bit"): the
+    # shortest ones are enough and quicker to look for.
+    minimal = (tuple(w for w in g if not any(o != w and o in w for o in g)) for g in groups)
+    return tuple(dict.fromkeys(g for g in minimal if len(g) > 1))
 
 
 def _compile(template: str) -> re.Pattern:
