@@ -924,3 +924,20 @@ SIXTH_PROBES = [
 @pytest.mark.parametrize("text, want", rows(SIXTH_PROBES))
 def test_crops_the_ceiling_and_the_camera_turned_to_a_side(text, want):
     assert read(text) == want
+
+
+CHATTY_REQUESTS = [
+    ("the teddy, please make sure the horizon is level", one(BEAR, roll_deg=0.0)),
+    ("Ensure the toy car is fully visible and centred", one(CAR, region="center", shot="medium")),
+    ("Position the camera so the tv faces it directly", one(TV, view="front-exact")),
+    ("Move the camera behind the bench and look down at it", one(BENCH, view="back", elevation="high angle")),
+    ("Put the lens at the height of the teddy's eyes", one(BEAR, elevation="eye level")),
+    ("What would the bench look like from the right side?", one(BENCH, view="right")),
+    ("Is it possible to see the sofa from directly above?", one(SOFA, elevation="top-down")),
+    ("How about the sofa, but from above this time?", one(SOFA, elevation="high angle")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(CHATTY_REQUESTS))
+def test_requests_said_as_questions_or_orders_to_the_camera(text, want):
+    assert read(text) == want

@@ -219,6 +219,7 @@ HEADS = [
     "(would|do) you mind (taking|getting|showing|framing|photographing|capturing|shooting)",
     "(how|what) about",
     "what {obj} looks? like",
+    "what (would|does|do|will|might) {obj} look like",
 ]
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
@@ -362,6 +363,8 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # All of it seen ("fully visible", "completely in frame").
+        "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
         # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
         "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
         # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
@@ -572,7 +575,8 @@ for _lat in ("left", "right"):
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
-    "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
+    "((with|put|place|position|keep|set|move|bring|get|have|hold|mount|park|stand) )?(the )?(camera|lens)"
+    "( (is|should be|must be|being))?"
     "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
@@ -717,7 +721,7 @@ VIEW_PHRASES = {
         # Its front squared to the camera ("square to the lens", "face it square", "shooting
         # straight at it").
         "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
-        "(face|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
+        "(face|faces|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
         "(looking|look|{AIM}) ({STRONG}) (at|into) {obj}",
         # Facing the camera, insisted on after it ("facing the camera dead straight", "squarely").
         "(facing|faces|face|faced|turned|pointing|pointed) (towards |to |at |into )?(the (camera|lens|viewer)|us|me)"
@@ -945,7 +949,8 @@ ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
         "(height|level|high|position)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "(at|from) (the |a )?(height|level) of (the |a |{P} )?({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
+        "((put |with |set |hold )?(the )?(camera|lens) )?(at|from) (the |a )?(height|level) of (the |a |{P} )?"
+        "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
         "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?level with {obj}",
@@ -1216,6 +1221,8 @@ NOTE_PHRASES = [
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
     "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
+    # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
+    "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
 # Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
 # background"): it too is only asked to be seen as far as cues go, but the depth order is no
@@ -1278,7 +1285,7 @@ ROLL_PHRASES = {
         "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
         "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
-        "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
+        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",

@@ -416,7 +416,7 @@ FILLER_WORDS = frozenset(
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
-    fancy nothing color colors tones vibe vibes whatsoever
+    fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again
     too well visible included until while when because""".split()
 )
 
@@ -904,6 +904,10 @@ COURTESIES = (
     "that would be lovely",
     "that d be great",
     "no rush",
+    "is it possible to",
+    "would it be possible to",
+    "if that s possible",
+    "this time",
 )
 
 # --- matching ---------------------------------------------------------------------------------
