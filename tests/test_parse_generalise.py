@@ -941,3 +941,13 @@ CHATTY_REQUESTS = [
 @pytest.mark.parametrize("text, want", rows(CHATTY_REQUESTS))
 def test_requests_said_as_questions_or_orders_to_the_camera(text, want):
     assert read(text) == want
+
+
+def test_a_camera_sunk_into_the_support_is_below_it_and_never_a_subject():
+    """ "A camera buried in the sand below the bench": the camera's place, not an unknown thing
+    "buried"; an unknown thing so placed is still refused by its own words."""
+    got = read("a camera buried in the sand below the bench")
+    assert got["subjects"] == [(BENCH, None, None, None)] and got["elevation"] == "worm's-eye"
+    assert read("the sofa, camera sunk into the floor, pointing up") == one(SOFA, elevation="worm's-eye")
+    with pytest.raises(InputError, match="subject 'wristwatch' is not in this scene"):
+        parse_instruction("a wristwatch buried in the sand below the bench", SCENE)

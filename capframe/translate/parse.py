@@ -1059,6 +1059,7 @@ ELEVATION_PHRASES = {
         # looking up through it ("through the grass", "through the wood").
         "(from )?((right|deep|just) )?(underground|below ground|beneath the ground|under the ground|in the ground)( level)?",
         "through (the |a )?({SURFACE}|{SUPPORT})( (top|surface))?",
+        "((the |a )?(camera|lens) )?(buried|sunk|dug|set|placed|put|hidden) (down )?(in|into|under|beneath) (the |a )?{SUPPORT}",
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
@@ -2217,6 +2218,8 @@ class RuleParser:
             phrase.pop()
         content = [w for w in phrase if w not in STOPWORDS]
         if not content or all(w in ATTRIBUTES for w in content) or _never_a_name(" ".join(content)):
+            return None
+        if any(w in ("camera", "lens") for w in phrase):  # "a camera buried in the sand below the bench"
             return None
         if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing

@@ -871,6 +871,10 @@ SUPPORT_SURFACES = (
     "surface",
     "wood",
     "glass",
+    "sand",
+    "snow",
+    "gravel",
+    "mud",
 )
 # Labels of a shot list or screenplay that name no constraint: a slate ("SC 12", "SHOT 6",
 # "take 3") and a scene heading ("INT. LIVING ROOM - DAY", "EXT. GARDEN").
