@@ -951,3 +951,18 @@ def test_a_camera_sunk_into_the_support_is_below_it_and_never_a_subject():
     assert read("the sofa, camera sunk into the floor, pointing up") == one(SOFA, elevation="worm's-eye")
     with pytest.raises(InputError, match="subject 'wristwatch' is not in this scene"):
         parse_instruction("a wristwatch buried in the sand below the bench", SCENE)
+
+
+@pytest.mark.parametrize(
+    "said, name",
+    [
+        ("the plushie", BEAR),
+        ("a stuffed animal", BEAR),
+        ("the flat screen", TV),
+        ("the sectional", SOFA),
+        ("the diecast car", CAR),
+    ],
+)
+def test_everyday_names_of_the_catalog_kinds(said, name):
+    """A person's word for a kind (vocabulary.NAME_SYNONYMS) names the scene's object of that kind."""
+    assert read(f"{said} from the left")["subjects"] == [(name, None, None, "left")]

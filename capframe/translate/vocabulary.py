@@ -820,23 +820,23 @@ PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "ton
 # answers to every other word of that group ("telly" for a television, "couch" for a sofa), when
 # no other object of the scene already uses that word.
 NAME_SYNONYMS = (
-    ("television", "tv", "telly", "tv set", "television set", "telie"),
-    ("sofa", "couch", "settee", "loveseat", "divan"),
+    ("television", "tv", "telly", "tv set", "television set", "telie", "flat screen", "flatscreen", "tv screen"),
+    ("sofa", "couch", "settee", "loveseat", "divan", "sectional"),
     ("refrigerator", "fridge", "icebox", "fridge freezer"),
-    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy"),
-    ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot"),
-    ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand"),
-    ("toy car", "car", "model car", "matchbox car", "toy vehicle"),
+    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy", "plushie", "stuffed animal", "stuffed toy", "cuddly toy"),
+    ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot", "indoor plant"),
+    ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand", "reading lamp", "floor light"),
+    ("toy car", "car", "model car", "matchbox car", "toy vehicle", "little car", "miniature car", "diecast car"),
     ("traffic cone", "cone", "safety cone", "road cone", "pylon"),
-    ("armchair", "arm chair", "easy chair", "lounge chair", "chair"),
-    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit"),
-    ("cushion", "pillow", "throw pillow", "scatter cushion"),
+    ("armchair", "arm chair", "easy chair", "lounge chair", "chair", "recliner", "club chair", "wingback chair", "wing chair"),
+    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit", "book case", "shelf unit"),
+    ("cushion", "pillow", "throw pillow", "scatter cushion", "throw cushion"),
     ("mug", "cup", "coffee mug", "coffee cup", "tea cup", "teacup"),
-    ("coffee table", "low table", "table", "side table"),
-    ("ball", "beach ball", "toy ball", "football"),
+    ("coffee table", "low table", "table", "side table", "cocktail table"),
+    ("ball", "beach ball", "toy ball", "football", "soccer ball", "rubber ball"),
     ("bench", "park bench", "garden bench"),
     ("vase", "flower vase", "jar"),
-    ("tree", "small tree", "sapling"),
+    ("tree", "small tree", "sapling", "young tree"),
 )
 
 
