@@ -966,3 +966,22 @@ def test_a_camera_sunk_into_the_support_is_below_it_and_never_a_subject():
 def test_everyday_names_of_the_catalog_kinds(said, name):
     """A person's word for a kind (vocabulary.NAME_SYNONYMS) names the scene's object of that kind."""
     assert read(f"{said} from the left")["subjects"] == [(name, None, None, "left")]
+
+
+CAMERA_PLACES = [
+    # The camera set on the subject's own support is at its height; just above it, low.
+    ("the mug, camera resting on the table", one(MUG, elevation="eye level")),
+    ("the toy car, lens just above the tabletop", one(CAR, elevation="low angle")),
+    ("the toy car, elevated slightly", one(CAR, elevation="slightly above")),
+    ("the sofa, camera lowered a little", one(SOFA, elevation="slightly below")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(CAMERA_PLACES))
+def test_the_camera_on_or_just_above_the_support_and_degrees_said_after(text, want):
+    assert read(text) == want
+
+
+def test_distances_in_units_are_reported_not_guessed():
+    """No constraint holds a distance in metres: the words stay not understood."""
+    assert read("the sofa from 2 metres away, eye level")["not_understood"] == ["2 meters away"]

@@ -929,6 +929,9 @@ GROUP_PHRASES = [
 ELEVATION_PHRASES = {
     "eye level": [
         "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
+        # The camera set on the surface the subject stands on ("the camera resting on the table").
+        "(the )?(camera|lens) (is )?(lying|resting|sitting|placed|set|put|standing)( down)? on the "
+        "({SURFACE}|tabletop|table top)",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
@@ -979,6 +982,8 @@ ELEVATION_PHRASES = {
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
+        # The degree said after ("elevated slightly", "raised a touch").
+        "(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -1035,6 +1040,8 @@ ELEVATION_PHRASES = {
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
+        # Just above the surface the subject stands on, said of the camera ("lens just above the tabletop").
+        "(the )?(camera|lens) ((just|right|only) |{WEAK} )(above|over|off) the ({SURFACE}|tabletop|table top|ground|floor)",
         "(well|far) (below|under|beneath) eye (level|height)",
         "(from )?(well|far|way) (below|beneath|under)( {obj})?",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
@@ -1049,6 +1056,7 @@ ELEVATION_PHRASES = {
         "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
+        "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
