@@ -985,3 +985,26 @@ def test_the_camera_on_or_just_above_the_support_and_degrees_said_after(text, wa
 def test_distances_in_units_are_reported_not_guessed():
     """No constraint holds a distance in metres: the words stay not understood."""
     assert read("the sofa from 2 metres away, eye level")["not_understood"] == ["2 meters away"]
+
+
+ROLLS_SAID_OTHERWISE = [
+    ("the bench, camera skewed 10 degrees anticlockwise", one(BENCH, roll_deg=-10.0)),
+    ("the bench with the camera banked 15 degrees left", one(BENCH, roll_deg=-15.0)),
+    ("the tv tipped 10 degrees clockwise", one(TV, roll_deg=10.0)),
+    ("the tv, 15 degrees off level, clockwise", one(TV, roll_deg=15.0)),
+    # A crooked frame without degrees is a dutch angle (slight: 10, else 15, clockwise).
+    ("the mug, frame a bit askew", one(MUG, roll_deg=10.0)),
+    ("the teddy with a wonky horizon", one(BEAR, roll_deg=15.0)),
+    ("the toy car on a tilt to the left", one(CAR, roll_deg=-15.0)),
+    ("the mug, a slight cant", one(MUG, roll_deg=10.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(ROLLS_SAID_OTHERWISE))
+def test_rolls_said_with_other_verbs_and_crooked_frames(text, want):
+    assert read(text) == want
+
+
+def test_tilted_alone_stays_unread_and_tilted_up_is_a_pitch():
+    assert read("the teddy tilted")["not_understood"] == ["tilted"]
+    assert read("the sofa, camera tilted up") == one(SOFA, elevation="low angle")

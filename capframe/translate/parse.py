@@ -171,6 +171,8 @@ from .vocabulary import (
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    ROLL_ADJECTIVES,
+    ROLL_VERBS,
     SCENE_HEADINGS,
     SIDE_PARTS,
     SIZE_IDIOMS,
@@ -1250,7 +1252,16 @@ ROLL_PHRASES = {
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
-        "(at|on) (a |an )?({mod} )?slant",
+        "(at|on) (a |an )?({mod} )?(slant|tilt|cant|lean|skew)( (to|towards) the {side})?",
+        # Other verbs of rolling, with degrees and a direction or side ("banked 15 degrees left").
+        "((with )?(the )?(camera|lens) )?{ROLLV} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
+        "((with )?(the )?(camera|lens) )?{ROLLV} ({dir}|(to the |towards the )?{side}) (by )?{d}",
+        # A crooked frame said as an adjective ("frame a bit askew", "a wonky horizon"): a dutch angle.
+        "((the )?(frame|shot|picture|image|horizon|camera) (is )?)?({WEAKROLL} |{mod} )?{ROLLADJ}( (frame|framing|horizon|shot))?"
+        "( ,)?( {dir})?(?! (by|to|up|down) )",
+        # Degrees off level ("15 degrees off level, clockwise").
+        "(a |an )?{d} (off|out of) (level|true|plumb|horizontal)( ,)?( {dir})?",
+        "(with )?(a |an )?{mod} (cant|tilt|lean|slant)(?= ([,.;!]|$))",
         # A direction or side without degrees ("a gentle clockwise tilt", "slight dutch to the left").
         "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
@@ -1695,6 +1706,15 @@ PICTURE_NOUNS = frozenset(
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece", "pair"}) | {
     w for speck in SPECK_WORDS for w in speck.split() if w not in ("on", "the")
 }
+# A frame turned or crooked ("a bit askew", "on a tilt"): a state of the picture, never a subject.
+ROLL_STATE_WORDS = frozenset({w for phrase in (*ROLL_VERBS, *ROLL_ADJECTIVES) for w in phrase.split()}) | {
+    "tilt",
+    "cant",
+    "slant",
+    "lean",
+    "skew",
+    "kilter",
+}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -1747,6 +1767,8 @@ _MACROS = {
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
     # Moving the camera round ("drifting a little round to its left").
+    "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
+    "{ROLLADJ}": _alternatives(ROLL_ADJECTIVES, "(?:"),
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
     "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
@@ -2270,7 +2292,7 @@ def _never_a_name(text: str) -> bool:
     if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
     if bool(content) and all(w in never for w in content):
         return True
     # A noun phrase whose head is a word of the picture or a position ("the best side", "an

@@ -792,6 +792,12 @@ FRAME_FRACTIONS = {
     "three quarters": 0.75,
     "four fifths": 0.8,
 }
+# Words for a camera turned about its lens axis, besides "rolled" and "tilted": verbs said with
+# degrees and a direction ("skewed 10 degrees anticlockwise", "banked 15 degrees left") and
+# adjectives of a crooked frame ("a bit askew", "a wonky horizon": a dutch angle; "tilted" alone
+# stays unread, it may be a pitch).
+ROLL_VERBS = ("skewed", "banked", "tipped", "leaned", "slanted", "slanting", "angled over", "cocked", "canted")
+ROLL_ADJECTIVES = ("askew", "crooked", "wonky", "skewed", "off kilter", "lopsided", "slanted", "canted")
 # What a subject seen very small is likened to ("the ball a speck in the middle", "the bench just
 # a dot"): wide; never a subject of its own.
 SPECK_WORDS = ("speck", "dot", "spot", "pinprick", "pin prick", "blip", "pinhead", "smudge", "blob", "dot on the horizon")
