@@ -1008,3 +1008,25 @@ def test_rolls_said_with_other_verbs_and_crooked_frames(text, want):
 def test_tilted_alone_stays_unread_and_tilted_up_is_a_pitch():
     assert read("the teddy tilted")["not_understood"] == ["tilted"]
     assert read("the sofa, camera tilted up") == one(SOFA, elevation="low angle")
+
+
+@pytest.mark.parametrize(
+    "text, subject, missed",
+    [
+        ("frame a dramatic look at the mug from below", MUG, "dramatic"),
+        ("photograph a close study of the teddy", BEAR, "close study"),
+        ("shoot a quick reference of the bench from the front", BENCH, "quick reference"),
+        ("frame a symmetrical view of the tv, head on", TV, "symmetrical"),
+    ],
+)
+def test_words_describing_the_picture_of_a_named_object_are_no_subject(text, subject, missed):
+    """ "<head> a <words> of (at) the X": the words describe the picture of X; they are reported,
+    and the instruction is not refused for an object named by them."""
+    got = read(text)
+    assert got["subjects"][0][0] == subject and got["not_understood"] == [missed]
+
+
+def test_an_unknown_object_after_a_head_is_still_refused():
+    for text in ("a photo of the giraffe", "a photo of the giraffe on the mug", "frame the giraffe"):
+        with pytest.raises(InputError, match="subject 'giraffe' is not in this scene"):
+            parse_instruction(text, SCENE)

@@ -2206,7 +2206,11 @@ class RuleParser:
             # Words right before "shot of" / "view of" describe the picture, not a subject ("a
             # candid shot of the bear", "a dramatic worm's-eye view of the tree").
             of_picture = after is not None and (after.forward or tokens[after.end : after.end + 1] == ["of"])
-            slot = (
+            # Words ending on "of"/"at" right before a named object describe the picture of it ("frame
+            # a dramatic look at the mug", "photograph a close study of the teddy"), not a subject.
+            following = tokens[span[-1] + 1] if span[-1] + 1 < len(tokens) else ""
+            of_named = tokens[span[-1]] in ("of", "at") and following.startswith("@")
+            slot = not (of_named or (after is not None and after.forward)) and (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
