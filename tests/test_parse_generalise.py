@@ -1030,3 +1030,8 @@ def test_an_unknown_object_after_a_head_is_still_refused():
     for text in ("a photo of the giraffe", "a photo of the giraffe on the mug", "frame the giraffe"):
         with pytest.raises(InputError, match="subject 'giraffe' is not in this scene"):
             parse_instruction(text, SCENE)
+
+
+def test_shot_list_names_a_two_shot_and_a_top_shot():
+    assert read("a two-shot of the mug and the teddy")["not_understood"] == []
+    assert read("a top shot of the tv") == one(TV, elevation="bird's-eye")

@@ -1006,7 +1006,7 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from overhead",
-        "(from |in |as )?(a |an )?top view",
+        "(from |in |as )?(a |an )?top (view|shot|angle)",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
@@ -1228,6 +1228,8 @@ SEEN_PHRASES = [
 # ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
 NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    # A two-shot (three-shot) names how many subjects the frame holds, each named anyway.
+    "(a |an )?(2|3) (shot|shots)",
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
