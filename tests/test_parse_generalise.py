@@ -1035,3 +1035,18 @@ def test_an_unknown_object_after_a_head_is_still_refused():
 def test_shot_list_names_a_two_shot_and_a_top_shot():
     assert read("a two-shot of the mug and the teddy")["not_understood"] == []
     assert read("a top shot of the tv") == one(TV, elevation="bird's-eye")
+
+
+MODAL_REQUESTS = [
+    ("the mug has to be large and in the middle", one(MUG, region="center", shot="close-up")),
+    ("the teddy should remain in the middle and look big", one(BEAR, region="center", shot="close-up")),
+    ("the bench must appear small and sit in the lower third", one(BENCH, region="bottom", shot="wide")),
+    ("the toy car needs to be big in the shot", one(CAR, shot="close-up")),
+    ("the teddy ought to be centred and fill the picture", one(BEAR, region="center", shot="close-up")),
+    ("the bench, let it take up the whole frame", one(BENCH, shot="close-up")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(MODAL_REQUESTS))
+def test_places_and_sizes_said_with_a_modal_verb(text, want):
+    assert read(text) == want

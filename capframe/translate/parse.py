@@ -315,7 +315,7 @@ SHOT_CLAUSES = {
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
         "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
-        "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
+        "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
         # Right up to it ("get right up to the mug").

@@ -416,7 +416,7 @@ FILLER_WORDS = frozenset(
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
-    fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again
+    fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again needs ought gotta
     too well visible included until while when because""".split()
 )
 
