@@ -1050,3 +1050,17 @@ MODAL_REQUESTS = [
 @pytest.mark.parametrize("text, want", rows(MODAL_REQUESTS))
 def test_places_and_sizes_said_with_a_modal_verb(text, want):
     assert read(text) == want
+
+
+LEVEL_AND_STEEP = [
+    ("the teddy, horizontal view", one(BEAR, elevation="eye level")),
+    ("the sofa from a flat angle", one(SOFA, elevation="eye level")),
+    ("the bench from way overhead", one(BENCH, elevation="bird's-eye")),
+    ("the tv shot from the ground up", one(TV, elevation="low angle")),
+    ("the sofa from 45 degrees up and to the right", one(SOFA, view="right", elevation_deg=45.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(LEVEL_AND_STEEP))
+def test_level_views_steep_overheads_and_a_side_after_degrees_up(text, want):
+    assert read(text) == want

@@ -675,7 +675,8 @@ VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
 # A side joined to a height ("from above and to the left"): the camera's, not the frame's.
 SIDE_AFTER_HEIGHT = (
-    "(?:(?<=above )|(?<=below )|(?<=overhead )|(?<=high )|(?<=low ))and (off )?(to|on|from) (the|{P}) {LAT}( hand)?( side)?"
+    "(?:(?<=above )|(?<=below )|(?<=overhead )|(?<=high )|(?<=low )|(?<=up )|(?<=down ))"
+    "and (off )?(to|on|from) (the|{P}) {LAT}( hand)?( side)?"
     "(?! (of|in) )"
 )
 # A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
@@ -947,6 +948,7 @@ ELEVATION_PHRASES = {
         "((the )?(camera|lens) )?(crouched|crouching|crouch|squatting|squat|kneeling|kneel|down|lowered|dropped|brought|raised"
         "|lifted|held|set|come|coming|get|getting) (down |up )?to (the |{P} )?(own )?{ANCHOR_EYE}( (level|height|line))?",
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
+        "(from |at |in )?(a |an )?(horizontal|flat|neutral|level) (view|angle|shot|perspective|camera)",
         # The height of the surface the subject rests on, or sits on: level with the subject.
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
@@ -1005,7 +1007,7 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
-        "((seen|shot|viewed) )?from overhead",
+        "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
         "(from |in |as )?(a |an )?top (view|shot|angle)",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
@@ -1108,7 +1110,7 @@ ELEVATION_HINTS = {
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the |{P} )?"
-        "(floor|ground|grass|lawn|roots|root)(?! (level|height) )",
+        "(floor|ground|grass|lawn|roots|root)(?! (level|height) )( up(?= ([,.;!]|$)))?",
         "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
