@@ -1064,3 +1064,30 @@ LEVEL_AND_STEEP = [
 @pytest.mark.parametrize("text, want", rows(LEVEL_AND_STEEP))
 def test_level_views_steep_overheads_and_a_side_after_degrees_up(text, want):
     assert read(text) == want
+
+
+def test_a_second_subject_placed_by_a_pronoun_takes_no_later_cue():
+    """ "The mug beside it": placed relative to the first subject, only to be seen; a side said
+    later is the first one's, and "over its back" relates, it asks no view."""
+    got = read("the teddy with the mug beside it, both in shot, from the front")
+    assert got["subjects"] == [(BEAR, None, None, "front"), (MUG, None, None, None)] and got["not_understood"] == ["beside"]
+    got = read("the sofa with the tv visible over its back")
+    assert got["subjects"] == [(SOFA, None, None, None), (TV, None, None, None)]
+
+
+@pytest.mark.parametrize(
+    "text, want",
+    rows(
+        [
+            ("the toy car, don't crop it", one(CAR, shot="medium")),
+            ("the mug, do not cut anything off, from the left", one(MUG, shot="medium", view="left")),
+        ]
+    ),
+)
+def test_nothing_cropped_is_the_whole_subject(text, want):
+    assert read(text) == want
+
+
+def test_counts_and_include_ask_only_for_the_named_subjects():
+    assert read("the mug, the teddy and the toy car, all three in frame")["not_understood"] == []
+    assert read("the bench; include the sofa")["subjects"] == [(BENCH, None, None, None), (SOFA, None, None, None)]

@@ -365,6 +365,8 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # Nothing of it cropped ("don't crop it", "do not cut it off").
+        "(don t|do not|dont|never) (crop|cut off|cut|chop)( {obj}| anything| any of {obj})?( off)?",
         # All of it seen ("fully visible", "completely in frame").
         "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
         # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
@@ -640,7 +642,8 @@ for _lat in ("left", "right"):
 NOT_A_RELATION = (
     "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
     "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
-    "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
+    "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
+    "(?<!over )(?<!past )(?<!beyond )(?<!across ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
@@ -1230,6 +1233,8 @@ SEEN_PHRASES = [
 # ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
 NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    # How many subjects the frame holds, each named anyway ("all three in frame", "a two-shot").
+    "(all|both) (2|3|4|5)( of them)?( (in|within|inside) (the )?{FRAME})?",
     # A two-shot (three-shot) names how many subjects the frame holds, each named anyway.
     "(a |an )?(2|3) (shot|shots)",
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
@@ -2426,14 +2431,16 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
 
 
 def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
-    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` or a
-    depth word, :data:`DEPTH_WORDS`, after them, stopwords between), but the first mention's."""
+    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES`, a
+    depth word, :data:`DEPTH_WORDS`, or a place relation to a pronoun, "the mug beside it", after
+    them, stopwords between), but the first mention's."""
     starts = {c.start for c in cues if c.field == "seen"}
     covered = {k for c in cues for k in range(c.start, c.end)}  # "seen from behind" is a view, no depth
     out = set()
     for m in mentions[1:]:
         for k in range(m.at + 1, len(tokens)):
-            if k in starts or (tokens[k] in DEPTH_WORDS and k not in covered):
+            placed = tokens[k] in RELATION_WORDS and tokens[k + 1 : k + 2] in (["it"], ["them"], ["him"], ["her"])
+            if k in starts or placed or (tokens[k] in DEPTH_WORDS and k not in covered):
                 out.add(m.at)
             if k in starts or tokens[k] not in STOPWORDS:
                 break

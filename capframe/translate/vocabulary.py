@@ -417,6 +417,7 @@ FILLER_WORDS = frozenset(
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
     fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again needs ought gotta
+    include including
     too well visible included until while when because""".split()
 )
 
