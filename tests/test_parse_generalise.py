@@ -957,7 +957,7 @@ def test_a_camera_sunk_into_the_support_is_below_it_and_never_a_subject():
     "said, name",
     [
         ("the plushie", BEAR),
-        ("a stuffed animal", BEAR),
+        ("a cuddly toy", BEAR),
         ("the flat screen", TV),
         ("the sectional", SOFA),
         ("the diecast car", CAR),
@@ -1091,3 +1091,18 @@ def test_nothing_cropped_is_the_whole_subject(text, want):
 def test_counts_and_include_ask_only_for_the_named_subjects():
     assert read("the mug, the teddy and the toy car, all three in frame")["not_understood"] == []
     assert read("the bench; include the sofa")["subjects"] == [(BENCH, None, None, None), (SOFA, None, None, None)]
+
+
+AZIMUTHS_SAID_OTHERWISE = [
+    ("the bench from 90 degrees left", one(BENCH, view="left-exact")),
+    ("the sofa at minus 45 degrees azimuth", one(SOFA, view="front-left")),
+    ("the tv from an azimuth of 30 degrees", one(TV, view="front-slight-right")),
+    # A side moved N degrees towards an end: -(90 + 15) is nearest left-slight-back (-110).
+    ("the bench from its left, 15 degrees towards the back", one(BENCH, view="left-slight-back")),
+    ("the sofa from the right, 30 degrees toward the front", one(SOFA, view="right-slight-front")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(AZIMUTHS_SAID_OTHERWISE))
+def test_azimuths_said_as_such_or_as_degrees_off_a_side(text, want):
+    assert read(text) == want

@@ -882,6 +882,17 @@ CLOCK_PHRASES = [
     SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
 ]
 CLOCK_HOUR_DEG = 30.0
+# An azimuth said as such, signed ("an azimuth of 30 degrees", "at minus 45 degrees azimuth").
+SIGNED_AZIMUTH_PHRASES = [
+    "(at |from |with )?(an |a )?azimuth( angle)?( of| ,)? {sd}",
+    "(at |from )?{sd}(?<= degrees) (of )?azimuth",
+]
+# Degrees off a side towards an end ("from its left, 15 degrees towards the back"): the side's
+# azimuth moved that far, as the nearest side (:func:`_nearest_side`).
+SIDE_DEGREES_PHRASES = [
+    SEEN + "from (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?( ,)? (by )?({ABOUT} )?{d}(?<= degrees) "
+    "(towards|toward|to) (the|{P}) {LON}( side| end)?",
+]
 
 # View cues for one subject that together name one side ("a three-quarter view ... from its
 # left" is the front-left); any other two different sides contradict each other.
@@ -1966,6 +1977,20 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
+        # "90 degrees left" said alone: that far round to that side.
+        rows.append(
+            (
+                "view",
+                ("azimuth", sign),
+                "(from |at )?{d}(?<= degrees) (round |off )?(to the |to )?" + lat + "(?= ([,.;!]|$))",
+                False,
+            )
+        )
+        for lon, toward in (("(front|face)", -1.0), ("(back|rear)", 1.0)):
+            rows += [
+                ("view", ("azimuth", sign, 90.0, toward), t.replace("{LAT}", lat).replace("{LON}", lon), False)
+                for t in SIDE_DEGREES_PHRASES
+            ]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
         rows.append(("view", f"back-slight-{lat}", BACK_SLIGHT_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
@@ -1983,6 +2008,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
     rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES]
+    rows += [("view", ("azimuth", 1.0), t, False) for t in SIGNED_AZIMUTH_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
@@ -2363,7 +2389,9 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     elif rule.field == "shot" and rule.value == "share":
         value = _shot_of_share(groups["share"])
     elif rule.field == "view" and isinstance(rule.value, tuple):
-        value = _nearest_side(rule.value[1] * float(groups["d"]))
+        # ("azimuth", sign[, from, towards]): sign * (from + towards * degrees), from the front.
+        _, sign, origin, toward = (*rule.value, 0.0, 1.0)[:4]
+        value = _nearest_side(sign * (origin + toward * float(groups["d"])))
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)

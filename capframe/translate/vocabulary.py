@@ -830,7 +830,7 @@ NAME_SYNONYMS = (
     ("television", "tv", "telly", "tv set", "television set", "telie", "flat screen", "flatscreen", "tv screen"),
     ("sofa", "couch", "settee", "loveseat", "divan", "sectional"),
     ("refrigerator", "fridge", "icebox", "fridge freezer"),
-    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy", "plushie", "stuffed animal", "stuffed toy", "cuddly toy"),
+    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy", "plushie", "stuffed toy", "cuddly toy"),
     ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot", "indoor plant"),
     ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand", "reading lamp", "floor light"),
     ("toy car", "car", "model car", "matchbox car", "toy vehicle", "little car", "miniature car", "diecast car"),
