@@ -136,7 +136,13 @@ Mappings that are choices (the phrase tables are the full list):
   ask nothing, a roll spun about the lens axis or "N degrees of clockwise roll", a side "off" the
   subject ("off its left-hand flank"), a slight side drifted round to ("back of the bear,
   drifting a little round to its left"), a height joined to a side by "and" ("from above and to
-  the left"), a corner said with a height ("low in the right corner").
+  the left"), a corner said with a height ("low in the right corner"), an azimuth said as such
+  ("an azimuth of 30 degrees", "from its left, 15 degrees towards the back"), rolls by other verbs
+  or a crooked frame (``ROLL_VERBS``, ``ROLL_ADJECTIVES``: "banked 15 degrees left", "a bit
+  askew"; "tilted" alone stays unread), the camera on the subject's support (eye level) or just
+  above it (low). Words ending on "of"/"at" right before a named object describe the picture of
+  it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
+  in the sand") is never the subject.
 """
 
 from __future__ import annotations
