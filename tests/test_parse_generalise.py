@@ -1106,3 +1106,17 @@ AZIMUTHS_SAID_OTHERWISE = [
 @pytest.mark.parametrize("text, want", rows(AZIMUTHS_SAID_OTHERWISE))
 def test_azimuths_said_as_such_or_as_degrees_off_a_side(text, want):
     assert read(text) == want
+
+
+CAMERA_TO_A_SIDE = [
+    ("the bench, camera far to its right", one(BENCH, view="right")),
+    ("the toy car from the rear, camera off to the left a bit", one(CAR, view="back-slight-left")),
+    ("the mug with the camera swung round to its right", one(MUG, view="right")),
+    ("the toy car, rear-facing", one(CAR, view="back")),
+    ("the sofa from the side, left", one(SOFA, view="left")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(CAMERA_TO_A_SIDE))
+def test_the_camera_moved_or_set_off_to_a_side(text, want):
+    assert read(text) == want

@@ -659,7 +659,9 @@ VIEW_FRAMES = [
     # language do.
     SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
-    CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
+    CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
+    # The camera moved round to a side ("the camera swung round to its right").
+    CAMERA + " {MOVE} (a?round |over )?(to|towards) (the|{P}) {SIDE}{PART}( of {obj})?",
     # Off a side of it ("camera off its left-hand flank", "front three-quarter off its right side").
     "(" + CAMERA + " )?({EXACT} )?off ({P} {SIDE}{PART}|the {SIDE}{PART} of {obj})",
     "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
@@ -680,6 +682,8 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?=
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
+# A lone side said right after a side view ("from the side, left"): which side.
+SIDE_AFTER_SIDE_VIEW = "(?:(?<=side , )|(?<=profile , ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
 # A left or right side said as the clause right after its subject ("armchair: right side, half the
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
 # A side joined to a height ("from above and to the left"): the camera's, not the frame's.
@@ -716,6 +720,7 @@ VIEW_PHRASES = {
     ],
     "back": [
         SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
+        "(rear|back|backward|backwards) facing",
         "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
         "( from (the (camera|viewer|lens)|us|me))?",
         # Its back to the camera, said without "with" ("the teddy, back turned to the camera").
@@ -843,6 +848,8 @@ SLIGHT_VIEW_FRAMES = [
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+    # The camera off to a side, the degree after ("camera off to the left a bit").
+    CAMERA + " (offset |off |shifted |moved )?(to (the|{P}) ){LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$))",
     # Moved a little round towards a side ("back of the teddy, drifting a little round to its left").
     "{MOVE} {WEAK} (a?round |over |across )?(to|towards) (the|{P}) {LAT}( hand)?{PART}",
     "{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?{PART}",
@@ -2003,6 +2010,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_SIDE_VIEW.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
