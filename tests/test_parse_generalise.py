@@ -1120,3 +1120,9 @@ CAMERA_TO_A_SIDE = [
 @pytest.mark.parametrize("text, want", rows(CAMERA_TO_A_SIDE))
 def test_the_camera_moved_or_set_off_to_a_side(text, want):
     assert read(text) == want
+
+
+def test_degrees_and_a_direction_before_and_are_a_roll_and_contradict_a_level_horizon():
+    assert read("the bench, 30 degrees clockwise and from the left") == one(BENCH, view="left", roll_deg=30.0)
+    with pytest.raises(InputError, match="conflicting roll"):
+        parse_instruction("the bench, 30 degrees clockwise and level horizon", SCENE)

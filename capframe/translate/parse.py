@@ -1322,7 +1322,7 @@ ROLL_PHRASES = {
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
         "(roll|cant|rotate|rotated|rotating|turn|turned|tilt|tilted|tilting|twist|twisted)( the camera)? (by )?{d} {dir}",
         # Degrees and a direction alone as a clause ("Dutch angle on the car, 20 degrees CW").
-        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$))",
+        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$|and |with ))",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
