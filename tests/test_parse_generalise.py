@@ -1126,3 +1126,11 @@ def test_degrees_and_a_direction_before_and_are_a_roll_and_contradict_a_level_ho
     assert read("the bench, 30 degrees clockwise and from the left") == one(BENCH, view="left", roll_deg=30.0)
     with pytest.raises(InputError, match="conflicting roll"):
         parse_instruction("the bench, 30 degrees clockwise and level horizon", SCENE)
+
+
+@pytest.mark.parametrize(
+    "text, region",
+    [("the bench in the upper-left area", "upper left"), ("the mug in the bottom right region of the frame", "lower right")],
+)
+def test_a_corner_said_as_an_area(text, region):
+    assert read(text)["subjects"][0][1] == region and read(text)["not_understood"] == []

@@ -505,23 +505,23 @@ REGION_AREAS = {
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
     "upper left": [
-        "upper left( hand)?( corner| quadrant| quarter)?",
-        "top left( hand)?( corner| quadrant| quarter)?",
+        "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "top left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left top corner",
     ],
     "upper right": [
-        "upper right( hand)?( corner| quadrant| quarter)?",
-        "top right( hand)?( corner| quadrant| quarter)?",
+        "upper right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "top right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right top corner",
     ],
     "lower left": [
-        "lower left( hand)?( corner| quadrant| quarter)?",
-        "bottom left( hand)?( corner| quadrant| quarter)?",
+        "lower left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "bottom left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left bottom corner",
     ],
     "lower right": [
-        "lower right( hand)?( corner| quadrant| quarter)?",
-        "bottom right( hand)?( corner| quadrant| quarter)?",
+        "lower right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "bottom right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right bottom corner",
     ],
 }
