@@ -13,7 +13,7 @@ import pytest
 from capframe.errors import InputError
 from capframe.scene import SemanticObject
 from capframe.translate.parse import RuleParser, _required, _required_any, parse_instruction
-from capframe.translate.vocabulary import Vocabulary, slip_of, words
+from capframe.translate.vocabulary import Vocabulary, slip_of, sounds_alike, words
 
 SCENE = Vocabulary.from_semantics(
     [
@@ -1134,3 +1134,16 @@ def test_degrees_and_a_direction_before_and_are_a_roll_and_contradict_a_level_ho
 )
 def test_a_corner_said_as_an_area(text, region):
     assert read(text)["subjects"][0][1] == region and read(text)["not_understood"] == []
+
+
+@pytest.mark.parametrize("said, name", [("vaze", "vase"), ("sopha", "sofa"), ("kushion", "cushion"), ("teddy bare", None)])
+def test_letters_that_sound_alike_are_one_spelling(said, name):
+    """Spelling by ear ("vaze", "sopha") is read as the name; other differences are not."""
+    assert sounds_alike(said, name or "teddy bear") == (name is not None)
+
+
+def test_a_name_spelt_by_ear_is_read_and_reported():
+    scene = Vocabulary.from_semantics([SemanticObject(0, "vase", [], True), SemanticObject(1, "sofa", [], False)])
+    got = parse_instruction("the vaze from the left, the sopha behind it", scene)
+    assert [s.name for s in got.subjects] == ["vase", "sofa"]
+    assert {"said": "vaze", "read": "vase"} in got.corrected

@@ -1180,10 +1180,11 @@ def _near(said: str, name: str) -> bool:
     letters or more; one swap or one letter written once where the name has it twice from one of
     :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"), or its final "y" written "ie"
     (:func:`diminutive`: "teddie"); one letter doubled from one of
-    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); two edits keeping the first letter from one of
-    :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
+    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); letters that sound alike swapped in one of
+    :data:`MIN_TRANSPOSED_LETTERS` (:func:`sounds_alike`: "vaze", "sopha"); two edits keeping the
+    first letter from one of :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
     letters = len(name.replace(" ", ""))
-    if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said)):
+    if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said) or sounds_alike(said, name)):
         return True
     if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
         return True
@@ -1192,6 +1193,23 @@ def _near(said: str, name: str) -> bool:
     if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
         return True
     return letters >= MIN_TWO_EDIT_LETTERS and said[:1] == name[:1] and edit_distance(said, name, 2) <= 2
+
+
+# Spellings of one sound, written one for the other by people spelling by ear ("vaze", "sopha",
+# "kushion"): each is replaced by the first before two spellings are compared.
+SOUND_SPELLINGS = (("ph", "f"), ("ck", "c"), ("k", "c"), ("z", "s"))
+
+
+def sounds_alike(a: str, b: str) -> bool:
+    """Whether ``a`` and ``b`` differ but are spelt the same once letters that sound alike are
+    written one way (:data:`SOUND_SPELLINGS`)."""
+
+    def plain(word: str) -> str:
+        for spelt, sound in SOUND_SPELLINGS:
+            word = word.replace(spelt, sound)
+        return word
+
+    return a != b and plain(a) == plain(b)
 
 
 def diminutive(a: str, b: str) -> bool:
