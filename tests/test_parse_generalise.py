@@ -1147,3 +1147,14 @@ def test_a_name_spelt_by_ear_is_read_and_reported():
     got = parse_instruction("the vaze from the left, the sopha behind it", scene)
     assert [s.name for s in got.subjects] == ["vase", "sofa"]
     assert {"said": "vaze", "read": "vase"} in got.corrected
+
+
+@pytest.mark.parametrize(
+    "text, noun",
+    [("plate next to the mug", "plate"), ("glass beside the mug, close", "glass"), ("board leaning on the bench", "board")],
+)
+def test_a_table_noun_before_a_place_relation_is_a_thing_not_a_verb(text, noun):
+    """Nouns the new tables use (a part, a support, a slate) still name an unknown thing before a
+    place relation, as "focus" before "on the mug" stays a verb."""
+    with pytest.raises(InputError, match=f"subject {noun!r} is not in this scene"):
+        parse_instruction(text, SCENE)

@@ -1627,7 +1627,7 @@ PART_WORDS = frozenset(
         "shape",
         "outline",
         "silhouette",
-        *(w for parts in SUBJECT_PARTS.values() for part in parts for w in part.split()),
+        *(part for parts in SUBJECT_PARTS.values() for part in parts if " " not in part),
     }
 )
 SURROUNDINGS = frozenset(
@@ -1748,6 +1748,15 @@ ROLL_STATE_WORDS = frozenset({w for phrase in (*ROLL_VERBS, *ROLL_ADJECTIVES) fo
     "skew",
     "kilter",
 }
+# Nouns of the vocabulary's tables (parts, supports, specks, kinds, slates): words the tables use
+# that name things, so before a place relation they are a thing, not a verb ("plate next to the
+# mug" is about a plate, where "focus on the mug" is a verb).
+TABLE_NOUNS = frozenset(
+    w
+    for table in (*SUBJECT_PARTS.values(), SUPPORT_SURFACES, SPECK_WORDS, CLASS_NOUNS, SLATE_LABELS)
+    for phrase in table
+    for w in phrase.split()
+)
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
@@ -2304,7 +2313,7 @@ class RuleParser:
             return None
         if any(w in ("camera", "lens") for w in phrase):  # "a camera buried in the sand below the bench"
             return None
-        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
+        if not determined and any(w in self.lexicon and w not in ATTRIBUTES and w not in TABLE_NOUNS for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing
         return " ".join(phrase)
 
