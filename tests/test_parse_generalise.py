@@ -1151,7 +1151,12 @@ def test_a_name_spelt_by_ear_is_read_and_reported():
 
 @pytest.mark.parametrize(
     "text, noun",
-    [("plate next to the mug", "plate"), ("glass beside the mug, close", "glass"), ("board leaning on the bench", "board")],
+    [
+        ("plate next to the mug", "plate"),
+        ("glass beside the mug, close", "glass"),
+        ("board leaning on the bench", "board"),
+        ("ceiling lamp above the sofa", "ceiling lamp"),
+    ],
 )
 def test_a_table_noun_before_a_place_relation_is_a_thing_not_a_verb(text, noun):
     """Nouns the new tables use (a part, a support, a slate) still name an unknown thing before a

@@ -1756,7 +1756,7 @@ TABLE_NOUNS = frozenset(
     for table in (*SUBJECT_PARTS.values(), SUPPORT_SURFACES, SPECK_WORDS, CLASS_NOUNS, SLATE_LABELS)
     for phrase in table
     for w in phrase.split()
-)
+) | {"mat", "ceiling", "canopy", "border", "headshot"}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
 CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
