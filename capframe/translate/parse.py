@@ -123,7 +123,26 @@ Mappings that are choices (the phrase tables are the full list):
   (``SIDE_PARTS``: "its right arm end", "the left-hand side panel"), nadir / zenith, a heroic
   angle (low), "N degrees up", an area "of the frame" without a preposition ("bottom right of the
   frame"). Words that ask nothing beyond a subject's being seen are understood and ask nothing:
-  where it rests ("the bear on the floor"), "in the same shot", mood words ("a cosy shot").
+  where it rests ("the bear on the floor"), "in the same shot", mood words ("a cosy shot");
+* more families of the same kind: a turn's share as an angle ("a twelfth of a turn", "1/8 of a
+  rotation": 360/N), a comparative said with "more" ("a little more high than it"), a hedged
+  number ("50-odd", "30ish", "20 or so"), a part of the subject as its height (``SUBJECT_PARTS``:
+  "at bonnet height", "level with its snout", "crouched down to its roofline": eye level), the
+  support the subject stands on (``SUPPORT_SURFACES``: "below the floorboards", "underground",
+  "through the grass": worm's-eye), a size after a verb of being ("it must be big", "look
+  massive") or likened to a speck (``SPECK_WORDS``: "the ball a speck"), the whole of its kind
+  (``CLASS_NOUNS``: "full vehicle in frame"), slates and scene headings (``SLATE_LABELS``,
+  ``SCENE_HEADINGS``: "SC 12", "INT. LIVING ROOM - WIDE") and courtesies (``COURTESIES``) that
+  ask nothing, a roll spun about the lens axis or "N degrees of clockwise roll", a side "off" the
+  subject ("off its left-hand flank"), a slight side drifted round to ("back of the bear,
+  drifting a little round to its left"), a height joined to a side by "and" ("from above and to
+  the left"), a corner said with a height ("low in the right corner"), an azimuth said as such
+  ("an azimuth of 30 degrees", "from its left, 15 degrees towards the back"), rolls by other verbs
+  or a crooked frame (``ROLL_VERBS``, ``ROLL_ADJECTIVES``: "banked 15 degrees left", "a bit
+  askew"; "tilted" alone stays unread), the camera on the subject's support (eye level) or just
+  above it (low). Words ending on "of"/"at" right before a named object describe the picture of
+  it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
+  in the sand") is never the subject.
 """
 
 from __future__ import annotations
@@ -144,6 +163,8 @@ from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
     ATTRIBUTES,
+    CLASS_NOUNS,
+    COURTESIES,
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
@@ -151,13 +172,21 @@ from .vocabulary import (
     FILLER_WORDS,
     FRAME_FRACTIONS,
     HEAD_ON_WORDS,
+    HEADING_TIMES,
     HEIGHT_ANCHORS,
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    ROLL_ADJECTIVES,
+    ROLL_VERBS,
+    SCENE_HEADINGS,
     SIDE_PARTS,
     SIZE_IDIOMS,
     SIZE_WORDS,
+    SLATE_LABELS,
+    SPECK_WORDS,
+    SUBJECT_PARTS,
+    SUPPORT_SURFACES,
     TAIL_ON_WORDS,
     Vocabulary,
     singular,
@@ -180,7 +209,7 @@ from .vocabulary import (
 
 FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
-SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop)"
+SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop|headshot)"
 HEAD_LINK = "(of|with|showing|featuring)"
 
 # Heads introduce the subject and ask nothing themselves.
@@ -198,6 +227,7 @@ HEADS = [
     "(would|do) you mind (taking|getting|showing|framing|photographing|capturing|shooting)",
     "(how|what) about",
     "what {obj} looks? like",
+    "what (would|does|do|will|might) {obj} look like",
 ]
 
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
@@ -250,16 +280,24 @@ SHOT_ADJECTIVES = {
 # attribute ("the wide sofa") is not read as a shot size.
 # A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
 # degree scale may grade it ("real close", "way wide").
+# The clause may be joined on by "and" ("far away and small") and end before "with", "so" or
+# "but" ("kept small with plenty of wall around it").
 ALONE = (
-    "{CLAUSE}((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$))"
+    "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
+    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$|with |so |but ))"
+)
+# A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
+# "so it comes out tiny").
+COPULA_SIZE = (
+    "(be|being|is|are|look|looks|appear|appears|seem|seems|remain|remains|come out|comes out|show up|shows up|end up|ends up) "
+    "(nice and |quite |pretty |fairly |rather |{VERY} |{WEAK} )?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |nice and |{VERY} |{WEAK} |extra )?{WORD}"
-    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with ))"
+    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra )?{WORD}"
+    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but ))"
 )
 
 SHOT_CLAUSES = {
@@ -276,26 +314,42 @@ SHOT_CLAUSES = {
         "(very )?tightly",
         "(from )?up close",
         "(from )?close up",
-        "(framed|cropped) (very )?(tightly|tight)",
+        "(framed|cropped) (very )?(tightly|tight|close|closely)",
+        "(crop|cropping|frame|framing) (in )?(tight|tightly|close|closely)( (on|to) {obj})?",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
-        "(taking up|occupying) (most of |all of )?the (whole |entire )?{FRAME}",
+        "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
+        "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
         "dominating the {FRAME}",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        # Right up to it ("get right up to the mug").
+        "(get|getting|go|going|come|coming|move|moving|step|stepping|walk|walking) (right |really )?up "
+        "(to|close to|next to) {obj}",
+        # Moving nearer ("move a bit more close", "step closer to it").
+        "(go|going|move|moving|step|stepping|get|getting|come|coming|push|pushing|creep|creeping|lean|leaning) "
+        "((a bit|a little|much|way|well|{WEAK}) )?(closer|nearer)( in)?( to {obj})?",
         "(move|moving|come|coming|go|going|push|pushing|pushed|get|getting|punch|punching|punched|dolly|dollying|crop|cropping"
         "|cut|cutting|creep|creeping|lean|leaning) (right |way )?in( close| closer| tight| tighter)?( (on|to|at) {obj})?",
         "(get|getting|go|going|come|coming|move|moving) (right |really )?(up )?close( (to|on) {obj})?",
         "(close|closing) in on {obj}",
-        "(from )?(very )?close (by|to {obj})",
+        # Close to it, of the camera; "the teddy close to the sofa" relates two objects.
+        "(from (very )?close (by|to {obj})|(very )?close (by|to (it|them)))",
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on {obj}",
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
+        COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        # Filling the frame from one edge to the other ("filling the frame edge to edge").
+        "(filling|fills|fill|filling up|fills up|spanning|spans|covering|covers) (all of |the whole of )?"
+        "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
+        "(from )?(edge to edge|side to side|corner to corner|border to border) (in|of|across) the {FRAME}",
         # A size word right after the subject ("TV big and square on", "toy car close, from ...").
-        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")"),
+        # Not a place near an edge ("the mug close to the left edge of the frame").
+        AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")")
+        + "(?! to (the )?(left|right|top|bottom|edge|edges|corner|side|center|middle|border|@\\d)( |$))",
     ],
     "medium": [
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
@@ -305,10 +359,10 @@ SHOT_CLAUSES = {
         "((at|to) )?(about |roughly |around |some )?half (of )?the {FRAME}( (height|width|high|tall|wide))?",
         "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not (too |so |that |overly |very )(close|tight)"
-        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide)( away)?)?",
+        "not (too |so |that |overly |very )(close|tight|big|large)"
+        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide|small|tiny)( away)?)?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
-        ALONE.replace("{WORD}", "(medium|mid)"),
+        ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
@@ -317,6 +371,18 @@ SHOT_CLAUSES = {
         "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
         "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+        # Nothing of it cropped ("don't crop it", "do not cut it off").
+        "(don t|do not|dont|never) (crop|cut off|cut|chop)( {obj}| anything| any of {obj})?( off)?",
+        # All of it seen ("fully visible", "completely in frame").
+        "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
+        # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
+        "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
+        # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
+        "(the |{P} )?(whole|entire|full|complete) {CLASS}( (is )?(in|inside|within) (the )?({FRAME}|view))?"
+        "( visible| in view| showing)?",
+        # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
+        "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
+        "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
         # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
         "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
@@ -329,6 +395,7 @@ SHOT_CLAUSES = {
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        "(from )?(a )?(long|great|good) way (off|away|back)",
         "far (away )?from {obj}",
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
@@ -346,6 +413,16 @@ SHOT_CLAUSES = {
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
         ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
+        COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
+        # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
+        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming) )?((just|only|no more than|nothing but) )?(a |an )?"
+        "((small|tiny|little|distant|mere|wee) )?{SPECK}",
+        # Moving back ("go more far", "step a little further away").
+        "(go|going|move|moving|step|stepping|get|getting|stand|standing|back|backing|pull|pulling) "
+        "((a bit|a little|much|way|well|{WEAK}) )?(further|farther)( (away|back|off|out))?( from {obj})?",
+        # The whole of its surroundings around it ("with the whole room around it").
+        "(with )?(the )?(whole|entire) (room|scene|surroundings|setting|table|tabletop|floor|lawn|space|wall)"
+        " (around|round|about) {obj}",
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
@@ -365,13 +442,35 @@ REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across
 # "up in the top half").
 REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
-    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up) )?"
+    "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
+    "|nudged|moved|slid|pulled|set) )?"
     "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
 )
 REGION_AREAS = {
-    "left": ["left", "left side", "left half", "left hand side", "left part", "left edge", "left hand part"],
-    "right": ["right", "right side", "right half", "right hand side", "right part", "right edge", "right hand part"],
+    "left": [
+        "left",
+        "left side",
+        "left half",
+        "left hand side",
+        "left part",
+        "left edge",
+        "left hand part",
+        "center left",
+        "middle left",
+    ],
+    "right": [
+        "right",
+        "right side",
+        "right half",
+        "right hand side",
+        "right part",
+        "right edge",
+        "right hand part",
+        "center right",
+        "middle right",
+    ],
     "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
+    # The middle of the top or bottom edge is that half ("bottom-centre", "top middle").
     "top": [
         "top",
         "top half",
@@ -383,6 +482,9 @@ REGION_AREAS = {
         "top side",
         "top third",
         "upper third",
+        "top center",
+        "top middle",
+        "upper center",
     ],
     "bottom": [
         "bottom",
@@ -395,28 +497,31 @@ REGION_AREAS = {
         "bottom side",
         "bottom third",
         "lower third",
+        "bottom center",
+        "bottom middle",
+        "lower center",
     ],
     "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
     "upper left": [
-        "upper left( hand)?( corner| quadrant| quarter)?",
-        "top left( hand)?( corner| quadrant| quarter)?",
+        "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "top left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left top corner",
     ],
     "upper right": [
-        "upper right( hand)?( corner| quadrant| quarter)?",
-        "top right( hand)?( corner| quadrant| quarter)?",
+        "upper right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "top right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right top corner",
     ],
     "lower left": [
-        "lower left( hand)?( corner| quadrant| quarter)?",
-        "bottom left( hand)?( corner| quadrant| quarter)?",
+        "lower left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "bottom left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left bottom corner",
     ],
     "lower right": [
-        "lower right( hand)?( corner| quadrant| quarter)?",
-        "bottom right( hand)?( corner| quadrant| quarter)?",
+        "lower right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
+        "bottom right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right bottom corner",
     ],
 }
@@ -469,16 +574,24 @@ REGION_PHRASES = {
     "lower right": ["(bottom|lower) right corner"],
 }
 
+# A corner said with a height ("low in the right corner of the picture", "up in the left corner").
+for _lat in ("left", "right"):
+    for _corner, _height in (("upper", "(high|up|higher) (up )?"), ("lower", "(low|down|lower) (down )?")):
+        REGION_PHRASES[f"{_corner} {_lat}"].append(
+            _height + f"(in|into|at|towards) the {_lat}( hand)? corner( (of|in) (the )?{{FRAME}})?"
+        )
+
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
-SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed) )?"
+SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
-    "((with|put|place|position|keep|set) )?(the )?camera( (is|should be|must be|being))?"
-    "( (placed|positioned|located|set|standing|put|kept))?"
+    "((with|put|place|position|keep|set|move|bring|get|have|hold|mount|park|stand) )?(the )?(camera|lens)"
+    "( (is|should be|must be|being))?"
+    "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
     "front": ["front", "face", "front end"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -524,7 +637,9 @@ for _lat in ("left", "right"):
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
     # The side said as a place after the diagonal's end ("rear three-quarter on the right").
-    VIEW_SIDE_WORDS[f"back-{_lat}"].append(f"(back|rear) three quarters? (on|to|from|at) the {_lat}( hand)?( side)?")
+    VIEW_SIDE_WORDS[f"back-{_lat}"].append(
+        f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
+    )
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -533,7 +648,8 @@ for _lat in ("left", "right"):
 NOT_A_RELATION = (
     "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
     "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
-    "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside ))"
+    "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
+    "(?<!over )(?<!past )(?<!beyond )(?<!across ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
@@ -543,7 +659,11 @@ VIEW_FRAMES = [
     # language do.
     SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
-    CAMERA + " ({EXACT} )?(at|on|to|by) (the|{P}) {SIDE}{PART}( of {obj})?",
+    CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
+    # The camera moved round to a side ("the camera swung round to its right").
+    CAMERA + " {MOVE} (a?round |over )?(to|towards) (the|{P}) {SIDE}{PART}( of {obj})?",
+    # Off a side of it ("camera off its left-hand flank", "front three-quarter off its right side").
+    "(" + CAMERA + " )?({EXACT} )?off ({P} {SIDE}{PART}|the {SIDE}{PART} of {obj})",
     "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
@@ -562,6 +682,23 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?=
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
+# A lone side said right after a side view ("from the side, left"): which side.
+SIDE_AFTER_SIDE_VIEW = "(?:(?<=side , )|(?<=profile , ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+# A left or right side said as the clause right after its subject ("armchair: right side, half the
+# frame"): with "side" it is the subject's (the frame's would say "on the right side").
+# A side joined to a height ("from above and to the left"): the camera's, not the frame's.
+SIDE_AFTER_HEIGHT = (
+    "(?:(?<=above )|(?<=below )|(?<=overhead )|(?<=high )|(?<=low )|(?<=up )|(?<=down ))"
+    "and (off )?(to|on|from) (the|{P}) {LAT}( hand)?( side)?"
+    "(?! (of|in) )"
+)
+# A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
+# side"): it completes that view (:data:`VIEW_COMBINATIONS`).
+SIDE_AFTER_VIEW = (
+    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
+    "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
+)
+SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
@@ -570,6 +707,9 @@ VIEW_PHRASES = {
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
         # The subject moving or pointing at the camera ("the car driving towards us").
+        # Its front pointed at the camera ("with its nose pointing at the camera").
+        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) (straight )?"
+        "(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
@@ -580,7 +720,11 @@ VIEW_PHRASES = {
     ],
     "back": [
         SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
-        "(facing|turned|looking) away( from the (camera|viewer|lens|us))?",
+        "(rear|back|backward|backwards) facing",
+        "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
+        "( from (the (camera|viewer|lens)|us|me))?",
+        # Its back to the camera, said without "with" ("the teddy, back turned to the camera").
+        "((the|{P}) )?(back|rear|backside|tail end) (turned )?(to|towards|facing) (the (camera|viewer|lens)|us|me)",
         CAMERA + " behind {obj}",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
@@ -594,8 +738,13 @@ VIEW_PHRASES = {
         # Its front squared to the camera ("square to the lens", "face it square", "shooting
         # straight at it").
         "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
-        "(face|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
+        "(face|faces|facing|faced) ({obj} )?({STRONG}|{STRONG} on)(?= ([,.;!]|$|and |with |from ))",
         "(looking|look|{AIM}) ({STRONG}) (at|into) {obj}",
+        # Facing the camera, insisted on after it ("facing the camera dead straight", "squarely").
+        "(facing|faces|face|faced|turned|pointing|pointed) (towards |to |at |into )?(the (camera|lens|viewer)|us|me)"
+        "( {STRONG})?( {STRONG})( on)?(?= ([,.;!]|$|and |with |at |from ))",
+        # Its front to the lens ("nose-to-lens", "face to camera").
+        "(nose|face|head|snout|muzzle|grille) (to|towards|at|facing) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
@@ -676,9 +825,12 @@ LONGITUDINAL = {
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
 COMBINED_VIEW_FRAMES = [
     ("", "{LON} (and )?{LATERAL}"),
+    # The side said bare after the end ("camera behind and left", "behind and slightly right").
+    ("", "{LON}( ,)? and {LAT}( hand)?( side)?(?= ([,.;!]|$))"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} (to )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"),
     ("", "{LON}( ,)? (and |but )?{LATERAL_OWN}"),
     ("", "{LATERAL_OWN}( ,)? (and )?{LON}"),
-    ("slight", "{LON}( ,)? (and |but )?{WEAK} {LATERAL}"),
+    ("slight", "{LON}( ,)? (and |but )?{WEAK} (more )?{LATERAL}"),
     ("slight", "{WEAK} {LATERAL_OWN}( ,)? (and )?{LON}"),
 ]
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
@@ -691,12 +843,23 @@ SLIGHT_VIEW_FRAMES = [
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
     # Said off the front it starts from ("from slightly to the right of the front").
-    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of (the|{P}) front( of {obj})?",
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of ((the|{P}) front( of {obj})?|{FRONT_ON})",
     "{WEAK} " + LATERAL_OWN,
     "(seen|viewed|shot|photographed|captured|taken|filmed) {WEAK} " + LATERAL,
     CAMERA + " {WEAK} " + LATERAL,
     "facing {WEAK} (to the |towards the )?{LAT}( in (the )?{FRAME})?",
+    # The camera off to a side, the degree after ("camera off to the left a bit").
+    CAMERA + " (offset |off |shifted |moved )?(to (the|{P}) ){LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$))",
+    # Moved a little round towards a side ("back of the teddy, drifting a little round to its left").
+    "{MOVE} {WEAK} (a?round |over |across )?(to|towards) (the|{P}) {LAT}( hand)?{PART}",
+    "{WEAK} (a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?{PART}",
+    "({MOVE} )?(a?round|over|across) (to|towards) (the|{P}) {LAT}( hand)?( side)? {WEAK}(?= ([,.;!]|$|and |with |from |at ))",
 ]
+# A slight side said off the back ("a touch left of dead behind"): the slight side of the back.
+BACK_SLIGHT_VIEW = (
+    SEEN + "(from )?{WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)? of "
+    "((the|{P}) (back|rear)( of {obj})?|(dead|straight|directly|right) behind)"
+)
 # Off a side towards an end, short of the diagonal ("from its right side, a little towards the
 # front": ``right-slight-front``).
 SIDE_SLIGHT_VIEW_FRAMES = [
@@ -732,6 +895,17 @@ CLOCK_PHRASES = [
     SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
 ]
 CLOCK_HOUR_DEG = 30.0
+# An azimuth said as such, signed ("an azimuth of 30 degrees", "at minus 45 degrees azimuth").
+SIGNED_AZIMUTH_PHRASES = [
+    "(at |from |with )?(an |a )?azimuth( angle)?( of| ,)? {sd}",
+    "(at |from )?{sd}(?<= degrees) (of )?azimuth",
+]
+# Degrees off a side towards an end ("from its left, 15 degrees towards the back"): the side's
+# azimuth moved that far, as the nearest side (:func:`_nearest_side`).
+SIDE_DEGREES_PHRASES = [
+    SEEN + "from (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?( ,)? (by )?({ABOUT} )?{d}(?<= degrees) "
+    "(towards|toward|to) (the|{P}) {LON}( side| end)?",
+]
 
 # View cues for one subject that together name one side ("a three-quarter view ... from its
 # left" is the front-left); any other two different sides contradict each other.
@@ -785,12 +959,23 @@ GROUP_PHRASES = [
 ELEVATION_PHRASES = {
     "eye level": [
         "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
+        # The camera set on the surface the subject stands on ("the camera resting on the table").
+        "(the )?(camera|lens) (is )?(lying|resting|sitting|placed|set|put|standing)( down)? on the "
+        "({SURFACE}|tabletop|table top)",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
         "(at|from) {P} (height|level)",
         "level with {obj}",
+        # "eye level with it", "eye-level with the seat".
+        "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
+        # At the height of a subject named ("ball and plant both in the frame, at ball height").
+        "(at|from) (the )?{obj} (height|level)",
+        # Down (or up) to a part's height ("crouched down to its roofline", "lowered to the bonnet").
+        "((the )?(camera|lens) )?(crouched|crouching|crouch|squatting|squat|kneeling|kneel|down|lowered|dropped|brought|raised"
+        "|lifted|held|set|come|coming|get|getting) (down |up )?to (the |{P} )?(own )?{ANCHOR_EYE}( (level|height|line))?",
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
+        "(from |at |in )?(a |an )?(horizontal|flat|neutral|level) (view|angle|shot|perspective|camera)",
         # The height of the surface the subject rests on, or sits on: level with the subject.
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
@@ -798,7 +983,8 @@ ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
         "(height|level|high|position)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "(at|from) (the |a )?(height|level) of (the |a |{P} )?({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
+        "((put |with |set |hold )?(the )?(camera|lens) )?(at|from) (the |a )?(height|level) of (the |a |{P} )?"
+        "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
         "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?level with {obj}",
@@ -827,6 +1013,8 @@ ELEVATION_PHRASES = {
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
+        # The degree said after ("elevated slightly", "raised a touch").
+        "(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -834,6 +1022,7 @@ ELEVATION_PHRASES = {
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
+        "(from |in |with )?(a |an )?{VERY} high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
         "with the camera (well|high|far) above {obj}",
         "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
@@ -845,17 +1034,20 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
-        "((seen|shot|viewed) )?from overhead",
-        "(from |in |as )?(a |an )?top view",
+        "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
+        "(from |in |as )?(a |an )?top (view|shot|angle)",
         "((seen|shot|viewed) )?from the top",
+        # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
+        "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
         "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
-        "looking (straight|directly|vertically) down( (at|on) {obj})?",
+        "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?straight down( (at|on) {obj})?",
@@ -873,12 +1065,16 @@ ELEVATION_PHRASES = {
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
+        "(from |in |with )?(a |an )?{VERY} low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
+        # Just above the surface the subject stands on, said of the camera ("lens just above the tabletop").
+        "(the )?(camera|lens) ((just|right|only) |{WEAK} )(above|over|off) the ({SURFACE}|tabletop|table top|ground|floor)",
         "(well|far) (below|under|beneath) eye (level|height)",
+        "(from )?(well|far|way) (below|beneath|under)( {obj})?",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
     "slightly below": [
@@ -891,20 +1087,26 @@ ELEVATION_PHRASES = {
         "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
+        "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
+        # Below the support itself ("put the camera underground", "from below ground level"), or
+        # looking up through it ("through the grass", "through the wood").
+        "(from )?((right|deep|just) )?(underground|below ground|beneath the ground|under the ground|in the ground)( level)?",
+        "through (the |a )?({SURFACE}|{SUPPORT})( (top|surface))?",
+        "((the |a )?(camera|lens) )?(buried|sunk|dug|set|placed|put|hidden) (down )?(in|into|under|beneath) (the |a )?{SUPPORT}",
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
+        "from (below|beneath|underneath)( ,)? (at )?(a )?(steep|sharp) angle",
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
-        "(from )?(underneath|beneath|below|under) (the |a )?(floor|ground|grass|lawn|tabletop|table surface|surface)"
-        "( (surface|level))?",
+        "(from )?(underneath|beneath|below|under) (the |a )?{SUPPORT}( (surface|level))?",
     ],
 }
 ELEVATION_HINTS = {
@@ -923,15 +1125,19 @@ ELEVATION_HINTS = {
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
+        "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
+        "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        # A height joined to a side ("from behind and above").
+        "(?<= and )(from )?(above|overhead|up high|high up)(?= ([,.;!]|$))",
     ],
     "bird's-eye": [
         "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
-        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the )?"
-        "(floor|ground|grass|lawn)(?! (level|height) )",
+        "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the |{P} )?"
+        "(floor|ground|grass|lawn|roots|root)(?! (level|height) )( up(?= ([,.;!]|$)))?",
         "(from )?down (on|at) the (floor|ground|grass|lawn)",
         "{GET} (down )?(low|lower)( down)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(from|at) (the )?(ground|floor) (level|height)",
@@ -948,8 +1154,17 @@ ELEVATION_HINTS = {
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
         "{AIM}( the camera)? up( (at|to|towards) {obj})?",
+        # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
+        "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
         CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
+        # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
+        "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
+        "(floor|ground|rug|carpet|grass|lawn|mat)",
+        "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
+        "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
+        # Looking up at a part of it ("looking up at the shade", "looking up the trunk").
+        "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
 }
 # "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
@@ -963,14 +1178,14 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
 # specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
 VERTICAL_UP_DEG = -90.0
 VERTICAL_UP_PHRASES = [
-    "looking (straight|directly|vertically) up( at {obj})?",
+    "looking ({NEARLY} )?(straight|directly|vertically) up( at {obj})?",
     # The camera pointed vertically up ("pointing the lens straight up").
     "{AIM}( the camera| the lens)? (straight|directly|vertically) up( (at|to|towards) {obj})?",
     "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) up",
     # The zenith: the point straight above the camera.
     "(a |an |the )?zenith( (shot|view|angle|perspective))?",
     "from the ground( level)?( ,)? looking straight up( at {obj})?",
-    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj})?",
+    "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj}| {P} {PARTS})?",
     "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
     "straight up at {obj}",
 ]
@@ -985,10 +1200,15 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "looking down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
-        "(at |from |with )?(an |a )?{d} (elevation|high angle|down angle)",
-        "elevated (by )?{d}",
+        "(at |from |with )?(an |a )?{sd} (elevation|elevation angle)",
+        "(at |from |with )?(an |a )?{d} (high angle|down angle)",
+        # Degrees and the way the camera points ("at a 45 degree angle looking down").
+        "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) down( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
+        "elevated (by )?({ABOUT} )?{d}",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
         "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
@@ -1001,11 +1221,15 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
+        "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
         "(from |at )?(a |an )?{d} angle (from )?below",
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
-        "looking up( at {obj})? (at|from|by) (an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
@@ -1024,8 +1248,25 @@ PLACE_PHRASES = [
 # said in a later clause of its own; those belong to the subject the picture is of ("cushion
 # bottom left, bench in the frame too, wide": a wide cushion).
 SEEN_PHRASES = [
-    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within) (the )?(same )?"
+    "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within|inside) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
+]
+# Words that label or wrap the request and ask nothing of the camera: a shot list's slate ("SC 12",
+# "SHOT 6 -"), a screenplay's scene heading ("INT. LIVING ROOM - DAY"), courtesies ("if it isn't
+# too much trouble"); the axis a roll turns about
+# ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
+NOTE_PHRASES = [
+    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    # How many subjects the frame holds, each named anyway ("all three in frame", "a two-shot").
+    "(all|both) (2|3|4|5)( of them)?( (in|within|inside) (the )?{FRAME})?",
+    # A two-shot (three-shot) names how many subjects the frame holds, each named anyway.
+    "(a |an )?(2|3) (shot|shots)",
+    "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
+    "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
+    "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
+    # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
+    "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
 # Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
 # background"): it too is only asked to be seen as far as cues go, but the depth order is no
@@ -1037,14 +1278,23 @@ DEPTH_WORDS = frozenset({"behind", "beyond", "background", "back", "distance", "
 ROLL_PHRASES = {
     1.0: [
         "(with )?(a |an )?{d}( {dir})? (dutch|canted)( (angle|tilt))?",
-        "(with )?(a |an )?({dir} )?(dutch|canted) (angle|tilt)( of)? {d}( {dir})?",
+        "(with )?(a |an )?({dir} )?(dutch|canted)( (angle|tilt))?( of)? {d}( {dir})?( (frame|shot|view|composition))?",
         "(with )?(the )?camera (rolled|tilted|rotated|canted|turned|leaning) (by )?{d} {dir}",
-        "(rolled|tilted|rotated|canted|turned) (by )?{d} {dir}",
+        "(rolled|tilted|rotated|canted|turned) (by |through )?{d} {dir}",
         "(rolled|tilted|rotated|canted|turned) {dir} (by )?{d}",
         "((with )?(the )?camera )?(rolled|tilted|rotated|canted|leaning) (by )?({d} )?(to the )?{side}",
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
-        "(at|on) (a |an )?({mod} )?slant",
+        "(at|on) (a |an )?({mod} )?(slant|tilt|cant|lean|skew)( (to|towards) the {side})?",
+        # Other verbs of rolling, with degrees and a direction or side ("banked 15 degrees left").
+        "((with )?(the )?(camera|lens) )?{ROLLV} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
+        "((with )?(the )?(camera|lens) )?{ROLLV} ({dir}|(to the |towards the )?{side}) (by )?{d}",
+        # A crooked frame said as an adjective ("frame a bit askew", "a wonky horizon"): a dutch angle.
+        "((the )?(frame|shot|picture|image|horizon|camera) (is )?)?({WEAKROLL} |{mod} )?{ROLLADJ}( (frame|framing|horizon|shot))?"
+        "( ,)?( {dir})?(?! (by|to|up|down) )",
+        # Degrees off level ("15 degrees off level, clockwise").
+        "(a |an )?{d} (off|out of) (level|true|plumb|horizontal)( ,)?( {dir})?",
+        "(with )?(a |an )?{mod} (cant|tilt|lean|slant)(?= ([,.;!]|$))",
         # A direction or side without degrees ("a gentle clockwise tilt", "slight dutch to the left").
         "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
@@ -1055,21 +1305,31 @@ ROLL_PHRASES = {
         "dipping (to the )?{side}( by {d})?",
         # Number, direction and noun in any order ("8 degree counter-clockwise roll", "dutch angle
         # 10", "roll 5 degrees CCW").
-        "(a |an )?{d} {dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} (of )?{dir} (roll|tilt|cant|rotation|dutch( angle| tilt)?|canted angle)",
+        "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
+        "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
+        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
+        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)( the camera| the lens| it)? "
+        "(to the |towards the )?{side} (by )?{d}",
+        # The camera itself turned to a side is a roll, not the subject's azimuth ("lens rotated ten degrees to the right").
+        "(the )?(camera|lens) (rolled|rotated|tilted|turned|canted|twisted|spun) (by )?{d} (to|towards) the {side}",
+        # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
+        "((the )?camera )?(spun|spin|spinning|twisted|twist|twisting|swivelled|swiveled|swivel|revolved|revolve|cocked|cock) "
+        "((by )?{d} {dir}|{dir} (by )?{d})",
         "(roll|rolled|rolling|cant|canted) it (by )?{d} {dir}",
         "(a |an )?{d} (roll|tilt|cant) (to|towards) the {side}",
         "(camera )?(rolled|tilted|canted|rotated|turned) {WEAKROLL} ({dir}|to the {side})",
         "(a |an )?{dir} (roll|tilt|cant|rotation)( of)? {d}",
         "(roll|cant|rotate|rotated|rotating|turn|turned|tilt|tilted|tilting|twist|twisted)( the camera)? (by )?{d} {dir}",
         # Degrees and a direction alone as a clause ("Dutch angle on the car, 20 degrees CW").
-        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$))",
+        "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$|and |with ))",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
     ],
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted|leaning) "
-        "({WEAKROLL} |(by )?{d} )?(to the |towards the )?{side}",
+        "({WEAKROLL} |(by )?{d} )?(down |downwards |downward )?(to the |towards the )?{side}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
@@ -1078,7 +1338,7 @@ ROLL_PHRASES = {
         "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
         "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
-        "(the )?horizon ({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
+        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
@@ -1308,6 +1568,9 @@ POSITION_WORDS = frozenset(
 # never a subject ("the bear a bit to the right" names no object "bit").
 DEGREE_WORDS = frozenset(
     {
+        "more",
+        "less",
+        "much",
         "slightly",
         "somewhat",
         "marginally",
@@ -1364,6 +1627,7 @@ PART_WORDS = frozenset(
         "shape",
         "outline",
         "silhouette",
+        *(part for parts in SUBJECT_PARTS.values() for part in parts if " " not in part),
     }
 )
 SURROUNDINGS = frozenset(
@@ -1472,9 +1736,29 @@ PICTURE_NOUNS = frozenset(
     | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
 )
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
-GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece"})
+GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece", "pair"}) | {
+    w for speck in SPECK_WORDS for w in speck.split() if w not in ("on", "the")
+}
+# A frame turned or crooked ("a bit askew", "on a tilt"): a state of the picture, never a subject.
+ROLL_STATE_WORDS = frozenset({w for phrase in (*ROLL_VERBS, *ROLL_ADJECTIVES) for w in phrase.split()}) | {
+    "tilt",
+    "cant",
+    "slant",
+    "lean",
+    "skew",
+    "kilter",
+}
+# Nouns of the vocabulary's tables (parts, supports, specks, kinds, slates): words the tables use
+# that name things, so before a place relation they are a thing, not a verb ("plate next to the
+# mug" is about a plate, where "focus on the mug" is a verb).
+TABLE_NOUNS = frozenset(
+    w
+    for table in (*SUBJECT_PARTS.values(), SUPPORT_SURFACES, SPECK_WORDS, CLASS_NOUNS, SLATE_LABELS)
+    for phrase in table
+    for w in phrase.split()
+) | {"mat", "ceiling", "canopy", "border", "headshot"}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
-CONJUNCTIONS = frozenset({"and", "or"})
+CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
 
 SUBJECT_FIELDS = ("region", "shot", "view")
@@ -1514,7 +1798,7 @@ _MACROS = {
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
-    "(?: (?:view|shot|angle|perspective))?|from above)",
+    "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
     "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
     "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
@@ -1524,6 +1808,26 @@ _MACROS = {
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
+    # Moving the camera round ("drifting a little round to its left").
+    "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
+    "{ROLLADJ}": _alternatives(ROLL_ADJECTIVES, "(?:"),
+    "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
+    "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
+    "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
+    # The front said as the camera's straight-on line ("a touch to his right of dead front").
+    "{FRONT_ON}": "(?:(?:dead|straight|square|head|full) (?:front|on)|dead ahead|straight ahead|(?:the )?center)",
+    # Close to: "almost straight up", "nearly vertically down".
+    "{NEARLY}": "(?:almost|nearly|near|practically|virtually|pretty much|more or less)",
+    "{CLASS}": _alternatives(CLASS_NOUNS, "(?:"),
+    "{SPECK}": _alternatives(SPECK_WORDS, "(?:"),
+    "{SUPPORT}": _alternatives(SUPPORT_SURFACES, "(?:"),
+    # A part of the subject ("its seat", "the shade", "the trunk").
+    "{PARTS}": _alternatives(
+        {p for parts in SUBJECT_PARTS.values() for p in parts}
+        | (PART_WORDS - {"detail", "details", "texture", "surface", "shape", "outline", "silhouette"})
+        | {"crown", "canopy", "underside", "belly"},
+        "(?:",
+    ),
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
     "{CLAUSE}": "(?<=[,;:.!?] )",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
@@ -1535,13 +1839,15 @@ _MACROS = {
 @dataclass(frozen=True)
 class _Rule:
     """One template: the field it sets and its value (for numbers: a sign multiplier); ``needs``:
-    strings every match holds (:func:`_required`), so a text lacking one is not searched."""
+    strings every match holds (:func:`_required`), and ``needs_any``: groups of strings of which
+    every match holds one (:func:`_required_any`), so a text lacking one is not searched."""
 
     field: str
     value: object
     pattern: re.Pattern
     weak: bool = False
     needs: tuple[str, ...] = ()
+    needs_any: tuple[tuple[str, ...], ...] = ()
 
 
 def _required(pattern: re.Pattern) -> tuple[str, ...]:
@@ -1566,6 +1872,52 @@ def _required(pattern: re.Pattern) -> tuple[str, ...]:
 
     walk(_re_parser.parse(pattern.pattern))
     return tuple(dict.fromkeys(r for r in out if len(r) >= 3))
+
+
+def _required_any(pattern: re.Pattern) -> tuple[tuple[str, ...], ...]:
+    """Groups of literal strings (3 characters or more) of which every match of ``pattern``
+    contains at least one: for each mandatory choice between alternatives ("(tight|close|big)"),
+    one string each alternative must hold (its longest literal run, or the strings of its own
+    first such group); a choice with an alternative holding none gives no group."""
+    groups: list[tuple[str, ...]] = []
+
+    def witnesses(items, mandatory: bool) -> list[str]:
+        """Strings of which a match of ``items`` (a sequence) holds one; empty when unknown.
+        ``mandatory``: every match of the whole pattern goes through ``items`` (not one
+        alternative of several), so its choices are groups of the pattern."""
+        found: list[tuple[str, ...]] = []
+        run: list[str] = []
+        for op, arg in items:
+            if op is _re_nodes.LITERAL:
+                run.append(chr(arg))
+                continue
+            if len(run) >= 3:
+                found.append(("".join(run),))
+            run = []
+            if op is _re_nodes.SUBPATTERN:
+                found += [tuple(w) for w in [witnesses(arg[-1], mandatory)] if w]
+            elif op in (_re_nodes.MAX_REPEAT, _re_nodes.MIN_REPEAT) and arg[0] >= 1:
+                found += [tuple(w) for w in [witnesses(arg[2], mandatory)] if w]
+            elif op is _re_nodes.BRANCH:
+                options = [witnesses(branch, False) for branch in arg[1]]
+                if all(options):
+                    group = tuple(dict.fromkeys(w for option in options for w in option))
+                    found.append(group)
+                    if mandatory:
+                        groups.append(group)
+        if len(run) >= 3:
+            found.append(("".join(run),))
+        # One string alone (the longest) says most; else the smallest group.
+        singles = [f[0] for f in found if len(f) == 1]
+        if singles:
+            return [max(singles, key=len)]
+        return list(min(found, key=len)) if found else []
+
+    witnesses(_re_parser.parse(pattern.pattern), True)
+    # A string holding another of its group adds nothing ("a little bit" holds "bit"): the
+    # shortest ones are enough and quicker to look for.
+    minimal = (tuple(w for w in g if not any(o != w and o in w for o in g)) for g in groups)
+    return tuple(dict.fromkeys(g for g in minimal if len(g) > 1))
 
 
 def _compile(template: str) -> re.Pattern:
@@ -1596,6 +1948,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} {SHOT_NOUN}{link}", False))
+        # Its noun may belong to a view after it ("a wide establishing | shot from the front").
+        rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)}(?= {SHOT_NOUN} (from|at|in|with) )", False))
         if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
             rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
@@ -1638,13 +1992,34 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
+        if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
+            rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
         rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
+        # "90 degrees left" said alone: that far round to that side.
+        rows.append(
+            (
+                "view",
+                ("azimuth", sign),
+                "(from |at )?{d}(?<= degrees) (round |off )?(to the |to )?" + lat + "(?= ([,.;!]|$))",
+                False,
+            )
+        )
+        for lon, toward in (("(front|face)", -1.0), ("(back|rear)", 1.0)):
+            rows += [
+                ("view", ("azimuth", sign, 90.0, toward), t.replace("{LAT}", lat).replace("{LON}", lon), False)
+                for t in SIDE_DEGREES_PHRASES
+            ]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in SLIGHT_VIEW_FRAMES]
+        rows.append(("view", f"back-slight-{lat}", BACK_SLIGHT_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_SIDE_VIEW.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
@@ -1656,6 +2031,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
     rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES]
+    rows += [("view", ("azimuth", 1.0), t, False) for t in SIGNED_AZIMUTH_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
@@ -1663,6 +2039,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
+    rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -1722,7 +2099,10 @@ class RuleParser:
     def __init__(self):
         rows = _templates()
         compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
-        self.rules = [_Rule(field, value, pattern, weak, _required(pattern)) for field, value, pattern, weak in compiled]
+        self.rules = [
+            _Rule(field, value, pattern, weak, _required(pattern), _required_any(pattern))
+            for field, value, pattern, weak in compiled
+        ]
         self.lexicon = _lexicon(rows)
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
@@ -1847,7 +2227,9 @@ class RuleParser:
             position += len(token) + 1
         found = []
         for rule in self.rules:
-            if not all(need in text for need in rule.needs):
+            if not all(need in text for need in rule.needs) or not all(
+                any(need in text for need in group) for group in rule.needs_any
+            ):
                 continue
             for m in rule.pattern.finditer(text):
                 found.append((rule, m, token_at[m.start()], token_at[m.end() + 1] if m.end() + 1 in token_at else len(tokens)))
@@ -1882,7 +2264,11 @@ class RuleParser:
             # Words right before "shot of" / "view of" describe the picture, not a subject ("a
             # candid shot of the bear", "a dramatic worm's-eye view of the tree").
             of_picture = after is not None and (after.forward or tokens[after.end : after.end + 1] == ["of"])
-            slot = (
+            # Words ending on "of"/"at" right before a named object describe the picture of it ("frame
+            # a dramatic look at the mug", "photograph a close study of the teddy"), not a subject.
+            following = tokens[span[-1] + 1] if span[-1] + 1 < len(tokens) else ""
+            of_named = tokens[span[-1]] in ("of", "at") and following.startswith("@")
+            slot = not (of_named or (after is not None and after.forward)) and (
                 (before is not None and before.forward)
                 or (after is not None and after.field == "region")
                 or _coordinated(tokens, span)
@@ -1925,7 +2311,9 @@ class RuleParser:
         content = [w for w in phrase if w not in STOPWORDS]
         if not content or all(w in ATTRIBUTES for w in content) or _never_a_name(" ".join(content)):
             return None
-        if not determined and any(w in self.lexicon and w not in ATTRIBUTES for w in content):
+        if any(w in ("camera", "lens") for w in phrase):  # "a camera buried in the sand below the bench"
+            return None
+        if not determined and any(w in self.lexicon and w not in ATTRIBUTES and w not in TABLE_NOUNS for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing
         return " ".join(phrase)
 
@@ -1966,7 +2354,7 @@ def _never_a_name(text: str) -> bool:
     if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
     if bool(content) and all(w in never for w in content):
         return True
     # A noun phrase whose head is a word of the picture or a position ("the best side", "an
@@ -2024,7 +2412,9 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     elif rule.field == "shot" and rule.value == "share":
         value = _shot_of_share(groups["share"])
     elif rule.field == "view" and isinstance(rule.value, tuple):
-        value = _nearest_side(rule.value[1] * float(groups["d"]))
+        # ("azimuth", sign[, from, towards]): sign * (from + towards * degrees), from the front.
+        _, sign, origin, toward = (*rule.value, 0.0, 1.0)[:4]
+        value = _nearest_side(sign * (origin + toward * float(groups["d"])))
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
@@ -2092,14 +2482,16 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
 
 
 def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
-    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES` or a
-    depth word, :data:`DEPTH_WORDS`, after them, stopwords between), but the first mention's."""
+    """Token positions of the mentions asked only to be in the picture (:data:`SEEN_PHRASES`, a
+    depth word, :data:`DEPTH_WORDS`, or a place relation to a pronoun, "the mug beside it", after
+    them, stopwords between), but the first mention's."""
     starts = {c.start for c in cues if c.field == "seen"}
     covered = {k for c in cues for k in range(c.start, c.end)}  # "seen from behind" is a view, no depth
     out = set()
     for m in mentions[1:]:
         for k in range(m.at + 1, len(tokens)):
-            if k in starts or (tokens[k] in DEPTH_WORDS and k not in covered):
+            placed = tokens[k] in RELATION_WORDS and tokens[k + 1 : k + 2] in (["it"], ["them"], ["him"], ["her"])
+            if k in starts or placed or (tokens[k] in DEPTH_WORDS and k not in covered):
                 out.add(m.at)
             if k in starts or tokens[k] not in STOPWORDS:
                 break

@@ -98,6 +98,10 @@ SPELLINGS = {
     "lil": "little",
     "lvl": "level",
     "med": "medium",
+    # Number words misspelt as people often do.
+    "fourty": "forty",
+    "ninty": "ninety",
+    "cam": "camera",
     # Directions said with a "-ward(s)" suffix are the plain direction ("looking upward a little").
     "upward": "up",
     "upwards": "up",
@@ -172,46 +176,128 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = s.replace("%", " percent ")
+    s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
     s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
+    s = re.sub(r"\b(i|we|you|they)'d\b", r"\1 would", s)  # "I'd like": not a stray "d"
     s = re.sub(r"'(?!s\b)", " ", s)  # other apostrophes ("don't") only split words
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _numbers(_turns(_hedges(_compounds(tokens))))
+    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(tokens))))))
 
 
 # Fractions of a full turn said as an angle ("a quarter turn round to its left").
 TURN_FRACTIONS = {"quarter": "90", "half": "180"}
+# A turn's share said as an ordinal ("a twelfth of a turn", "an eighth of a revolution", "one
+# sixteenth of a full rotation"): 360 degrees over the ordinal's number.
+TURN_ORDINALS = {
+    "half": 2,
+    "third": 3,
+    "quarter": 4,
+    "fifth": 5,
+    "sixth": 6,
+    "eighth": 8,
+    "ninth": 9,
+    "tenth": 10,
+    "twelfth": 12,
+    "sixteenth": 16,
+    "eighteenth": 18,
+    "twentieth": 20,
+    "twenty fourth": 24,
+    "thirty sixth": 36,
+}
+TURN_NOUNS = ("turn", "revolution", "rotation", "circle", "full turn", "full revolution", "full rotation", "full circle")
+ONE_ARTICLES = ("a", "an", "one")
+# The same share written with digits ("1/12 of a turn", "1/8th of a rotation").
+_TURN_SHARE = re.compile(
+    r"\b(\d+)\s*/\s*(\d+)(?:st|nd|rd|th)?\s+of\s+(?:a|one)\s+(?:full\s+)?(?:turn|revolution|rotation|circle)\b"
+)
+
+
+def _turn_degrees(numerator: int, denominator: int) -> str:
+    """``numerator/denominator`` of a full turn in degrees, as the digits :func:`words` writes."""
+    return f"{360.0 * numerator / max(denominator, 1):.4g}"
 
 
 def _turns(tokens: list[str]) -> list[str]:
     """ "quarter turn" / "half turn" as "90 degrees turn" / "180 degrees turn" (not after "three":
-    "three quarter" is a view)."""
+    "three quarter" is a view); "a twelfth of a turn" as "30 degrees" (:data:`TURN_ORDINALS`)."""
     out: list[str] = []
-    for k, token in enumerate(tokens):
+    k = 0
+    while k < len(tokens):
+        token = tokens[k]
         after, before = tokens[k + 1] if k + 1 < len(tokens) else "", out[-1] if out else ""
+        share = _turn_share(tokens, k)
+        if share is not None and before != "three":
+            degrees, k = share
+            if out and out[-1] in ONE_ARTICLES:
+                out.pop()
+            out += [degrees, "degrees"]
+            continue
         if token in TURN_FRACTIONS and after == "turn" and before != "three":
             out += [TURN_FRACTIONS[token], "degrees"]
+        else:
+            out.append(token)
+        k += 1
+    return out
+
+
+def _turn_share(tokens: list[str], k: int) -> tuple[str, int] | None:
+    """(degrees, the index after the phrase) when ``tokens[k:]`` open with "<ordinal> of a
+    <turn>" (:data:`TURN_ORDINALS`, :data:`TURN_NOUNS`), else None."""
+    for ordinal, parts in TURN_ORDINALS.items():
+        said = ordinal.split()
+        if tokens[k : k + len(said)] != said:
+            continue
+        rest = k + len(said)
+        if tokens[rest : rest + 1] != ["of"] or tokens[rest + 1 : rest + 2] not in (["a"], ["one"]):
+            return None
+        for noun in sorted(TURN_NOUNS, key=len, reverse=True):
+            noun_words = noun.split()
+            if tokens[rest + 2 : rest + 2 + len(noun_words)] == noun_words:
+                return _turn_degrees(1, parts), rest + 2 + len(noun_words)
+        return None
+    return None
+
+
+# Hedges after a number ("50-odd degrees", "30ish", "40 or so"): the number itself, whose
+# tolerance already allows for the hedge.
+NUMBER_HEDGES = ("odd", "ish", "or so", "or thereabouts")
+
+
+def _hedges(tokens: list[str]) -> list[str]:
+    """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
+    "highish" -> "a bit high"); after any other word it is dropped ("macro-ish": a shot word's
+    own range allows for it)."""
+    out: list[str] = []
+    for token in tokens:
+        if token == "ish" and out and out[-1] in HEDGED_WORDS:
+            out[-1:] = ["a", "bit", out[-1]]
+        elif token == "ish" and out and out[-1].isalpha():
+            continue
+        elif token.endswith("ish") and _hedged(token[:-3]):
+            out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
     return out
 
 
-def _hedges(tokens: list[str]) -> list[str]:
-    """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
-    "highish" -> "a bit high")."""
+def _number_hedges(tokens: list[str]) -> list[str]:
+    """A hedge of :data:`NUMBER_HEDGES` after a number dropped ("50 odd", "30 ish", "20 or so" ->
+    the number)."""
     out: list[str] = []
-    for token in tokens:
-        if token == "ish" and out and out[-1] in HEDGED_WORDS:
-            out[-1:] = ["a", "bit", out[-1]]
-        elif token.endswith("ish") and _hedged(token[:-3]):
-            out += ["a", "bit", _hedged(token[:-3])]
-        else:
-            out.append(token)
+    k = 0
+    while k < len(tokens):
+        hedge = next((h.split() for h in NUMBER_HEDGES if tokens[k : k + len(h.split())] == h.split()), None)
+        if hedge and out and NUMBER.fullmatch(out[-1]):
+            k += len(hedge)
+            continue
+        out.append(tokens[k])
+        k += 1
     return out
 
 
@@ -222,6 +308,33 @@ def _hedged(stem: str) -> str | None:
         if word in HEDGED_WORDS:
             return word
     return None
+
+
+# "more X" said for a short adjective's comparative ("a little more high than", "go more far"),
+# as people writing in a second language do: read as the comparative.
+COMPARATIVES = {
+    "high": "higher",
+    "low": "lower",
+    "far": "farther",
+    "close": "closer",
+    "near": "nearer",
+    "big": "bigger",
+    "large": "larger",
+    "small": "smaller",
+    "wide": "wider",
+    "tight": "tighter",
+}
+
+
+def _comparatives(tokens: list[str]) -> list[str]:
+    """ "more high" -> "higher" (:data:`COMPARATIVES`)."""
+    out: list[str] = []
+    for token in tokens:
+        if out and out[-1] == "more" and token in COMPARATIVES:
+            out[-1] = COMPARATIVES[token]
+        else:
+            out.append(token)
+    return out
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -294,7 +407,7 @@ def singular(word: str) -> str:
 # (:meth:`~capframe.translate.instruction.ParsedInstruction.not_understood`).
 FILLER_WORDS = frozenset(
     """a an the this that these those it its them their his her my our your me us we i you 's
-    of with and or in on at to from by for as so but into onto about then also both there here
+    of with and or plus in on at to from by for as so but into onto about then also both there here
     is are be being was were am do does did can could would will should shall may might must let
     please kindly thanks thank cheers hey hi hello ok okay maybe perhaps possibly just really
     nice lovely beautiful pretty good great cool neat clean simple cute gorgeous stunning
@@ -303,17 +416,20 @@ FILLER_WORDS = frozenset(
     somewhere same together roughly approximately around circa
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
-    fancy nothing
-    too well visible included inside until while when because""".split()
+    fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again needs ought gotta
+    include including
+    too well visible included until while when because""".split()
 )
 
 
 # Words of the phrase tables people often mistype ("eye hight", "from the rigth", "a bit abvoe").
 # A word is read as one of these when it is no word the tables or the scene's names use and it is
 # the target with two adjacent letters swapped or one letter doubled (4 letters or more), or with
-# one letter dropped (6 letters or more: shorter targets lose a letter into ordinary words, "blow",
-# "lose"); :func:`slip_of` decides, the parser reports each reading.
+# one letter dropped (5 letters or more: "frnt", "abov", "levl"), unless that makes an ordinary
+# word (:data:`DROPPED_INTO_WORDS`: "below" loses a letter into "blow", "close" into "lose");
+# :func:`slip_of` decides, the parser reports each reading.
 SLIP_TARGETS = (
+    "from",
     "height",
     "level",
     "above",
@@ -344,7 +460,9 @@ SLIP_TARGETS = (
     "looking",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
-MIN_DROPPED_LETTERS = 6  # a dropped letter
+MIN_DROPPED_LETTERS = 5  # a dropped letter
+# Ordinary words a target of 5 letters becomes with one letter dropped: never read as it.
+DROPPED_INTO_WORDS = frozenset({"blow", "lose", "font", "fame"})
 
 
 def slip_of(word: str) -> str | None:
@@ -354,7 +472,7 @@ def slip_of(word: str) -> str | None:
     for target in SLIP_TARGETS:
         if len(target) >= MIN_SLIP_LETTERS and (transposed(word, target) or doubled(word, target)):
             return target
-        if len(target) >= MIN_DROPPED_LETTERS and dropped(word, target):
+        if len(target) >= MIN_DROPPED_LETTERS and word not in DROPPED_INTO_WORDS and dropped(word, target):
             return target
     return None
 
@@ -441,7 +559,20 @@ HEAD_ON_WORDS = (
 TAIL_ON_WORDS = ("tail", "rear", "stern", "butt")
 # Parts of a subject that lie on one side of it: naming one names that side ("its left flank",
 # "from its right arm end", "the fridge's left-hand side panel").
-SIDE_PARTS = ("side", "profile", "flank", "end", "hand end", "hand side", "arm", "arm end", "side panel", "panel", "corner")
+SIDE_PARTS = (
+    "side",
+    "profile",
+    "flank",
+    "end",
+    "hand end",
+    "hand side",
+    "arm",
+    "arm end",
+    "side panel",
+    "panel",
+    "corner",
+    "shoulder",
+)
 # Parts found only at one end of a subject: naming one names that end ("the bench's backrest
 # side", "its tail lights", "the grille of the car").
 END_PARTS = {
@@ -468,6 +599,40 @@ EYE_VIEWS = {
     "bird's-eye": ("bird", "birds", "god", "gods", "eagle", "hawk", "crow", "satellite"),
     "worm's-eye": ("worm", "worms", "ant", "ants", "bug", "beetle"),
     "low angle": ("frog", "mouse", "dog", "cat", "pet"),
+}
+
+# Parts of the catalog's kinds of things, by kind: a camera level with one (or at its height) is
+# level with the subject ("lens level with its snout", "at bonnet height", "crouched down to its
+# roofline"); a part is never a subject. Parts at a subject's foot are not here ("roots": low).
+SUBJECT_PARTS = {
+    "vehicle": (
+        "bonnet",
+        "hood",
+        "roof",
+        "roofline",
+        "roof line",
+        "bumper",
+        "bumpers",
+        "windows",
+        "headlight",
+        "headlights",
+        "headlamp",
+        "headlamps",
+        "grille",
+        "grill",
+        "hubcap",
+        "hubcaps",
+        "wheel arch",
+        "wheel arches",
+        "dashboard",
+        "trunk lid",
+        "number plate",
+        "license plate",
+        "licence plate",
+    ),
+    "creature": ("snout", "muzzle", "ears", "ear", "paw", "paws", "tummy", "eyes", "whiskers", "bow tie"),
+    "furniture": ("backrest", "back rest", "armrest", "armrests", "arms", "seat cushions", "cushions", "headrest"),
+    "thing": ("lid", "rim", "spout", "knob", "dial", "lampshade", "middle shelf"),
 }
 
 # Heights named by what stands at them, each read as one elevation class of
@@ -517,13 +682,32 @@ HEIGHT_ANCHORS = {
         "neck",
         "torso",
         "handle",
+        # Any part of the subject itself ("lens down at bonnet height", "level with its snout",
+        # "crouched down to its roofline"): the camera at the subject's own height.
+        *(part for parts in SUBJECT_PARTS.values() for part in parts),
     ),
-    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe"),
+    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe", "root", "roots"),
 }
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
-# right", "sofa tiny in the upper half", "TV big and square on").
+# right", "sofa tiny in the upper half", "TV big and square on"), or after a verb of being or
+# seeming ("it must be big", "make the fridge look massive").
 SIZE_WORDS = {
-    "close-up": ("big", "large", "huge", "massive", "close", "tight", "closer", "tighter", "bigger", "larger"),
+    "close-up": (
+        "big",
+        "large",
+        "huge",
+        "massive",
+        "enormous",
+        "giant",
+        "gigantic",
+        "prominent",
+        "close",
+        "tight",
+        "closer",
+        "tighter",
+        "bigger",
+        "larger",
+    ),
     "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider"),
 }
 # Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
@@ -542,6 +726,8 @@ SIZE_IDIOMS = {
         "crop in",
         "cut in",
         "tighten up",
+        "headshot",
+        "head shot",
         "fill up the frame",
         "macro",
         # Framings named by where the figure is cut: part of it fills the frame, whatever film
@@ -607,6 +793,33 @@ FRAME_FRACTIONS = {
     "three quarters": 0.75,
     "four fifths": 0.8,
 }
+# Words for a camera turned about its lens axis, besides "rolled" and "tilted": verbs said with
+# degrees and a direction ("skewed 10 degrees anticlockwise", "banked 15 degrees left") and
+# adjectives of a crooked frame ("a bit askew", "a wonky horizon": a dutch angle; "tilted" alone
+# stays unread, it may be a pitch).
+ROLL_VERBS = ("skewed", "banked", "tipped", "leaned", "slanted", "slanting", "angled over", "cocked", "canted")
+ROLL_ADJECTIVES = ("askew", "crooked", "wonky", "skewed", "off kilter", "lopsided", "slanted", "canted")
+# What a subject seen very small is likened to ("the ball a speck in the middle", "the bench just
+# a dot"): wide; never a subject of its own.
+SPECK_WORDS = ("speck", "dot", "spot", "pinprick", "pin prick", "blip", "pinhead", "smudge", "blob", "dot on the horizon")
+# Nouns for the kind of thing a subject is ("the full vehicle in frame", "the whole animal"):
+# the subject itself, wherever a name would stand in a size phrase.
+CLASS_NOUNS = (
+    "vehicle",
+    "animal",
+    "creature",
+    "object",
+    "item",
+    "figure",
+    "body",
+    "subject",
+    "appliance",
+    "machine",
+    "furniture",
+    "piece of furniture",
+    "structure",
+    "thing",
+)
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
 
@@ -614,25 +827,99 @@ PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "ton
 # answers to every other word of that group ("telly" for a television, "couch" for a sofa), when
 # no other object of the scene already uses that word.
 NAME_SYNONYMS = (
-    ("television", "tv", "telly", "tv set", "television set", "telie"),
-    ("sofa", "couch", "settee", "loveseat", "divan"),
+    ("television", "tv", "telly", "tv set", "television set", "telie", "flat screen", "flatscreen", "tv screen"),
+    ("sofa", "couch", "settee", "loveseat", "divan", "sectional"),
     ("refrigerator", "fridge", "icebox", "fridge freezer"),
-    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy"),
-    ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot"),
-    ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand"),
-    ("toy car", "car", "model car", "matchbox car", "toy vehicle"),
+    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy", "plushie", "stuffed toy", "cuddly toy"),
+    ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot", "indoor plant"),
+    ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand", "reading lamp", "floor light"),
+    ("toy car", "car", "model car", "matchbox car", "toy vehicle", "little car", "miniature car", "diecast car"),
     ("traffic cone", "cone", "safety cone", "road cone", "pylon"),
-    ("armchair", "arm chair", "easy chair", "lounge chair", "chair"),
-    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit"),
-    ("cushion", "pillow", "throw pillow", "scatter cushion"),
+    ("armchair", "arm chair", "easy chair", "lounge chair", "chair", "recliner", "club chair", "wingback chair", "wing chair"),
+    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit", "book case", "shelf unit"),
+    ("cushion", "pillow", "throw pillow", "scatter cushion", "throw cushion"),
     ("mug", "cup", "coffee mug", "coffee cup", "tea cup", "teacup"),
-    ("coffee table", "low table", "table", "side table"),
-    ("ball", "beach ball", "toy ball", "football"),
+    ("coffee table", "low table", "table", "side table", "cocktail table"),
+    ("ball", "beach ball", "toy ball", "football", "soccer ball", "rubber ball"),
     ("bench", "park bench", "garden bench"),
     ("vase", "flower vase", "jar"),
-    ("tree", "small tree", "sapling"),
+    ("tree", "small tree", "sapling", "young tree"),
 )
 
+
+# What a camera below the subject's support is under, or looks up through ("from below the
+# floorboards", "underground, looking up through the grass", "pointing up through the wood"):
+# the worm's-eye view from under the support.
+SUPPORT_SURFACES = (
+    "floor",
+    "floorboards",
+    "floorboard",
+    "floor boards",
+    "boards",
+    "planks",
+    "decking",
+    "ground",
+    "earth",
+    "soil",
+    "dirt",
+    "turf",
+    "grass",
+    "lawn",
+    "pavement",
+    "paving",
+    "tarmac",
+    "concrete",
+    "tiles",
+    "carpet",
+    "rug",
+    "tabletop",
+    "table top",
+    "table surface",
+    "surface",
+    "wood",
+    "glass",
+    "sand",
+    "snow",
+    "gravel",
+    "mud",
+)
+# Labels of a shot list or screenplay that name no constraint: a slate ("SC 12", "SHOT 6",
+# "take 3") and a scene heading ("INT. LIVING ROOM - DAY", "EXT. GARDEN").
+SLATE_LABELS = ("sc", "scene", "shot", "take", "setup", "set up", "slate", "panel", "board", "storyboard", "no", "number")
+SCENE_HEADINGS = ("int", "ext", "int ext", "ext int", "i e", "interior", "exterior")
+HEADING_TIMES = ("day", "night", "morning", "evening", "dusk", "dawn", "continuous", "later", "same")
+# Whole phrases of politeness that ask nothing of the camera ("if it isn't too much trouble",
+# "thank you so much"), in normalised words, as "please" and "thanks" alone.
+COURTESIES = (
+    "if it isn t too much trouble",
+    "if it is not too much trouble",
+    "if it s not too much trouble",
+    "if it s no trouble",
+    "if you don t mind",
+    "if you do not mind",
+    "if you wouldn t mind",
+    "if possible",
+    "if you can",
+    "when you get a chance",
+    "when you have a moment",
+    "thank you so much",
+    "thank you very much",
+    "thanks so much",
+    "thanks very much",
+    "thanks a lot",
+    "thanks a bunch",
+    "many thanks",
+    "much appreciated",
+    "it would be great",
+    "that would be great",
+    "that would be lovely",
+    "that d be great",
+    "no rush",
+    "is it possible to",
+    "would it be possible to",
+    "if that s possible",
+    "this time",
+)
 
 # --- matching ---------------------------------------------------------------------------------
 
@@ -681,6 +968,10 @@ ATTRIBUTES = COLORS | {
     "little",
     "tiny",
     "huge",
+    "giant",
+    "enormous",
+    "gigantic",
+    "massive",
     "tall",
     "short",
     "old",
@@ -889,10 +1180,11 @@ def _near(said: str, name: str) -> bool:
     letters or more; one swap or one letter written once where the name has it twice from one of
     :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"), or its final "y" written "ie"
     (:func:`diminutive`: "teddie"); one letter doubled from one of
-    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); two edits keeping the first letter from one of
-    :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
+    :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); letters that sound alike swapped in one of
+    :data:`MIN_TRANSPOSED_LETTERS` (:func:`sounds_alike`: "vaze", "sopha"); two edits keeping the
+    first letter from one of :data:`MIN_TWO_EDIT_LETTERS` (spaces not counted)."""
     letters = len(name.replace(" ", ""))
-    if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said)):
+    if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said) or sounds_alike(said, name)):
         return True
     if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
         return True
@@ -901,6 +1193,23 @@ def _near(said: str, name: str) -> bool:
     if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
         return True
     return letters >= MIN_TWO_EDIT_LETTERS and said[:1] == name[:1] and edit_distance(said, name, 2) <= 2
+
+
+# Spellings of one sound, written one for the other by people spelling by ear ("vaze", "sopha",
+# "kushion"): each is replaced by the first before two spellings are compared.
+SOUND_SPELLINGS = (("ph", "f"), ("ck", "c"), ("k", "c"), ("z", "s"))
+
+
+def sounds_alike(a: str, b: str) -> bool:
+    """Whether ``a`` and ``b`` differ but are spelt the same once letters that sound alike are
+    written one way (:data:`SOUND_SPELLINGS`)."""
+
+    def plain(word: str) -> str:
+        for spelt, sound in SOUND_SPELLINGS:
+            word = word.replace(spelt, sound)
+        return word
+
+    return a != b and plain(a) == plain(b)
 
 
 def diminutive(a: str, b: str) -> bool:
