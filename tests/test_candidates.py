@@ -16,7 +16,7 @@ from conftest import make_camera
 from capframe.constraints import VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
-from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shows_subjects
+from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shortfall, shows_subjects
 from capframe.pipeline.stages import Refined
 from capframe.refine.candidates import (
     MARGIN_SPREAD,
@@ -349,3 +349,19 @@ def test_free_edge_and_sized_distance():
     medium = (0.25 * (1 + SHOT_MARGIN), 0.6 * (1 - SHOT_MARGIN))
     assert _size_miss(0.58, medium) == 0.0 and _size_miss(0.7, medium) == pytest.approx(0.1 - SIZE_SLACK)
     assert _size_miss(0.9, None) == 0.0
+
+
+def test_report_order_returns_the_camera_nearest_to_a_clause_it_cannot_meet():
+    """Poses failing the same clauses: the one nearest to meeting them comes first (a view 20
+    degrees off before one 100 degrees off; an angle weighs its error over 90 degrees against a
+    frame fraction), whatever Refine's order."""
+
+    def report(view_error: float, shot_error: float = 0.0) -> CheckReport:
+        rows = [CheckRow("visibility", "sofa", True, 1.0, {}, 0.0), CheckRow("view", "sofa", False, 0.0, {}, view_error, "deg")]
+        rows.append(CheckRow("shot", "sofa", shot_error == 0.0, 0.5, {}, shot_error, "frame fraction"))
+        return CheckReport(rows)
+
+    assert report_order([report(100.0), report(20.0), report(60.0)]) == [1, 2, 0]
+    assert report_order([report(30.0, 0.5), report(50.0)]) == [1, 0]  # fewer failing clauses first
+    assert report_order([report(60.0), report(40.0, 0.0)]) == [1, 0]
+    assert shortfall(report(45.0, 0.2)) == pytest.approx(0.7)
