@@ -276,8 +276,9 @@ def solve_candidates(
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     sight = _Sight(gaussians, labels, reference)
     point = _aim_point(subject)
-    # The grid, then (only while nothing is kept) elevations over an occluder when none is asked
-    # (the asked azimuths stay central), then the azimuths in the margin of an asked side.
+    # The grid, then (only while no camera is as asked) elevations over an occluder when none is
+    # asked (the asked azimuths stay central), then the azimuths in the margin of an asked side,
+    # then the elevations in the margin of an asked interval.
     over = [] if subject.view is not None and subject.view.elevation_range_deg is not None else OVER_ELEVATIONS_DEG
     margin_azimuths = _margin_azimuths(subject)
     phases = [
