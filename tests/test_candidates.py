@@ -345,6 +345,7 @@ def test_free_edge_and_sized_distance():
     assert _sized_distance(10.0, 0.8, (0.3, 0.5)) == pytest.approx(10.0 * 0.8 / 0.48)
     assert _sized_distance(10.0, 0.1, (0.3, 0.5)) == pytest.approx(10.0 * 0.1 / 0.32)
     assert _sized_distance(10.0, 0.4, (0.3, 0.5)) is None and _sized_distance(10.0, 0.4, None) is None
+    assert _sized_distance(10.0, 0.55, (0.3, 0.5)) is None  # the checker accepts it: Refine's to finish
     # The checker's interval, not Refine's narrower one: inside it nothing is missed.
     medium = (0.25 * (1 + SHOT_MARGIN), 0.6 * (1 - SHOT_MARGIN))
     assert _size_miss(0.58, medium) == 0.0 and _size_miss(0.7, medium) == pytest.approx(0.1 - SIZE_SLACK)

@@ -385,9 +385,10 @@ def _place(
 ) -> tuple[Camera, float, _Seen, str]:
     """The first camera along ``direction`` from ``centroid``, at the :data:`SLIDES` shares of
     ``distance``, that is free (it keeps the occupancy's margins: :meth:`Occupancy.slack`) and sees the
-    subject (of the first :data:`RENDERS_PER_RAY` free ones), moved once along the ray to the
-    asked size when its render shows the subject at another (:func:`_sized_distance`) and the
-    camera there is free and sees it too; else the first free one (``occluded`` or ``too
+    subject (of the first :data:`RENDERS_PER_RAY` free ones), moved once along the ray towards the
+    asked size when its render shows the subject at a size the checker does not accept
+    (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
+    and the camera there is free and sees it too; else the first free one (``occluded`` or ``too
     close``), else the farthest (``inside geometry``). Returns it, its clearance, what its check
     render saw and its status."""
 
@@ -407,15 +408,13 @@ def _place(
         if not free:
             blocked = along
             continue
-        if blocked is not None and renders == 0:
-            # The first free position after blocked ones: the free space's edge between them is
-            # as near the asked distance as this ray allows.
-            along = _free_edge(lambda d: at(d)[2], along, blocked)
-            camera, clearance, _ = at(along)
         seen = sight(camera)
         renders += 1
         if sight.sees(seen):
             sized = _sized_distance(along, seen.extent, labels.subjects[0].extent)
+            if sized is not None and sized > along and blocked is not None:
+                # Outwards only as far as the free space's edge before the blocked share.
+                sized = min(sized, _free_edge(lambda d: at(d)[2], along, blocked))
             if sized is not None and (moved := at(sized))[2] and sight.sees(seen_there := sight(moved[0])):
                 return moved[0], moved[1], seen_there, "kept"
             return camera, clearance, seen, "kept"
@@ -445,10 +444,11 @@ def _free_edge(free, inner: float, outer: float, steps: int = 6) -> float:
 def _sized_distance(distance: float, extent: float, asked: tuple[float, float] | None) -> float | None:
     """The distance at which a subject seen at ``extent`` of the frame from ``distance`` spans
     the asked interval, a tenth of its width inside the nearer end (a projected size scales as
-    one over the distance); None when it is already inside, or nothing was asked or seen. The
-    closed form's distance assumes a sphere of the subject's radius, which a long or flat
-    subject seen end-on or edge-on is not."""
-    if asked is None or extent <= 0.0 or asked[0] <= extent <= asked[1]:
+    one over the distance); None when the checker accepts ``extent`` already (Refine's size term
+    finishes the work from there), or nothing was asked or seen. The closed form's distance
+    assumes a sphere of the subject's radius, which a long or flat subject seen end-on or
+    edge-on is not."""
+    if asked is None or extent <= 0.0 or _size_miss(extent, asked) == 0.0:
         return None
     lo, hi = asked
     target = hi - 0.1 * (hi - lo) if extent > hi else lo + 0.1 * (hi - lo)
