@@ -13,7 +13,7 @@ import torch
 from _synth_helpers import build_scene
 from conftest import make_camera
 
-from capframe.constraints import VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
+from capframe.constraints import MIN_VISIBLE_FRACTION, VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
 from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shortfall, shows_subjects
@@ -366,3 +366,33 @@ def test_report_order_returns_the_camera_nearest_to_a_clause_it_cannot_meet():
     assert report_order([report(30.0, 0.5), report(50.0)]) == [1, 0]  # fewer failing clauses first
     assert report_order([report(60.0), report(40.0, 0.0)]) == [1, 0]
     assert shortfall(report(45.0, 0.2)) == pytest.approx(0.7)
+
+
+def test_an_overhang_leaves_only_the_margin_of_an_asked_elevation():
+    """A ball under a slab (z = 0.9, y from -2 to 0.5, x from -3 to 3) that overhangs its front:
+    "slightly above" (8 to 30 degrees, aimed 12 to 26) sees it only below about 11 degrees, so
+    every camera of the grid is occluded and the closed form keeps one at an elevation in the
+    margin between the aimed and the accepted interval, in front as asked."""
+    g = ball_before_wall(seed=4, spacing=0.05, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
+    a, b = torch.meshgrid(torch.arange(-3.0, 3.0 + 1e-9, 0.05), torch.arange(-2.0, 0.5 + 1e-9, 0.05), indexing="ij")
+    slab = torch.stack([a.reshape(-1), b.reshape(-1), torch.full((a.numel(),), 0.9)], 1)
+    n = len(g) + len(slab)
+    gaussians = GaussianScene.from_activated(
+        torch.cat([g.means, slab.float()]),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.04),
+        torch.full((n,), 0.95),
+        torch.rand(n, 3, generator=torch.Generator().manual_seed(5)),
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    subjects = {"ball": (np.arange(400), gaussians.means[:400].double().mean(0).numpy(), np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -4.0, 0.5), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    constraints = Constraints(subjects=[SubjectConstraint("ball", view="front")], elevation="slightly above")
+    labels = labels_from_constraints(constraints, subjects, up)
+    low, high = labels.subjects[0].view.elevation_range_deg
+    solved = solve_candidates(gaussians, labels, reference, occupancy)
+    assert all(c.status == "occluded" for c in solved if low <= c.elevation_deg <= high)
+    best = solved[0]
+    assert best.status == "kept" and best.azimuth_deg == 0.0 and 8.0 <= best.elevation_deg < low
+    assert best.visible >= MIN_VISIBLE_FRACTION

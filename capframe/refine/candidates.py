@@ -91,9 +91,8 @@ SIGHT_LOD_PIXELS = 2.0  # cells of the scene's level-of-detail cut span at most 
 RENDERS_PER_RAY = 3
 # Once this many check renders are spent and a camera is kept, the search for one as asked stops
 # (a size the free space cannot give, a second subject no angle frames, are searched at a bounded
-# cost; a solve whose first kept cameras are as asked spends a few); the margin elevations are not
-# tried past it even when nothing is kept (a subject hidden from every asked view by an occluder,
-# a table top over a low angle, is hidden a few degrees further too).
+# cost; a solve whose first kept cameras are as asked spends a few). The margin elevations are
+# tried at the grid's azimuths only, which bounds what they add when nothing is kept.
 RENDER_BUDGET = 36
 
 
@@ -287,14 +286,14 @@ def solve_candidates(
         [(e, a) for e in elevations for a in azimuths],
         [(e, a) for e in over for a in azimuths],
         [(e, a) for e in elevations for a in margin_azimuths],
-        [(e, a) for e in _margin_elevations(subject) for a in azimuths + margin_azimuths],
+        [(e, a) for e in _margin_elevations(subject) for a in azimuths],
     ]
     starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
     for rank, (elevation, azimuth) in enumerate(angle for phase in phases for angle in phase):
         if rank in starts and any(c.as_asked for c in out):
             break
-        if sight.renders >= RENDER_BUDGET and (rank >= starts[-1] or any(c.status == "kept" for c in out)):
+        if sight.renders >= RENDER_BUDGET and any(c.status == "kept" for c in out):
             break
         direction = view_direction(
             torch.tensor(math.radians(azimuth), **f64),
