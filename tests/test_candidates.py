@@ -13,17 +13,35 @@ import torch
 from _synth_helpers import build_scene
 from conftest import make_camera
 
-from capframe.constraints import VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
+from capframe.constraints import MIN_VISIBLE_FRACTION, VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
-from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shows_subjects
+from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shortfall, shows_subjects
 from capframe.pipeline.stages import Refined
-from capframe.refine.candidates import OVER_ELEVATIONS_DEG, _margin_azimuths, aimed_pose, shot_distance, solve_candidates
+from capframe.refine.candidates import (
+    MARGIN_SPREAD,
+    OVER_ELEVATIONS_DEG,
+    SIZE_SLACK,
+    _free_edge,
+    _margin_azimuths,
+    _margin_elevations,
+    _size_miss,
+    _sized_distance,
+    aimed_pose,
+    shot_distance,
+    solve_candidates,
+)
 from capframe.refine.optimize import RefineConfig, RefineResult, free_space_loss, refine_pose
 from capframe.scene import GaussianScene, load_scene_dir
 from capframe.scene.directory import SceneDir, SceneMeta, SemanticObject
 from capframe.scene.occupancy import build_occupancy
-from capframe.translate.labels import SubjectLabel, accepted_azimuth_tolerance_deg, labels_from_constraints, view_target
+from capframe.translate.labels import (
+    SHOT_MARGIN,
+    SubjectLabel,
+    accepted_azimuth_tolerance_deg,
+    labels_from_constraints,
+    view_target,
+)
 from capframe.translate.parse import parse_instruction
 from capframe.translate.vocabulary import Vocabulary
 
@@ -272,3 +290,109 @@ def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_
     assert all(r.satisfied for r in reports[1].rows if r.constraint != "elevation")
     answer, reports = closest_answer(scene, labels, parsed, Refined([(level, run(level, high))]), occupancy)
     assert [r.stop_reason for _, r in answer.runs] == ["plateau"] and reports[0].all_satisfied
+
+
+def test_kept_cameras_that_see_every_subject_rank_first():
+    """A second ball straight behind the first as the reference view sees them: the closed-form
+    camera on the reference's side (the first of the grid) sees the primary but not the other,
+    hidden behind it; cameras 45 degrees round see both and rank first."""
+    gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
+    second = gaussians.means[:400].clone()
+    second[:, 1] += 2.5
+    gaussians = GaussianScene.from_activated(
+        torch.cat([gaussians.means, second]),
+        torch.tensor([1.0, 0, 0, 0]).expand(len(gaussians) + 400, 4).clone(),
+        torch.full((len(gaussians) + 400, 3), 0.04),
+        torch.full((len(gaussians) + 400,), 0.95),
+        torch.rand(len(gaussians) + 400, 3, generator=torch.Generator().manual_seed(3)),
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    means = gaussians.means.double().numpy()
+    first, other = np.arange(400), np.arange(len(gaussians) - 400, len(gaussians))
+    subjects = {"ball": (first, means[first].mean(0), None), "bear": (other, means[other].mean(0), None)}
+    reference = make_camera(eye=(0.0, -4.0, 0.4), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    constraints = Constraints(subjects=[SubjectConstraint("ball"), SubjectConstraint("bear", role="secondary")])
+    labels = labels_from_constraints(constraints, subjects, up)
+    solved = solve_candidates(gaussians, labels, reference, occupancy, keep=8)
+    kept = [c for c in solved if c.status == "kept"]
+    assert kept[0].others_unseen == 0 and abs(kept[0].azimuth_deg) == 45.0
+    assert next(c for c in kept if c.azimuth_deg == 0.0).others_unseen == 1
+    assert [c.others_unseen for c in kept] == sorted(c.others_unseen for c in kept)
+
+
+def test_margin_elevations_reach_into_the_accepted_interval_never_beyond():
+    """The margin elevations invert view_target's margin for wide and narrow intervals: each lies
+    between the aimed and the accepted end, at MARGIN_SPREAD of the margin, upper end first."""
+    for lo, hi in [(-60.0, -8.0), (8.0, 30.0), (-12.0, 12.0), (80.0, 90.0), (-90.0, -80.0), (25.0, 31.0)]:
+        target = view_target(None, (lo, hi))
+        label = SubjectLabel("vase", np.arange(3), np.zeros(3), None, view=target)
+        aimed = target.elevation_range_deg
+        margins = _margin_elevations(label)
+        assert len(margins) == 2 * len(MARGIN_SPREAD) and margins[0] > aimed[1]
+        for e in margins:
+            assert lo <= e <= hi and not aimed[0] <= e <= aimed[1]
+    low = SubjectLabel("sofa", np.arange(3), np.zeros(3), None, view=view_target(None, (-60.0, -8.0)))
+    # aimed -56 .. -12, accepted -60 .. -8: at 0.5 and 0.85 of the 4 degrees beyond each end.
+    assert _margin_elevations(low) == pytest.approx([-10.0, -58.0, -8.6, -59.4])
+
+
+def test_free_edge_and_sized_distance():
+    """The free edge is found by bisection to within (outer - inner) / 2^steps; the sized distance
+    scales the distance by the measured over the wanted extent, a tenth inside the nearer end."""
+    assert _free_edge(lambda d: d <= 3.3, 2.0, 4.0, steps=10) == pytest.approx(3.3, abs=2.0 / 2**10)
+    assert _free_edge(lambda d: False, 2.0, 4.0) == 2.0
+    assert _sized_distance(10.0, 0.8, (0.3, 0.5)) == pytest.approx(10.0 * 0.8 / 0.48)
+    assert _sized_distance(10.0, 0.1, (0.3, 0.5)) == pytest.approx(10.0 * 0.1 / 0.32)
+    assert _sized_distance(10.0, 0.4, (0.3, 0.5)) is None and _sized_distance(10.0, 0.4, None) is None
+    assert _sized_distance(10.0, 0.55, (0.3, 0.5)) is None  # the checker accepts it: Refine's to finish
+    # The checker's interval, not Refine's narrower one: inside it nothing is missed.
+    medium = (0.25 * (1 + SHOT_MARGIN), 0.6 * (1 - SHOT_MARGIN))
+    assert _size_miss(0.58, medium) == 0.0 and _size_miss(0.7, medium) == pytest.approx(0.1 - SIZE_SLACK)
+    assert _size_miss(0.9, None) == 0.0
+
+
+def test_report_order_returns_the_camera_nearest_to_a_clause_it_cannot_meet():
+    """Poses failing the same clauses: the one nearest to meeting them comes first (a view 20
+    degrees off before one 100 degrees off; an angle weighs its error over 90 degrees against a
+    frame fraction), whatever Refine's order."""
+
+    def report(view_error: float, shot_error: float = 0.0) -> CheckReport:
+        rows = [CheckRow("visibility", "sofa", True, 1.0, {}, 0.0), CheckRow("view", "sofa", False, 0.0, {}, view_error, "deg")]
+        rows.append(CheckRow("shot", "sofa", shot_error == 0.0, 0.5, {}, shot_error, "frame fraction"))
+        return CheckReport(rows)
+
+    assert report_order([report(100.0), report(20.0), report(60.0)]) == [1, 2, 0]
+    assert report_order([report(30.0, 0.5), report(50.0)]) == [1, 0]  # fewer failing clauses first
+    assert report_order([report(60.0), report(40.0, 0.0)]) == [1, 0]
+    assert shortfall(report(45.0, 0.2)) == pytest.approx(0.7)
+
+
+def test_an_overhang_leaves_only_the_margin_of_an_asked_elevation():
+    """A ball under a slab (z = 0.9, y from -2 to 0.5, x from -3 to 3) that overhangs its front:
+    "slightly above" (8 to 30 degrees, aimed 12 to 26) sees it only below about 11 degrees, so
+    every camera of the grid is occluded and the closed form keeps one at an elevation in the
+    margin between the aimed and the accepted interval, in front as asked."""
+    g = ball_before_wall(seed=4, spacing=0.05, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
+    a, b = torch.meshgrid(torch.arange(-3.0, 3.0 + 1e-9, 0.05), torch.arange(-2.0, 0.5 + 1e-9, 0.05), indexing="ij")
+    slab = torch.stack([a.reshape(-1), b.reshape(-1), torch.full((a.numel(),), 0.9)], 1)
+    n = len(g) + len(slab)
+    gaussians = GaussianScene.from_activated(
+        torch.cat([g.means, slab.float()]),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.04),
+        torch.full((n,), 0.95),
+        torch.rand(n, 3, generator=torch.Generator().manual_seed(5)),
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    subjects = {"ball": (np.arange(400), gaussians.means[:400].double().mean(0).numpy(), np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -4.0, 0.5), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    constraints = Constraints(subjects=[SubjectConstraint("ball", view="front")], elevation="slightly above")
+    labels = labels_from_constraints(constraints, subjects, up)
+    low, high = labels.subjects[0].view.elevation_range_deg
+    solved = solve_candidates(gaussians, labels, reference, occupancy)
+    assert all(c.status == "occluded" for c in solved if low <= c.elevation_deg <= high)
+    best = solved[0]
+    assert best.status == "kept" and best.azimuth_deg == 0.0 and 8.0 <= best.elevation_deg < low
+    assert best.visible >= MIN_VISIBLE_FRACTION

@@ -228,8 +228,9 @@ def report_order(reports: list[CheckReport]) -> list[int]:
     """The order of Refine's poses by their own reports: unchanged when the first satisfies every
     clause; else a pose in free space first, then one that shows its subjects (no failing
     ``visibility`` row: a camera that does not show the subject answers nothing), then the
-    fewest failing clauses, Refine's order breaking ties. Refine ranks by its loss, which does
-    not see a subject hidden by other objects; the report does."""
+    fewest failing clauses, then the nearest to meeting them (:func:`shortfall`: an infeasible
+    request returns the closest feasible camera), Refine's order breaking ties. Refine ranks by
+    its loss, which does not see a subject hidden by other objects; the report does."""
     if not reports or reports[0].all_satisfied:
         return list(range(len(reports)))
 
@@ -238,7 +239,22 @@ def report_order(reports: list[CheckReport]) -> list[int]:
 
     return sorted(
         range(len(reports)),
-        key=lambda k: (failing(reports[k], "clearance") > 0, not shows_subjects(reports[k]), failing(reports[k]), k),
+        key=lambda k: (
+            failing(reports[k], "clearance") > 0,
+            not shows_subjects(reports[k]),
+            failing(reports[k]),
+            round(shortfall(reports[k]), 2),
+            k,
+        ),
+    )
+
+
+def shortfall(report: CheckReport) -> float:
+    """How far ``report``'s failing clauses are from holding, summed: an angle's error over a
+    right angle (a view 90 degrees off weighs as a subject a whole frame off its region), any
+    other error (frame fractions) as it is, 1 for an error that is undefined."""
+    return sum(
+        1.0 if r.error is None else r.error / 90.0 if r.unit == "deg" else r.error for r in report.rows if r.satisfied is False
     )
 
 

@@ -39,13 +39,21 @@ import torch
 
 from ..constraints import MIN_VISIBLE_FRACTION
 from ..geometry import look_at, view_angles, view_direction
+from ..measure import interval_distance
 from ..render import NEAR_FRACTION, scene_extent
 from ..render.lod import SCENE_CELL, cached_hierarchy, ray_cosine, subject_owner
 from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
-from ..translate.labels import PseudoLabels, SubjectLabel, accepted_azimuth_tolerance_deg, min_in_frame_share
+from ..translate.labels import (
+    ELEVATION_MARGIN_DEG,
+    SHOT_MARGIN,
+    PseudoLabels,
+    SubjectLabel,
+    accepted_azimuth_tolerance_deg,
+    min_in_frame_share,
+)
 
 # The candidate grid: azimuths at these shares of the accepted tolerance around each asked
 # azimuth, elevations at these shares of the accepted interval (central first; the ends reach a
@@ -54,6 +62,10 @@ AZIMUTH_SPREAD = (0.0, -0.6, 0.6)
 # When no camera of that grid is kept (a side facing a wall a little way off, reachable only
 # obliquely), azimuths at these shares of the margin between the aimed and the accepted tolerance,
 # beyond the aimed one on both sides: Refine then only has to hold the camera there.
+# The same shares of the margin between the aimed and the accepted elevation interval, beyond
+# either end, are tried last: a low angle at a large subject that rests low is reachable only
+# near the interval's upper end (the floor bounds the distance at a steeper one, and nearer the
+# subject overflows the frame), a high angle under a ceiling only near its lower end.
 MARGIN_SPREAD = (0.5, 0.85)
 ELEVATION_SPREAD = (0.5, 0.2, 0.8, 0.05, 0.95)
 # Without an asked view side: azimuths around the subject, from the reference view's side.
@@ -71,8 +83,17 @@ NEAREST_RADII = 0.4
 # Long side (pixels) of the renders that judge occlusion and framing, and how many free
 # positions along one ray are rendered at most (the nearest ones are seldom better).
 CHECK_LONG_SIDE = 64
+# A kept camera misses the asked size when its subject's extent (frame fraction, at the check
+# render's resolution) lies more than this outside the extent the checker accepts: the free
+# space stopped it short of the asked distance.
+SIZE_SLACK = 0.02
 SIGHT_LOD_PIXELS = 2.0  # cells of the scene's level-of-detail cut span at most this (pixels)
 RENDERS_PER_RAY = 3
+# Once this many check renders are spent and a camera is kept, the search for one as asked stops
+# (a size the free space cannot give, a second subject no angle frames, are searched at a bounded
+# cost; a solve whose first kept cameras are as asked spends a few). The margin elevations are
+# tried at the grid's azimuths only, which bounds what they add when nothing is kept.
+RENDER_BUDGET = 36
 
 
 @dataclass
@@ -90,6 +111,10 @@ class Candidate:
         in_frame: share of the subject's projection inside the frame (0 when not rendered).
         layout_error: summed distance (frame fractions) of the other subjects' projected
             centroids outside their regions (1 for one behind the camera).
+        size_miss: how far (frame fractions) the subject's extent lies outside the asked one
+            (:func:`_size_miss`; 0 without a shot size or when not rendered).
+        others_unseen: how many other subjects are not seen as the checker asks (hidden, or
+            too much of them outside the frame) there; 0 when not rendered.
         status: ``kept``, ``inside geometry`` (no free position along its ray), ``occluded``
             (hidden at every free one) or ``too close`` (cut off by the frame at every free one).
     """
@@ -103,6 +128,13 @@ class Candidate:
     in_frame: float
     layout_error: float
     status: str
+    size_miss: float = 0.0
+    others_unseen: int = 0
+
+    @property
+    def as_asked(self) -> bool:
+        """Kept, at the asked size and with every other subject seen: the closed form's answer."""
+        return self.status == "kept" and self.size_miss == 0.0 and self.others_unseen == 0
 
     def to_dict(self) -> dict:
         """The candidate as ``result.json``'s ``solved`` lists it; a number that is not finite
@@ -116,6 +148,8 @@ class Candidate:
                 "visible": round(self.visible, 4),
                 "in_frame": round(self.in_frame, 4),
                 "layout_error": round(self.layout_error, 4),
+                "size_miss": round(self.size_miss, 4),
+                "others_unseen": self.others_unseen,
                 "status": self.status,
             }
         )
@@ -189,6 +223,21 @@ def _margin_azimuths(subject: SubjectLabel) -> list[float]:
     return [a + sign * (aimed + share * margin) for share in MARGIN_SPREAD for a in view.azimuths_deg for sign in (-1.0, 1.0)]
 
 
+def _margin_elevations(subject: SubjectLabel) -> list[float]:
+    """Elevations (degrees) between the aimed and the accepted interval of an asked elevation,
+    beyond both ends (:data:`MARGIN_SPREAD`), the upper end first; tried when no camera of the
+    grid is as asked. The accepted interval inverts :func:`~capframe.translate.labels.view_target`'s
+    margin ``min(M, width / 4)`` on each side: an aimed width ``w`` had ``M`` taken off each end
+    when ``w >= 2 M``, else ``w / 2``."""
+    view = subject.view
+    if view is None or view.elevation_range_deg is None:
+        return []
+    lo, hi = view.elevation_range_deg
+    margin = ELEVATION_MARGIN_DEG if hi - lo >= 2 * ELEVATION_MARGIN_DEG else (hi - lo) / 2
+    ends = [(hi + share * margin, lo - share * margin) for share in MARGIN_SPREAD]
+    return [min(max(e, -89.0), 89.0) for pair in ends for e in pair]
+
+
 def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
     flat = vector - (vector @ up) * up
     norm = np.linalg.norm(flat)
@@ -228,18 +277,23 @@ def solve_candidates(
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     sight = _Sight(gaussians, labels, reference)
     point = _aim_point(subject)
-    # The grid, then (only while nothing is kept) elevations over an occluder when none is asked
-    # (the asked azimuths stay central), then the azimuths in the margin of an asked side.
+    # The grid, then (only while no camera is as asked) elevations over an occluder when none is
+    # asked (the asked azimuths stay central), then the azimuths in the margin of an asked side,
+    # then the elevations in the margin of an asked interval.
     over = [] if subject.view is not None and subject.view.elevation_range_deg is not None else OVER_ELEVATIONS_DEG
+    margin_azimuths = _margin_azimuths(subject)
     phases = [
         [(e, a) for e in elevations for a in azimuths],
         [(e, a) for e in over for a in azimuths],
-        [(e, a) for e in elevations for a in _margin_azimuths(subject)],
+        [(e, a) for e in elevations for a in margin_azimuths],
+        [(e, a) for e in _margin_elevations(subject) for a in azimuths],
     ]
     starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
     for rank, (elevation, azimuth) in enumerate(angle for phase in phases for angle in phase):
-        if rank in starts and any(c.status == "kept" for c in out):
+        if rank in starts and any(c.as_asked for c in out):
+            break
+        if sight.renders >= RENDER_BUDGET and any(c.status == "kept" for c in out):
             break
         direction = view_direction(
             torch.tensor(math.radians(azimuth), **f64),
@@ -252,14 +306,31 @@ def solve_candidates(
         camera.name = f"solved-{rank}"
         distance_out = float(np.linalg.norm(camera.center - centroid))
         layout = _layout_error(camera, labels.subjects[1:])
-        out.append(Candidate(camera, azimuth, elevation, distance_out, clearance, seen[0], seen[1], layout, status))
-        # Alone in the frame the first kept ones are the best (the grid is ordered); with other
-        # subjects the ranking by layout needs them all.
-        if len(labels.subjects) == 1 and sum(c.status == "kept" for c in out) >= keep:
+        miss = _size_miss(seen.extent, subject.extent) if seen.rendered else 0.0
+        verdict = (seen.visible, seen.in_frame, layout, status, miss, seen.others_unseen)
+        out.append(Candidate(camera, azimuth, elevation, distance_out, clearance, *verdict))
+        # Alone in the frame the first ones as asked are the best (the grid is ordered); with
+        # other subjects the ranking by layout needs them all.
+        if len(labels.subjects) == 1 and sum(c.as_asked for c in out) >= keep:
             break
-    # A stable sort: the grid order (central angles first) breaks ties.
-    kept = sorted((c for c in out if c.status == "kept"), key=lambda c: round(c.layout_error, 2))
+    # Every other subject seen, then the asked size (a camera that slid in to be free, or saw a
+    # subject cut off, is kept only behind those that need no such compromise), then the layout;
+    # a stable sort: the grid order (central angles first) breaks ties.
+    kept = sorted(
+        (c for c in out if c.status == "kept"), key=lambda c: (c.others_unseen, round(c.size_miss, 1), round(c.layout_error, 2))
+    )
     return kept[:keep] + [c for c in out if c.status != "kept"]
+
+
+@dataclass
+class _Seen:
+    """What a check render of :class:`_Sight` measured (all zero when not rendered)."""
+
+    visible: float = 0.0
+    in_frame: float = 0.0
+    extent: float = 0.0
+    others_unseen: int = 0
+    rendered: bool = False
 
 
 class _Sight:
@@ -270,26 +341,34 @@ class _Sight:
     occlusion phase) whose merged cells span at most :data:`SIGHT_LOD_PIXELS` pixels."""
 
     def __init__(self, gaussians: GaussianScene, labels: PseudoLabels, reference: Camera):
-        subject = labels.subjects[0]
         self.near = NEAR_FRACTION * scene_extent(gaussians.means.detach())
         owner = subject_owner(len(gaussians), [torch.as_tensor(s.gaussians, dtype=torch.long) for s in labels.subjects])
         self.hierarchy = cached_hierarchy(gaussians, None, owner, torch.float32, SCENE_CELL)
-        self.min_in_frame = min_in_frame_share(subject.extent)
+        self.min_in_frame = [min_in_frame_share(s.extent) for s in labels.subjects]
         self.long_side = CHECK_LONG_SIDE
+        self.renders = 0
 
-    def __call__(self, camera: Camera) -> tuple[float, float]:
-        """(visible share, in-frame share) of the subject seen by ``camera``."""
+    def __call__(self, camera: Camera) -> _Seen:
+        """The primary subject's visible and in-frame shares and extent seen by ``camera``, and
+        how many other subjects it does not see as the checker asks."""
+        self.renders += 1
         camera = camera.with_long_side(self.long_side)
         canvas = camera.padded(camera.width // 2, camera.height // 2)  # subject_masks' own-render canvas
         focal = float(max(camera.K[0, 0], camera.K[1, 1]))
         centre = torch.as_tensor(camera.center, dtype=torch.float64)
         cosine = ray_cosine(canvas.K, canvas.width, canvas.height)
         gaussians, owner, _ = self.hierarchy.cut(centre, focal, SIGHT_LOD_PIXELS, 0.0, cosine)
-        masks, _ = subject_masks(gaussians, camera, (owner == 0)[:, None], backend="cpu", near=self.near)
-        return masks[0].visible_fraction, masks[0].in_frame
+        members = owner[:, None] == torch.arange(len(self.min_in_frame))
+        masks, _ = subject_masks(gaussians, camera, members, backend="cpu", near=self.near)
+        unseen = sum(not self._sees(m.visible_fraction, m.in_frame, k) for k, m in enumerate(masks[1:], 1))
+        return _Seen(masks[0].visible_fraction, masks[0].in_frame, masks[0].extent(), unseen, True)
 
-    def sees(self, shares: tuple[float, float]) -> bool:
-        return shares[0] >= MIN_VISIBLE_FRACTION and shares[1] >= self.min_in_frame
+    def _sees(self, visible: float, in_frame: float, k: int = 0) -> bool:
+        return visible >= MIN_VISIBLE_FRACTION and in_frame >= self.min_in_frame[k]
+
+    def sees(self, seen: _Seen) -> bool:
+        """Whether the primary subject is seen as the checker asks."""
+        return self._sees(seen.visible, seen.in_frame)
 
 
 def _place(
@@ -302,28 +381,77 @@ def _place(
     labels: PseudoLabels,
     point: tuple[float, float],
     reference: Camera,
-) -> tuple[Camera, float, tuple[float, float], str]:
+) -> tuple[Camera, float, _Seen, str]:
     """The first camera along ``direction`` from ``centroid``, at the :data:`SLIDES` shares of
     ``distance``, that is free (it keeps the occupancy's margins: :meth:`Occupancy.slack`) and sees the
-    subject (of the first :data:`RENDERS_PER_RAY` free ones); else the first free one
-    (``occluded`` or ``too close``), else the farthest (``inside geometry``). Returns it, its
-    clearance, (visible, in-frame) shares and status."""
-    first_free, outermost, renders = None, None, 0
+    subject (of the first :data:`RENDERS_PER_RAY` free ones), moved once along the ray towards the
+    asked size when its render shows the subject at a size the checker does not accept
+    (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
+    and the camera there is free and sees it too; else the first free one (``occluded`` or ``too
+    close``), else the farthest (``inside geometry``). Returns it, its clearance, what its check
+    render saw and its status."""
+
+    def at(along: float) -> tuple[Camera, float, bool]:
+        centre = centroid + max(along, NEAREST_RADII * radius) * direction
+        camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
+        # Written so that a NaN is never free.
+        return camera, float(occupancy.clearance(torch.as_tensor(centre))), float(occupancy.slack(torch.as_tensor(centre))) >= 0
+
+    first_free, outermost, renders, blocked = None, None, 0, None
     for share in SLIDES:
         if renders == RENDERS_PER_RAY:
             break
-        centre = centroid + max(share * distance, NEAREST_RADII * radius) * direction
-        clearance = float(occupancy.clearance(torch.as_tensor(centre)))
-        camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
-        outermost = outermost or (camera, clearance, (0.0, 0.0), "inside geometry")
-        if not float(occupancy.slack(torch.as_tensor(centre))) >= 0:  # written so that a NaN is never free
+        along = share * distance
+        camera, clearance, free = at(along)
+        outermost = outermost or (camera, clearance, _Seen(), "inside geometry")
+        if not free:
+            blocked = along
             continue
         seen = sight(camera)
         renders += 1
         if sight.sees(seen):
+            sized = _sized_distance(along, seen.extent, labels.subjects[0].extent)
+            if sized is not None and sized > along and blocked is not None:
+                # Outwards only as far as the free space's edge before the blocked share.
+                sized = min(sized, _free_edge(lambda d: at(d)[2], along, blocked))
+            if sized is not None and (moved := at(sized))[2] and sight.sees(seen_there := sight(moved[0])):
+                return moved[0], moved[1], seen_there, "kept"
             return camera, clearance, seen, "kept"
-        first_free = first_free or (camera, clearance, seen, "occluded" if seen[0] < MIN_VISIBLE_FRACTION else "too close")
+        first_free = first_free or (camera, clearance, seen, "occluded" if seen.visible < MIN_VISIBLE_FRACTION else "too close")
     return first_free or outermost
+
+
+def _size_miss(extent: float, asked: tuple[float, float] | None) -> float:
+    """How far (frame fractions, beyond :data:`SIZE_SLACK`) ``extent`` lies outside the interval
+    the checker accepts for the asked one (Refine's ``asked`` interval with the
+    :data:`~capframe.translate.labels.SHOT_MARGIN` it took off put back); 0 without one."""
+    if asked is None:
+        return 0.0
+    accepted = (asked[0] / (1 + SHOT_MARGIN), asked[1] / (1 - SHOT_MARGIN))
+    return max(interval_distance(extent, *accepted) - SIZE_SLACK, 0.0)
+
+
+def _free_edge(free, inner: float, outer: float, steps: int = 6) -> float:
+    """The farthest distance found free by bisecting between ``inner`` (free) and ``outer`` (not
+    free) in ``steps`` halvings; ``free(distance)`` tells whether the camera there is free."""
+    for _ in range(steps):
+        middle = (inner + outer) / 2
+        inner, outer = (middle, outer) if free(middle) else (inner, middle)
+    return inner
+
+
+def _sized_distance(distance: float, extent: float, asked: tuple[float, float] | None) -> float | None:
+    """The distance at which a subject seen at ``extent`` of the frame from ``distance`` spans
+    the asked interval, a tenth of its width inside the nearer end (a projected size scales as
+    one over the distance); None when the checker accepts ``extent`` already (Refine's size term
+    finishes the work from there), or nothing was asked or seen. The closed form's distance
+    assumes a sphere of the subject's radius, which a long or flat subject seen end-on or
+    edge-on is not."""
+    if asked is None or extent <= 0.0 or _size_miss(extent, asked) == 0.0:
+        return None
+    lo, hi = asked
+    target = hi - 0.1 * (hi - lo) if extent > hi else lo + 0.1 * (hi - lo)
+    return distance * extent / target
 
 
 def _spread_distance(
