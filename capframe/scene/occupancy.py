@@ -238,11 +238,16 @@ def _solid_samples(gaussians: GaussianScene) -> Tensor:
 
 
 def _occupied(grid: Occupancy, points: Tensor) -> np.ndarray:
-    """(X, Y, Z) bool: the voxels holding any of the (P, 3) grid-frame ``points``."""
-    index = ((points - torch.as_tensor(grid.origin)) / grid.voxel).floor().long()
-    shape = torch.tensor(grid.occupied.shape)
-    index = index[((index >= 0) & (index < shape)).all(1)]
-    out = np.zeros(grid.occupied.shape, dtype=bool)
+    """(X, Y, Z) bool: the voxels of ``grid`` holding any of the (P, 3) grid-frame ``points``."""
+    return _voxels_holding(points, grid.origin, grid.voxel, grid.occupied.shape)
+
+
+def _voxels_holding(points: Tensor, origin: np.ndarray, voxel: float, shape: tuple[int, int, int]) -> np.ndarray:
+    """(X, Y, Z) bool, ``shape``: the voxels of side ``voxel`` from ``origin`` (3,) holding any of
+    the (P, 3) ``points``; points outside the grid are left out."""
+    index = ((points - torch.as_tensor(origin)) / voxel).floor().long()
+    index = index[((index >= 0) & (index < torch.tensor(shape))).all(1)]
+    out = np.zeros(shape, dtype=bool)
     out[tuple(index.T.numpy())] = True
     return out
 
@@ -478,8 +483,7 @@ def enclosed(gaussians: GaussianScene, point: np.ndarray, cells: int = 32) -> bo
         return False
     origin = lo - voxel
     shape = tuple(int(math.ceil(s)) + 2 for s in (hi - lo) / voxel)
-    grid = Occupancy(np.eye(3), origin, voxel, np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), -1, np.zeros(shape))
-    solid = _occupied(grid, samples)
+    solid = _voxels_holding(samples, origin, voxel, shape)
     border = np.zeros(shape, dtype=bool)
     border[[0, -1], :, :] = border[:, [0, -1], :] = border[:, :, [0, -1]] = True
     outside = _flood(~solid, border)
