@@ -242,13 +242,19 @@ def _occupied(grid: Occupancy, points: Tensor) -> np.ndarray:
     return _voxels_holding(points, grid.origin, grid.voxel, grid.occupied.shape)
 
 
+def _voxel_index(points: Tensor, origin: np.ndarray, voxel: float, shape: tuple[int, ...]) -> tuple[Tensor, Tensor]:
+    """The (P, 3) long index of the voxel (side ``voxel``, from ``origin`` (3,)) holding each of
+    the (P, 3) ``points``, and the (P,) bool mask of those inside a grid of ``shape``."""
+    index = ((points - torch.as_tensor(origin)) / voxel).floor().long()
+    return index, ((index >= 0) & (index < torch.tensor(shape))).all(1)
+
+
 def _voxels_holding(points: Tensor, origin: np.ndarray, voxel: float, shape: tuple[int, int, int]) -> np.ndarray:
     """(X, Y, Z) bool, ``shape``: the voxels of side ``voxel`` from ``origin`` (3,) holding any of
     the (P, 3) ``points``; points outside the grid are left out."""
-    index = ((points - torch.as_tensor(origin)) / voxel).floor().long()
-    index = index[((index >= 0) & (index < torch.tensor(shape))).all(1)]
+    index, inside = _voxel_index(points, origin, voxel, shape)
     out = np.zeros(shape, dtype=bool)
-    out[tuple(index.T.numpy())] = True
+    out[tuple(index[inside].T.numpy())] = True
     return out
 
 
@@ -291,9 +297,8 @@ def _flat_surfaces(points: Tensor, grid: Occupancy) -> tuple[np.ndarray, np.ndar
     over[:, :, :-1] = grid.free[:, :, 1:]
     candidate = grid.occupied & over
     candidate[:, :, : grid.floor_top + 1] = False
-    index = ((points - torch.as_tensor(grid.origin)) / grid.voxel).floor().long().numpy()
-    valid = ((index >= 0) & (index < np.array(shape))).all(1)
-    index, heights = index[valid], points[valid, 2].numpy()
+    index, inside = _voxel_index(points, grid.origin, grid.voxel, shape)
+    index, heights = index[inside].numpy(), points[inside, 2].numpy()
     keep = candidate[index[:, 0], index[:, 1], index[:, 2]]
     flat_index = np.ravel_multi_index(tuple(index[keep].T), shape)
     high = np.full(math.prod(shape), -np.inf)
