@@ -177,6 +177,7 @@ from .vocabulary import (
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    PURPOSES,
     ROLL_ADJECTIVES,
     ROLL_VERBS,
     SCENE_HEADINGS,
@@ -322,7 +323,8 @@ SHOT_CLAUSES = {
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
         "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
         "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
-        "dominating the {FRAME}",
+        "(dominating|dominates|dominate|dominated|dominant in) the ({FRAME}|composition)",
+        "{obj} (dominates|dominating|dominant)(?= ([,.;!]|$))",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
         # Right up to it ("get right up to the mug").
         "(get|getting|go|going|come|coming|move|moving|step|stepping|walk|walking) (right |really )?up "
@@ -364,7 +366,7 @@ SHOT_CLAUSES = {
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
-        "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
+        "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
         # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
         # "the whole set in view").
@@ -410,13 +412,20 @@ SHOT_CLAUSES = {
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
+        # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
+        "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"
+        "(?= ([,.;!]|$|and |with |from |at ))",
+        "(a |an )?(loose|looser|loosely framed) (shot|framing|frame|crop|composition)",
+        # Room to breathe around it ("with room to breathe", "give it space to breathe").
+        "((with|give it|leave|leaving) )?((some|a bit of|a little|enough|lots of|plenty of|loads of) )?(room|space) to breathe"
+        "( (around|round|about) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
         ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
         # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
-        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming) )?((just|only|no more than|nothing but) )?(a |an )?"
-        "((small|tiny|little|distant|mere|wee) )?{SPECK}",
+        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming|the size of) )?((just|only|no more than|nothing but) )?"
+        "(a |an )?((small|tiny|little|distant|mere|wee) )?{SPECK}( (sized|size))?( of (the )?{FRAME})?",
         # Moving back ("go more far", "step a little further away").
         "(go|going|move|moving|step|stepping|get|getting|stand|standing|back|backing|pull|pulling) "
         "((a bit|a little|much|way|well|{WEAK}) )?(further|farther)( (away|back|off|out))?( from {obj})?",
@@ -563,6 +572,8 @@ REGION_PHRASES = {
         "center {obj}( in (the )?{FRAME})?",
         "(at |in )?(the )?{FRAME} center",
         "center of (the )?{FRAME}",
+        # The centre said before the frame ("centre frame", "middle of frame").
+        "(in |at )?(the )?((dead|exact|very|right) )?(center|middle) (of )?{FRAME}",
         "dead center",
         "(front and|center) (center|stage)",
     ],
@@ -673,10 +684,10 @@ VIEW_FRAMES = [
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
-VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?({EXACT} ({STRONG} )?)?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
 # A left or right profile or flank as a clause ("the bear's profile, left side" is its left; a
 # bare "left side" there stays a region).
-PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?= ([,.;!]|$))"
+PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
 # bear three quarter rear right", "chair front, medium"); not "behind", which says where the
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
@@ -698,11 +709,22 @@ SIDE_AFTER_VIEW = (
     "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
     "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
 )
-SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
+SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+# A side of the subject said as the clause after a view clause ("3/4 rear, right-hand side", "from
+# behind, the left flank"): it completes that view (:data:`VIEW_COMBINATIONS`); with "side", "end"
+# or "flank" it is the subject's side, not a place in the frame.
+SIDE_AFTER_VIEW_CLAUSE = (
+    "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )|(?<=quarter , )"
+    "|(?<=quarters , )|(?<=diagonal , ))(the |{P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+)
+# A side "on" ("right side on", "left-end on"): that side facing the camera.
+SIDE_ON = SEEN + "({STRONG} )?(the |{P} )?{LAT}( hand)? (side|end|flank) on"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
+        # Face to face with it ("the teddy face to face", "nose to nose with the car"): straight on.
+        "(?P<exact>face to face|nose to nose|head to head)( with {obj})?",
         "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
@@ -769,6 +791,8 @@ VIEW_PHRASES = {
     ],
     "side": [
         "in profile",
+        # A profile said before the side it is seen from ("profile from its right-hand side").
+        "(a |the )?(side )?profile( (view|shot))?(?= (from|on|of) (the|{P}) (left|right) )",
         "(seen )?({STRONG} )?(side|end) on",
         "from (either|one|a) side",
         "(a |the )?(side )?profile( view| shot)? of {obj}",
@@ -959,6 +983,8 @@ GROUP_PHRASES = [
 ELEVATION_PHRASES = {
     "eye level": [
         "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
+        # Eye to eye with it ("teddy, eye to eye", "eye-to-eye with the bear").
+        "(at |from )?eye to eye( with ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
         # The camera set on the surface the subject stands on ("the camera resting on the table").
         "(the )?(camera|lens) (is )?(lying|resting|sitting|placed|set|put|standing)( down)? on the "
         "({SURFACE}|tabletop|table top)",
@@ -1009,6 +1035,10 @@ ELEVATION_PHRASES = {
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
+        # Above the subject's own height or a part of it ("from just over its own height", "a
+        # touch above its seat", "a little higher than its roof").
+        "(from )?({WEAK} |just )?(above|over|higher than) {HEIGHT_OF} (level|height|line)",
+        "(from )?({WEAK} |just )(above|over|higher than) {P} (own )?({ANCHOR_EYE}|top)(?! (level|height|line) )",
         # Slightly higher than a part at the subject's height ("slightly higher than the seat").
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
@@ -1029,6 +1059,7 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
+        "(from )?(well|far|way|much) (above|over|higher than) {HEIGHT_OF} (level|height|line)",
     ],
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
@@ -1074,6 +1105,7 @@ ELEVATION_PHRASES = {
         # Just above the surface the subject stands on, said of the camera ("lens just above the tabletop").
         "(the )?(camera|lens) ((just|right|only) |{WEAK} )(above|over|off) the ({SURFACE}|tabletop|table top|ground|floor)",
         "(well|far) (below|under|beneath) eye (level|height)",
+        "(from )?(well|far|way|much) (below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?(well|far|way) (below|beneath|under)( {obj})?",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
@@ -1086,6 +1118,10 @@ ELEVATION_PHRASES = {
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(up|low) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
+        # Below the subject's own height or a part of it ("from just under its own height", "a
+        # little below its seat", "a bit lower than its roof").
+        "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
+        "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
         "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
@@ -1116,7 +1152,10 @@ ELEVATION_HINTS = {
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
-        "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
+        "{AIM}( the camera| the lens)? down( (at|on|onto|towards) {obj})?",
+        # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
+        CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
+        "(a |an )?high (camera|lens)( (position|placement))?",
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
@@ -1153,7 +1192,12 @@ ELEVATION_HINTS = {
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
-        "{AIM}( the camera)? up( (at|to|towards) {obj})?",
+        "{AIM}( the camera| the lens)? up( (at|to|towards) {obj})?",
+        # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
+        CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
+        "(a |an |the )?low (camera|lens)( (position|placement))?"
+        "( (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn))?",
+        "(from )?(down low|low down|way down|down below)(?! (in|on|at) )",
         # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
@@ -1163,6 +1207,13 @@ ELEVATION_HINTS = {
         "(floor|ground|rug|carpet|grass|lawn|mat)",
         "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
         "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
+        # The camera at the subject's foot or under its crown ("right by the trunk", "at its foot",
+        # "from the base of the stem", "under the canopy"); not a place of another object ("the
+        # ball at the foot of the tree").
+        "((right|close|just|up|down) )?(by|at|near|beside|next to|against|close to|from) (the |{P} )(foot|feet|base|trunk"
+        "|roots|stem|legs)( of (it|them|(the |{P} )?(trunk|stem)))?(?! (of|level|height|line) )",
+        "((right|close|just|standing|stood|down) )?(under|beneath|underneath|below) (the |{P} )(canopy|crown|branches|boughs"
+        "|leaves|foliage|fronds|shade|lampshade)(?! (of|level|height|line) )",
         # Looking up at a part of it ("looking up at the shade", "looking up the trunk").
         "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
@@ -1248,6 +1299,10 @@ PLACE_PHRASES = [
 # said in a later clause of its own; those belong to the subject the picture is of ("cushion
 # bottom left, bench in the frame too, wide": a wide cushion).
 SEEN_PHRASES = [
+    # Made to show up too ("make sure the teddy shows up too", "with the cone showing as well").
+    "((make sure|so that|so) )?(shows|show|showing|turns|turn|turning|appears|appear) up( (in|within) (the )?{FRAME})?"
+    "( too| as well| also)?(?= ([,.;!?]|$|and |with ))",
+    "(is |are |be )?(showing|visible|seen|in view|in shot|in frame)( too| as well| also)(?= ([,.;!?]|$|and |with ))",
     "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within|inside) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
 ]
@@ -1256,7 +1311,8 @@ SEEN_PHRASES = [
 # too much trouble"); the axis a roll turns about
 # ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
 NOTE_PHRASES = [
-    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    # Its number may carry a letter ("Storyboard 7B", "shot 12 a,"), read apart by vocabulary.words.
+    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+([a-z]| [a-z](?= ([,.;:!]|$)))?",
     # How many subjects the frame holds, each named anyway ("all three in frame", "a two-shot").
     "(all|both) (2|3|4|5)( of them)?( (in|within|inside) (the )?{FRAME})?",
     # A two-shot (three-shot) names how many subjects the frame holds, each named anyway.
@@ -1264,7 +1320,16 @@ NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
+    "(make|making) sure( that)?",
+    # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
+    # shot:"): no constraint on the camera.
+    "{PURPOSE}( {PURPOSE})? (shot|shots|photo|photos|pic|pics|picture|pictures|image|images|photograph|snap|snaps)"
+    "(?= ([,.;:!]|$|for ))",
     "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
+    # The camera or lens named before the height or place the next words give ("lens a hair above its
+    # head", "camera at the same height as the cushion"): the height is read from those words.
+    CAMERA + "(?= ({WEAK}|just|right|slightly|well|way|at|from|level|above|below|under|over|beneath|higher|lower) )",
     # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
     "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
@@ -1287,8 +1352,8 @@ ROLL_PHRASES = {
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
         "(at|on) (a |an )?({mod} )?(slant|tilt|cant|lean|skew)( (to|towards) the {side})?",
         # Other verbs of rolling, with degrees and a direction or side ("banked 15 degrees left").
-        "((with )?(the )?(camera|lens) )?{ROLLV} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
-        "((with )?(the )?(camera|lens) )?{ROLLV} ({dir}|(to the |towards the )?{side}) (by )?{d}",
+        "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
+        "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} ({dir}|(to the |towards the )?{side}) (by )?{d}",
         # A crooked frame said as an adjective ("frame a bit askew", "a wonky horizon"): a dutch angle.
         "((the )?(frame|shot|picture|image|horizon|camera) (is )?)?({WEAKROLL} |{mod} )?{ROLLADJ}( (frame|framing|horizon|shot))?"
         "( ,)?( {dir})?(?! (by|to|up|down) )",
@@ -1766,6 +1831,11 @@ SUBJECT_FIELDS = ("region", "shot", "view")
 # --- compiling the tables -------------------------------------------------------------------------
 
 
+# Words hedging a number said before it ("about thirty degrees", "roughly 20 degrees below"): the
+# number read as said, wherever a template takes one ({d}, {sd}).
+NUMBER_HEDGE = "(?:(?:about|around|roughly|approximately|approx|circa|some|maybe|perhaps|nearly|almost|close to) )?"
+
+
 def _alternatives(options, opening: str = "(") -> str:
     """A regex group of ``options``, longest first so that a longer phrase wins over its prefix;
     ``opening`` is the group's opening ("(", "(?:" or a named group)."""
@@ -1773,9 +1843,13 @@ def _alternatives(options, opening: str = "(") -> str:
 
 
 _MACROS = {
+    # A height named by eye level, a height anchor or the subject's own ("its own", "the seat",
+    # "its roof"), before "level" / "height" / "line"; expanded first, its macros after it.
+    "{HEIGHT_OF}": "(?:(?:the |a |{P} )?(?:own )?(?:eye|{ANCHOR_EYE})|{P}(?: own)?)",
     "{FRAME}": FRAME,
-    "{d}": r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
-    "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
+    "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
+    "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
@@ -1797,12 +1871,14 @@ _MACROS = {
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
-    "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
+    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up)"
+    "|(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
-    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
+    "{LOWVIEW}": "(?:(?:from )?(?:low down|down low)|(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
     "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
-    "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
+    "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|angling|tilt|tilted"
+    "|tilting)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
@@ -1810,8 +1886,11 @@ _MACROS = {
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
     # Moving the camera round ("drifting a little round to its left").
     "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
+    # What a roll verb turns, said after it ("dutch it 25 degrees", "cant the frame 10 degrees left").
+    "{ROLLED}": "(?: (?:it|them|the camera|the lens|the shot|the frame|the picture|the image|things))?",
     "{ROLLADJ}": _alternatives(ROLL_ADJECTIVES, "(?:"),
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
+    "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
     "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
     # The front said as the camera's straight-on line ("a touch to his right of dead front").
@@ -1819,6 +1898,7 @@ _MACROS = {
     # Close to: "almost straight up", "nearly vertically down".
     "{NEARLY}": "(?:almost|nearly|near|practically|virtually|pretty much|more or less)",
     "{CLASS}": _alternatives(CLASS_NOUNS, "(?:"),
+    "{PURPOSE}": _alternatives(PURPOSES, "(?:"),
     "{SPECK}": _alternatives(SPECK_WORDS, "(?:"),
     "{SUPPORT}": _alternatives(SUPPORT_SURFACES, "(?:"),
     # A part of the subject ("its seat", "the shade", "the trunk").
@@ -2017,6 +2097,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("view", f"back-slight-{lat}", BACK_SLIGHT_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_VIEW_CLAUSE.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_ON.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SIDE_VIEW.replace("{LAT}", lat), False))
