@@ -1196,8 +1196,7 @@ def read_in(scene: Vocabulary, text: str) -> dict:
     [
         ("ted", BEAR),  # a nickname (vocabulary.NAME_SYNONYMS)
         ("tele", TV),  # a clipped name: the first letters of one name's head word
-        ("the tele", TV),
-        ("telev", TV),
+        ("the telev", TV),
         ("sof", SOFA),
     ],
 )
@@ -1415,3 +1414,46 @@ def test_camera_words_wrappers_and_views_said_otherwise(text, want):
 def test_a_subject_asked_to_show_up_too_is_secondary():
     got = read("the bench from the left; make sure the mug shows up as well")
     assert got["subjects"] == [(BENCH, None, None, "left"), (MUG, None, None, None)] and got["not_understood"] == []
+
+
+MORE_HEIGHTS_AND_SIZES = [
+    # Heights said as places up or down, steepness, the horizontal, the lens's own height.
+    ("the sofa from a lower vantage", one(SOFA, elevation="low angle")),
+    ("the toy car from higher up", one(CAR, elevation="high angle")),
+    ("the teddy from on high", one(BEAR, elevation="high angle")),
+    ("the mug at a sharp angle from overhead", one(MUG, elevation="bird's-eye")),
+    ("the bench, camera 25 degrees above horizontal", one(BENCH, elevation_deg=25.0)),
+    ("the mug, lens tilted down 30 degrees", one(MUG, elevation_deg=30.0)),
+    ("the bench level with the camera", one(BENCH, elevation="eye level")),
+    ("the mug at camera height", one(MUG, elevation="eye level")),
+    ("the sofa from mid-height", one(SOFA, elevation="eye level")),
+    # Sizes: near enough to touch, margins all round, far across the room, a fraction of the frame.
+    ("the mug within arm's reach", one(MUG, shot="close-up")),
+    ("the teddy really up close", one(BEAR, shot="close-up")),
+    ("the television as big as it'll get", one(TV, shot="close-up")),
+    ("the bench with a wide margin all round", one(BENCH, shot="wide")),
+    ("the teddy with a bit of table around it", one(BEAR, shot="wide")),
+    ("the mug occupying barely a fraction of the frame", one(MUG, shot="wide")),
+    ("the toy car from nose to tail in frame", one(CAR, shot="medium")),
+    ("the sofa, nothing chopped off", one(SOFA, shot="medium")),
+    ("the teddy filling the picture entirely", one(BEAR, shot="close-up")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(MORE_HEIGHTS_AND_SIZES))
+def test_heights_and_sizes_said_in_more_ways(text, want):
+    assert read(text) == want
+
+
+def test_a_side_of_the_surroundings_is_no_view():
+    """ "From the far side of the room" says where the camera stands in the room, not a side of the
+    subject: no view is read, the words stay reported."""
+    got = read("the sofa from the far side of the room")
+    assert got["subjects"] == [(SOFA, None, None, None)] and got["not_understood"]
+
+
+def test_a_surface_word_after_a_determiner_names_the_object():
+    """ "The sofa level with ..." names the sofa; "at the seat level" and "at sofa height" stay heights."""
+    assert read("the sofa level with the lens")["subjects"] == [(SOFA, None, None, None)]
+    assert read("the teddy at sofa height")["elevation"] == "eye level"
+    assert read("the teddy from the sofa level")["subjects"] == [(BEAR, None, None, None)]

@@ -305,7 +305,7 @@ SHOT_CLAUSES = {
     "close-up": [
         "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
-        "the (whole |entire )?{FRAME}",
+        "the (whole |entire )?{FRAME}( (completely|entirely|fully|totally))?",
         # The whole width or height of the frame ("filling the width of the frame", "spanning the
         # whole frame width").
         "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?(width|height) of the {FRAME}",
@@ -313,14 +313,17 @@ SHOT_CLAUSES = {
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
-        "(from )?up close",
+        "(from )?((right|really|very|real) )?up close",
+        # Near enough to touch ("within arm's reach", "at arm's length").
+        "(within|at) (an |one )?arm 's (reach|length)",
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight|close|closely)",
         "(crop|cropping|frame|framing) (in )?(tight|tightly|close|closely)( (on|to) {obj})?",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
-        "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
+        "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go"
+        "|it ll go|it will get|it ll get|you can make it)( in (the )?{FRAME})?",
         "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
         "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
         "(dominating|dominates|dominate|dominated|dominant in) the ({FRAME}|composition)",
@@ -393,6 +396,9 @@ SHOT_CLAUSES = {
     "wide": [
         "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
+        "(taking up|takes up|occupying|occupies|filling|fills|covering|covers|as) (only |just |barely )?(a )?"
+        "(small |tiny |mere )?(fraction|sliver|corner|bit) of the {FRAME}",
+        "(way |far |well )off in the distance",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
@@ -403,6 +409,12 @@ SHOT_CLAUSES = {
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
         # Room to breathe around it ("with breathing room around it", "some elbow room").
+        # Margins or room all round it ("with a generous margin", "space on all sides", "a little room around it").
+        "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
+        "(margin|margins|border|padding)"
+        "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+        "(with )?((a little|a bit of|a little bit of|some|a touch of|a good bit of) )?(space|room|air|floor|table|grass|wall)"
+        " ((around|round|about) {obj}|(all round|all around|on all sides|on every side))",
         "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
         "( (around|round|about) {obj})?",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
@@ -421,7 +433,7 @@ SHOT_CLAUSES = {
         "( (around|round|about) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
+        ALONE.replace("{WORD}", "(wide|wide angle|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
         # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
         "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming|the size of) )?((just|only|no more than|nothing but) )?"
@@ -668,7 +680,7 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
+    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -993,6 +1005,13 @@ ELEVATION_PHRASES = {
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
         "(at|from) {P} (height|level)",
         "level with {obj}",
+        # The subject at the lens's height ("the sofa level with the lens", "the ball at lens height").
+        "(?<=@\\d )(is )?(level with|at) the (camera|lens)( (height|level))?",
+        "(at|from) (the )?(camera|lens) (height|level)",
+        # At its middle height ("from mid-height", "at half its height", "from halfway up it").
+        "(at |from )?(its |the |{P} )?(mid|middle|half) (height|level)( of {obj})?",
+        "(at |from )?half {P} height",
+        "(from )?halfway up( {obj})?(?! the )",
         # "eye level with it", "eye-level with the seat".
         "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
         # At the height of a subject named ("ball and plant both in the frame, at ball height").
@@ -1073,6 +1092,7 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
+        "(at |from )?(a )?(steep|sharp) angle (from )?(above|overhead)",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
@@ -1151,7 +1171,9 @@ ELEVATION_HINTS = {
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
-        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
+        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
+        # Said of a place up somewhere ("from higher up", "from on high", "from a height").
+        "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
         "{AIM}( the camera| the lens)? down( (at|on|onto|towards) {obj})?",
         # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
         CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
@@ -1191,7 +1213,7 @@ ELEVATION_HINTS = {
         "((with )?(the )?(camera|lens) )?((down |right |low )?(at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
-        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
+        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point|vantage)",
         "{AIM}( the camera| the lens)? up( (at|to|towards) {obj})?",
         # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
         CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
@@ -1247,7 +1269,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
-        "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
@@ -1271,7 +1293,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
     -1.0: [
-        "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -1329,7 +1351,8 @@ NOTE_PHRASES = [
     "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
     # The camera or lens named before the height or place the next words give ("lens a hair above its
     # head", "camera at the same height as the cushion"): the height is read from those words.
-    CAMERA + "(?= ({WEAK}|just|right|slightly|well|way|at|from|level|above|below|under|over|beneath|higher|lower) )",
+    CAMERA
+    + "(?= ({WEAK}|just|right|slightly|well|way|at|from|level|above|below|under|over|beneath|higher|lower|{AIM}|looking) )",
     # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
     "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
@@ -1823,6 +1846,12 @@ TABLE_NOUNS = frozenset(
     for w in phrase.split()
 ) | {"mat", "ceiling", "canopy", "border", "headshot"}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
+# Words leading to a height named by a thing with a determiner ("at the | table height", "from the |
+# seat level"): :func:`_height_anchor`.
+HEIGHT_LEADS = frozenset(
+    {"at", "from", "to", "around", "about", "near", "roughly", "approximately", "with", "own", "same", "just", "slightly"}
+    | {"above", "below", "under", "over", "beneath", "underneath", "than", "its", "their", "his", "her", "'s", "down", "up"}
+)
 CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
 
@@ -1867,6 +1896,7 @@ _MACROS = {
     "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
     # An end of a subject, from which to which all of it is seen.
     "{END}": "(?:base|bottom|top|floor|ground|foot|feet|toe|toes|head|bulb|shade|tip|end|ear|arm|leg|legs|wheel|wheels"
+    "|bumper|nose|tail|front|back|rear|stern"
     "|roof|lid|rim|handle|edge|pot|leaves|crown|trunk|seat|backrest)",
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
@@ -2422,8 +2452,15 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
 
 def _height_anchor(tokens: list[str], i: int) -> bool:
     """Whether ``tokens[i]`` names a height rather than an object: a surface or body word
-    before "height"/"level" ("at table height" in a scene with a coffee table called "table")."""
-    return tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")
+    before "height"/"level" after a word leading to a height ("at table height" in a scene with a
+    coffee table called "table", "cam at middle-shelf height"); after a determiner only where a word
+    leading to a height comes first ("at the seat level"): "the sofa level with the lens" names the
+    sofa."""
+    if not (tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")):
+        return False
+    if i > 0 and tokens[i - 1] in MENTION_DETERMINERS:
+        return i > 1 and tokens[i - 2] in HEIGHT_LEADS
+    return True
 
 
 def _never_a_name(text: str) -> bool:

@@ -10,7 +10,11 @@ symmetric). A *mention* such as "the big red chair" is matched to exactly one ob
 2. **partial**: with no whole form inside the mention, an object matches when the mention's
    content words all belong to one of its forms ("teddy" -> "teddy bear") or end on the same head
    noun ("the big bear" -> "teddy bear");
-3. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names.
+3. **short form**: with neither, a mention of one content word of three letters or more that
+   starts the head word of some names' forms ("tele" of "television") matches all of them, so
+   one such name is read and two make the mention ambiguous (:data:`MIN_CLIPPED_LETTERS`);
+4. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names
+   (never a kind word of :data:`NAME_KINDS`).
 
 A misspelt name is read as a name only by the parser, and only when a run of the instruction's
 words is one edit (:func:`one_edit`) from exactly one name or alias, or the head noun of one, of at
@@ -23,15 +27,17 @@ A colour word in the mention that contradicts the colour words of an object's na
 object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
 any. Two objects that match equally well make the mention ambiguous (an error naming both).
 
-Near-synonyms that are neither names nor aliases ("plush toy" for a teddy bear without that alias)
-are not guessed: a small sentence-embedding model ranks them no better than word overlap (it puts
-"plush toy" nearer "toy car" than "teddy bear", and "giraffe" nearer "teddy bear" than some true
-synonyms), so they are left to the scene's aliases and to the model-tier parser (DESIGN §4).
+Near-synonyms that are neither names, aliases nor words of the tables :data:`NAME_SYNONYMS` and
+:data:`NAME_KINDS` (everyday names, nicknames and kinds of the catalog's objects) are not guessed: a
+small sentence-embedding model ranks them no better than word overlap (it puts "plush toy" nearer
+"toy car" than "teddy bear", and "giraffe" nearer "teddy bear" than some true synonyms), so they
+are left to the scene's aliases and to the model-tier parser (DESIGN §4).
 
 The text normalisation here is shared with :mod:`capframe.translate.parse`, so a name is spotted in
 an instruction exactly when it matches: lowercase, hyphens split ("top-left" -> "top left"), the
 possessive "'s" a separate word, one spelling for British/US pairs, number words as digits
-("twenty-five" -> "25") and "degree"/"°" as "degrees".
+("twenty-five" -> "25"), "degree"/"°" as "degrees" and a fraction of something as a percentage
+("2/3 of the frame" -> "66.67 percent of the frame"; "3/4" elsewhere is "three quarter").
 """
 
 from __future__ import annotations
@@ -871,6 +877,10 @@ SIZE_IDIOMS = {
         "the entire thing",
         "uncropped",
         "nothing cut off",
+        "nothing cut",
+        "nothing cropped off",
+        "nothing chopped off",
+        "no cropping",
         "nothing cropped",
         "not cropped",
         "without cropping",
