@@ -1457,3 +1457,20 @@ def test_a_surface_word_after_a_determiner_names_the_object():
     assert read("the sofa level with the lens")["subjects"] == [(SOFA, None, None, None)]
     assert read("the teddy at sofa height")["elevation"] == "eye level"
     assert read("the teddy from the sofa level")["subjects"] == [(BEAR, None, None, None)]
+
+
+SLIGHT_AND_STEEP_HEIGHTS = [
+    ("the bench, just a little elevation", one(BENCH, elevation="slightly above")),
+    ("the mug, a smidge of height", one(MUG, elevation="slightly above")),
+    ("the teddy, slightly looking down", one(BEAR, elevation="slightly above")),
+    ("the sofa, a tad under the horizontal", one(SOFA, elevation="slightly below")),
+    ("the toy car, camera lifted way above it", one(CAR, elevation="high angle")),
+    ("the bench, nearly straight down", one(BENCH, elevation="top-down")),
+    ("the mug, lens pitched down 25 degrees", one(MUG, elevation_deg=25.0)),
+    ("the sofa, elevation 40", one(SOFA, elevation_deg=40.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(SLIGHT_AND_STEEP_HEIGHTS))
+def test_slight_and_steep_heights_said_otherwise(text, want):
+    assert read(text) == want

@@ -1051,6 +1051,11 @@ ELEVATION_PHRASES = {
         "{WEAK} from above",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
+        # A little elevation or height ("slight elevation", "a touch of height"), looking down gently.
+        "(a |with )?(slight|gentle|mild|small|little) (elevation|height)",
+        "{WEAK} of (elevation|height)",
+        "{WEAK} (looking|look|looks|{AIM}) down( (at|on|onto) {obj})?",
+        "{WEAK} (above|over) (the )?(level|horizontal|horizon)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
@@ -1096,12 +1101,12 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
-        "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
-        "(shot |looking )?straight down( (at|on) {obj})?",
+        "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
         "(a )?(plan view|flat lay)",
         # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
@@ -1134,6 +1139,8 @@ ELEVATION_PHRASES = {
         "{WEAK} from (below|beneath)",
         "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
+        "{WEAK} (looking|look|looks|{AIM}) up( (at|to|towards) {obj})?",
+        "{WEAK} (below|under|beneath) (the )?(level|horizontal|horizon)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(up|low) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
@@ -1284,7 +1291,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "elevated (by )?({ABOUT} )?{d}",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
-        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}",
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
@@ -1352,6 +1359,7 @@ NOTE_PHRASES = [
     # The camera or lens named before the height or place the next words give ("lens a hair above its
     # head", "camera at the same height as the cushion"): the height is read from those words.
     CAMERA
+    + "( (raised|lifted|lowered|dropped|held|hoisted|brought))?"
     + "(?= ({WEAK}|just|right|slightly|well|way|at|from|level|above|below|under|over|beneath|higher|lower|{AIM}|looking) )",
     # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
     "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
@@ -1908,7 +1916,7 @@ _MACROS = {
     "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
     "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|angling|tilt|tilted"
-    "|tilting)",
+    "|tilting|pitch|pitched|pitching)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
