@@ -1163,3 +1163,314 @@ def test_a_table_noun_before_a_place_relation_is_a_thing_not_a_verb(text, noun):
     place relation, as "focus" before "on the mug" stays a verb."""
     with pytest.raises(InputError, match=f"subject {noun!r} is not in this scene"):
         parse_instruction(text, SCENE)
+
+
+# --- heldout7's parse misses as families (issue #15, parse8) ----------------------------------------
+
+PLANTS = Vocabulary.from_semantics(
+    [
+        SemanticObject(0, "potted plant", [], True),
+        SemanticObject(1, "tree", [], True),
+        SemanticObject(2, "bench", [], False),
+        SemanticObject(3, "floor lamp", [], True),
+        SemanticObject(4, "traffic cone", [], True),
+    ]
+)
+PLANT, TREE, LAMP, CONE = "potted plant", "tree", "floor lamp", "traffic cone"
+
+
+def read_in(scene: Vocabulary, text: str) -> dict:
+    """:func:`read` in another scene."""
+    p = parse_instruction(text, scene)
+    return {
+        "subjects": [(s.name, s.region, s.shot, s.view) for s in p.subjects],
+        "elevation": p.elevation,
+        "elevation_deg": p.elevation_deg,
+        "roll_deg": p.roll_deg,
+        "not_understood": p.not_understood(),
+    }
+
+
+@pytest.mark.parametrize(
+    "said, name",
+    [
+        ("ted", BEAR),  # a nickname (vocabulary.NAME_SYNONYMS)
+        ("tele", TV),  # a clipped name: the first letters of one name's head word
+        ("the telev", TV),
+        ("sof", SOFA),
+    ],
+)
+def test_a_short_form_names_the_one_object_it_clips(said, name):
+    """A nickname or the first three letters or more of a name's head word name that object when no
+    other object of the scene starts so; what follows still reads as usual."""
+    assert read(f"{said} from behind, wide")["subjects"] == [(name, None, "wide", "back")]
+
+
+def test_a_short_form_of_two_names_is_refused_naming_both():
+    """A clipped word two names start with is ambiguous: refused with the candidates, never guessed."""
+    scene = Vocabulary.from_semantics([SemanticObject(0, "cupboard", [], False), SemanticObject(1, "cupcake", [], False)])
+    assert scene.candidates("cup") == ["cupboard", "cupcake"]
+    with pytest.raises(InputError, match=r"ambiguous in this scene; say which: \['cupboard', 'cupcake'\]"):
+        parse_instruction("the cup from the left", scene)
+    # Two letters start too many words to name anything.
+    assert scene.candidates("cu") == []
+
+
+@pytest.mark.parametrize(
+    "said, name",
+    [
+        ("the fern", PLANT),
+        ("a cactus", PLANT),
+        ("a potted palm", PLANT),
+        ("the palm tree", TREE),  # the longer form wins: a palm tree is the tree
+        ("the sapling", TREE),
+        ("the torchiere", LAMP),
+        ("the marker cone", CONE),
+    ],
+)
+def test_a_kind_of_the_object_names_it(said, name):
+    """A kind of plant, tree, lamp or cone names the scene's object of that kind."""
+    assert read_in(PLANTS, f"{said} from the left")["subjects"] == [(name, None, None, "left")]
+
+
+def test_a_material_or_an_object_of_its_own_kind_is_no_synonym():
+    """ "An oak bench" is the bench (a material, not a tree); a rocking chair, a wine rack or a rubber
+    plant the scene lacks stays refused."""
+    assert read_in(PLANTS, "the oak bench from behind")["subjects"] == [(BENCH, None, None, "back")]
+    with pytest.raises(InputError, match="subject 'rocking chair' is not in this scene"):
+        parse_instruction("the rocking chair beside the sofa, close", SCENE)
+    with pytest.raises(InputError, match="subject 'wine rack' is not in this scene"):
+        parse_instruction("the wine rack next to the bench", PLANTS)
+
+
+RELATIVE_HEIGHTS = [
+    # The subject's own height, or a part of it, with a degree word: the slight classes.
+    ("the toy car from slightly below its own height", one(CAR, elevation="slightly below")),
+    ("the mug, camera just over its own height", one(MUG, elevation="slightly above")),
+    ("the bench from a touch above its backrest", one(BENCH, elevation="slightly above")),
+    ("the teddy, a bit lower than his ears", one(BEAR, elevation="slightly below")),
+    ("sofa - a little beneath its seat-cushion height", one(SOFA, elevation="slightly below")),
+    # Well or far from it: the steeper classes.
+    ("the sofa from well under its own height", one(SOFA, elevation="low angle")),
+    ("the toy car from way above its own height", one(CAR, elevation="high angle")),
+    # Level with it: eye level.
+    ("the teddy, eye-to-eye", one(BEAR, elevation="eye level")),
+    ("eye to eye with the mug", one(MUG, elevation="eye level")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(RELATIVE_HEIGHTS))
+def test_heights_said_relative_to_the_subject_itself(text, want):
+    """Heights relative to the subject's own height or a part of it are one elevation, never a
+    conflict between "just under" and "its own height"."""
+    assert read(text) == want
+
+
+PART_HEIGHTS = [
+    # Parts of every kind of the catalog (vocabulary.SUBJECT_PARTS) at the subject's height.
+    ("the toy car, camera at wheel height", one(CAR, elevation="eye level")),
+    ("the toy car, lens at the height of its side windows", one(CAR, elevation="eye level")),
+    ("the bench from slat level", one(BENCH, elevation="eye level")),
+    ("the sofa with the lens at seat pad height", one(SOFA, elevation="eye level")),
+    ("the television at bezel height", one(TV, elevation="eye level")),
+    ("the mug, lens level with its lip", one(MUG, elevation="eye level")),
+    ("the teddy at paw height", one(BEAR, elevation="eye level")),
+    # Parts at its foot are below it.
+    ("the sofa from plinth height", one(SOFA, elevation="low angle")),
+    ("the bench, camera at base level", one(BENCH, elevation="low angle")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(PART_HEIGHTS))
+def test_a_camera_height_said_by_a_part_of_the_subject(text, want):
+    assert read(text) == want
+
+
+@pytest.mark.parametrize(
+    "text, elevation",
+    [
+        ("the plant, camera at frond height", "eye level"),
+        ("the lamp, lens level with the lampshade", "eye level"),
+        ("the traffic cone at stripe height", "eye level"),
+        ("the tree, camera close by its trunk", "low angle"),
+        ("the lamp from the base of its stem", "low angle"),
+        ("the tree, standing under its branches", "low angle"),
+        ("the tree from right at its foot, ant's-eye", "worm's-eye"),  # the hint yields to the named class
+    ],
+)
+def test_a_place_at_the_subjects_foot_or_under_its_crown_is_low(text, elevation):
+    """The camera by the trunk, at the foot or under the crown looks up at the subject: a low-angle
+    hint (yielding to any named elevation); a part's height is level with it."""
+    got = read_in(PLANTS, text)
+    assert got["elevation"] == elevation and got["not_understood"] == []
+
+
+def test_the_foot_of_another_object_is_a_place_of_the_subject_not_of_the_camera():
+    """ "The cone at the foot of the tree" says where the cone stands: no height is read from it."""
+    got = read_in(PLANTS, "the traffic cone at the foot of the tree")
+    assert got["elevation"] is None
+
+
+ROLLS_AND_HEDGES = [
+    # Dutch as a verb, with what it turns.
+    ("dutch the camera 20 degrees clockwise on the sofa", one(SOFA, roll_deg=20.0)),
+    ("the bench, dutched 10 degrees to the left", one(BENCH, roll_deg=-10.0)),
+    ("television - dutch it twelve degrees anti-clockwise", one(TV, roll_deg=-12.0)),
+    # A number hedged before it, wherever a number is read.
+    ("the mug, a dutch angle of roughly twenty degrees counter-clockwise", one(MUG, roll_deg=-20.0)),
+    ("the teddy, camera rolled around 5 degrees clockwise", one(BEAR, roll_deg=5.0)),
+    ("the sofa from approximately 25 degrees above", one(SOFA, elevation_deg=25.0)),
+    ("the toy car, roughly 40° below", one(CAR, elevation_deg=-40.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(ROLLS_AND_HEDGES))
+def test_dutch_as_a_verb_and_hedged_numbers(text, want):
+    assert read(text) == want
+
+
+VIEWS_SAID_AS_CLAUSES = [
+    # A side said as the clause after a view clause completes it.
+    ("the toy car, rear three-quarter, left-hand side", one(CAR, view="back-left")),
+    ("sofa: three quarter, the right side", one(SOFA, view="front-right")),
+    ("the bench from behind, the left flank", one(BENCH, view="back-left")),
+    # A side "on" and an end as a side.
+    ("the sofa, left side on", one(SOFA, view="left")),
+    ("the bench right end on", one(BENCH, view="right")),
+    ("the sofa, right end, wide", one(SOFA, shot="wide", view="right")),
+    ("the bench: left-hand flank", one(BENCH, view="left")),
+    # The back (front) said by a part only found there (vocabulary.END_PARTS).
+    ("the television's back cover", one(TV, view="back")),
+    ("photograph the tv's rear face", one(TV, view="back")),
+    ("the television's front face, close", one(TV, shot="close-up", view="front")),
+    # Face to face: straight on.
+    ("the teddy face-to-face", one(BEAR, view="front-exact")),
+    ("nose to nose with the toy car", one(CAR, view="front-exact")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(VIEWS_SAID_AS_CLAUSES))
+def test_views_said_as_clauses_ends_and_parts(text, want):
+    assert read(text) == want
+
+
+SIZES_AND_PLACES = [
+    ("complete teddy in view", one(BEAR, shot="medium")),
+    ("the bench, loosely framed", one(BENCH, shot="wide")),
+    ("the mug with space to breathe around it", one(MUG, shot="wide")),
+    ("the toy car the size of a thumbnail", one(CAR, shot="wide")),
+    ("the sofa, a sliver of the frame", one(SOFA, shot="wide")),
+    ("let the sofa dominate the composition", one(SOFA, shot="close-up")),
+    ("the teddy dominant in the frame", one(BEAR, shot="close-up")),
+    # Fractions of the frame in digits: the share, never a three-quarter view.
+    ("the television filling 3/4 of the picture", one(TV, shot="close-up")),
+    ("the teddy, 2/3 of the frame", one(BEAR, shot="close-up")),
+    ("the mug, about ½ the frame", one(MUG, shot="medium")),
+    # The centre said before the frame.
+    ("the mug, middle of frame", one(MUG, region="center")),
+    ("the bench dead centre frame", one(BENCH, region="center")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(SIZES_AND_PLACES))
+def test_sizes_and_places_said_otherwise(text, want):
+    assert read(text) == want
+
+
+def test_three_quarter_in_digits_before_a_side_is_still_the_view():
+    """ "3/4 front" stays the view: only "N/M of" is a share of the frame."""
+    assert words("3/4 front") == ["three", "quarter", "front"]
+    assert words("3/4 of the frame") == ["75", "percent", "of", "the", "frame"]
+    assert words("⅔ of the picture") == ["two", "thirds", "of", "the", "picture"]
+
+
+WRAPPERS_AND_CAMERA_WORDS = [
+    # The camera said high or low, or a high / low camera.
+    ("the mug, camera low, from the left", one(MUG, view="left", elevation="low angle")),
+    ("the sofa, camera high", one(SOFA, elevation="high angle")),
+    ("the bench from a high camera position", one(BENCH, elevation="high angle")),
+    ("the toy car, a low lens near the ground", one(CAR, elevation="low angle")),
+    ("the teddy, lens just above its ears", one(BEAR, elevation="slightly above")),
+    # Degrees after a height said as a place.
+    ("the bench from way up at 45 degrees", one(BENCH, elevation_deg=45.0)),
+    ("the sofa from low down at about 20 degrees", one(SOFA, elevation_deg=-20.0)),
+    # Slates with a letter, purposes and requests that something holds ask nothing more.
+    ("Shot 12C: the bench, wide", one(BENCH, shot="wide")),
+    ("Catalogue photo: the mug from the left", one(MUG, view="left")),
+    ("insurance pics for the sofa, from behind", one(SOFA, view="back")),
+    # Views said in other words: a profile before its side, an end said exactly, a quarter, a nudge.
+    ("the toy car, side profile from its left", one(CAR, view="left")),
+    ("toy car, dead straight front", one(CAR, view="front-exact")),
+    ("the toy car from its front right quarter", one(CAR, view="front-right")),
+    ("the sofa from the front, inched a bit to its left", one(SOFA, view="front-slight-left")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(WRAPPERS_AND_CAMERA_WORDS))
+def test_camera_words_wrappers_and_views_said_otherwise(text, want):
+    assert read(text) == want
+
+
+def test_a_subject_asked_to_show_up_too_is_secondary():
+    got = read("the bench from the left; make sure the mug shows up as well")
+    assert got["subjects"] == [(BENCH, None, None, "left"), (MUG, None, None, None)] and got["not_understood"] == []
+
+
+MORE_HEIGHTS_AND_SIZES = [
+    # Heights said as places up or down, steepness, the horizontal, the lens's own height.
+    ("the sofa from a lower vantage", one(SOFA, elevation="low angle")),
+    ("the toy car from higher up", one(CAR, elevation="high angle")),
+    ("the teddy from on high", one(BEAR, elevation="high angle")),
+    ("the mug at a sharp angle from overhead", one(MUG, elevation="bird's-eye")),
+    ("the bench, camera 25 degrees above horizontal", one(BENCH, elevation_deg=25.0)),
+    ("the mug, lens tilted down 30 degrees", one(MUG, elevation_deg=30.0)),
+    ("the bench level with the camera", one(BENCH, elevation="eye level")),
+    ("the mug at camera height", one(MUG, elevation="eye level")),
+    ("the sofa from mid-height", one(SOFA, elevation="eye level")),
+    # Sizes: near enough to touch, margins all round, far across the room, a fraction of the frame.
+    ("the mug within arm's reach", one(MUG, shot="close-up")),
+    ("the teddy really up close", one(BEAR, shot="close-up")),
+    ("the television as big as it'll get", one(TV, shot="close-up")),
+    ("the bench with a wide margin all round", one(BENCH, shot="wide")),
+    ("the teddy with a bit of table around it", one(BEAR, shot="wide")),
+    ("the mug occupying barely a fraction of the frame", one(MUG, shot="wide")),
+    ("the toy car from nose to tail in frame", one(CAR, shot="medium")),
+    ("the sofa, nothing chopped off", one(SOFA, shot="medium")),
+    ("the teddy filling the picture entirely", one(BEAR, shot="close-up")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(MORE_HEIGHTS_AND_SIZES))
+def test_heights_and_sizes_said_in_more_ways(text, want):
+    assert read(text) == want
+
+
+def test_a_side_of_the_surroundings_is_no_view():
+    """ "From the far side of the room" says where the camera stands in the room, not a side of the
+    subject: no view is read, the words stay reported."""
+    got = read("the sofa from the far side of the room")
+    assert got["subjects"] == [(SOFA, None, None, None)] and got["not_understood"]
+
+
+def test_a_surface_word_after_a_determiner_names_the_object():
+    """ "The sofa level with ..." names the sofa; "at the seat level" and "at sofa height" stay heights."""
+    assert read("the sofa level with the lens")["subjects"] == [(SOFA, None, None, None)]
+    assert read("the teddy at sofa height")["elevation"] == "eye level"
+    assert read("the teddy from the sofa level")["subjects"] == [(BEAR, None, None, None)]
+
+
+SLIGHT_AND_STEEP_HEIGHTS = [
+    ("the bench, just a little elevation", one(BENCH, elevation="slightly above")),
+    ("the mug, a smidge of height", one(MUG, elevation="slightly above")),
+    ("the teddy, slightly looking down", one(BEAR, elevation="slightly above")),
+    ("the sofa, a tad under the horizontal", one(SOFA, elevation="slightly below")),
+    ("the toy car, camera lifted way above it", one(CAR, elevation="high angle")),
+    ("the bench, nearly straight down", one(BENCH, elevation="top-down")),
+    ("the mug, lens pitched down 25 degrees", one(MUG, elevation_deg=25.0)),
+    ("the sofa, elevation 40", one(SOFA, elevation_deg=40.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(SLIGHT_AND_STEEP_HEIGHTS))
+def test_slight_and_steep_heights_said_otherwise(text, want):
+    assert read(text) == want

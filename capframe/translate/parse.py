@@ -177,6 +177,7 @@ from .vocabulary import (
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
+    PURPOSES,
     ROLL_ADJECTIVES,
     ROLL_VERBS,
     SCENE_HEADINGS,
@@ -304,7 +305,7 @@ SHOT_CLAUSES = {
     "close-up": [
         "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
-        "the (whole |entire )?{FRAME}",
+        "the (whole |entire )?{FRAME}( (completely|entirely|fully|totally))?",
         # The whole width or height of the frame ("filling the width of the frame", "spanning the
         # whole frame width").
         "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?(width|height) of the {FRAME}",
@@ -312,17 +313,21 @@ SHOT_CLAUSES = {
         "(shot|seen|photographed|taken|framed) (up )?close( up)?",
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
-        "(from )?up close",
+        "(from )?((right|really|very|real) )?up close",
+        # Near enough to touch ("within arm's reach", "at arm's length").
+        "(within|at) (an |one )?arm 's (reach|length)",
         "(from )?close up",
         "(framed|cropped) (very )?(tightly|tight|close|closely)",
         "(crop|cropping|frame|framing) (in )?(tight|tightly|close|closely)( (on|to) {obj})?",
         "(tightly|tight) (framed|cropped)",
         "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
-        "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go)( in (the )?{FRAME})?",
+        "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go"
+        "|it ll go|it will get|it ll get|you can make it)( in (the )?{FRAME})?",
         "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
         "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
-        "dominating the {FRAME}",
+        "(dominating|dominates|dominate|dominated|dominant in) the ({FRAME}|composition)",
+        "{obj} (dominates|dominating|dominant)(?= ([,.;!]|$))",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
         # Right up to it ("get right up to the mug").
         "(get|getting|go|going|come|coming|move|moving|step|stepping|walk|walking) (right |really )?up "
@@ -364,7 +369,7 @@ SHOT_CLAUSES = {
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
-        "(the )?(whole|entire|full) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?{FRAME})?",
+        "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
         # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
         # "the whole set in view").
@@ -391,6 +396,9 @@ SHOT_CLAUSES = {
     "wide": [
         "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
+        "(taking up|takes up|occupying|occupies|filling|fills|covering|covers|as) (only |just |barely )?(a )?"
+        "(small |tiny |mere )?(fraction|sliver|corner|bit) of the {FRAME}",
+        "(way |far |well )off in the distance",
         "(from )?(very )?far away",
         "from afar",
         "from (a )?(long |great )?distance",
@@ -401,6 +409,12 @@ SHOT_CLAUSES = {
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
         # Room to breathe around it ("with breathing room around it", "some elbow room").
+        # Margins or room all round it ("with a generous margin", "space on all sides", "a little room around it").
+        "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
+        "(margin|margins|border|padding)"
+        "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+        "(with )?((a little|a bit of|a little bit of|some|a touch of|a good bit of) )?(space|room|air|floor|table|grass|wall)"
+        " ((around|round|about) {obj}|(all round|all around|on all sides|on every side))",
         "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
         "( (around|round|about) {obj})?",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
@@ -410,13 +424,20 @@ SHOT_CLAUSES = {
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
+        # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
+        "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"
+        "(?= ([,.;!]|$|and |with |from |at ))",
+        "(a |an )?(loose|looser|loosely framed) (shot|framing|frame|crop|composition)",
+        # Room to breathe around it ("with room to breathe", "give it space to breathe").
+        "((with|give it|leave|leaving) )?((some|a bit of|a little|enough|lots of|plenty of|loads of) )?(room|space) to breathe"
+        "( (around|round|about) {obj})?",
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
-        ALONE.replace("{WORD}", "(wide|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
+        ALONE.replace("{WORD}", "(wide|wide angle|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
         # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
-        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming) )?((just|only|no more than|nothing but) )?(a |an )?"
-        "((small|tiny|little|distant|mere|wee) )?{SPECK}",
+        "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming|the size of) )?((just|only|no more than|nothing but) )?"
+        "(a |an )?((small|tiny|little|distant|mere|wee) )?{SPECK}( (sized|size))?( of (the )?{FRAME})?",
         # Moving back ("go more far", "step a little further away").
         "(go|going|move|moving|step|stepping|get|getting|stand|standing|back|backing|pull|pulling) "
         "((a bit|a little|much|way|well|{WEAK}) )?(further|farther)( (away|back|off|out))?( from {obj})?",
@@ -563,6 +584,8 @@ REGION_PHRASES = {
         "center {obj}( in (the )?{FRAME})?",
         "(at |in )?(the )?{FRAME} center",
         "center of (the )?{FRAME}",
+        # The centre said before the frame ("centre frame", "middle of frame").
+        "(in |at )?(the )?((dead|exact|very|right) )?(center|middle) (of )?{FRAME}",
         "dead center",
         "(front and|center) (center|stage)",
     ],
@@ -657,7 +680,7 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?",
+    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -673,10 +696,10 @@ VIEW_FRAMES = [
 ]
 # A side named alone as a clause ("bench, three-quarter, back right"), between the sentence's
 # or a comma's start and the clause's end; a lone left or right there stays a region.
-VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
+VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?({EXACT} ({STRONG} )?)?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
 # A left or right profile or flank as a clause ("the bear's profile, left side" is its left; a
 # bare "left side" there stays a region).
-PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank)(?= ([,.;!]|$))"
+PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
 # bear three quarter rear right", "chair front, medium"); not "behind", which says where the
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
@@ -698,11 +721,22 @@ SIDE_AFTER_VIEW = (
     "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
     "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
 )
-SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? side(?= ([,.;!]|$))"
+SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+# A side of the subject said as the clause after a view clause ("3/4 rear, right-hand side", "from
+# behind, the left flank"): it completes that view (:data:`VIEW_COMBINATIONS`); with "side", "end"
+# or "flank" it is the subject's side, not a place in the frame.
+SIDE_AFTER_VIEW_CLAUSE = (
+    "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )|(?<=quarter , )"
+    "|(?<=quarters , )|(?<=diagonal , ))(the |{P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+)
+# A side "on" ("right side on", "left-end on"): that side facing the camera.
+SIDE_ON = SEEN + "({STRONG} )?(the |{P} )?{LAT}( hand)? (side|end|flank) on"
 VIEW_PHRASES = {
     "front": [
         "facing (the |towards the )?(camera|viewer|lens|us|me|forward|forwards)",
         "facing front",
+        # Face to face with it ("the teddy face to face", "nose to nose with the car"): straight on.
+        "(?P<exact>face to face|nose to nose|head to head)( with {obj})?",
         "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
@@ -769,6 +803,8 @@ VIEW_PHRASES = {
     ],
     "side": [
         "in profile",
+        # A profile said before the side it is seen from ("profile from its right-hand side").
+        "(a |the )?(side )?profile( (view|shot))?(?= (from|on|of) (the|{P}) (left|right) )",
         "(seen )?({STRONG} )?(side|end) on",
         "from (either|one|a) side",
         "(a |the )?(side )?profile( view| shot)? of {obj}",
@@ -959,6 +995,8 @@ GROUP_PHRASES = [
 ELEVATION_PHRASES = {
     "eye level": [
         "(at |from |on )?(the |{P} )?eye (level|height|line)( (shot|view|angle|camera))?",
+        # Eye to eye with it ("teddy, eye to eye", "eye-to-eye with the bear").
+        "(at |from )?eye to eye( with ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
         # The camera set on the surface the subject stands on ("the camera resting on the table").
         "(the )?(camera|lens) (is )?(lying|resting|sitting|placed|set|put|standing)( down)? on the "
         "({SURFACE}|tabletop|table top)",
@@ -967,6 +1005,13 @@ ELEVATION_PHRASES = {
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
         "(at|from) {P} (height|level)",
         "level with {obj}",
+        # The subject at the lens's height ("the sofa level with the lens", "the ball at lens height").
+        "(?<=@\\d )(is )?(level with|at) the (camera|lens)( (height|level))?",
+        "(at|from) (the )?(camera|lens) (height|level)",
+        # At its middle height ("from mid-height", "at half its height", "from halfway up it").
+        "(at |from )?(its |the |{P} )?(mid|middle|half) (height|level)( of {obj})?",
+        "(at |from )?half {P} height",
+        "(from )?halfway up( {obj})?(?! the )",
         # "eye level with it", "eye-level with the seat".
         "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
         # At the height of a subject named ("ball and plant both in the frame, at ball height").
@@ -1006,9 +1051,18 @@ ELEVATION_PHRASES = {
         "{WEAK} from above",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
+        # A little elevation or height ("slight elevation", "a touch of height"), looking down gently.
+        "(a |with )?(slight|gentle|mild|small|little) (elevation|height)",
+        "{WEAK} of (elevation|height)",
+        "{WEAK} (looking|look|looks|{AIM}) down( (at|on|onto) {obj})?",
+        "{WEAK} (above|over) (the )?(level|horizontal|horizon)",
         "slightly elevated( (angle|view|position|viewpoint|camera))?",
         "(a )?(slight|gentle|mild|shallow) high angle( shot)?",
         "({WEAK} |just )?(above|higher than|over) (eye|{ANCHOR_EYE}) (level|height)",
+        # Above the subject's own height or a part of it ("from just over its own height", "a
+        # touch above its seat", "a little higher than its roof").
+        "(from )?({WEAK} |just )?(above|over|higher than) {HEIGHT_OF} (level|height|line)",
+        "(from )?({WEAK} |just )(above|over|higher than) {P} (own )?({ANCHOR_EYE}|top)(?! (level|height|line) )",
         # Slightly higher than a part at the subject's height ("slightly higher than the seat").
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
@@ -1029,6 +1083,7 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
+        "(from )?(well|far|way|much) (above|over|higher than) {HEIGHT_OF} (level|height|line)",
     ],
     "bird's-eye": [
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
@@ -1042,15 +1097,16 @@ ELEVATION_PHRASES = {
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
+        "(at |from )?(a )?(steep|sharp) angle (from )?(above|overhead)",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
     ],
     "top-down": [
-        "(from )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
-        "(shot |looking )?straight down( (at|on) {obj})?",
+        "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
         "(a )?(plan view|flat lay)",
         # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
@@ -1074,6 +1130,7 @@ ELEVATION_PHRASES = {
         # Just above the surface the subject stands on, said of the camera ("lens just above the tabletop").
         "(the )?(camera|lens) ((just|right|only) |{WEAK} )(above|over|off) the ({SURFACE}|tabletop|table top|ground|floor)",
         "(well|far) (below|under|beneath) eye (level|height)",
+        "(from )?(well|far|way|much) (below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?(well|far|way) (below|beneath|under)( {obj})?",
         "(a |an )?(heroic|hero) (angle|perspective)( shot)?",
     ],
@@ -1082,10 +1139,16 @@ ELEVATION_PHRASES = {
         "{WEAK} from (below|beneath)",
         "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
+        "{WEAK} (looking|look|looks|{AIM}) up( (at|to|towards) {obj})?",
+        "{WEAK} (below|under|beneath) (the )?(level|horizontal|horizon)",
         "(a )?(slight|gentle|mild|shallow) low angle( shot)?",
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(up|low) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (up {WEAK}|{WEAK} up)",
         "({WEAK} |just )?(below|under|beneath|lower than) (eye|{ANCHOR_EYE}) (level|height)",
+        # Below the subject's own height or a part of it ("from just under its own height", "a
+        # little below its seat", "a bit lower than its roof").
+        "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
+        "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
         "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
@@ -1115,8 +1178,13 @@ ELEVATION_HINTS = {
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
-        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point)",
-        "{AIM}( the camera)? down( (at|on|onto|towards) {obj})?",
+        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
+        # Said of a place up somewhere ("from higher up", "from on high", "from a height").
+        "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
+        "{AIM}( the camera| the lens)? down( (at|on|onto|towards) {obj})?",
+        # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
+        CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
+        "(a |an )?high (camera|lens)( (position|placement))?",
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
@@ -1152,8 +1220,13 @@ ELEVATION_HINTS = {
         "((with )?(the )?(camera|lens) )?((down |right |low )?(at|from) )?(the |a )?{ANCHOR_LOW} (height|level|high)",
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
-        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point)",
-        "{AIM}( the camera)? up( (at|to|towards) {obj})?",
+        "(from |at )?(a )?lower (angle|position|viewpoint|vantage point|vantage)",
+        "{AIM}( the camera| the lens)? up( (at|to|towards) {obj})?",
+        # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
+        CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
+        "(a |an |the )?low (camera|lens)( (position|placement))?"
+        "( (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn))?",
+        "(from )?(down low|low down|way down|down below)(?! (in|on|at) )",
         # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
@@ -1163,6 +1236,13 @@ ELEVATION_HINTS = {
         "(floor|ground|rug|carpet|grass|lawn|mat)",
         "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
         "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
+        # The camera at the subject's foot or under its crown ("right by the trunk", "at its foot",
+        # "from the base of the stem", "under the canopy"); not a place of another object ("the
+        # ball at the foot of the tree").
+        "((right|close|just|up|down) )?(by|at|near|beside|next to|against|close to|from) (the |{P} )(foot|feet|base|trunk"
+        "|roots|stem|legs)( of (it|them|(the |{P} )?(trunk|stem)))?(?! (of|level|height|line) )",
+        "((right|close|just|standing|stood|down) )?(under|beneath|underneath|below) (the |{P} )(canopy|crown|branches|boughs"
+        "|leaves|foliage|fronds|shade|lampshade)(?! (of|level|height|line) )",
         # Looking up at a part of it ("looking up at the shade", "looking up the trunk").
         "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
@@ -1196,7 +1276,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
-        "(from |at )?{d} above( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
@@ -1211,7 +1291,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "elevated (by )?({ABOUT} )?{d}",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
-        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}(?<= degrees)",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}",
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
@@ -1220,7 +1300,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
     ],
     -1.0: [
-        "(from |at )?{d} below( {obj}| the horizon| the horizontal)?",
+        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -1248,6 +1328,10 @@ PLACE_PHRASES = [
 # said in a later clause of its own; those belong to the subject the picture is of ("cushion
 # bottom left, bench in the frame too, wide": a wide cushion).
 SEEN_PHRASES = [
+    # Made to show up too ("make sure the teddy shows up too", "with the cone showing as well").
+    "((make sure|so that|so) )?(shows|show|showing|turns|turn|turning|appears|appear) up( (in|within) (the )?{FRAME})?"
+    "( too| as well| also)?(?= ([,.;!?]|$|and |with ))",
+    "(is |are |be )?(showing|visible|seen|in view|in shot|in frame)( too| as well| also)(?= ([,.;!?]|$|and |with ))",
     "(all |both |each )?(visible |seen |showing )?(somewhere )?(in|within|inside) (the )?(same )?"
     "(shot|frame|picture|photo|image|pic|view)( too| as well| also)?(?= ([,.;!]|$|and |with ))",
 ]
@@ -1256,7 +1340,8 @@ SEEN_PHRASES = [
 # too much trouble"); the axis a roll turns about
 # ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
 NOTE_PHRASES = [
-    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+[a-z]?",
+    # Its number may carry a letter ("Storyboard 7B", "shot 12 a,"), read apart by vocabulary.words.
+    "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+([a-z]| [a-z](?= ([,.;:!]|$)))?",
     # How many subjects the frame holds, each named anyway ("all three in frame", "a two-shot").
     "(all|both) (2|3|4|5)( of them)?( (in|within|inside) (the )?{FRAME})?",
     # A two-shot (three-shot) names how many subjects the frame holds, each named anyway.
@@ -1264,7 +1349,18 @@ NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
+    "(make|making) sure( that)?",
+    # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
+    # shot:"): no constraint on the camera.
+    "{PURPOSE}( {PURPOSE})? (shot|shots|photo|photos|pic|pics|picture|pictures|image|images|photograph|snap|snaps)"
+    "(?= ([,.;:!]|$|for ))",
     "(about|around|round|on|along) (the |its |{P} )?(lens|optical|camera|camera 's|viewing|roll|shooting) axis",
+    # The camera or lens named before the height or place the next words give ("lens a hair above its
+    # head", "camera at the same height as the cushion"): the height is read from those words.
+    CAMERA
+    + "( (raised|lifted|lowered|dropped|held|hoisted|brought))?"
+    + "(?= ({WEAK}|just|right|slightly|well|way|at|from|level|above|below|under|over|beneath|higher|lower|{AIM}|looking) )",
     # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
     "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
@@ -1287,8 +1383,8 @@ ROLL_PHRASES = {
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
         "(at|on) (a |an )?({mod} )?(slant|tilt|cant|lean|skew)( (to|towards) the {side})?",
         # Other verbs of rolling, with degrees and a direction or side ("banked 15 degrees left").
-        "((with )?(the )?(camera|lens) )?{ROLLV} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
-        "((with )?(the )?(camera|lens) )?{ROLLV} ({dir}|(to the |towards the )?{side}) (by )?{d}",
+        "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
+        "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} ({dir}|(to the |towards the )?{side}) (by )?{d}",
         # A crooked frame said as an adjective ("frame a bit askew", "a wonky horizon"): a dutch angle.
         "((the )?(frame|shot|picture|image|horizon|camera) (is )?)?({WEAKROLL} |{mod} )?{ROLLADJ}( (frame|framing|horizon|shot))?"
         "( ,)?( {dir})?(?! (by|to|up|down) )",
@@ -1758,12 +1854,23 @@ TABLE_NOUNS = frozenset(
     for w in phrase.split()
 ) | {"mat", "ceiling", "canopy", "border", "headshot"}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
+# Words leading to a height named by a thing with a determiner ("at the | table height", "from the |
+# seat level"): :func:`_height_anchor`.
+HEIGHT_LEADS = frozenset(
+    {"at", "from", "to", "around", "about", "near", "roughly", "approximately", "with", "own", "same", "just", "slightly"}
+    | {"above", "below", "under", "over", "beneath", "underneath", "than", "its", "their", "his", "her", "'s", "down", "up"}
+)
 CONJUNCTIONS = frozenset({"and", "or", "plus"})
 MAX_ATTRIBUTES = 3  # attribute words taken into a mention before its name ("the big fluffy brown bear")
 
 SUBJECT_FIELDS = ("region", "shot", "view")
 
 # --- compiling the tables -------------------------------------------------------------------------
+
+
+# Words hedging a number said before it ("about thirty degrees", "roughly 20 degrees below"): the
+# number read as said, wherever a template takes one ({d}, {sd}).
+NUMBER_HEDGE = "(?:(?:about|around|roughly|approximately|approx|circa|some|maybe|perhaps|nearly|almost|close to) )?"
 
 
 def _alternatives(options, opening: str = "(") -> str:
@@ -1773,9 +1880,13 @@ def _alternatives(options, opening: str = "(") -> str:
 
 
 _MACROS = {
+    # A height named by eye level, a height anchor or the subject's own ("its own", "the seat",
+    # "its roof"), before "level" / "height" / "line"; expanded first, its macros after it.
+    "{HEIGHT_OF}": "(?:(?:the |a |{P} )?(?:own )?(?:eye|{ANCHOR_EYE})|{P}(?: own)?)",
     "{FRAME}": FRAME,
-    "{d}": r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
-    "{sd}": r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
+    "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
+    "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
@@ -1793,16 +1904,19 @@ _MACROS = {
     "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
     # An end of a subject, from which to which all of it is seen.
     "{END}": "(?:base|bottom|top|floor|ground|foot|feet|toe|toes|head|bulb|shade|tip|end|ear|arm|leg|legs|wheel|wheels"
+    "|bumper|nose|tail|front|back|rear|stern"
     "|roof|lid|rim|handle|edge|pot|leaves|crown|trunk|seat|backrest)",
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
-    "{HIGHVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
+    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up)"
+    "|(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
-    "{LOWVIEW}": "(?:(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
+    "{LOWVIEW}": "(?:(?:from )?(?:low down|down low)|(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
     "(?: (?:view|shot|angle|perspective))?|from below)",
     # Pointing the camera ("shoot up at", "aimed down").
-    "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|tilt|tilted|tilting)",
+    "{AIM}": "(?:shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed|angle|angled|angling|tilt|tilted"
+    "|tilting|pitch|pitched|pitching)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
@@ -1810,8 +1924,11 @@ _MACROS = {
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
     # Moving the camera round ("drifting a little round to its left").
     "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
+    # What a roll verb turns, said after it ("dutch it 25 degrees", "cant the frame 10 degrees left").
+    "{ROLLED}": "(?: (?:it|them|the camera|the lens|the shot|the frame|the picture|the image|things))?",
     "{ROLLADJ}": _alternatives(ROLL_ADJECTIVES, "(?:"),
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
+    "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
     "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
     # The front said as the camera's straight-on line ("a touch to his right of dead front").
@@ -1819,6 +1936,7 @@ _MACROS = {
     # Close to: "almost straight up", "nearly vertically down".
     "{NEARLY}": "(?:almost|nearly|near|practically|virtually|pretty much|more or less)",
     "{CLASS}": _alternatives(CLASS_NOUNS, "(?:"),
+    "{PURPOSE}": _alternatives(PURPOSES, "(?:"),
     "{SPECK}": _alternatives(SPECK_WORDS, "(?:"),
     "{SUPPORT}": _alternatives(SUPPORT_SURFACES, "(?:"),
     # A part of the subject ("its seat", "the shade", "the trunk").
@@ -2017,6 +2135,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("view", f"back-slight-{lat}", BACK_SLIGHT_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, PROFILE_CLAUSE.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SUBJECT.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_AFTER_VIEW_CLAUSE.replace("{LAT}", lat), False))
+        rows.append(("view", lat, SIDE_ON.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SIDE_VIEW.replace("{LAT}", lat), False))
@@ -2340,8 +2460,15 @@ def _position_split(tokens: list[str], span: list[int]) -> list[list[int]]:
 
 def _height_anchor(tokens: list[str], i: int) -> bool:
     """Whether ``tokens[i]`` names a height rather than an object: a surface or body word
-    before "height"/"level" ("at table height" in a scene with a coffee table called "table")."""
-    return tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")
+    before "height"/"level" after a word leading to a height ("at table height" in a scene with a
+    coffee table called "table", "cam at middle-shelf height"); after a determiner only where a word
+    leading to a height comes first ("at the seat level"): "the sofa level with the lens" names the
+    sofa."""
+    if not (tokens[i] in HEIGHT_ANCHORS["eye level"] and i + 1 < len(tokens) and tokens[i + 1] in ("height", "level")):
+        return False
+    if i > 0 and tokens[i - 1] in MENTION_DETERMINERS:
+        return i > 1 and tokens[i - 2] in HEIGHT_LEADS
+    return True
 
 
 def _never_a_name(text: str) -> bool:

@@ -10,7 +10,11 @@ symmetric). A *mention* such as "the big red chair" is matched to exactly one ob
 2. **partial**: with no whole form inside the mention, an object matches when the mention's
    content words all belong to one of its forms ("teddy" -> "teddy bear") or end on the same head
    noun ("the big bear" -> "teddy bear");
-3. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names.
+3. **short form**: with neither, a mention of one content word of three letters or more that
+   starts the head word of some names' forms ("tele" of "television") matches all of them, so
+   one such name is read and two make the mention ambiguous (:data:`MIN_CLIPPED_LETTERS`);
+4. otherwise :class:`~capframe.errors.InputError` names the mention and the closest known names
+   (never a kind word of :data:`NAME_KINDS`).
 
 A misspelt name is read as a name only by the parser, and only when a run of the instruction's
 words is one edit (:func:`one_edit`) from exactly one name or alias, or the head noun of one, of at
@@ -23,15 +27,17 @@ A colour word in the mention that contradicts the colour words of an object's na
 object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
 any. Two objects that match equally well make the mention ambiguous (an error naming both).
 
-Near-synonyms that are neither names nor aliases ("plush toy" for a teddy bear without that alias)
-are not guessed: a small sentence-embedding model ranks them no better than word overlap (it puts
-"plush toy" nearer "toy car" than "teddy bear", and "giraffe" nearer "teddy bear" than some true
-synonyms), so they are left to the scene's aliases and to the model-tier parser (DESIGN §4).
+Near-synonyms that are neither names, aliases nor words of the tables :data:`NAME_SYNONYMS` and
+:data:`NAME_KINDS` (everyday names, nicknames and kinds of the catalog's objects) are not guessed: a
+small sentence-embedding model ranks them no better than word overlap (it puts "plush toy" nearer
+"toy car" than "teddy bear", and "giraffe" nearer "teddy bear" than some true synonyms), so they
+are left to the scene's aliases and to the model-tier parser (DESIGN §4).
 
 The text normalisation here is shared with :mod:`capframe.translate.parse`, so a name is spotted in
 an instruction exactly when it matches: lowercase, hyphens split ("top-left" -> "top left"), the
 possessive "'s" a separate word, one spelling for British/US pairs, number words as digits
-("twenty-five" -> "25") and "degree"/"°" as "degrees".
+("twenty-five" -> "25"), "degree"/"°" as "degrees" and a fraction of something as a percentage
+("2/3 of the frame" -> "66.67 percent of the frame"; "3/4" elsewhere is "three quarter").
 """
 
 from __future__ import annotations
@@ -177,7 +183,9 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = s.replace("%", " percent ")
     s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
-    s = re.sub(r"\b3\s*/\s*4\b|\u00be", " three quarter ", s)  # "3/4", "¾"
+    s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
+    s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
+    s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
@@ -189,6 +197,14 @@ def words(text: str) -> list[str]:
         tokens.extend(SPELLINGS.get(token, token).split())
     return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(tokens))))))
 
+
+# A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
+# shot"): a percentage, as the frame-share phrases read it; "3/4" before anything else is the
+# three-quarter view ("3/4 rear").
+VULGAR_FRACTIONS = str.maketrans(
+    {"\u00bd": " half ", "\u2153": " a third ", "\u2154": " two thirds ", "\u00bc": " a quarter ", "\u00be": " 3/4 "}
+)
+_FRACTION_OF = re.compile(r"\b([1-9])\s*/\s*([1-9]|10)\b(?=\s+of\b)")
 
 # Fractions of a full turn said as an angle ("a quarter turn round to its left").
 TURN_FRACTIONS = {"quarter": "90", "half": "180"}
@@ -572,6 +588,7 @@ SIDE_PARTS = (
     "panel",
     "corner",
     "shoulder",
+    "quarter",
 )
 # Parts found only at one end of a subject: naming one names that end ("the bench's backrest
 # side", "its tail lights", "the grille of the car").
@@ -589,8 +606,36 @@ END_PARTS = {
         "rear window",
         "rear bumper",
         "spine",
+        # The back of a cabinet or a screen ("the bookcase's backing board", "its back face").
+        "backing board",
+        "backing boards",
+        "backboard",
+        "back board",
+        "backing",
+        "back face",
+        "rear face",
+        "back wall",
+        "rear wall",
+        "back cover",
+        "rear cover",
+        "back plate",
+        "backplate",
     ),
-    "front": ("headlight", "headlights", "grille", "front bumper", "windscreen", "windshield", "front panel", "dial"),
+    "front": (
+        "headlight",
+        "headlights",
+        "grille",
+        "front bumper",
+        "windscreen",
+        "windshield",
+        "front panel",
+        "dial",
+        "front face",
+        "faceplate",
+        "face plate",
+        "fascia",
+        "front cover",
+    ),
 }
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
 # god's-eye view" is a bird's-eye one, "an ant's-eye view" a worm's-eye one, "a frog's-eye view"
@@ -601,9 +646,12 @@ EYE_VIEWS = {
     "low angle": ("frog", "mouse", "dog", "cat", "pet"),
 }
 
-# Parts of the catalog's kinds of things, by kind: a camera level with one (or at its height) is
-# level with the subject ("lens level with its snout", "at bonnet height", "crouched down to its
-# roofline"); a part is never a subject. Parts at a subject's foot are not here ("roots": low).
+# Parts of the catalog's kinds of things (capframe.synth.objects builds each kind from them), by
+# kind: a camera level with one (or at its height) is level with the subject ("lens level with its
+# snout", "at bonnet height", "lens at slat height", "at the height of its leaves"); a part is never
+# a subject. Parts at a subject's foot are not here ("roots", "base": HEIGHT_ANCHORS' low angle), nor
+# words that also name things of their own ("pot", "mirror", "books", "bulb", "pole", "band": an
+# unknown subject stays one).
 SUBJECT_PARTS = {
     "vehicle": (
         "bonnet",
@@ -611,15 +659,27 @@ SUBJECT_PARTS = {
         "roof",
         "roofline",
         "roof line",
+        "cabin",
         "bumper",
         "bumpers",
+        "window",
         "windows",
+        "side window",
+        "side windows",
+        "door",
+        "doors",
         "headlight",
         "headlights",
         "headlamp",
         "headlamps",
         "grille",
         "grill",
+        "wheel",
+        "wheels",
+        "tyre",
+        "tyres",
+        "tire",
+        "tires",
         "hubcap",
         "hubcaps",
         "wheel arch",
@@ -629,10 +689,51 @@ SUBJECT_PARTS = {
         "number plate",
         "license plate",
         "licence plate",
+        "wing mirror",
+        "wing mirrors",
     ),
-    "creature": ("snout", "muzzle", "ears", "ear", "paw", "paws", "tummy", "eyes", "whiskers", "bow tie"),
-    "furniture": ("backrest", "back rest", "armrest", "armrests", "arms", "seat cushions", "cushions", "headrest"),
-    "thing": ("lid", "rim", "spout", "knob", "dial", "lampshade", "middle shelf"),
+    "creature": (
+        "snout",
+        "muzzle",
+        "ears",
+        "ear",
+        "paw",
+        "paws",
+        "tummy",
+        "eyes",
+        "whiskers",
+        "bow tie",
+        "arms",
+        "legs",
+        "body",
+        "shoulders",
+        "belly button",
+    ),
+    "furniture": (
+        "backrest",
+        "back rest",
+        "armrest",
+        "armrests",
+        "arm rest",
+        "arm rests",
+        "arms",
+        "seat cushion",
+        "seat cushions",
+        "cushions",
+        "seat pad",
+        "seat pads",
+        "headrest",
+        "slat",
+        "slats",
+        "seat slats",
+        "tabletop",
+        "table top",
+        "middle shelf",
+    ),
+    "appliance": ("handle", "handles", "door", "freezer door", "fridge door", "screen", "bezel"),
+    "plant": ("leaf", "leaves", "foliage", "fronds", "frond", "stem", "stems", "stalk", "stalks", "pot rim", "crown", "canopy"),
+    "lamp": ("lampshade", "stem"),  # not "shade": "a shade high" is a degree
+    "thing": ("lid", "rim", "lip", "brim", "spout", "knob", "dial", "neck", "mouth", "tip", "stripe"),
 }
 
 # Heights named by what stands at them, each read as one elevation class of
@@ -686,7 +787,26 @@ HEIGHT_ANCHORS = {
         # "crouched down to its roofline"): the camera at the subject's own height.
         *(part for parts in SUBJECT_PARTS.values() for part in parts),
     ),
-    "low angle": ("ground", "floor", "knee", "shin", "ankle", "grass", "lawn", "foot", "feet", "toe", "root", "roots"),
+    # Parts at a subject's foot ("at the height of its base", "from plinth level") are below it.
+    "low angle": (
+        "ground",
+        "floor",
+        "knee",
+        "shin",
+        "ankle",
+        "grass",
+        "lawn",
+        "foot",
+        "feet",
+        "toe",
+        "root",
+        "roots",
+        "base",
+        "plinth",
+        "skirting",
+        "skirting board",
+        "baseboard",
+    ),
 }
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
 # right", "sofa tiny in the upper half", "TV big and square on"), or after a verb of being or
@@ -757,6 +877,10 @@ SIZE_IDIOMS = {
         "the entire thing",
         "uncropped",
         "nothing cut off",
+        "nothing cut",
+        "nothing cropped off",
+        "nothing chopped off",
+        "no cropping",
         "nothing cropped",
         "not cropped",
         "without cropping",
@@ -797,11 +921,40 @@ FRAME_FRACTIONS = {
 # degrees and a direction ("skewed 10 degrees anticlockwise", "banked 15 degrees left") and
 # adjectives of a crooked frame ("a bit askew", "a wonky horizon": a dutch angle; "tilted" alone
 # stays unread, it may be a pitch).
-ROLL_VERBS = ("skewed", "banked", "tipped", "leaned", "slanted", "slanting", "angled over", "cocked", "canted")
+ROLL_VERBS = (
+    "skewed",
+    "banked",
+    "tipped",
+    "leaned",
+    "slanted",
+    "slanting",
+    "angled over",
+    "cocked",
+    "canted",
+    # Dutch said as a verb ("dutch it 25 degrees anticlockwise", "dutched 10 degrees left").
+    "dutch",
+    "dutched",
+    "dutching",
+)
 ROLL_ADJECTIVES = ("askew", "crooked", "wonky", "skewed", "off kilter", "lopsided", "slanted", "canted")
 # What a subject seen very small is likened to ("the ball a speck in the middle", "the bench just
 # a dot"): wide; never a subject of its own.
-SPECK_WORDS = ("speck", "dot", "spot", "pinprick", "pin prick", "blip", "pinhead", "smudge", "blob", "dot on the horizon")
+SPECK_WORDS = (
+    "speck",
+    "dot",
+    "spot",
+    "pinprick",
+    "pin prick",
+    "blip",
+    "pinhead",
+    "smudge",
+    "blob",
+    "dot on the horizon",
+    "sliver",
+    "postage stamp",
+    "thumbnail",
+    "stamp",
+)
 # Nouns for the kind of thing a subject is ("the full vehicle in frame", "the whole animal"):
 # the subject itself, wherever a name would stand in a size phrase.
 CLASS_NOUNS = (
@@ -823,20 +976,31 @@ CLASS_NOUNS = (
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
 
-# Object kinds by their everyday names. A scene object whose name or alias is one of a group
-# answers to every other word of that group ("telly" for a television, "couch" for a sofa), when
-# no other object of the scene already uses that word.
+# Object kinds by their everyday names and nicknames. A scene object whose name or alias is one of a
+# group answers to every other word of that group ("telly" for a television, "couch" for a sofa,
+# "ted" for a teddy bear), when no other object of the scene already uses that word.
 NAME_SYNONYMS = (
     ("television", "tv", "telly", "tv set", "television set", "telie", "flat screen", "flatscreen", "tv screen"),
-    ("sofa", "couch", "settee", "loveseat", "divan", "sectional"),
-    ("refrigerator", "fridge", "icebox", "fridge freezer"),
-    ("teddy bear", "teddy", "stuffed bear", "plush bear", "soft toy", "plushie", "stuffed toy", "cuddly toy"),
+    ("sofa", "couch", "settee", "loveseat", "love seat", "divan", "sectional"),
+    ("refrigerator", "fridge", "icebox", "fridge freezer", "refrigerator freezer"),
+    (
+        "teddy bear",
+        "teddy",
+        "ted",
+        "stuffed bear",
+        "plush bear",
+        "soft toy",
+        "plushie",
+        "plush toy",
+        "stuffed toy",
+        "cuddly toy",
+    ),
     ("potted plant", "plant", "pot plant", "houseplant", "house plant", "plant pot", "indoor plant"),
     ("floor lamp", "lamp", "standing lamp", "standard lamp", "lamp stand", "reading lamp", "floor light"),
     ("toy car", "car", "model car", "matchbox car", "toy vehicle", "little car", "miniature car", "diecast car"),
-    ("traffic cone", "cone", "safety cone", "road cone", "pylon"),
+    ("traffic cone", "cone", "safety cone", "road cone", "pylon", "traffic pylon"),
     ("armchair", "arm chair", "easy chair", "lounge chair", "chair", "recliner", "club chair", "wingback chair", "wing chair"),
-    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit", "book case", "shelf unit"),
+    ("bookshelf", "bookcase", "book shelf", "bookshelves", "shelves", "shelving unit", "book case", "shelf unit", "shelving"),
     ("cushion", "pillow", "throw pillow", "scatter cushion", "throw cushion"),
     ("mug", "cup", "coffee mug", "coffee cup", "tea cup", "teacup"),
     ("coffee table", "low table", "table", "side table", "cocktail table"),
@@ -844,6 +1008,28 @@ NAME_SYNONYMS = (
     ("bench", "park bench", "garden bench"),
     ("vase", "flower vase", "jar"),
     ("tree", "small tree", "sapling", "young tree"),
+)
+# Kinds of those objects people name instead ("a potted palm", "the fern", "a chesterfield"): the
+# first word of each group is the object's name, the others answer to it as synonyms do; they are
+# never offered as the closest name to a word the scene lacks ("succulent" looks like "bicycle").
+# A kind that is also an object of its own elsewhere ("rubber plant", "rocking chair", "wine
+# rack"), a material ("an oak bench", "a pine table") or a part ("the freezer door") is left out:
+# the scene lacking it must refuse it, the bench must stay a bench.
+NAME_KINDS = (
+    ("potted plant", "potted palm", "palm", "fern", "cactus", "succulent", "ficus", "monstera", "yucca", "shrub", "bush"),
+    ("potted plant", "planter"),
+    ("sofa", "chesterfield", "futon", "davenport"),
+    ("floor lamp", "torchiere", "uplighter"),
+    ("toy car", "race car", "racing car"),
+    ("traffic cone", "marker cone", "construction cone"),
+    ("armchair", "wingback", "tub chair", "accent chair", "fireside chair"),
+    ("cushion", "bolster"),
+    ("mug", "beaker", "tankard"),
+    ("ball", "basketball", "volleyball", "bouncy ball"),
+    ("bench", "pew"),
+    ("vase", "urn"),
+    ("tree", "palm tree"),
+    ("television", "monitor"),
 )
 
 
@@ -888,6 +1074,36 @@ SUPPORT_SURFACES = (
 SLATE_LABELS = ("sc", "scene", "shot", "take", "setup", "set up", "slate", "panel", "board", "storyboard", "no", "number")
 SCENE_HEADINGS = ("int", "ext", "int ext", "ext int", "i e", "interior", "exterior")
 HEADING_TIMES = ("day", "night", "morning", "evening", "dusk", "dawn", "continuous", "later", "same")
+# What a picture is for, said before its noun ("a shop product pic", "listing photo", "real-estate
+# shot"): it asks nothing of the camera.
+PURPOSES = (
+    "product",
+    "listing",
+    "real estate",
+    "property",
+    "catalogue",
+    "catalog",
+    "shop",
+    "store",
+    "ecommerce",
+    "e commerce",
+    "marketing",
+    "insurance",
+    "advert",
+    "promo",
+    "promotional",
+    "instagram",
+    "social media",
+    "portfolio",
+    "inventory",
+    "stock",
+    "sale",
+    "sales",
+    "auction",
+    "website",
+    "web",
+    "blog",
+)
 # Whole phrases of politeness that ask nothing of the camera ("if it isn't too much trouble",
 # "thank you so much"), in normalised words, as "please" and "thanks" alone.
 COURTESIES = (
@@ -1105,7 +1321,7 @@ class Vocabulary:
         tokens = key(mention)
         if not tokens:
             return []
-        return sorted(self._by_forms(tokens) or self._by_parts(tokens))
+        return sorted(self._by_forms(tokens) or self._by_parts(tokens) or self._by_clipping(tokens))
 
     def closest(self, mention: str, n: int = 3) -> list[str]:
         """Up to ``n`` object names whose names or aliases look most like ``mention`` (and
@@ -1113,7 +1329,8 @@ class Vocabulary:
         text = " ".join(key(mention))
         scored: dict[str, float] = {}
         for e in self.entries:
-            for form in e.forms:
+            # Not its kinds: a kind word ("succulent", "bolster") looks like too many others.
+            for form in set(e.forms) - KIND_FORMS:
                 ratio = difflib.SequenceMatcher(None, text, " ".join(form)).ratio()
                 scored[e.name] = max(scored.get(e.name, 0.0), ratio)
         best = max(scored.values(), default=0.0)
@@ -1148,11 +1365,27 @@ class Vocabulary:
                     scores[e.name] = max(scores.get(e.name, (0,)), (len(set(tokens) & e.words),))
         return _best(scores)
 
+    def _by_clipping(self, tokens: tuple[str, ...]) -> list[str]:
+        """The names whose head word (a form's last) ``tokens``' one content word clips: its first
+        :data:`MIN_CLIPPED_LETTERS` letters or more, as a short form ("ted" of "teddy", "tele" of
+        "television", "cush" of "cushion"); every such name, so that two make the mention
+        ambiguous rather than guessed."""
+        content = [t for t in tokens if t not in ATTRIBUTES]
+        if len(content) != 1 or len(content[0]) < MIN_CLIPPED_LETTERS or not content[0].isalpha():
+            return []
+        said = content[0]
+        return [
+            e.name
+            for e in self.entries
+            if self._compatible(e, tokens) and any(len(f[-1]) > len(said) and f[-1].startswith(said) for f in e.forms)
+        ]
+
 
 def _synonym_forms(forms: list[set[tuple[str, ...]]]) -> list[set[tuple[str, ...]]]:
-    """Per object (its forms), the forms :data:`NAME_SYNONYMS` adds: every word of a group one of
-    its forms belongs to, unless another object's forms hold that word or the group too."""
-    groups = [{key(w) for w in group} for group in NAME_SYNONYMS]
+    """Per object (its forms), the forms :data:`NAME_SYNONYMS` and :data:`NAME_KINDS` add: every
+    word of a group one of its forms belongs to, unless another object's forms hold that word or
+    the group too."""
+    groups = [{key(w) for w in group} for group in (*NAME_SYNONYMS, *NAME_KINDS)]
     owners = [[k for k, f in enumerate(forms) if f & g] for g in groups]
     used = set().union(*forms) if forms else set()
     extra: list[set[tuple[str, ...]]] = [set() for _ in forms]
@@ -1162,6 +1395,9 @@ def _synonym_forms(forms: list[set[tuple[str, ...]]]) -> list[set[tuple[str, ...
     return extra
 
 
+# A short form keeps at least this many letters of the word it clips ("ted", "tele"): two letters
+# ("te") start too many words to name anything.
+MIN_CLIPPED_LETTERS = 3
 # Shorter names are one edit from too many ordinary words ("bear"/"beer", "mug"/"mud").
 MIN_CORRECTED_LETTERS = 5
 # Long names are read through two edits that keep the first letter ("refridgerator",
@@ -1267,6 +1503,10 @@ def one_edit(a: str, b: str) -> bool:
     if len(a) < len(b):
         return a[i:] == b[i + 1 :]
     return a[i + 1 :] == b[i + 1 :] or transposed(a, b)
+
+
+# The kinds' forms (not their objects' names), which :meth:`Vocabulary.closest` never offers.
+KIND_FORMS = frozenset(key(w) for group in NAME_KINDS for w in group[1:])
 
 
 def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
