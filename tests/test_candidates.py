@@ -500,6 +500,7 @@ def test_the_floor_bounds_a_low_angle_at_the_asked_distance():
     bound = _floor_elevation(occupancy, origin, 8.0, 0.5 * occupancy.floor_margin)
     assert bound == pytest.approx(-math.degrees(math.asin(height / 8.0)), abs=1e-9)
     assert _floor_elevation(occupancy, origin, 1.0, None) is None  # the floor is beyond reach
-    assert _above_floor([-20.0, -12.0, -5.0], [-3.0, -40.0], -13.0) == ([-12.0, -5.0], [-3.0])
-    assert _above_floor([-20.0, -30.0], [-40.0], -13.0) == ([-20.0, -30.0], [-40.0])
-    assert _above_floor([-20.0], [-40.0], None) == ([-20.0], [-40.0])
+    assert _above_floor([-20.0, -12.0, -5.0], [-3.0, -40.0], [-13.0]) == ([-12.0, -5.0], [-3.0])
+    assert _above_floor([-20.0, -30.0], [-40.0], [-13.0]) == ([-20.0, -30.0], [-40.0])
+    assert _above_floor([-20.0, -30.0], [-8.0, -40.0], [-7.0, -13.0]) == ([], [-8.0])  # the nearer distance's
+    assert _above_floor([-20.0], [-40.0], [None]) == ([-20.0], [-40.0])

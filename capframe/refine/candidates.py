@@ -274,17 +274,20 @@ def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, 
     return -math.degrees(math.asin(height / distance))
 
 
-def _above_floor(grid: list[float], margin: list[float], bound: float | None) -> tuple[list[float], list[float]]:
-    """The grid's and the margin's elevations (degrees) no steeper than ``bound``
-    (:func:`_floor_elevation`): below it the ray at the asked distance meets the floor, and the
-    camera slides in to be free, larger in the frame than asked, at every azimuth alike (a low
-    angle at a tall tree in a medium shot is reachable only near the interval's upper end). Both
-    lists unchanged when ``bound`` is None or leaves none of them (no elevation gives the asked
-    size; sliding in gives the nearest)."""
-    if bound is None:
-        return grid, margin
-    kept = [e for e in grid if e >= bound], [e for e in margin if e >= bound]
-    return kept if kept[0] or kept[1] else (grid, margin)
+def _above_floor(grid: list[float], margin: list[float], bounds: list[float | None]) -> tuple[list[float], list[float]]:
+    """The grid's and the margin's elevations (degrees) no steeper than the first of ``bounds``
+    (:func:`_floor_elevation` at the asked distance, then at the nearest accepted one) that
+    leaves any: below it the ray at that distance meets the floor, and the camera slides in to
+    be free, larger in the frame than asked, at every azimuth alike (a low angle at a tall tree
+    in a medium shot is reachable only near the interval's upper end). Both lists unchanged when
+    no bound leaves any (no elevation gives an accepted size; sliding in gives the nearest)."""
+    for bound in bounds:
+        if bound is None:
+            return grid, margin
+        kept = [e for e in grid if e >= bound], [e for e in margin if e >= bound]
+        if kept[0] or kept[1]:
+            return kept
+    return grid, margin
 
 
 def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -336,9 +339,10 @@ def solve_candidates(
     margin_azimuths = _margin_azimuths(subject)
     margin_elevations = _margin_elevations(subject)
     if subject.extent is not None:
-        elevations, margin_elevations = _above_floor(
-            elevations, margin_elevations, _floor_elevation(occupancy, origin, distance, floor_margin)
-        )
+        # At the asked distance, else at the nearest whose size the checker still accepts.
+        nearest = distance * (subject.box[2] - subject.box[0]) / _accepted_extent(subject.extent)[1]
+        bounds = [_floor_elevation(occupancy, origin, d, floor_margin) for d in (distance, nearest)]
+        elevations, margin_elevations = _above_floor(elevations, margin_elevations, bounds)
     phases = [
         [(e, a) for e in elevations for a in azimuths],
         [(e, a) for e in over for a in azimuths],
@@ -491,14 +495,18 @@ def _place(
     return first_free or outermost
 
 
+def _accepted_extent(asked: tuple[float, float]) -> tuple[float, float]:
+    """The extent interval the checker accepts for Refine's ``asked`` one (the
+    :data:`~capframe.translate.labels.SHOT_MARGIN` it took off put back)."""
+    return asked[0] / (1 + SHOT_MARGIN), asked[1] / (1 - SHOT_MARGIN)
+
+
 def _size_miss(extent: float, asked: tuple[float, float] | None) -> float:
     """How far (frame fractions, beyond :data:`SIZE_SLACK`) ``extent`` lies outside the interval
-    the checker accepts for the asked one (Refine's ``asked`` interval with the
-    :data:`~capframe.translate.labels.SHOT_MARGIN` it took off put back); 0 without one."""
+    the checker accepts for the asked one (:func:`_accepted_extent`); 0 without one."""
     if asked is None:
         return 0.0
-    accepted = (asked[0] / (1 + SHOT_MARGIN), asked[1] / (1 - SHOT_MARGIN))
-    return max(interval_distance(extent, *accepted) - SIZE_SLACK, 0.0)
+    return max(interval_distance(extent, *_accepted_extent(asked)) - SIZE_SLACK, 0.0)
 
 
 def _free_edge(free, inner: float, outer: float, steps: int = 6) -> float:
