@@ -13,7 +13,14 @@ import torch
 from _synth_helpers import build_scene
 from conftest import make_camera
 
-from capframe.constraints import MIN_VISIBLE_FRACTION, VIEW_SIDES, Constraints, SubjectConstraint, view_tolerance_deg
+from capframe.constraints import (
+    EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    MIN_VISIBLE_FRACTION,
+    VIEW_SIDES,
+    Constraints,
+    SubjectConstraint,
+    view_tolerance_deg,
+)
 from capframe.evaluate import GroundTruthChecker
 from capframe.measure import CheckReport, CheckRow
 from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shortfall, shows_subjects
@@ -22,6 +29,8 @@ from capframe.refine.candidates import (
     MARGIN_SPREAD,
     OVER_ELEVATIONS_DEG,
     SIZE_SLACK,
+    _above_floor,
+    _floor_elevation,
     _free_edge,
     _margin_azimuths,
     _margin_elevations,
@@ -30,6 +39,7 @@ from capframe.refine.candidates import (
     aimed_pose,
     shot_distance,
     solve_candidates,
+    view_centre,
 )
 from capframe.refine.optimize import RefineConfig, RefineResult, free_space_loss, refine_pose
 from capframe.scene import GaussianScene, load_scene_dir
@@ -396,3 +406,101 @@ def test_an_overhang_leaves_only_the_margin_of_an_asked_elevation():
     best = solved[0]
     assert best.status == "kept" and best.azimuth_deg == 0.0 and 8.0 <= best.elevation_deg < low
     assert best.visible >= MIN_VISIBLE_FRACTION
+
+
+def tree_on_lawn() -> tuple[GaussianScene, np.ndarray, np.ndarray]:
+    """A "tree" (indices 0..399): a trunk of 40 Gaussians on the line x = y = 0 from z = 0 to 2
+    and a crown of 358 on the sphere of radius 1 about (0, 0, 3), with its lowest and highest
+    points (0, 0, 0) and (0, 0, 4) among them, on a floor z = 0 over x, y in [-8, 8]. Most
+    Gaussians are in the crown, so the centroid stands near z = 2.7, well above the middle of
+    the tree's height (z = 2). Returns the Gaussians, the tree's indices and the up."""
+    g = torch.Generator().manual_seed(7)
+    trunk = torch.stack([torch.zeros(40), torch.zeros(40), torch.linspace(0.0, 2.0, 40)], 1).double()
+    crown = torch.randn(358, 3, generator=g, dtype=torch.float64)
+    crown = crown / crown.norm(dim=1, keepdim=True) + torch.tensor([0.0, 0.0, 3.0], dtype=torch.float64)
+    crown = crown.clamp(min=torch.tensor([-9.0, -9.0, 2.0], dtype=torch.float64))  # the crown sits on the trunk
+    ends = torch.tensor([[0.0, 0.0, 0.0], [0.0, 0.0, 4.0]], dtype=torch.float64)
+    s = torch.arange(-8.0, 8.0 + 1e-9, 0.25, dtype=torch.float64)
+    a, b = torch.meshgrid(s, s, indexing="ij")
+    floor = torch.stack([a.reshape(-1), b.reshape(-1), torch.zeros(a.numel(), dtype=torch.float64)], 1)
+    means = torch.cat([trunk, crown, ends, floor])
+    n = len(means)
+    gaussians = GaussianScene.from_activated(
+        means.float(),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.08),
+        torch.full((n,), 0.95),
+        torch.rand(n, 3, generator=g),
+    )
+    return gaussians, np.arange(400), np.array([0.0, 0.0, 1.0])
+
+
+def test_view_centre_is_the_middle_of_the_subjects_height_under_its_centroid():
+    """The tree's view centre: its centroid's horizontal position at half its height (z = 2,
+    the middle of 0 and 4), and the height 4; the centroid stands far higher (the crown)."""
+    gaussians, index, up = tree_on_lawn()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(Constraints(subjects=[SubjectConstraint("tree")]), {"tree": (index, centroid, None)}, up)
+    centre, height = view_centre(gaussians, labels.subjects[0], up)
+    assert centroid[2] > 2.5
+    np.testing.assert_allclose(centre, [centroid[0], centroid[1], 2.0], atol=1e-6)
+    assert height == pytest.approx(4.0, abs=1e-6)
+
+
+def test_an_explicit_low_angle_at_a_tree_is_solved_around_the_middle_of_its_height():
+    """ "From 20 degrees below" a tree whose crown lifts the centroid: the closed form's cameras
+    lie at the elevations they report around the middle of the tree's height (where the checker
+    and the photographer measure), not around the centroid, and the first kept one within the
+    accepted +-10 degrees of -20 there."""
+    gaussians, index, up = tree_on_lawn()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    constraints = Constraints(subjects=[SubjectConstraint("tree", shot="medium")], elevation_deg=-20.0)
+    labels = labels_from_constraints(constraints, {"tree": (index, centroid, None)}, up)
+    reference = make_camera(eye=(0.0, -12.0, 2.0), target=(0.0, 0.0, 2.0), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    solved = solve_candidates(gaussians, labels, reference, occupancy)
+    middle = np.array([centroid[0], centroid[1], 2.0])
+    for c in solved:
+        offset = c.camera.center - middle
+        elevation = math.degrees(math.asin(offset @ up / np.linalg.norm(offset)))
+        assert elevation == pytest.approx(c.elevation_deg, abs=1e-6)
+        assert np.linalg.norm(offset) == pytest.approx(c.distance, rel=1e-9)
+    kept = solved[0]
+    assert kept.status == "kept"
+    assert abs(kept.elevation_deg + 20.0) <= EXPLICIT_ELEVATION_TOLERANCE_DEG
+    assert float(occupancy.clearance(torch.as_tensor(kept.camera.center))) >= 0.0
+
+
+def test_a_camera_keeps_the_smaller_of_the_floor_margins():
+    """A camera three quarters of the occupancy's floor margin above the floor plane (far from
+    the tree) breaks that margin, but keeps a margin half as high (a small subject's): the
+    slack is then the height above the plane less the smaller margin, and the free-space loss
+    zero; a margin larger than the occupancy's is never taken."""
+    gaussians, _, up = tree_on_lawn()
+    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -12.0, 2.0), target=(0.0, 0.0, 2.0))])
+    margin = occupancy.floor_margin
+    point = torch.tensor([5.0, -5.0, occupancy.floor_height + 0.75 * margin], dtype=torch.float64)
+    assert float(occupancy.slack(point)) == pytest.approx(-0.25 * margin, abs=1e-6)
+    assert float(occupancy.slack(point, 0.5 * margin)) == pytest.approx(0.25 * margin, abs=1e-6)
+    assert float(occupancy.slack(point, 10.0 * margin)) == pytest.approx(-0.25 * margin, abs=1e-6)
+    T = torch.eye(4, dtype=torch.float64)
+    T[:3, 3] = -point
+    assert float(free_space_loss(T, occupancy, 0.5 * margin)) == 0.0
+    assert float(free_space_loss(T, occupancy)) > 0.0
+
+
+def test_the_floor_bounds_a_low_angle_at_the_asked_distance():
+    """The steepest elevation at which a camera at distance d from the tree's view centre (z = 2)
+    keeps its margin above the floor plane is -asin((2 - floor - margin) / d); the grid keeps the
+    elevations no steeper than it, or all when none would be left."""
+    gaussians, index, up = tree_on_lawn()
+    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -12.0, 2.0), target=(0.0, 0.0, 2.0))])
+    origin = np.array([0.0, 0.0, 2.0])
+    height = 2.0 - occupancy.floor_height - 0.5 * occupancy.floor_margin
+    bound = _floor_elevation(occupancy, origin, 8.0, 0.5 * occupancy.floor_margin)
+    assert bound == pytest.approx(-math.degrees(math.asin(height / 8.0)), abs=1e-9)
+    assert _floor_elevation(occupancy, origin, 1.0, None) is None  # the floor is beyond reach
+    assert _above_floor([-20.0, -12.0, -5.0], [-3.0, -40.0], [-13.0]) == ([-12.0, -5.0], [-3.0])
+    assert _above_floor([-20.0, -30.0], [-40.0], [-13.0]) == ([-20.0, -30.0], [-40.0])
+    assert _above_floor([-20.0, -30.0], [-8.0, -40.0], [-7.0, -13.0]) == ([], [-8.0])  # the nearer distance's
+    assert _above_floor([-20.0], [-40.0], [None]) == ([-20.0], [-40.0])

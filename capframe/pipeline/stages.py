@@ -30,7 +30,7 @@ from ..geometry import camera_center, pose_deviation
 from ..geometry.gravity import world_up
 from ..handoff import Coarse, Retrieved
 from ..measure import CheckReport, ConstraintChecker, Subject
-from ..refine.candidates import Candidate, solve_candidates
+from ..refine.candidates import Candidate, solve_candidates, view_centre
 from ..refine.optimize import RefineConfig, RefineResult, refine_pose
 from ..render import check_render_memory
 from ..retrieve.qe import rank_kept
@@ -441,7 +441,9 @@ def own_report(
     means = scene.gaussians.means.detach().double().numpy()
     for k, s in enumerate(labels.subjects):
         radius = float(np.sqrt(((means[s.gaussians] - s.centroid) ** 2).sum(1).mean()))
-        objects[s.name] = Subject(k, s.name, s.centroid, radius, s.front)
+        # View angles around the view centre, as Refine and the closed form aim them.
+        centre, _ = view_centre(scene.gaussians, s, np.asarray(labels.up, dtype=np.float64))
+        objects[s.name] = Subject(k, s.name, centre, radius, s.front)
         member = torch.zeros(len(means), dtype=torch.bool)
         member[torch.as_tensor(s.gaussians)] = True
         members[k] = member

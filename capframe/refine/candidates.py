@@ -6,12 +6,14 @@ radius ``r``, front ``f``, world up ``u``):
 * **distance** from the asked extent ``e`` (share of the frame): a sphere of radius ``r`` at
   distance ``d`` spans ``2 k r / sqrt(d^2 - r^2)`` of the frame with ``k = max(fx / W, fy / H)``,
   so ``d = sqrt((2 k r / e)^2 + r^2)``; without a shot size, the distance of the reference view;
-* **position** on the subject's view sphere, ``C = c + d v(azimuth, elevation)``
-  (:func:`~capframe.geometry.view_direction`), at angles spread over the accepted ranges, or
-  around the subject and at the reference view's elevation when none is asked; only when none
-  of these is kept, at elevations over an occluder (:data:`OVER_ELEVATIONS_DEG`) when no
-  elevation is asked, then at azimuths between the aimed and the accepted tolerance of an asked
-  side (:data:`MARGIN_SPREAD`: a side facing a wall a little way off is seen only obliquely);
+* **position** on the subject's view sphere, ``C = o + d v(azimuth, elevation)`` around its
+  view centre ``o`` (:func:`view_centre`: the centroid moved along ``u`` to the middle of the
+  subject's height, as the angles are meant; :func:`~capframe.geometry.view_direction`), at
+  angles spread over the accepted ranges, or around the subject and at the reference view's
+  elevation when none is asked; only when none of these is kept, at elevations over an
+  occluder (:data:`OVER_ELEVATIONS_DEG`) when no elevation is asked, then at azimuths between
+  the aimed and the accepted tolerance of an asked side (:data:`MARGIN_SPREAD`: a side facing
+  a wall a little way off is seen only obliquely);
 * **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
   of its region (or layout box).
 
@@ -94,6 +96,12 @@ RENDERS_PER_RAY = 3
 # cost; a solve whose first kept cameras are as asked spends a few). The margin elevations are
 # tried at the grid's azimuths only, which bounds what they add when nothing is kept.
 RENDER_BUDGET = 36
+# Above the floor plane a camera keeps the occupancy's floor margin (a quarter voxel), but no
+# more than this share of the primary subject's height: in a large outdoor scene a voxel is
+# most of a small subject's height (a toy car on a lawn), so a low angle at it needs a camera
+# lower than that margin; the plane is measured from the floor's own Gaussians, to well under
+# a voxel, and a camera above it is not below the ground.
+FLOOR_MARGIN_HEIGHTS = 0.1
 
 
 @dataclass
@@ -105,7 +113,7 @@ class Candidate:
         azimuth_deg: its azimuth around the primary subject (around the reference view's side
             when the subject has no front).
         elevation_deg: its elevation around the primary subject.
-        distance: camera-to-centroid distance (world units).
+        distance: distance from the camera to the subject's view centre (world units).
         clearance: signed clearance of the camera centre (world units; < 0 inside geometry).
         visible: share of the subject unhidden by other objects there (0 when not rendered).
         in_frame: share of the subject's projection inside the frame (0 when not rendered).
@@ -160,6 +168,21 @@ def subject_radius(gaussians: GaussianScene, subject: SubjectLabel) -> float:
     means = gaussians.means.detach()[torch.as_tensor(subject.gaussians, dtype=torch.long)].double()
     radius = float((means - torch.as_tensor(subject.centroid)).norm(dim=-1).quantile(0.9)) if len(means) else 0.0
     return max(radius, 1e-9)
+
+
+def view_centre(gaussians: GaussianScene, subject: SubjectLabel, up: np.ndarray) -> tuple[np.ndarray, float]:
+    """The point a subject's view angles are measured around, (3,), and its height (world
+    units): its centroid moved along the unit ``up`` to the middle of its Gaussians' height span,
+    and that span. A tree's crown holds most of its Gaussians, which lifts the centroid well
+    above the middle of the tree that "from 20 degrees below" (and the checker) measures from;
+    the centroid stays the point the layout aims at (the mask's centre of mass)."""
+    means = gaussians.means.detach()[torch.as_tensor(subject.gaussians, dtype=torch.long)].double().numpy()
+    centroid = np.asarray(subject.centroid, dtype=np.float64)
+    if not len(means):
+        return centroid, 0.0
+    heights = means @ up
+    low, high = float(heights.min()), float(heights.max())
+    return centroid + ((low + high) / 2 - float(centroid @ up)) * up, high - low
 
 
 def shot_distance(radius: float, extent: float, camera: Camera) -> float:
@@ -238,6 +261,35 @@ def _margin_elevations(subject: SubjectLabel) -> list[float]:
     return [min(max(e, -89.0), 89.0) for pair in ends for e in pair]
 
 
+def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, floor_margin: float | None) -> float | None:
+    """The steepest elevation (degrees, < 0) at which a camera ``distance`` from the view centre
+    ``origin`` (3,) stays its floor margin above the floor plane: ``-asin(h / distance)`` for a
+    centre ``h`` above the plane and margin; None without a floor or when no elevation reaches it."""
+    if not math.isfinite(occupancy.floor_height):
+        return None
+    margin = occupancy.floor_margin if floor_margin is None else min(floor_margin, occupancy.floor_margin)
+    height = float(occupancy.rotation[2] @ origin) - occupancy.floor_height - margin
+    if height <= 0.0 or height >= distance:
+        return None
+    return -math.degrees(math.asin(height / distance))
+
+
+def _above_floor(grid: list[float], margin: list[float], bounds: list[float | None]) -> tuple[list[float], list[float]]:
+    """The grid's and the margin's elevations (degrees) no steeper than the first of ``bounds``
+    (:func:`_floor_elevation` at the asked distance, then at the nearest accepted one) that
+    leaves any: below it the ray at that distance meets the floor, and the camera slides in to
+    be free, larger in the frame than asked, at every azimuth alike (a low angle at a tall tree
+    in a medium shot is reachable only near the interval's upper end). Both lists unchanged when
+    no bound leaves any (no elevation gives an accepted size; sliding in gives the nearest)."""
+    for bound in bounds:
+        if bound is None:
+            return grid, margin
+        kept = [e for e in grid if e >= bound], [e for e in margin if e >= bound]
+        if kept[0] or kept[1]:
+            return kept
+    return grid, margin
+
+
 def _horizontal(vector: np.ndarray, up: np.ndarray) -> np.ndarray:
     flat = vector - (vector @ up) * up
     norm = np.linalg.norm(flat)
@@ -264,11 +316,14 @@ def solve_candidates(
     subject, up = labels.subjects[0], labels.up
     centroid = subject.centroid
     radius = subject_radius(gaussians, subject)
-    to_reference = reference.center - centroid
+    # Angles and distances are measured around the view centre; the camera aims at the centroid.
+    origin, height = view_centre(gaussians, subject, up)
+    floor_margin = FLOOR_MARGIN_HEIGHTS * height if height > 0 else None
+    to_reference = reference.center - origin
     front = subject.front if subject.front is not None else _horizontal(to_reference, up)
     f64 = dict(dtype=torch.float64)
     _, reference_elevation = view_angles(
-        torch.tensor(reference.center, **f64), torch.tensor(centroid, **f64), torch.tensor(front, **f64), torch.tensor(up, **f64)
+        torch.tensor(reference.center, **f64), torch.tensor(origin, **f64), torch.tensor(front, **f64), torch.tensor(up, **f64)
     )
     if subject.extent is not None:
         distance = shot_distance(radius, (subject.box[2] - subject.box[0]), reference)
@@ -282,11 +337,17 @@ def solve_candidates(
     # then the elevations in the margin of an asked interval.
     over = [] if subject.view is not None and subject.view.elevation_range_deg is not None else OVER_ELEVATIONS_DEG
     margin_azimuths = _margin_azimuths(subject)
+    margin_elevations = _margin_elevations(subject)
+    if subject.extent is not None:
+        # At the asked distance, else at the nearest whose size the checker still accepts.
+        nearest = distance * (subject.box[2] - subject.box[0]) / _accepted_extent(subject.extent)[1]
+        bounds = [_floor_elevation(occupancy, origin, d, floor_margin) for d in (distance, nearest)]
+        elevations, margin_elevations = _above_floor(elevations, margin_elevations, bounds)
     phases = [
         [(e, a) for e in elevations for a in azimuths],
         [(e, a) for e in over for a in azimuths],
         [(e, a) for e in elevations for a in margin_azimuths],
-        [(e, a) for e in _margin_elevations(subject) for a in azimuths],
+        [(e, a) for e in margin_elevations for a in azimuths],
     ]
     starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
@@ -302,9 +363,10 @@ def solve_candidates(
             torch.tensor(up, **f64),
         ).numpy()
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
-        camera, clearance, seen, status = _place(occupancy, sight, centroid, direction, along, radius, labels, point, reference)
+        ray = _Ray(origin, centroid, direction, floor_margin)
+        camera, clearance, seen, status = _place(occupancy, sight, ray, along, radius, labels, point, reference)
         camera.name = f"solved-{rank}"
-        distance_out = float(np.linalg.norm(camera.center - centroid))
+        distance_out = float(np.linalg.norm(camera.center - origin))
         layout = _layout_error(camera, labels.subjects[1:])
         miss = _size_miss(seen.extent, subject.extent) if seen.rendered else 0.0
         verdict = (seen.visible, seen.in_frame, layout, status, miss, seen.others_unseen)
@@ -371,19 +433,30 @@ class _Sight:
         return self._sees(seen.visible, seen.in_frame)
 
 
+@dataclass
+class _Ray:
+    """Where :func:`_place` puts a camera: at ``origin + t direction`` (the view centre, (3,),
+    and a unit (3,) direction), aimed at ``target`` (the centroid, (3,)), kept ``floor_margin``
+    above the floor (None: the occupancy's own margin)."""
+
+    origin: np.ndarray
+    target: np.ndarray
+    direction: np.ndarray
+    floor_margin: float | None = None
+
+
 def _place(
     occupancy: Occupancy,
     sight: _Sight,
-    centroid: np.ndarray,
-    direction: np.ndarray,
+    ray: _Ray,
     distance: float,
     radius: float,
     labels: PseudoLabels,
     point: tuple[float, float],
     reference: Camera,
 ) -> tuple[Camera, float, _Seen, str]:
-    """The first camera along ``direction`` from ``centroid``, at the :data:`SLIDES` shares of
-    ``distance``, that is free (it keeps the occupancy's margins: :meth:`Occupancy.slack`) and sees the
+    """The first camera along ``ray``, at the :data:`SLIDES` shares of ``distance``, that is free
+    (it keeps the occupancy's margins, the ray's above the floor: :meth:`Occupancy.slack`) and sees the
     subject (of the first :data:`RENDERS_PER_RAY` free ones), moved once along the ray towards the
     asked size when its render shows the subject at a size the checker does not accept
     (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
@@ -392,10 +465,11 @@ def _place(
     render saw and its status."""
 
     def at(along: float) -> tuple[Camera, float, bool]:
-        centre = centroid + max(along, NEAREST_RADII * radius) * direction
-        camera = reference.with_pose(aimed_pose(centre, centroid, point, reference, labels.up, labels.roll_deg))
+        centre = ray.origin + max(along, NEAREST_RADII * radius) * ray.direction
+        camera = reference.with_pose(aimed_pose(centre, ray.target, point, reference, labels.up, labels.roll_deg))
         # Written so that a NaN is never free.
-        return camera, float(occupancy.clearance(torch.as_tensor(centre))), float(occupancy.slack(torch.as_tensor(centre))) >= 0
+        free = float(occupancy.slack(torch.as_tensor(centre), ray.floor_margin)) >= 0
+        return camera, float(occupancy.clearance(torch.as_tensor(centre))), free
 
     first_free, outermost, renders, blocked = None, None, 0, None
     for share in SLIDES:
@@ -421,14 +495,18 @@ def _place(
     return first_free or outermost
 
 
+def _accepted_extent(asked: tuple[float, float]) -> tuple[float, float]:
+    """The extent interval the checker accepts for Refine's ``asked`` one (the
+    :data:`~capframe.translate.labels.SHOT_MARGIN` it took off put back)."""
+    return asked[0] / (1 + SHOT_MARGIN), asked[1] / (1 - SHOT_MARGIN)
+
+
 def _size_miss(extent: float, asked: tuple[float, float] | None) -> float:
     """How far (frame fractions, beyond :data:`SIZE_SLACK`) ``extent`` lies outside the interval
-    the checker accepts for the asked one (Refine's ``asked`` interval with the
-    :data:`~capframe.translate.labels.SHOT_MARGIN` it took off put back); 0 without one."""
+    the checker accepts for the asked one (:func:`_accepted_extent`); 0 without one."""
     if asked is None:
         return 0.0
-    accepted = (asked[0] / (1 + SHOT_MARGIN), asked[1] / (1 - SHOT_MARGIN))
-    return max(interval_distance(extent, *accepted) - SIZE_SLACK, 0.0)
+    return max(interval_distance(extent, *_accepted_extent(asked)) - SIZE_SLACK, 0.0)
 
 
 def _free_edge(free, inner: float, outer: float, steps: int = 6) -> float:

@@ -32,6 +32,7 @@ from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, min_in_frame_share
+from .candidates import FLOOR_MARGIN_HEIGHTS, view_centre
 from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_terms, target_ray, upright_loss, view_loss
 
 
@@ -201,6 +202,11 @@ class _Objective:
             for s, c in zip(labels.subjects, self.centroids)
         ]
         self.fronts = [None if s.front is None else torch.as_tensor(s.front, dtype=torch.float64) for s in labels.subjects]
+        # View angles are measured around each subject's view centre (the middle of its height),
+        # and the camera keeps a floor margin bounded by the primary subject's height.
+        spans = [view_centre(scene, s, np.asarray(labels.up, dtype=np.float64)) for s in labels.subjects]
+        self.view_centres = [torch.as_tensor(centre, dtype=torch.float64) for centre, _ in spans]
+        self.floor_margin = FLOOR_MARGIN_HEIGHTS * spans[0][1] if spans and spans[0][1] > 0 else None
         self.occluders: Occluders | None = None  # set by prepare_occlusion
         self.penalise_occlusion = False
 
@@ -255,7 +261,7 @@ class _Objective:
                     wts.view,
                     view_loss(
                         T_cw,
-                        self.centroids[k],
+                        self.view_centres[k],
                         self.fronts[k],
                         self.up,
                         label.view.azimuths_deg,
@@ -265,7 +271,7 @@ class _Objective:
                 )
         add("upright", wts.upright, upright_loss(T_cw, self.up, self.roll))
         if self.occupancy is not None:
-            add("free_space", wts.free_space, free_space_loss(T_cw, self.occupancy))
+            add("free_space", wts.free_space, free_space_loss(T_cw, self.occupancy, self.floor_margin))
         if self.penalise_occlusion:
             visible = self._visible(T_cw)
             add("occlusion", wts.occlusion, (self.config.min_visible + 0.1 - visible).clamp_min(0.0).sum())
@@ -401,11 +407,11 @@ class Occluders:
         self.membership[inside.nonzero()[:, 0], owner[inside]] = 1.0
 
 
-def free_space_loss(T_cw: Tensor, occupancy: Occupancy) -> Tensor:
-    """``max(0, -slack / margin)`` of the camera centre (:meth:`Occupancy.slack`): zero while
-    the camera keeps its margin of free space, growing linearly (in margins) into walls, floors
-    and objects. ()"""
-    slack = occupancy.slack(camera_center(T_cw).unsqueeze(0))[0]
+def free_space_loss(T_cw: Tensor, occupancy: Occupancy, floor_margin: float | None = None) -> Tensor:
+    """``max(0, -slack / margin)`` of the camera centre (:meth:`Occupancy.slack`, keeping
+    ``floor_margin`` above the floor when given): zero while the camera keeps its margin of free
+    space, growing linearly (in margins) into walls, floors and objects. ()"""
+    slack = occupancy.slack(camera_center(T_cw).unsqueeze(0), floor_margin)[0]
     return (-slack / occupancy.margin).clamp_min(0.0)
 
 
