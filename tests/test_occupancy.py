@@ -261,18 +261,19 @@ def test_the_floor_is_a_plane_at_its_own_height_not_its_voxel_layers_top(grid):
     assert with_block.clearance(torch.tensor([6.0, 3.0, 0.8 * grid.voxel])).item() > with_block.margin
 
 
-def test_a_camera_keeps_a_quarter_voxel_above_the_floor_plane_and_half_a_voxel_elsewhere(grid):
-    """The floor plane is placed by the floor's own Gaussians, the voxels only to half a voxel:
-    0.3 voxel above the plane, far from the box, is free (slack 0.05 voxel), 0.2 is not; beside
-    the box's side the slack is the voxel clearance less half a voxel (not free 0.3 voxel off)."""
+def test_a_camera_keeps_a_quarter_voxel_above_the_floor_plane_and_a_voxel_from_voxel_surfaces(grid):
+    """The floor plane is placed by the floor's own Gaussians, the voxels only to half a voxel
+    (and another grid of the scene places them up to a voxel away): 0.3 voxel above the plane,
+    far from the box, is free (slack 0.05 voxel), 0.2 is not; beside the box's side the slack is
+    the voxel clearance less a voxel (not free 0.6 voxel off)."""
     v = grid.voxel
     floor = [grid.floor_height + h * v for h in (0.3, 0.2)]
     slack = grid.slack(torch.tensor([[6.0, -3.0, floor[0]], [6.0, -3.0, floor[1]]], dtype=torch.float64))
     np.testing.assert_allclose(slack.numpy(), [0.05 * v, -0.05 * v], atol=1e-9)
     side = torch.tensor([[1.0 + 0.3 * v, 0.0, 2.0], [1.0 + 0.6 * v, 0.0, 2.0]], dtype=torch.float64)
     clearance, slack = grid.clearance(side), grid.slack(side)
-    np.testing.assert_allclose(slack.numpy(), clearance.numpy() - grid.margin, atol=1e-12)
-    assert slack[0] < 0 < grid.slack(torch.tensor([6.0, -3.0, 2.0], dtype=torch.float64))
+    np.testing.assert_allclose(slack.numpy(), clearance.numpy() - grid.voxel, atol=1e-12)
+    assert slack[1] < 0 < grid.slack(torch.tensor([6.0, -3.0, 2.0], dtype=torch.float64))
 
 
 def test_a_table_top_is_a_flat_surface_at_its_own_height_and_what_stands_on_it_is_not():

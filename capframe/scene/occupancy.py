@@ -63,9 +63,14 @@ WALL_HEIGHT = 0.8
 # Columns beyond a wall lower than this share of the occupied heights above the floor (the
 # floor's fringe, the foot of the wall, grass) do not hide the wall from a ray.
 FRINGE_HEIGHT = 0.25
-# A camera keeps this many voxels between itself and any surface (the surface is known to about
-# half a voxel).
+# A camera keeps this many voxels below the ceiling plane (the plane is known to about half a
+# voxel); it is also the unit of Refine's free-space loss.
 MARGIN_VOXELS = 0.5
+# ... and this many from a surface the voxels hold (Occupancy.slack): one grid knows a surface to
+# about half a voxel, and a second grid of the same scene (built under another estimate of the up
+# or around other training cameras, as the ground-truth check's is) places it up to about a voxel
+# away from the first (0.78 voxel on a tilted room whose two ups differ by 0.7 degrees).
+SURFACE_MARGIN_VOXELS = 1.0
 # ... and this many voxels above the floor plane or a flat surface, which their own Gaussians
 # place (Occupancy.slack).
 FLOOR_MARGIN_VOXELS = 0.25
@@ -118,7 +123,8 @@ class Occupancy:
 
     @property
     def margin(self) -> float:
-        """The clearance a camera keeps (world units): :data:`MARGIN_VOXELS` voxels."""
+        """The depth a camera keeps below the ceiling plane, and the unit of Refine's free-space
+        loss (world units): :data:`MARGIN_VOXELS` voxels."""
         return MARGIN_VOXELS * self.voxel
 
     def grid_coordinates(self, points: Tensor) -> Tensor:
@@ -146,7 +152,8 @@ class Occupancy:
 
     def slack(self, points: Tensor | np.ndarray, floor_margin: float | None = None) -> Tensor:
         """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
-        (< 0: too near a surface), differentiable: the voxel clearance less the :attr:`margin`,
+        (< 0: too near a surface), differentiable: the voxel clearance less
+        :data:`SURFACE_MARGIN_VOXELS` voxels,
         the height above the floor plane or a flat surface less ``floor_margin`` (at most
         :attr:`floor_margin`; the plane is measured from the floor's own Gaussians, not known to
         half a voxel only: a camera at a small object's own height, or low under it, stands within
@@ -154,7 +161,7 @@ class Occupancy:
         top is known as the floor is, but it is inferred: a room captured without a ceiling has one)."""
         voxels, floor, ceiling = self._terms(points)
         above = self.floor_margin if floor_margin is None else min(floor_margin, self.floor_margin)
-        return torch.minimum(torch.minimum(voxels - self.margin, floor - above), ceiling - self.margin)
+        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor - above), ceiling - self.margin)
 
     def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
         """(voxel clearance, height above the floor plane or the flat surface under the point,
