@@ -28,10 +28,10 @@ SCENE = Vocabulary.from_semantics(
 BEAR, MUG, CAR, BENCH, SOFA, TV = "teddy bear", "mug", "toy car", "bench", "sofa", "television"
 
 
-def read(text: str) -> dict:
-    """The parse as plain values: subjects (name, region, shot, view), elevation, degrees, roll and
-    the words not understood."""
-    p = parse_instruction(text, SCENE)
+def read(text: str, scene: Vocabulary = SCENE) -> dict:
+    """The parse in ``scene`` as plain values: subjects (name, region, shot, view), elevation,
+    degrees, roll and the words not understood."""
+    p = parse_instruction(text, scene)
     return {
         "subjects": [(s.name, s.region, s.shot, s.view) for s in p.subjects],
         "elevation": p.elevation,
@@ -1179,18 +1179,6 @@ PLANTS = Vocabulary.from_semantics(
 PLANT, TREE, LAMP, CONE = "potted plant", "tree", "floor lamp", "traffic cone"
 
 
-def read_in(scene: Vocabulary, text: str) -> dict:
-    """:func:`read` in another scene."""
-    p = parse_instruction(text, scene)
-    return {
-        "subjects": [(s.name, s.region, s.shot, s.view) for s in p.subjects],
-        "elevation": p.elevation,
-        "elevation_deg": p.elevation_deg,
-        "roll_deg": p.roll_deg,
-        "not_understood": p.not_understood(),
-    }
-
-
 @pytest.mark.parametrize(
     "said, name",
     [
@@ -1230,13 +1218,13 @@ def test_a_short_form_of_two_names_is_refused_naming_both():
 )
 def test_a_kind_of_the_object_names_it(said, name):
     """A kind of plant, tree, lamp or cone names the scene's object of that kind."""
-    assert read_in(PLANTS, f"{said} from the left")["subjects"] == [(name, None, None, "left")]
+    assert read(f"{said} from the left", PLANTS)["subjects"] == [(name, None, None, "left")]
 
 
 def test_a_material_or_an_object_of_its_own_kind_is_no_synonym():
     """ "An oak bench" is the bench (a material, not a tree); a rocking chair, a wine rack or a rubber
     plant the scene lacks stays refused."""
-    assert read_in(PLANTS, "the oak bench from behind")["subjects"] == [(BENCH, None, None, "back")]
+    assert read("the oak bench from behind", PLANTS)["subjects"] == [(BENCH, None, None, "back")]
     with pytest.raises(InputError, match="subject 'rocking chair' is not in this scene"):
         parse_instruction("the rocking chair beside the sofa, close", SCENE)
     with pytest.raises(InputError, match="subject 'wine rack' is not in this scene"):
@@ -1301,13 +1289,13 @@ def test_a_camera_height_said_by_a_part_of_the_subject(text, want):
 def test_a_place_at_the_subjects_foot_or_under_its_crown_is_low(text, elevation):
     """The camera by the trunk, at the foot or under the crown looks up at the subject: a low-angle
     hint (yielding to any named elevation); a part's height is level with it."""
-    got = read_in(PLANTS, text)
+    got = read(text, PLANTS)
     assert got["elevation"] == elevation and got["not_understood"] == []
 
 
 def test_the_foot_of_another_object_is_a_place_of_the_subject_not_of_the_camera():
     """ "The cone at the foot of the tree" says where the cone stands: no height is read from it."""
-    got = read_in(PLANTS, "the traffic cone at the foot of the tree")
+    got = read("the traffic cone at the foot of the tree", PLANTS)
     assert got["elevation"] is None
 
 
