@@ -44,9 +44,12 @@ def test_ground_through_the_cut_matches_full_detail(scene_dir, tmp_path, pixels)
     """Cells of up to 4 and 8 px (2x and 4x the default; at the default's 2 px this scene's cut
     keeps every Gaussian and the result is identical) against every Gaussian: the same
     per-clause verdicts, own report and ground truth (all satisfied), and a camera within 10
-    degrees and 15% of its distance to the subject (measured 6.3 / 7.0 degrees, 0.40 / 0.44
-    units at a distance of 3.33, 12 / 13%). Refine stops at the first pose that satisfies every
-    clause, so two valid runs differ by about that much; the loss is not worse than full detail's."""
+    degrees and 15% of its distance to the subject (measured 4.1 / 4.7 degrees, 0.24 / 0.28
+    units at a distance of 3.57 from the view centre, 7 / 8%). Refine stops at the first pose
+    that satisfies every clause, so two valid runs differ by about that much, and so does their
+    loss at the stop: it is within a quarter of full detail's (measured 12% above and 17% below,
+    since Refine measures view angles around the middle of the subject's height; before, full
+    detail stopped at 4-5 times the cut's loss)."""
     full, full_truth = _ground(scene_dir, tmp_path / "full", 0.0)
     lod, lod_truth = _ground(scene_dir, tmp_path / "lod", pixels)
     assert _verdicts(lod["report"]) == _verdicts(full["report"])
@@ -60,4 +63,4 @@ def test_ground_through_the_cut_matches_full_detail(scene_dir, tmp_path, pixels)
     print(f"{pixels} px: rotation {angle:.2f} deg, centre {np.linalg.norm(c1 - c0):.3f} of distance {distance:.2f}")
     assert angle <= 10.0
     assert np.linalg.norm(c1 - c0) <= 0.15 * distance
-    assert lod["loss"] <= full["loss"] * 1.01
+    assert abs(lod["loss"] - full["loss"]) <= 0.25 * full["loss"]
