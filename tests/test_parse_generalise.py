@@ -1462,3 +1462,34 @@ SLIGHT_AND_STEEP_HEIGHTS = [
 @pytest.mark.parametrize("text, want", rows(SLIGHT_AND_STEEP_HEIGHTS))
 def test_slight_and_steep_heights_said_otherwise(text, want):
     assert read(text) == want
+
+
+# --- heldout8's families (read after its blind measurements), in wordings of no suite -------------
+
+TOP_VIEWS_AHEAD_AND_TIPS = [
+    # A top view or shot is a plan view (straight down), as in product photography.
+    ("a top view of the mug", one(MUG, elevation="top-down")),
+    ("the teddy, top view, centred", one(BEAR, region="center", elevation="top-down")),
+    ("Top view: toy car.", one(CAR, elevation="top-down")),
+    # A top angle or shot stays a steep one, as "from the top" does.
+    ("the bench from a top angle", one(BENCH, elevation="bird's-eye")),
+    ("the bench, top shot", one(BENCH, elevation="bird's-eye")),
+    # Dead ahead is the front, exactly.
+    ("the sofa dead ahead", one(SOFA, view="front-exact")),
+    ("a dead-ahead view of the television", one(TV, view="front-exact")),
+    ("shoot it dead ahead of the toy car", one(CAR, view="front-exact")),
+    # Tipping the camera is a roll, as tipped is.
+    ("the mug, tip the camera 12 degrees anticlockwise", one(MUG, roll_deg=-12.0)),
+    ("tip it twenty degrees clockwise, teddy in the middle", one(BEAR, region="center", roll_deg=20.0)),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(TOP_VIEWS_AHEAD_AND_TIPS))
+def test_top_views_dead_ahead_and_tipping_the_camera(text, want):
+    assert read(text) == want
+
+
+def test_a_tip_that_is_not_a_verb_of_the_camera_is_not_a_roll():
+    """'tip' as a noun (the end of something) turns nothing: it is reported, never read as a roll."""
+    got = read("the mug at the tip of the frame")
+    assert got["roll_deg"] is None and "tip" in got["not_understood"]

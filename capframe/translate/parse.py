@@ -777,6 +777,8 @@ VIEW_PHRASES = {
         # Facing the camera, insisted on after it ("facing the camera dead straight", "squarely").
         "(facing|faces|face|faced|turned|pointing|pointed) (towards |to |at |into )?(the (camera|lens|viewer)|us|me)"
         "( {STRONG})?( {STRONG})( on)?(?= ([,.;!]|$|and |with |at |from ))",
+        # Straight in front of it ("a dead-ahead shot", "dead ahead of the car").
+        "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera").
         "(nose|face|head|snout|muzzle|grille) (to|towards|at|facing) (the )?(lens|camera|viewer)",
     ],
@@ -1090,7 +1092,7 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
-        "(from |in |as )?(a |an )?top (view|shot|angle)",
+        "(from |in |as )?(a |an )?top (shot|angle)",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
@@ -1107,7 +1109,9 @@ ELEVATION_PHRASES = {
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
-        "(a )?(plan view|flat lay)",
+        # A top view is a plan view, as in product and architectural photography (a film's
+        # "top shot" stays a steep overhead one).
+        "(a )?(plan view|flat lay|top view)",
         # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
         "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",

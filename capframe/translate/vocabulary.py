@@ -931,6 +931,9 @@ ROLL_VERBS = (
     "angled over",
     "cocked",
     "canted",
+    # Tipping the camera about its own axis ("tip the camera ten degrees clockwise").
+    "tip",
+    "tips",
     # Dutch said as a verb ("dutch it 25 degrees anticlockwise", "dutched 10 degrees left").
     "dutch",
     "dutched",
