@@ -185,6 +185,13 @@ def view_centre(gaussians: GaussianScene, subject: SubjectLabel, up: np.ndarray)
     return centroid + ((low + high) / 2 - float(centroid @ up)) * up, high - low
 
 
+def subject_floor_margin(height: float) -> float | None:
+    """The height above the floor a camera keeps for a subject ``height`` tall (world units):
+    :data:`FLOOR_MARGIN_HEIGHTS` of it (:meth:`Occupancy.height_kept` caps it at the occupancy's
+    own margin), or None for a subject without height (the occupancy's margin)."""
+    return FLOOR_MARGIN_HEIGHTS * height if height > 0 else None
+
+
 def shot_distance(radius: float, extent: float, camera: Camera) -> float:
     """Distance at which a sphere of ``radius`` spans ``extent`` of ``camera``'s frame (its
     larger share of width or height)."""
@@ -267,8 +274,7 @@ def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, 
     centre ``h`` above the plane and margin; None without a floor or when no elevation reaches it."""
     if not math.isfinite(occupancy.floor_height):
         return None
-    margin = occupancy.floor_margin if floor_margin is None else min(floor_margin, occupancy.floor_margin)
-    height = float(occupancy.rotation[2] @ origin) - occupancy.floor_height - margin
+    height = float(occupancy.rotation[2] @ origin) - occupancy.floor_height - occupancy.height_kept(floor_margin)
     if height <= 0.0 or height >= distance:
         return None
     return -math.degrees(math.asin(height / distance))
@@ -318,7 +324,7 @@ def solve_candidates(
     radius = subject_radius(gaussians, subject)
     # Angles and distances are measured around the view centre; the camera aims at the centroid.
     origin, height = view_centre(gaussians, subject, up)
-    floor_margin = FLOOR_MARGIN_HEIGHTS * height if height > 0 else None
+    floor_margin = subject_floor_margin(height)
     to_reference = reference.center - origin
     front = subject.front if subject.front is not None else _horizontal(to_reference, up)
     f64 = dict(dtype=torch.float64)

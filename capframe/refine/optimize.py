@@ -32,7 +32,7 @@ from ..render.torch_backend import EPS2D, SIGMA_MAX
 from ..scene.model import Camera, GaussianScene
 from ..scene.occupancy import Occupancy
 from ..translate.labels import PseudoLabels, min_in_frame_share
-from .candidates import FLOOR_MARGIN_HEIGHTS, view_centre
+from .candidates import subject_floor_margin, view_centre
 from .losses import Box, Frame, aim_loss, box_indicator, clearance_loss, layout_terms, target_ray, upright_loss, view_loss
 
 
@@ -206,7 +206,7 @@ class _Objective:
         # and the camera keeps a floor margin bounded by the primary subject's height.
         spans = [view_centre(scene, s, np.asarray(labels.up, dtype=np.float64)) for s in labels.subjects]
         self.view_centres = [torch.as_tensor(centre, dtype=torch.float64) for centre, _ in spans]
-        self.floor_margin = FLOOR_MARGIN_HEIGHTS * spans[0][1] if spans and spans[0][1] > 0 else None
+        self.floor_margin = subject_floor_margin(spans[0][1]) if spans else None
         self.occluders: Occluders | None = None  # set by prepare_occlusion
         self.penalise_occlusion = False
 

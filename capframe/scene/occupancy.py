@@ -150,18 +150,22 @@ class Occupancy:
         :data:`FLOOR_MARGIN_VOXELS` voxels."""
         return FLOOR_MARGIN_VOXELS * self.voxel
 
+    def height_kept(self, floor_margin: float | None = None) -> float:
+        """The height a camera keeps above the floor plane or a flat surface (world units):
+        ``floor_margin`` when given, but never more than :attr:`floor_margin`."""
+        return self.floor_margin if floor_margin is None else min(floor_margin, self.floor_margin)
+
     def slack(self, points: Tensor | np.ndarray, floor_margin: float | None = None) -> Tensor:
         """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
         (< 0: too near a surface), differentiable: the voxel clearance less
-        :data:`SURFACE_MARGIN_VOXELS` voxels,
-        the height above the floor plane or a flat surface less ``floor_margin`` (at most
-        :attr:`floor_margin`; the plane is measured from the floor's own Gaussians, not known to
-        half a voxel only: a camera at a small object's own height, or low under it, stands within
-        half a voxel of the floor), the depth below the ceiling plane less the margin (the walls'
+        :data:`SURFACE_MARGIN_VOXELS` voxels, the height above the floor plane or a flat surface
+        less :meth:`height_kept` of ``floor_margin`` (the plane is measured from the floor's own
+        Gaussians, not known to half a voxel only: a camera at a small object's own height, or low
+        under it, stands within half a voxel of the floor), the depth below the ceiling plane less the margin (the walls'
         top is known as the floor is, but it is inferred: a room captured without a ceiling has one)."""
         voxels, floor, ceiling = self._terms(points)
-        above = self.floor_margin if floor_margin is None else min(floor_margin, self.floor_margin)
-        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor - above), ceiling - self.margin)
+        floor = floor - self.height_kept(floor_margin)
+        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor), ceiling - self.margin)
 
     def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
         """(voxel clearance, height above the floor plane or the flat surface under the point,
