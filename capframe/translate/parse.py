@@ -148,6 +148,7 @@ Mappings that are choices (the phrase tables are the full list):
 from __future__ import annotations
 
 import itertools
+import math
 import re
 from dataclasses import dataclass
 
@@ -175,6 +176,7 @@ from .vocabulary import (
     HEADING_TIMES,
     HEIGHT_ANCHORS,
     NUMBER,
+    OFFSET_HEDGES,
     PLENTY_WORDS,
     PUNCTUATION,
     PURPOSES,
@@ -190,6 +192,7 @@ from .vocabulary import (
     SUPPORT_SURFACES,
     TAIL_ON_WORDS,
     Vocabulary,
+    one_edit,
     singular,
     slip_of,
     words,
@@ -613,8 +616,9 @@ CAMERA = (
     "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
-    "front": ["front", "face", "front end"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end"],
+    # A vehicle's or a boat's ends too ("from its nose", "the stern", "aft").
+    "front": ["front", "face", "front end", "nose", "nose end", "bow"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "tail", "stern", "aft", "aft end"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -651,12 +655,14 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
     also as "three quarter left" (the three-quarter view is the front one unless told)."""
     three_quarter = "three quarters?"
     out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
+    # A quarter said without "three" after the end and side ("its rear-left quarter").
+    out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
     return out + ([f"{three_quarter} {lat}"] if front else [])
 
 
 for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
-    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
+    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear", "tail end"), _lat, False)
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
     # The side said as a place after the diagonal's end ("rear three-quarter on the right").
@@ -672,7 +678,7 @@ NOT_A_RELATION = (
     "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
     "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
     "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
-    "(?<!over )(?<!past )(?<!beyond )(?<!across ))"
+    "(?<!over )(?<!past )(?<!beyond )(?<!across )(?<!under )(?<!below )(?<!beneath ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
@@ -680,7 +686,7 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    SEEN + "({EXACT} )?from (a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -729,6 +735,19 @@ SIDE_AFTER_VIEW_CLAUSE = (
     "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )|(?<=quarter , )"
     "|(?<=quarters , )|(?<=diagonal , ))(the |{P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
 )
+# Exactness said of a view without naming its side ("dead on", "head-on", "from behind, exactly",
+# "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
+# it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
+# head-on").
+EXACT_ONLY = "exact"
+GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
+EXACT_PHRASES = [
+    "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
+    # As a clause of its own ("from the behind, exactly", "its screen, dead square").
+    "{CLAUSE}((exactly|precisely|squarely|perfectly)( so| square| on)?|{STRONG} (square|on))(?= ([,.;!]|$))",
+    # Square to the part of the side already named ("straight on to the arm", "dead on to its end").
+    "(" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDEPART}( of {obj})?",
+]
 # A side "on" ("right side on", "left-end on"): that side facing the camera.
 SIDE_ON = SEEN + "({STRONG} )?(the |{P} )?{LAT}( hand)? (side|end|flank) on"
 VIEW_PHRASES = {
@@ -763,12 +782,16 @@ VIEW_PHRASES = {
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
+        # Gone round to its back ("round the back", "swing around to the rear of it").
+        "(({MOVE}|{GET}) )?a?round (to )?(the|{P}) (back|rear|backside|back side|rear side|tail end)( of {obj})?"
+        "(?= ([,.;!]|$|and |with |from |at ))",
         "{P} back to the (camera|viewer|lens|us)",
         "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
-    # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
+    # An end said "X on" is that end exactly ("nose on"; "tail on"); "head on", "dead on" say only
+    # exactly (:data:`EXACT_ONLY`).
     "front-exact": [
-        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
+        "(a |in )?(" + "|".join(w for w in HEAD_ON_WORDS if w not in GENERIC_ON_WORDS) + ") on( (view|shot|angle))?",
         # Its front squared to the camera ("square to the lens", "face it square", "shooting
         # straight at it").
         "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
@@ -779,8 +802,10 @@ VIEW_PHRASES = {
         "( {STRONG})?( {STRONG})( on)?(?= ([,.;!]|$|and |with |at |from ))",
         # Straight in front of it ("a dead-ahead shot", "dead ahead of the car").
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
-        # Its front to the lens ("nose-to-lens", "face to camera").
-        "(nose|face|head|snout|muzzle|grille) (to|towards|at|facing) (the )?(lens|camera|viewer)",
+        # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
+        # "face-forward to the camera").
+        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?|front (first|forward|forwards|foremost|on)) "
+        "(to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
@@ -813,6 +838,7 @@ VIEW_PHRASES = {
     ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
+        "(the |a |{P} )?(front|nose|bow) quarter( (view|angle|shot))?(?! (of|in) (the )?{FRAME})",
         "(seen )?at three quarters",
         # A view across the subject's diagonal said without "three-quarter" ("diagonally from the
         # front left", "an oblique view"): it combines with a side as three-quarter does.
@@ -822,6 +848,8 @@ VIEW_PHRASES = {
     ],
     "back-three-quarter": [
         "(an )?over (the|{P}) shoulder( (view|angle|shot))?( of {obj})?",
+        # A quarter of its back end ("tail-end quarter", "its rear quarter"); not the frame's.
+        "(the |a |{P} )?(back|rear|tail|tail end|stern|aft|hind) quarter( (view|angle|shot))?(?! (of|in) (the )?{FRAME})",
         "(in |at |from |as )?(a |an )?(back|rear) three quarters?( (view|angle|profile|shot|position))?",
         "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
     ],
@@ -831,7 +859,7 @@ VIEW_PHRASES = {
 for _end, _parts in END_PARTS.items():
     VIEW_PHRASES[_end] += [
         NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
-        "(looking|look|aimed|aiming|pointing|pointed) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+        "(looking|look|aim|aimed|aiming|pointing|pointed|point) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -926,6 +954,73 @@ AZIMUTH_PHRASES = [
     SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ({ABOUT} )?{d} (off|round|around|in|over)",
 ]
 
+# An offset from a named view, as a family: a reference view, an amount and a direction, in any
+# order ("from behind him, little bit more to right", "looking at the camera but swung a few
+# degrees to its left", "45 deg off its nose towards its left", "from its left flank, a few degrees
+# toward the front", "20 degrees towards the back from its right side"). The amount is a slight
+# degree word or a small turn without a number ({HEDGE}: vocabulary.OFFSET_HEDGES; 10 to 40
+# degrees off the reference, the "slight" sides) or an explicit angle (the side nearest it). A
+# sideways offset said without its reference is a cue of its own that the reference said elsewhere
+# completes (:func:`_combined_view`; none is the front); one towards an end names its side.
+# {MOVED}: how the camera gets there ("swung", "nudged", "round", "over"), optional.
+MOVED = "(({MOVE}|round|around|over|across|off) )?((a?round|over|across) )?"
+TOWARD = "(a?round |over |across )?(to|towards|in the direction of)"
+# The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "a bit
+# to the left of head-on").
+REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|straight|square|face|nose) on|the camera line)"
+REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind {obj}|tail on)"
+# A view just said as a clause, maybe with its object ("from behind him, ...", "from the front of
+# it, ..."): what a sideways offset alone after it is taken from.
+_VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank")
+_VIEW_OBJECTS = ("", " him", " her", " it", " them", " of it", " of him", " of her", " @\\d", " of @\\d")
+AFTER_REF = "(?:" + "|".join(f"(?<={e}{o} , )" for e in _VIEW_ENDS for o in _VIEW_OBJECTS) + ")"
+LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}"
+OFFSET_VIEW_FRAMES = [
+    # The camera moved by a small amount ("swung a few degrees to its left", "nudged a hair over to the right").
+    "{MOVE} " + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # A small turn said in degrees is no place in the frame ("a couple of degrees to the right").
+    "{TURNHEDGE}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # Turned from the view said before it ("from behind of it but a bit to the left side").
+    "(but|though|yet|only|then) " + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # Right after a view clause ("from behind him, little bit more to right").
+    AFTER_REF + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
+    # Off its front by that much ("a few degrees off its nose towards its left", "a bit to its left of head-on").
+    MOVED + "{HEDGE} (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+]
+# The same off the back ("a smidge to the right of its tail", "a bit off dead behind towards its left").
+OFFSET_BACK_VIEW_FRAMES = [
+    MOVED + "{HEDGE} (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_BACK,
+]
+# Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
+# the back from its right side").
+LAT_REF = "(from |off |at )?(the|{P}) {LAT}( hand)?{PART}( of {obj})?"
+LON_SIDE = "(the|{P}) {LON}( side| end)?"
+SIDE_OFFSET_FRAMES = [
+    SEEN + LAT_REF + "( ,)? (and |but |then )?" + MOVED + "{HEDGE} " + TOWARD + " " + LON_SIDE,
+    SEEN + MOVED + "{HEDGE} " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) (the|{P}) {LAT}( hand)?{PART}( of {obj})?",
+]
+# ... and by an explicit angle (the side nearest the side's azimuth moved that far).
+SIDE_OFFSET_DEGREES_FRAMES = [
+    SEEN + LAT_REF + "( ,)? (and |but |then )?" + MOVED + "(by )?{d}(?<= degrees)( more)? " + TOWARD + " " + LON_SIDE,
+    SEEN + MOVED + "{d}(?<= degrees) " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) (the|{P}) {LAT}( hand)?{PART}( of {obj})?",
+]
+# An explicit angle sideways, from the front unless a back is said with it (:func:`_combined_view`):
+# "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
+# right from head-on".
+TURN_FRAMES = [
+    "{MOVE} " + MOVED + "{d}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    MOVED + "{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    MOVED + "{d}(?<= degrees) " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+]
+# Off the back by an explicit angle ("30 degrees off its tail towards its right").
+TURN_BACK_FRAMES = [
+    MOVED + "{d}(?<= degrees) (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    MOVED + "{d}(?<= degrees) " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_BACK,
+]
+
 # A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
 # face seen from above with 12 at the subject's front, so 3 o'clock is its right (+90 degrees) and
 # each hour 30 degrees; read as the side nearest that azimuth, like an explicit angle.
@@ -983,6 +1078,10 @@ VIEW_COMBINATIONS |= {
     for end in EXACT_ENDS
     if end in pair
 } | {frozenset((end, f"{end}-exact")): f"{end}-exact" for end in EXACT_ENDS}
+# Exactness said apart makes an end exact and leaves any other side as it is.
+VIEW_COMBINATIONS |= {
+    frozenset((EXACT_ONLY, side)): f"{side}-exact" if side in EXACT_ENDS else side for side in VIEW_SIDES if side != EXACT_ONLY
+}
 
 # Every object of the scene at once ("the whole group", "all of them"): each one not named
 # otherwise joins as a secondary subject (it must be in the picture).
@@ -1898,6 +1997,12 @@ _MACROS = {
     # The same words where they make a view side exact (read back by _cue).
     "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
+    # A small amount to turn by: a slight degree word or a small turn without a number, maybe
+    # "more" ("a little bit more", "a few degrees").
+    "{HEDGE}": _alternatives((*DEGREE_SCALE["slight"], *OFFSET_HEDGES), "(?:") + "(?: more)?",
+    "{TURNHEDGE}": _alternatives(OFFSET_HEDGES, "(?:"),
+    # A part on one side of the subject ("the arm", "its end").
+    "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
     "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
@@ -2119,13 +2224,26 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
+    rows += [("view", EXACT_ONLY, t, False) for t in EXACT_PHRASES]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
-        rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
+        rows += [("view", ("turn", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES + TURN_FRAMES]
+        rows += [("view", ("azimuth", sign, 180.0, -1.0), t.replace("{LAT}", lat), False) for t in TURN_BACK_FRAMES]
+        rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_VIEW_FRAMES]
+        rows += [("view", f"back-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_BACK_VIEW_FRAMES]
+        for lon, lon_words, toward in (("front", "(front|face|nose|bow)", -1.0), ("back", "(back|rear|tail|stern)", 1.0)):
+            rows += [
+                ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
+                for t in SIDE_OFFSET_FRAMES
+            ]
+            rows += [
+                ("view", ("azimuth", sign, 90.0, toward), t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
+                for t in SIDE_OFFSET_DEGREES_FRAMES
+            ]
         # "90 degrees left" said alone: that far round to that side.
         rows.append(
             (
                 "view",
-                ("azimuth", sign),
+                ("turn", sign),
                 "(from |at )?{d}(?<= degrees) (round |off )?(to the |to )?" + lat + "(?= ([,.;!]|$))",
                 False,
             )
@@ -2273,12 +2391,13 @@ class RuleParser:
 
     def _unslip(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[dict[str, str]]]:
         """``tokens`` with each mistyped table word read as it (:func:`~capframe.translate.vocabulary.slip_of`:
-        "hight" -> "height"), and those readings; a word the tables or the scene's names use is
-        never one."""
+        "hight" -> "height"; :func:`_view_slip`: "from the font"), and those readings; a word the
+        tables or the scene's names use is never one."""
         names = {w for form in vocabulary.forms() for w in form}
         out, read = [], []
         for token in tokens:
-            target = None if token in self.lexicon or singular(token) in names else slip_of(token)
+            known = token in self.lexicon or singular(token) in names
+            target = None if known else slip_of(token) or _view_slip(out, token, names)
             out.append(target or token)
             if target:
                 read.append({"said": token, "read": target})
@@ -2542,6 +2661,9 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "shot" and rule.value == "share":
         value = _shot_of_share(groups["share"])
+    elif rule.field == "view" and isinstance(rule.value, tuple) and rule.value[0] == "turn":
+        # ("turn", sign): turned that far sideways from a reference said with it (_combined_view).
+        value = ("turn", rule.value[1] * float(groups["d"]))
     elif rule.field == "view" and isinstance(rule.value, tuple):
         # ("azimuth", sign[, from, towards]): sign * (from + towards * degrees), from the front.
         _, sign, origin, toward = (*rule.value, 0.0, 1.0)[:4]
@@ -2599,7 +2721,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
+        combined = _combined_view(held, cue.value) if cue.field == "view" else None
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
@@ -2608,8 +2730,80 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         elif combined is not None:
             setattr(subjects[names[0]], cue.field, combined)
         else:
-            raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
+            raise InputError(
+                f"conflicting {cue.field} for {names[0]!r}: {_said_view(held)!r} and {_said_view(cue.value)!r} ({cue.text!r})"
+            )
+    for subject in subjects.values():
+        subject.view = _said_view(subject.view)
     return list(subjects.values())
+
+
+# View words a slip is read as where only a view word can stand (:func:`_view_slip`).
+VIEW_SLIP_TARGETS = ("front", "back", "rear", "left", "right", "side", "profile", "behind")
+VIEW_SLIP_LEADS = ("the", "its", "his", "her", "their")
+# Rows of a QWERTY keyboard: a letter struck for its neighbour is a slip, any other letter may be
+# another word ("from the bank" is no "back").
+KEY_ROWS = ("qwertyuiop", "asdfghjkl", "zxcvbnm")
+_KEY_AT = {c: (r, k) for r, row in enumerate(KEY_ROWS) for k, c in enumerate(row)}
+
+
+def _neighbour_keys(a: str, b: str) -> bool:
+    """Whether the letters ``a`` and ``b`` are neighbouring keys (same row or the row next to it)."""
+    (ra, ka), (rb, kb) = _KEY_AT.get(a, (9, 0)), _KEY_AT.get(b, (-9, 0))
+    return abs(ra - rb) <= 1 and abs(ka - kb) <= 1 and a != b
+
+
+def _slipped(said: str, word: str) -> bool:
+    """Whether ``said`` is ``word`` with one letter dropped, added or swapped with the next, or
+    struck on a neighbouring key (:func:`_neighbour_keys`)."""
+    if not one_edit(said, word):
+        return False
+    if len(said) != len(word):
+        return True
+    diff = [k for k in range(len(word)) if said[k] != word[k]]
+    return len(diff) == 2 or _neighbour_keys(said[diff[0]], word[diff[0]])
+
+
+def _view_slip(before: list[str], token: str, names: set[str]) -> str | None:
+    """The view word ``token`` mistypes by one letter (:func:`_slipped`: "font", "lefy", "rigjt")
+    where only a view word stands, right after "from the" / "from its" ("from the font"), or None:
+    also when it is one letter from a word of the scene's names or from two view words."""
+    if before[-2:-1] != ["from"] or before[-1:] not in ([w] for w in VIEW_SLIP_LEADS) or not token.isalpha():
+        return None
+    if any(one_edit(token, name) for name in names):
+        return None
+    targets = [w for w in VIEW_SLIP_TARGETS if _slipped(token, w)]
+    return targets[0] if len(targets) == 1 else None
+
+
+def _combined_view(held, said):
+    """The one view side two view cues of a subject name together (:data:`VIEW_COMBINATIONS`), an
+    explicit sideways turn ``("turn", degrees)`` taken from the end said with it (from the front,
+    or from the back: "from behind, 30 degrees to its left" is -150), else None (a conflict)."""
+    if isinstance(held, tuple) or isinstance(said, tuple):
+        turn, reference = (held, said) if isinstance(held, tuple) else (said, held)
+        if isinstance(reference, tuple):
+            return None
+        return _turned(reference, turn[1])
+    return VIEW_COMBINATIONS.get(frozenset((held, said)))
+
+
+def _turned(reference: str | None, degrees: float) -> str | None:
+    """The side nearest ``degrees`` turned sideways (> 0 towards the subject's right) from the
+    end ``reference`` (None or an exactness alone: the front); None for a reference that is no end."""
+    if reference in (None, EXACT_ONLY, "front", "front-exact"):
+        return _nearest_side(degrees)
+    if reference in ("back", "back-exact"):
+        return _nearest_side(math.copysign(180.0 - abs(degrees), degrees))
+    return None
+
+
+def _said_view(view):
+    """A view cue as the side it names on its own: a turn from the front, an exactness alone the
+    front exactly."""
+    if isinstance(view, tuple):
+        return _turned(None, view[1])
+    return "front-exact" if view == EXACT_ONLY else view
 
 
 def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:
