@@ -616,9 +616,10 @@ CAMERA = (
     "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
-    # A vehicle's or a boat's ends too ("from its nose", "the stern", "aft").
-    "front": ["front", "face", "front end", "nose", "nose end", "bow"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "tail", "stern", "aft", "aft end"],
+    # A vehicle's or a boat's ends too ("the nose end", "the stern", "aft"); a bare nose or tail is
+    # a part ("so its tail shows") but where the camera is seen from (VIEW_PHRASES).
+    "front": ["front", "face", "front end", "nose end", "bow"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -657,7 +658,8 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
     out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
     # A quarter said without "three" after the end and side ("its rear-left quarter").
     out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
-    return out + ([f"{three_quarter} {lat}"] if front else [])
+    # A front one also by its side alone ("three quarter left", "a left-side three-quarter").
+    return out + ([f"{three_quarter} {lat}", f"{lat}( hand)? side {three_quarter}"] if front else [])
 
 
 for _lat in ("left", "right"):
@@ -766,6 +768,7 @@ VIEW_PHRASES = {
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
+        SEEN + "({EXACT} )?from (a?round )?(the|{P}) nose( of {obj})?",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
         # later it may relate two objects ("the cone with the bench in front of it").
@@ -779,6 +782,7 @@ VIEW_PHRASES = {
         # Its back to the camera, said without "with" ("the teddy, back turned to the camera").
         "((the|{P}) )?(back|rear|backside|tail end) (turned )?(to|towards|facing) (the (camera|viewer|lens)|us|me)",
         CAMERA + " behind {obj}",
+        SEEN + "({EXACT} )?from (a?round )?(the|{P}) tail( of {obj})?",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
@@ -859,7 +863,7 @@ VIEW_PHRASES = {
 for _end, _parts in END_PARTS.items():
     VIEW_PHRASES[_end] += [
         NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
-        "(looking|look|aim|aimed|aiming|pointing|pointed|point) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+        "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -995,7 +999,7 @@ OFFSET_BACK_VIEW_FRAMES = [
 ]
 # Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
 # the back from its right side").
-LAT_REF = "(from |off |at )?(the|{P}) {LAT}( hand)?{PART}( of {obj})?"
+LAT_REF = "(from |off |at )?((the|{P}) )?{LAT}( hand)?{PART}( of {obj})?"
 LON_SIDE = "(the|{P}) {LON}( side| end)?"
 SIDE_OFFSET_FRAMES = [
     SEEN + LAT_REF + "( ,)? (and |but |then )?" + MOVED + "{HEDGE} " + TOWARD + " " + LON_SIDE,
