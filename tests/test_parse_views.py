@@ -15,7 +15,8 @@ from capframe.translate.parse import parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
 
 OBJECTS = [
-    SemanticObject(k, name, [], False) for k, name in enumerate(("teddy bear", "mug", "toy car", "sofa", "refrigerator", "armchair"))
+    SemanticObject(k, name, [], False)
+    for k, name in enumerate(("teddy bear", "mug", "toy car", "sofa", "refrigerator", "armchair"))
 ]
 SCENE = Vocabulary.from_semantics(OBJECTS)
 
@@ -47,6 +48,14 @@ SIDEWAYS_OFFSETS = [
     ("the sofa from dead ahead, a smidge to its left", "front-slight-left"),
     ("teddy bear gazing into the camera but turned a tad towards its right", "front-slight-right"),
     ("the mug, a couple of degrees to the left", "front-slight-left"),  # no reference: the front
+    ("the sofa, back view, slightly off to the right", "back-slight-right"),
+    ("the sofa, front view but slightly rotated to its left", "front-slight-left"),
+    ("the sofa from the front, angled a bit to its right", "front-slight-right"),
+    ("the sofa from just left of the front", "front-slight-left"),
+    ("the sofa from just right of behind", "back-slight-right"),
+    ("the mug from the rear, little to the right", "back-slight-right"),
+    ("the sofa from behind, turn right a bit", "back-slight-right"),
+    ("the sofa almost from behind, slightly right", "back-slight-right"),
 ]
 # Off a side towards an end: the slight side of that side towards it.
 ENDWARD_OFFSETS = [
@@ -57,6 +66,7 @@ ENDWARD_OFFSETS = [
     ("a little toward the back from the sofa's right side", "right-slight-back"),
     ("a few degrees to the front of its left side, the toy car", "left-slight-front"),
     ("the toy car from its starboard flank, a couple of degrees towards the bow", "right-slight-front"),
+    ("the sofa slightly off its left side towards the rear", "left-slight-back"),
 ]
 
 
@@ -80,6 +90,10 @@ EXPLICIT_OFFSETS = [
     ("the sofa from its left side, twenty degrees towards the back", -110.0),
     ("the fridge from its right flank, rotated 30 deg toward the front", 60.0),
     ("the fridge, 10 degrees towards the front from its right side", 80.0),
+    ("the sofa, turned 20° left of centre", -20.0),
+    ("the sofa from the back, 20 degrees off-axis to the right", 160.0),
+    ("the bear, from twenty-five degrees right of its nose", 25.0),
+    ("the fridge, 1/8 of a turn towards the back from its left flank", -135.0),
 ]
 
 
@@ -141,6 +155,7 @@ FRONT_TO_LENS = [
     "the mug, head first at the camera",
     "aim dead straight at the television's screen, square on",
 ]
+BACK_TO_LENS = ["the toy car tail-first toward the camera", "the sofa, rear end foremost to the lens"]
 
 
 @pytest.mark.parametrize("text", FRONT_TO_LENS)
@@ -148,6 +163,11 @@ def test_the_front_turned_to_the_lens_is_the_front_exactly(text):
     scene = Vocabulary.from_semantics([*OBJECTS, SemanticObject(9, "television", [], False)])
     parsed = parse_instruction(text, scene)
     assert parsed.not_understood() == [] and parsed.subjects[0].view == "front-exact"
+
+
+@pytest.mark.parametrize("text", BACK_TO_LENS)
+def test_the_back_turned_to_the_lens_first_is_the_back_exactly(text):
+    assert view_of(text) == "back-exact"
 
 
 # --- side names ---------------------------------------------------------------------------------
@@ -162,6 +182,8 @@ SIDE_NAMES = [
     ("the toy car from the stern", "back"),
     ("the toy car seen from aft", "back"),
     ("the toy car from its bow", "front"),
+    ("the toy car, starboard bow", "front-right"),
+    ("the toy car, from its port bow", "front-left"),
     ("the toy car seen from its nose", "front"),
     ("the toy car from the tail", "back"),
     ("the toy car, rear quarter on its left side", "back-left"),

@@ -609,6 +609,9 @@ for _lat in ("left", "right"):
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
+# A view said as roughly that ("almost from behind", "mostly from the front"): the view's own
+# tolerance allows for it.
+ALMOST = "({NEARLY} |mostly |roughly )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
     "((with|put|place|position|keep|set|move|bring|get|have|hold|mount|park|stand) )?(the )?(camera|lens)"
@@ -663,7 +666,7 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
 
 
 for _lat in ("left", "right"):
-    VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
+    VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True) + [f"{_lat} bow"]
     VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear", "tail end"), _lat, False)
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
@@ -688,7 +691,7 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + "({EXACT} )?from (a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    SEEN + ALMOST + "({EXACT} )?from (a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -775,7 +778,7 @@ VIEW_PHRASES = {
         "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
-        SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
+        SEEN + ALMOST + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(rear|back|backward|backwards) facing",
         "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
         "( from (the (camera|viewer|lens)|us|me))?",
@@ -808,11 +811,13 @@ VIEW_PHRASES = {
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
         # "face-forward to the camera").
-        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?|front (first|forward|forwards|foremost|on)) "
-        "(to|towards|at|facing|into) (the )?(lens|camera|viewer)",
+        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?"
+        "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
+        # Its back end first to the lens ("tail-first toward the camera").
+        "(tail|rear|back|stern|butt|tail end|rear end) (first|foremost) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
         # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
         "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
     ],
@@ -863,7 +868,9 @@ VIEW_PHRASES = {
 for _end, _parts in END_PARTS.items():
     VIEW_PHRASES[_end] += [
         NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
-        "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+        "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) ("
+        + "|".join(_parts)
+        + ")( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -888,8 +895,8 @@ LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?
 LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
-    "front": SEEN + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
-    "back": SEEN + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
+    "front": SEEN + ALMOST + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": SEEN + ALMOST + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
 }
 # "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
@@ -966,13 +973,20 @@ AZIMUTH_PHRASES = [
 # degrees off the reference, the "slight" sides) or an explicit angle (the side nearest it). A
 # sideways offset said without its reference is a cue of its own that the reference said elsewhere
 # completes (:func:`_combined_view`; none is the front); one towards an end names its side.
-# {MOVED}: how the camera gets there ("swung", "nudged", "round", "over"), optional.
-MOVED = "(({MOVE}|round|around|over|across|off) )?((a?round|over|across) )?"
-TOWARD = "(a?round |over |across )?(to|towards|in the direction of)"
-# The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "a bit
-# to the left of head-on").
+# {MOVED}: how the camera gets there ("swung", "nudged", "angled", "round", "over"), optional.
+TURN_VERBS = (
+    "({MOVE}|turn|rotate|angle|angled|angling|lean|leaning|leaned|leant|offset|pan|panned|panning|pivot|pivoted|pivoting"
+    "|swivel|swivelled|swiveled)"
+)
+MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|across) )?"
+# The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
+AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
+TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
+TOWARD = "((a?round|over|across|off|off axis|off center) )?(to|towards|in the direction of)"
+# The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "just
+# left of the front", "a bit to the left of head-on").
 REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|straight|square|face|nose) on|the camera line)"
-REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind {obj}|tail on)"
+REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind( {obj})?|tail on)"
 # A view just said as a clause, maybe with its object ("from behind him, ...", "from the front of
 # it, ..."): what a sideways offset alone after it is taken from.
 _VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank")
@@ -980,49 +994,61 @@ _VIEW_OBJECTS = ("", " him", " her", " it", " them", " of it", " of him", " of h
 AFTER_REF = "(?:" + "|".join(f"(?<={e}{o} , )" for e in _VIEW_ENDS for o in _VIEW_OBJECTS) + ")"
 LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}"
 OFFSET_VIEW_FRAMES = [
-    # The camera moved by a small amount ("swung a few degrees to its left", "nudged a hair over to the right").
-    "{MOVE} " + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # The camera moved by a small amount ("swung a few degrees to its left", "a bit rotated over to the right").
+    TURNED_BY + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
     # A small turn said in degrees is no place in the frame ("a couple of degrees to the right").
     "{TURNHEDGE}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
     # Turned from the view said before it ("from behind of it but a bit to the left side").
-    "(but|though|yet|only|then) " + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?! of )",
-    # Right after a view clause ("from behind him, little bit more to right").
-    AFTER_REF + MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
-    # Off its front by that much ("a few degrees off its nose towards its left", "a bit to its left of head-on").
-    MOVED + "{HEDGE} (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
-    MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+    "(but|though|yet|only|then) " + AMOUNT + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # Right after a view clause ("from behind him, little bit more to right", "rear view, slightly
+    # off to the right", "from behind, turn right a bit").
+    AFTER_REF + AMOUNT + " " + TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
+    AFTER_REF + TURN_VERBS + " (to )?(the |{P} )?{LAT}( hand)?( side)? {HEDGE}(?= ([,.;!]|$|and |with |so |but ))",
+    # Off its front by that much ("a few degrees off its nose towards its left", "from just left of the front").
+    AMOUNT + " (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + AMOUNT + " (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
 ]
-# The same off the back ("a smidge to the right of its tail", "a bit off dead behind towards its left").
+# The same off the back ("a smidge to the right of its tail", "from just right of behind").
 OFFSET_BACK_VIEW_FRAMES = [
-    MOVED + "{HEDGE} (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
-    MOVED + "{HEDGE} " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_BACK,
+    AMOUNT + " (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + AMOUNT + " (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_BACK,
 ]
 # Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
-# the back from its right side").
-LAT_REF = "(from |off |at )?((the|{P}) )?{LAT}( hand)?{PART}( of {obj})?"
+# the back from its right side", "slightly off its left side towards the rear").
+LAT_REF = "((the|{P}) )?{LAT}( hand)?{PART}( of {obj})?"
 LON_SIDE = "(the|{P}) {LON}( side| end)?"
 SIDE_OFFSET_FRAMES = [
-    SEEN + LAT_REF + "( ,)? (and |but |then )?" + MOVED + "{HEDGE} " + TOWARD + " " + LON_SIDE,
-    SEEN + MOVED + "{HEDGE} " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) (the|{P}) {LAT}( hand)?{PART}( of {obj})?",
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " " + TOWARD + " " + LON_SIDE,
+    SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
+    SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
 # ... and by an explicit angle (the side nearest the side's azimuth moved that far).
 SIDE_OFFSET_DEGREES_FRAMES = [
-    SEEN + LAT_REF + "( ,)? (and |but |then )?" + MOVED + "(by )?{d}(?<= degrees)( more)? " + TOWARD + " " + LON_SIDE,
-    SEEN + MOVED + "{d}(?<= degrees) " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) (the|{P}) {LAT}( hand)?{PART}( of {obj})?",
+    SEEN
+    + "(from |off |at )?"
+    + LAT_REF
+    + "( ,)? (and |but |then )?"
+    + MOVED
+    + "(by )?{d}(?<= degrees)( more)? "
+    + TOWARD
+    + " "
+    + LON_SIDE,
+    SEEN + MOVED + "{d}(?<= degrees) " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
+    SEEN + MOVED + "{d}(?<= degrees) (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
 # An explicit angle sideways, from the front unless a back is said with it (:func:`_combined_view`):
 # "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
-# right from head-on".
+# right from head-on", "20 degrees right of its nose".
 TURN_FRAMES = [
-    "{MOVE} " + MOVED + "{d}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    TURN_VERBS + " " + MOVED + "{d}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
     MOVED + "{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
     MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
-    MOVED + "{d}(?<= degrees) " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+    "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
 ]
 # Off the back by an explicit angle ("30 degrees off its tail towards its right").
 TURN_BACK_FRAMES = [
     MOVED + "{d}(?<= degrees) (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
-    MOVED + "{d}(?<= degrees) " + TOWARD + " " + LAT_SIDE + " (of|from|off) " + REF_BACK,
+    "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_BACK,
 ]
 
 # A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
@@ -2004,7 +2030,7 @@ _MACROS = {
     # A small amount to turn by: a slight degree word or a small turn without a number, maybe
     # "more" ("a little bit more", "a few degrees").
     "{HEDGE}": _alternatives((*DEGREE_SCALE["slight"], *OFFSET_HEDGES), "(?:") + "(?: more)?",
-    "{TURNHEDGE}": _alternatives(OFFSET_HEDGES, "(?:"),
+    "{TURNHEDGE}": _alternatives([h for h in OFFSET_HEDGES if " " in h], "(?:"),
     # A part on one side of the subject ("the arm", "its end").
     "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),

@@ -583,6 +583,16 @@ OFFSET_HEDGES = (
     "a little angle",
     "a few degrees more",
     "a wee way",
+    # The slight words said bare ("from the rear, little to the right", "just left of the front").
+    "little",
+    "tad",
+    "touch",
+    "smidge",
+    "hair",
+    "just",
+    "only just",
+    "barely",
+    "fractionally",
 )
 # "X on" said of the camera facing the subject: the front, straight ("dead on", "square on",
 # "nose on"); its back end the same way ("tail on").
