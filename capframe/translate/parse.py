@@ -982,7 +982,15 @@ MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|acr
 # The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
 AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
 TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
-TOWARD = "((a?round|over|across|off|off axis|off center) )?(to|towards|in the direction of)"
+TOWARD = "((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)"
+# Nearer one way without an amount said ("more toward the back", "a hair closer to the front").
+NEARER = "(({HEDGE} )?(closer|nearer|more)( to| towards)?)"
+# The amount and its direction, one way or the other.
+OFFSET_TOWARD = "(" + AMOUNT + " " + TOWARD + "|" + NEARER + ")"
+# A side favoured, the amount left to the verb ("favouring its left side", "cheated slightly right").
+FAVOURING = "(favoring|favouring|favor|favour|favors|favours|favored|favoured|cheat|cheated|cheating|biased|bias)"
+# Not a part of the frame ("closer to the left edge", "a bit to the left third").
+NOT_FRAME_PART = "(?! (of|in|edge|edges|corner|third|half|part|border|margin|quarter)( |$))"
 # The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "just
 # left of the front", "a bit to the left of head-on").
 REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|straight|square|face|nose) on|the camera line)"
@@ -999,10 +1007,12 @@ OFFSET_VIEW_FRAMES = [
     # A small turn said in degrees is no place in the frame ("a couple of degrees to the right").
     "{TURNHEDGE}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
     # Turned from the view said before it ("from behind of it but a bit to the left side").
-    "(but|though|yet|only|then) " + AMOUNT + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    "(but|though|yet|only|then) " + OFFSET_TOWARD + " " + LAT_SIDE + NOT_FRAME_PART,
+    # A side favoured ("from the front, but favouring its left side", "cheated slightly to the right").
+    FAVOURING + " ({HEDGE} )?(" + TOWARD + " )?" + LAT_SIDE + NOT_FRAME_PART,
     # Right after a view clause ("from behind him, little bit more to right", "rear view, slightly
     # off to the right", "from behind, turn right a bit").
-    AFTER_REF + AMOUNT + " " + TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
+    AFTER_REF + OFFSET_TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
     AFTER_REF + TURN_VERBS + " (to )?(the |{P} )?{LAT}( hand)?( side)? {HEDGE}(?= ([,.;!]|$|and |with |so |but ))",
     # Off its front by that much ("a few degrees off its nose towards its left", "from just left of the front").
     AMOUNT + " (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
@@ -1016,9 +1026,11 @@ OFFSET_BACK_VIEW_FRAMES = [
 # Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
 # the back from its right side", "slightly off its left side towards the rear").
 LAT_REF = "((the|{P}) )?{LAT}( hand)?{PART}( of {obj})?"
-LON_SIDE = "(the|{P}) {LON}( side| end)?"
+# An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
+LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
 SIDE_OFFSET_FRAMES = [
-    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " " + TOWARD + " " + LON_SIDE,
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + OFFSET_TOWARD + " " + LON_SIDE,
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
     SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
     SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
@@ -1040,8 +1052,8 @@ SIDE_OFFSET_DEGREES_FRAMES = [
 # "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
 # right from head-on", "20 degrees right of its nose".
 TURN_FRAMES = [
-    TURN_VERBS + " " + MOVED + "{d}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
-    MOVED + "{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    TURN_VERBS + " " + MOVED + "{d}( more)? (" + TOWARD + " )?" + LAT_SIDE + "(?! of )",
+    MOVED + "((at )?(an |a )?angle of )?{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
     MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
     "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
 ]
@@ -2260,14 +2272,10 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", ("azimuth", sign, 180.0, -1.0), t.replace("{LAT}", lat), False) for t in TURN_BACK_FRAMES]
         rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_VIEW_FRAMES]
         rows += [("view", f"back-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_BACK_VIEW_FRAMES]
-        for lon, lon_words, toward in (("front", "(front|face|nose|bow)", -1.0), ("back", "(back|rear|tail|stern)", 1.0)):
+        for lon, toward in (("front", -1.0), ("back", 1.0)):
+            rows += [("view", f"{lat}-slight-{lon}", _lon_frame(t, lat, lon), False) for t in SIDE_OFFSET_FRAMES]
             rows += [
-                ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
-                for t in SIDE_OFFSET_FRAMES
-            ]
-            rows += [
-                ("view", ("azimuth", sign, 90.0, toward), t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
-                for t in SIDE_OFFSET_DEGREES_FRAMES
+                ("view", ("azimuth", sign, 90.0, toward), _lon_frame(t, lat, lon), False) for t in SIDE_OFFSET_DEGREES_FRAMES
             ]
         # "90 degrees left" said alone: that far round to that side.
         rows.append(
@@ -2314,6 +2322,16 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
+
+
+# An end's words as a direction, and as an adverb ("towards the rear", "a bit forward").
+LON_WORDS = {"front": "(front|face|nose|bow)", "back": "(back|rear|tail|stern)"}
+LONWARD_WORDS = {"front": "(forward|forwards|frontward|frontwards)", "back": "(backward|backwards|rearward|rearwards)"}
+
+
+def _lon_frame(template: str, lat: str, lon: str) -> str:
+    """A side-offset template for the side ``lat`` turned towards the end ``lon``."""
+    return template.replace("{LAT}", lat).replace("{LONWARD}", LONWARD_WORDS[lon]).replace("{LON}", LON_WORDS[lon])
 
 
 def _lexicon(rows) -> frozenset[str]:
