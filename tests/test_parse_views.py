@@ -153,6 +153,9 @@ EXACT = [
     ("the sofa's back, square on", "back-exact"),
     ("sofa, head-on", "front-exact"),  # alone: the front
     ("the toy car, front-left three quarter, dead on", "front-left"),  # a diagonal stays as it is
+    ("the bear from exactly its left", "left-exact"),
+    ("the sofa, head on to its back", "back-exact"),
+    ("the toy car straight on to its left side", "left-exact"),
 ]
 
 

@@ -674,6 +674,8 @@ for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(
         f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
     )
+# "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
+GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -691,7 +693,9 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + ALMOST + "({EXACT} )?from (a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    SEEN + ALMOST + "({EXACT} )?from ({EXACT} )?(a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    # Square on to a side named ("head on to its back", "straight on to the left side").
+    "(?P<exact>" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -745,7 +749,6 @@ SIDE_AFTER_VIEW_CLAUSE = (
 # it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
 # head-on").
 EXACT_ONLY = "exact"
-GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 EXACT_PHRASES = [
     "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
     # As a clause of its own ("from the behind, exactly", "its screen, dead square").
