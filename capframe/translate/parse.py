@@ -142,7 +142,23 @@ Mappings that are choices (the phrase tables are the full list):
   askew"; "tilted" alone stays unread), the camera on the subject's support (eye level) or just
   above it (low). Words ending on "of"/"at" right before a named object describe the picture of
   it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
-  in the sand") is never the subject.
+  in the sand") is never the subject;
+* a view offset is a family of a reference view, an amount and a direction, in any order
+  (:data:`OFFSET_VIEW_FRAMES`, :data:`SIDE_OFFSET_FRAMES`, :data:`TURN_FRAMES`): "from behind him,
+  little bit more to right", "looking at the camera but swung a few degrees to its left", "45 deg
+  off its nose towards its left", "from its left flank, a few degrees toward the front", "more
+  toward the back". A slight amount (a degree word or ``OFFSET_HEDGES``: "a few degrees") is the
+  slight side between the reference and its neighbour, an explicit angle the side nearest it,
+  counted from the reference: a sideways turn said apart from its reference is ``("turn",
+  degrees)`` until :func:`_combined_view` meets the end it starts from ("60 degs round to its
+  right from head-on" is +60, "from behind, 30 degrees to its left" -150; none is the front).
+  Exactness said apart from the side ("from the behind, exactly", "the fridge's rear, head-on",
+  "straight on to the arm") is :data:`EXACT_ONLY`, which makes the end said with it exact and is
+  the front exactly alone; the front or back end first to the lens ("nose-first toward the lens")
+  is that end exactly. Side names: starboard / port (before a side word) are the right / left
+  (``vocabulary.SIDE_NAMES``), stern / aft / bow the ends, "a rear (tail-end) quarter" the rear
+  three-quarter, "round the back" the back; a word one slip from a view word right after "from
+  the" / "from its" is read as it ("from the font": :func:`_view_slip`).
 """
 
 from __future__ import annotations
