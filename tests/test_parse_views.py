@@ -60,6 +60,7 @@ SIDEWAYS_OFFSETS = [
     ("the sofa from the front, cheated slightly to the right", "front-slight-right"),
     ("the mug from behind, but closer to its left", "back-slight-left"),
     ("the mug from behind, more to the right", "back-slight-right"),
+    ("the toy car from ahead, a bit to the left", "front-slight-left"),
 ]
 # Off a side towards an end: the slight side of that side towards it.
 ENDWARD_OFFSETS = [
@@ -76,6 +77,8 @@ ENDWARD_OFFSETS = [
     ("teddy bear from its right side, then a few degrees back towards the front", "right-slight-front"),
     ("the mug from the right, a hair closer to the front", "right-slight-front"),
     ("the mug from its right, more toward the back", "right-slight-back"),
+    ("the toy car from its left, slightly toward its tail lights", "left-slight-back"),
+    ("the toy car from its right, a touch towards the headlights", "right-slight-front"),
 ]
 
 
@@ -124,6 +127,13 @@ def test_a_turn_from_the_back_mirrors_the_same_turn_from_the_front():
     back = VIEW_SIDES[view_of("the toy car from behind, 50 degrees to its left")][0]
     assert front < 0 and back < 0
     assert arc_deg(front, -50.0) <= 12.5 and arc_deg(back, -130.0) <= 12.5
+
+
+def test_a_diagonal_is_no_side_to_offset_from():
+    """ "rear-right corner" names the back-right, not its right side; the offset after it names no
+    side of its own and is reported."""
+    parsed = parse_instruction("the sofa, rear-right corner, nudged a little towards the rear", SCENE)
+    assert parsed.subjects[0].view == "back-right" and parsed.not_understood() == ["nudged a little towards the rear"]
 
 
 def test_an_offset_said_sideways_from_a_side_still_conflicts():

@@ -792,6 +792,8 @@ VIEW_PHRASES = {
         CAMERA + " in front of {obj}",
         SEEN + "({EXACT} )?from (a?round )?(the|{P}) nose( of {obj})?",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
+        # Ahead of it ("from ahead", "from straight ahead of the car": exactly).
+        SEEN + ALMOST + "from ({EXACT} |(?P<exact>right) )?ahead( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
         # later it may relate two objects ("the cone with the bench in front of it").
         "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
@@ -1016,7 +1018,7 @@ REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|
 REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind( {obj})?|tail on)"
 # A view just said as a clause, maybe with its object ("from behind him, ...", "from the front of
 # it, ..."): what a sideways offset alone after it is taken from.
-_VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank")
+_VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank", "ahead")
 _VIEW_OBJECTS = ("", " him", " her", " it", " them", " of it", " of him", " of her", " @\\d", " of @\\d")
 AFTER_REF = "(?:" + "|".join(f"(?<={e}{o} , )" for e in _VIEW_ENDS for o in _VIEW_OBJECTS) + ")"
 LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}"
@@ -1044,7 +1046,8 @@ OFFSET_BACK_VIEW_FRAMES = [
 ]
 # Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
 # the back from its right side", "slightly off its left side towards the rear").
-LAT_REF = "((the|{P}) )?{LAT}( hand)?{PART}( of {obj})?"
+# Without an article it is no diagonal's side ("rear-right corner" is no right side).
+LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PART}( of {obj})?"
 # An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
 LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
 SIDE_OFFSET_FRAMES = [
@@ -2344,7 +2347,11 @@ def _templates() -> list[tuple[str, object, str, bool]]:
 
 
 # An end's words as a direction, and as an adverb ("towards the rear", "a bit forward").
-LON_WORDS = {"front": "(front|face|nose|bow)", "back": "(back|rear|tail|stern)"}
+# A part found only at that end names it too ("slightly toward its tail lights": vocabulary.END_PARTS).
+LON_WORDS = {
+    "front": _alternatives(("front", "face", "nose", "bow", *END_PARTS["front"])),
+    "back": _alternatives(("back", "rear", "tail", "stern", *END_PARTS["back"])),
+}
 LONWARD_WORDS = {"front": "(forward|forwards|frontward|frontwards)", "back": "(backward|backwards|rearward|rearwards)"}
 
 
