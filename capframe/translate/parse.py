@@ -142,12 +142,29 @@ Mappings that are choices (the phrase tables are the full list):
   askew"; "tilted" alone stays unread), the camera on the subject's support (eye level) or just
   above it (low). Words ending on "of"/"at" right before a named object describe the picture of
   it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
-  in the sand") is never the subject.
+  in the sand") is never the subject;
+* a view offset is a family of a reference view, an amount and a direction, in any order
+  (:data:`OFFSET_VIEW_FRAMES`, :data:`SIDE_OFFSET_FRAMES`, :data:`TURN_FRAMES`): "from behind him,
+  little bit more to right", "looking at the camera but swung a few degrees to its left", "45 deg
+  off its nose towards its left", "from its left flank, a few degrees toward the front", "more
+  toward the back". A slight amount (a degree word or ``OFFSET_HEDGES``: "a few degrees") is the
+  slight side between the reference and its neighbour, an explicit angle the side nearest it,
+  counted from the reference: a sideways turn said apart from its reference is ``("turn",
+  degrees)`` until :func:`_combined_view` meets the end it starts from ("60 degs round to its
+  right from head-on" is +60, "from behind, 30 degrees to its left" -150; none is the front).
+  Exactness said apart from the side ("from the behind, exactly", "the fridge's rear, head-on",
+  "straight on to the arm") is :data:`EXACT_ONLY`, which makes the end said with it exact and is
+  the front exactly alone; the front or back end first to the lens ("nose-first toward the lens")
+  is that end exactly. Side names: starboard / port (before a side word) are the right / left
+  (``vocabulary.SIDE_NAMES``), stern / aft / bow the ends, "a rear (tail-end) quarter" the rear
+  three-quarter, "round the back" the back; a word one slip from a view word right after "from
+  the" / "from its" is read as it ("from the font": :func:`_view_slip`).
 """
 
 from __future__ import annotations
 
 import itertools
+import math
 import re
 from dataclasses import dataclass
 
@@ -175,6 +192,7 @@ from .vocabulary import (
     HEADING_TIMES,
     HEIGHT_ANCHORS,
     NUMBER,
+    OFFSET_HEDGES,
     PLENTY_WORDS,
     PUNCTUATION,
     PURPOSES,
@@ -190,6 +208,7 @@ from .vocabulary import (
     SUPPORT_SURFACES,
     TAIL_ON_WORDS,
     Vocabulary,
+    one_edit,
     singular,
     slip_of,
     words,
@@ -606,6 +625,9 @@ for _lat in ("left", "right"):
 
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
+# A view said as roughly that ("almost from behind", "mostly from the front"): the view's own
+# tolerance allows for it.
+ALMOST = "({NEARLY} |mostly |roughly )?"
 # Where the camera is put: "with the camera", "camera positioned", "place the camera".
 CAMERA = (
     "((with|put|place|position|keep|set|move|bring|get|have|hold|mount|park|stand) )?(the )?(camera|lens)"
@@ -613,8 +635,10 @@ CAMERA = (
     "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
 VIEW_SIDE_WORDS = {
-    "front": ["front", "face", "front end"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end"],
+    # A vehicle's or a boat's ends too ("the nose end", "the stern", "aft"); a bare nose or tail is
+    # a part ("so its tail shows") but where the camera is seen from (VIEW_PHRASES).
+    "front": ["front", "face", "front end", "nose end", "bow"],
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"],
     "left": ["left", "left hand"],
     "right": ["right", "right hand"],
     "side": ["side", "profile"],
@@ -651,18 +675,23 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
     also as "three quarter left" (the three-quarter view is the front one unless told)."""
     three_quarter = "three quarters?"
     out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
-    return out + ([f"{three_quarter} {lat}"] if front else [])
+    # A quarter said without "three" after the end and side ("its rear-left quarter").
+    out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
+    # A front one also by its side alone ("three quarter left", "a left-side three-quarter").
+    return out + ([f"{three_quarter} {lat}", f"{lat}( hand)? side {three_quarter}"] if front else [])
 
 
 for _lat in ("left", "right"):
-    VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True)
-    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear"), _lat, False)
+    VIEW_SIDE_WORDS[f"front-{_lat}"] += _diagonal_words(("front",), _lat, True) + [f"{_lat} bow"]
+    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear", "tail end"), _lat, False)
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
     # The side said as a place after the diagonal's end ("rear three-quarter on the right").
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(
         f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
     )
+# "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
+GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
 # after a preposition of place ("the vase on its left", "to the left of the bear": a relation
 # between objects, not understood) or before words that turn it away from the camera ("with its
@@ -672,7 +701,7 @@ NOT_A_RELATION = (
     "(?:(?<=close on )|(?<=tight on )|(?<=in on )|(?<=focus on )|(?<=focused on )|(?<=looking at )|(?<=look at )"
     "|(?<=aimed at )|(?<=pointing at )|(?<=pointed at )"
     "|(?<!on )(?<!to )(?<!at )(?<!in )(?<!into )(?<!onto )(?<!towards )(?<!near )(?<!by )(?<!beside )"
-    "(?<!over )(?<!past )(?<!beyond )(?<!across ))"
+    "(?<!over )(?<!past )(?<!beyond )(?<!across )(?<!under )(?<!below )(?<!beneath ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
@@ -680,7 +709,9 @@ NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
 VIEW_FRAMES = [
     # The article may be dropped ("from left side", "from front"), as people writing in a second
     # language do.
-    SEEN + "({EXACT} )?from ((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    SEEN + ALMOST + "({EXACT} )?from ({EXACT} )?(a?round )?((the|{P}) )?(far |extreme )?{SIDE}{PART}( of {obj})?(?! of )",
+    # Square on to a side named ("head on to its back", "straight on to the left side").
+    "(?P<exact>" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -729,6 +760,18 @@ SIDE_AFTER_VIEW_CLAUSE = (
     "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )|(?<=quarter , )"
     "|(?<=quarters , )|(?<=diagonal , ))(the |{P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
 )
+# Exactness said of a view without naming its side ("dead on", "head-on", "from behind, exactly",
+# "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
+# it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
+# head-on").
+EXACT_ONLY = "exact"
+EXACT_PHRASES = [
+    "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
+    # As a clause of its own ("from the behind, exactly", "its screen, dead square").
+    "{CLAUSE}((exactly|precisely|squarely|perfectly)( so| square| on)?|{STRONG} (square|on))(?= ([,.;!]|$))",
+    # Square to the part of the side already named ("straight on to the arm", "dead on to its end").
+    "(" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDEPART}( of {obj})?",
+]
 # A side "on" ("right side on", "left-end on"): that side facing the camera.
 SIDE_ON = SEEN + "({STRONG} )?(the |{P} )?{LAT}( hand)? (side|end|flank) on"
 VIEW_PHRASES = {
@@ -747,28 +790,36 @@ VIEW_PHRASES = {
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
+        SEEN + "({EXACT} )?from (a?round )?(the|{P}) nose( of {obj})?",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
+        # Ahead of it ("from ahead", "from straight ahead of the car": exactly).
+        SEEN + ALMOST + "from ({EXACT} |(?P<exact>right) )?ahead( of {obj})?",
         # Opening the sentence, a place names the camera's ("directly in front of the bear, ...");
         # later it may relate two objects ("the cone with the bench in front of it").
         "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
-        SEEN + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
+        SEEN + ALMOST + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(rear|back|backward|backwards) facing",
         "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
         "( from (the (camera|viewer|lens)|us|me))?",
         # Its back to the camera, said without "with" ("the teddy, back turned to the camera").
         "((the|{P}) )?(back|rear|backside|tail end) (turned )?(to|towards|facing) (the (camera|viewer|lens)|us|me)",
         CAMERA + " behind {obj}",
+        SEEN + "({EXACT} )?from (a?round )?(the|{P}) tail( of {obj})?",
         "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
         " (a?round |over )?behind( {obj})?",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
+        # Gone round to its back ("round the back", "swing around to the rear of it").
+        "(({MOVE}|{GET}) )?a?round (to )?(the|{P}) (back|rear|backside|back side|rear side|tail end)( of {obj})?"
+        "(?= ([,.;!]|$|and |with |from |at ))",
         "{P} back to the (camera|viewer|lens|us)",
         "(?<=^ )({EXACT} |(?P<exact>right) )?behind {obj}",
     ],
-    # An end said "X on" is that end exactly ("head on", "dead on", "nose on"; "tail on").
+    # An end said "X on" is that end exactly ("nose on"; "tail on"); "head on", "dead on" say only
+    # exactly (:data:`EXACT_ONLY`).
     "front-exact": [
-        "(a |in )?(" + "|".join(HEAD_ON_WORDS) + ") on( (view|shot|angle))?",
+        "(a |in )?(" + "|".join(w for w in HEAD_ON_WORDS if w not in GENERIC_ON_WORDS) + ") on( (view|shot|angle))?",
         # Its front squared to the camera ("square to the lens", "face it square", "shooting
         # straight at it").
         "({STRONG} )(to|towards|at|into|on to|facing) (the )?(camera|lens|viewer)",
@@ -779,11 +830,15 @@ VIEW_PHRASES = {
         "( {STRONG})?( {STRONG})( on)?(?= ([,.;!]|$|and |with |at |from ))",
         # Straight in front of it ("a dead-ahead shot", "dead ahead of the car").
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
-        # Its front to the lens ("nose-to-lens", "face to camera").
-        "(nose|face|head|snout|muzzle|grille) (to|towards|at|facing) (the )?(lens|camera|viewer)",
+        # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
+        # "face-forward to the camera").
+        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?"
+        "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
+        # Its back end first to the lens ("tail-first toward the camera").
+        "(tail|rear|back|stern|butt|tail end|rear end) (first|foremost) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
         # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
         "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
     ],
@@ -813,6 +868,7 @@ VIEW_PHRASES = {
     ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
+        "(the |a |{P} )?(front|nose|bow) quarter( (view|angle|shot))?(?! (of|in) (the )?{FRAME})",
         "(seen )?at three quarters",
         # A view across the subject's diagonal said without "three-quarter" ("diagonally from the
         # front left", "an oblique view"): it combines with a side as three-quarter does.
@@ -822,6 +878,8 @@ VIEW_PHRASES = {
     ],
     "back-three-quarter": [
         "(an )?over (the|{P}) shoulder( (view|angle|shot))?( of {obj})?",
+        # A quarter of its back end ("tail-end quarter", "its rear quarter"); not the frame's.
+        "(the |a |{P} )?(back|rear|tail|tail end|stern|aft|hind) quarter( (view|angle|shot))?(?! (of|in) (the )?{FRAME})",
         "(in |at |from |as )?(a |an )?(back|rear) three quarters?( (view|angle|profile|shot|position))?",
         "(in |at |from |as )?(a |an )?three quarters? (back|rear)( (view|angle|profile|shot|position))?",
     ],
@@ -831,7 +889,9 @@ VIEW_PHRASES = {
 for _end, _parts in END_PARTS.items():
     VIEW_PHRASES[_end] += [
         NOT_A_RELATION + "((the|{P}) |(?<=@\\d ))(" + "|".join(_parts) + ")( side| end)?( of {obj})?" + NOT_TURNED_AWAY,
-        "(looking|look|aimed|aiming|pointing|pointed) (straight )?at (the|{P}) (" + "|".join(_parts) + ")( of {obj})?",
+        "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) ("
+        + "|".join(_parts)
+        + ")( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -856,8 +916,8 @@ LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?
 LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
-    "front": SEEN + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
-    "back": SEEN + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
+    "front": SEEN + ALMOST + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
+    "back": SEEN + ALMOST + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
 }
 # "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
@@ -926,6 +986,105 @@ AZIMUTH_PHRASES = [
     SEEN + "from (the|{P}) {LAT}( hand)?( side)?( of {obj})?( ,)? ({ABOUT} )?{d} (off|round|around|in|over)",
 ]
 
+# An offset from a named view, as a family: a reference view, an amount and a direction, in any
+# order ("from behind him, little bit more to right", "looking at the camera but swung a few
+# degrees to its left", "45 deg off its nose towards its left", "from its left flank, a few degrees
+# toward the front", "20 degrees towards the back from its right side"). The amount is a slight
+# degree word or a small turn without a number ({HEDGE}: vocabulary.OFFSET_HEDGES; 10 to 40
+# degrees off the reference, the "slight" sides) or an explicit angle (the side nearest it). A
+# sideways offset said without its reference is a cue of its own that the reference said elsewhere
+# completes (:func:`_combined_view`; none is the front); one towards an end names its side.
+# {MOVED}: how the camera gets there ("swung", "nudged", "angled", "round", "over"), optional.
+TURN_VERBS = (
+    "({MOVE}|turn|rotate|angle|angled|angling|lean|leaning|leaned|leant|offset|pan|panned|panning|pivot|pivoted|pivoting"
+    "|swivel|swivelled|swiveled)"
+)
+MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|across) )?"
+# The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
+AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
+TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
+TOWARD = "((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)"
+# Nearer one way without an amount said ("more toward the back", "a hair closer to the front").
+NEARER = "(({HEDGE} )?(closer|nearer|more)( to| towards)?)"
+# The amount and its direction, one way or the other.
+OFFSET_TOWARD = "(" + AMOUNT + " " + TOWARD + "|" + NEARER + ")"
+# A side favoured, the amount left to the verb ("favouring its left side", "cheated slightly right").
+FAVOURING = "(favoring|favouring|favor|favour|favors|favours|favored|favoured|cheat|cheated|cheating|biased|bias)"
+# Not a part of the frame ("closer to the left edge", "a bit to the left third").
+NOT_FRAME_PART = "(?! (of|in|edge|edges|corner|third|half|part|border|margin|quarter)( |$))"
+# The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "just
+# left of the front", "a bit to the left of head-on").
+REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|straight|square|face|nose) on|the camera line)"
+REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind( {obj})?|tail on)"
+# A view just said as a clause, maybe with its object ("from behind him, ...", "from the front of
+# it, ..."): what a sideways offset alone after it is taken from.
+_VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank", "ahead")
+_VIEW_OBJECTS = ("", " him", " her", " it", " them", " of it", " of him", " of her", " @\\d", " of @\\d")
+AFTER_REF = "(?:" + "|".join(f"(?<={e}{o} , )" for e in _VIEW_ENDS for o in _VIEW_OBJECTS) + ")"
+LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}"
+OFFSET_VIEW_FRAMES = [
+    # The camera moved by a small amount ("swung a few degrees to its left", "a bit rotated over to the right").
+    TURNED_BY + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # A small turn said in degrees is no place in the frame ("a couple of degrees to the right").
+    "{TURNHEDGE}( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # Turned from the view said before it ("from behind of it but a bit to the left side").
+    "(but|though|yet|only|then) " + OFFSET_TOWARD + " " + LAT_SIDE + NOT_FRAME_PART,
+    # A side favoured ("from the front, but favouring its left side", "cheated slightly to the right").
+    FAVOURING + " ({HEDGE} )?(" + TOWARD + " )?" + LAT_SIDE + NOT_FRAME_PART,
+    # Right after a view clause ("from behind him, little bit more to right", "rear view, slightly
+    # off to the right", "from behind, turn right a bit").
+    AFTER_REF + OFFSET_TOWARD + " " + LAT_SIDE + "(?= ([,.;!]|$|and |with |so |but ))",
+    AFTER_REF + TURN_VERBS + " (to )?(the |{P} )?{LAT}( hand)?( side)? {HEDGE}(?= ([,.;!]|$|and |with |so |but ))",
+    # Off its front by that much ("a few degrees off its nose towards its left", "from just left of the front").
+    AMOUNT + " (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + AMOUNT + " (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+]
+# The same off the back ("a smidge to the right of its tail", "from just right of behind").
+OFFSET_BACK_VIEW_FRAMES = [
+    AMOUNT + " (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + AMOUNT + " (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_BACK,
+]
+# Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
+# the back from its right side", "slightly off its left side towards the rear").
+# Without an article it is no diagonal's side ("rear-right corner" is no right side).
+LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PART}( of {obj})?"
+# An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
+LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
+SIDE_OFFSET_FRAMES = [
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + OFFSET_TOWARD + " " + LON_SIDE,
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
+    SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
+    SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
+]
+# ... and by an explicit angle (the side nearest the side's azimuth moved that far).
+SIDE_OFFSET_DEGREES_FRAMES = [
+    SEEN
+    + "(from |off |at )?"
+    + LAT_REF
+    + "( ,)? (and |but |then )?"
+    + MOVED
+    + "(by )?{d}(?<= degrees)( more)? "
+    + TOWARD
+    + " "
+    + LON_SIDE,
+    SEEN + MOVED + "{d}(?<= degrees) " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
+    SEEN + MOVED + "{d}(?<= degrees) (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
+]
+# An explicit angle sideways, from the front unless a back is said with it (:func:`_combined_view`):
+# "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
+# right from head-on", "20 degrees right of its nose".
+TURN_FRAMES = [
+    TURN_VERBS + " " + MOVED + "{d}( more)? (" + TOWARD + " )?" + LAT_SIDE + "(?! of )",
+    MOVED + "((at )?(an |a )?angle of )?{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
+]
+# Off the back by an explicit angle ("30 degrees off its tail towards its right").
+TURN_BACK_FRAMES = [
+    MOVED + "{d}(?<= degrees) (off|from) " + REF_BACK + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_BACK,
+]
+
 # A clock direction around the subject ("from 2 o'clock", "at the ten o'clock position"): the clock
 # face seen from above with 12 at the subject's front, so 3 o'clock is its right (+90 degrees) and
 # each hour 30 degrees; read as the side nearest that azimuth, like an explicit angle.
@@ -983,6 +1142,10 @@ VIEW_COMBINATIONS |= {
     for end in EXACT_ENDS
     if end in pair
 } | {frozenset((end, f"{end}-exact")): f"{end}-exact" for end in EXACT_ENDS}
+# Exactness said apart makes an end exact and leaves any other side as it is.
+VIEW_COMBINATIONS |= {
+    frozenset((EXACT_ONLY, side)): f"{side}-exact" if side in EXACT_ENDS else side for side in VIEW_SIDES if side != EXACT_ONLY
+}
 
 # Every object of the scene at once ("the whole group", "all of them"): each one not named
 # otherwise joins as a secondary subject (it must be in the picture).
@@ -1898,6 +2061,12 @@ _MACROS = {
     # The same words where they make a view side exact (read back by _cue).
     "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
+    # A small amount to turn by: a slight degree word or a small turn without a number, maybe
+    # "more" ("a little bit more", "a few degrees").
+    "{HEDGE}": _alternatives((*DEGREE_SCALE["slight"], *OFFSET_HEDGES), "(?:") + "(?: more)?",
+    "{TURNHEDGE}": _alternatives([h for h in OFFSET_HEDGES if " " in h], "(?:"),
+    # A part on one side of the subject ("the arm", "its end").
+    "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
     "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
@@ -2119,13 +2288,22 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
+    rows += [("view", EXACT_ONLY, t, False) for t in EXACT_PHRASES]
     for lat, sign in (("left", -1.0), ("right", 1.0)):
-        rows += [("view", ("azimuth", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES]
+        rows += [("view", ("turn", sign), t.replace("{LAT}", lat), False) for t in AZIMUTH_PHRASES + TURN_FRAMES]
+        rows += [("view", ("azimuth", sign, 180.0, -1.0), t.replace("{LAT}", lat), False) for t in TURN_BACK_FRAMES]
+        rows += [("view", f"front-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_VIEW_FRAMES]
+        rows += [("view", f"back-slight-{lat}", t.replace("{LAT}", lat), False) for t in OFFSET_BACK_VIEW_FRAMES]
+        for lon, toward in (("front", -1.0), ("back", 1.0)):
+            rows += [("view", f"{lat}-slight-{lon}", _lon_frame(t, lat, lon), False) for t in SIDE_OFFSET_FRAMES]
+            rows += [
+                ("view", ("azimuth", sign, 90.0, toward), _lon_frame(t, lat, lon), False) for t in SIDE_OFFSET_DEGREES_FRAMES
+            ]
         # "90 degrees left" said alone: that far round to that side.
         rows.append(
             (
                 "view",
-                ("azimuth", sign),
+                ("turn", sign),
                 "(from |at )?{d}(?<= degrees) (round |off )?(to the |to )?" + lat + "(?= ([,.;!]|$))",
                 False,
             )
@@ -2166,6 +2344,20 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
+
+
+# An end's words as a direction, and as an adverb ("towards the rear", "a bit forward").
+# A part found only at that end names it too ("slightly toward its tail lights": vocabulary.END_PARTS).
+LON_WORDS = {
+    "front": _alternatives(("front", "face", "nose", "bow", *END_PARTS["front"])),
+    "back": _alternatives(("back", "rear", "tail", "stern", *END_PARTS["back"])),
+}
+LONWARD_WORDS = {"front": "(forward|forwards|frontward|frontwards)", "back": "(backward|backwards|rearward|rearwards)"}
+
+
+def _lon_frame(template: str, lat: str, lon: str) -> str:
+    """A side-offset template for the side ``lat`` turned towards the end ``lon``."""
+    return template.replace("{LAT}", lat).replace("{LONWARD}", LONWARD_WORDS[lon]).replace("{LON}", LON_WORDS[lon])
 
 
 def _lexicon(rows) -> frozenset[str]:
@@ -2273,12 +2465,13 @@ class RuleParser:
 
     def _unslip(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[dict[str, str]]]:
         """``tokens`` with each mistyped table word read as it (:func:`~capframe.translate.vocabulary.slip_of`:
-        "hight" -> "height"), and those readings; a word the tables or the scene's names use is
-        never one."""
+        "hight" -> "height"; :func:`_view_slip`: "from the font"), and those readings; a word the
+        tables or the scene's names use is never one."""
         names = {w for form in vocabulary.forms() for w in form}
         out, read = [], []
         for token in tokens:
-            target = None if token in self.lexicon or singular(token) in names else slip_of(token)
+            known = token in self.lexicon or singular(token) in names
+            target = None if known else slip_of(token) or _view_slip(out, token, names)
             out.append(target or token)
             if target:
                 read.append({"said": token, "read": target})
@@ -2542,6 +2735,9 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "shot" and rule.value == "share":
         value = _shot_of_share(groups["share"])
+    elif rule.field == "view" and isinstance(rule.value, tuple) and rule.value[0] == "turn":
+        # ("turn", sign): turned that far sideways from a reference said with it (_combined_view).
+        value = ("turn", rule.value[1] * float(groups["d"]))
     elif rule.field == "view" and isinstance(rule.value, tuple):
         # ("azimuth", sign[, from, towards]): sign * (from + towards * degrees), from the front.
         _, sign, origin, toward = (*rule.value, 0.0, 1.0)[:4]
@@ -2599,7 +2795,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = VIEW_COMBINATIONS.get(frozenset((held, cue.value))) if cue.field == "view" else None
+        combined = _combined_view(held, cue.value) if cue.field == "view" else None
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
@@ -2608,8 +2804,80 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         elif combined is not None:
             setattr(subjects[names[0]], cue.field, combined)
         else:
-            raise InputError(f"conflicting {cue.field} for {names[0]!r}: {held!r} and {cue.value!r} ({cue.text!r})")
+            raise InputError(
+                f"conflicting {cue.field} for {names[0]!r}: {_said_view(held)!r} and {_said_view(cue.value)!r} ({cue.text!r})"
+            )
+    for subject in subjects.values():
+        subject.view = _said_view(subject.view)
     return list(subjects.values())
+
+
+# View words a slip is read as where only a view word can stand (:func:`_view_slip`).
+VIEW_SLIP_TARGETS = ("front", "back", "rear", "left", "right", "side", "profile", "behind")
+VIEW_SLIP_LEADS = ("the", "its", "his", "her", "their")
+# Rows of a QWERTY keyboard: a letter struck for its neighbour is a slip, any other letter may be
+# another word ("from the bank" is no "back").
+KEY_ROWS = ("qwertyuiop", "asdfghjkl", "zxcvbnm")
+_KEY_AT = {c: (r, k) for r, row in enumerate(KEY_ROWS) for k, c in enumerate(row)}
+
+
+def _neighbour_keys(a: str, b: str) -> bool:
+    """Whether the letters ``a`` and ``b`` are neighbouring keys (same row or the row next to it)."""
+    (ra, ka), (rb, kb) = _KEY_AT.get(a, (9, 0)), _KEY_AT.get(b, (-9, 0))
+    return abs(ra - rb) <= 1 and abs(ka - kb) <= 1 and a != b
+
+
+def _slipped(said: str, word: str) -> bool:
+    """Whether ``said`` is ``word`` with one letter dropped, added or swapped with the next, or
+    struck on a neighbouring key (:func:`_neighbour_keys`)."""
+    if not one_edit(said, word):
+        return False
+    if len(said) != len(word):
+        return True
+    diff = [k for k in range(len(word)) if said[k] != word[k]]
+    return len(diff) == 2 or _neighbour_keys(said[diff[0]], word[diff[0]])
+
+
+def _view_slip(before: list[str], token: str, names: set[str]) -> str | None:
+    """The view word ``token`` mistypes by one letter (:func:`_slipped`: "font", "lefy", "rigjt")
+    where only a view word stands, right after "from the" / "from its" ("from the font"), or None:
+    also when it is one letter from a word of the scene's names or from two view words."""
+    if before[-2:-1] != ["from"] or before[-1:] not in ([w] for w in VIEW_SLIP_LEADS) or not token.isalpha():
+        return None
+    if any(one_edit(token, name) for name in names):
+        return None
+    targets = [w for w in VIEW_SLIP_TARGETS if _slipped(token, w)]
+    return targets[0] if len(targets) == 1 else None
+
+
+def _combined_view(held, said):
+    """The one view side two view cues of a subject name together (:data:`VIEW_COMBINATIONS`), an
+    explicit sideways turn ``("turn", degrees)`` taken from the end said with it (from the front,
+    or from the back: "from behind, 30 degrees to its left" is -150), else None (a conflict)."""
+    if isinstance(held, tuple) or isinstance(said, tuple):
+        turn, reference = (held, said) if isinstance(held, tuple) else (said, held)
+        if isinstance(reference, tuple):
+            return None
+        return _turned(reference, turn[1])
+    return VIEW_COMBINATIONS.get(frozenset((held, said)))
+
+
+def _turned(reference: str | None, degrees: float) -> str | None:
+    """The side nearest ``degrees`` turned sideways (> 0 towards the subject's right) from the
+    end ``reference`` (None or an exactness alone: the front); None for a reference that is no end."""
+    if reference in (None, EXACT_ONLY, "front", "front-exact"):
+        return _nearest_side(degrees)
+    if reference in ("back", "back-exact"):
+        return _nearest_side(math.copysign(180.0 - abs(degrees), degrees))
+    return None
+
+
+def _said_view(view):
+    """A view cue as the side it names on its own: a turn from the front, an exactness alone the
+    front exactly."""
+    if isinstance(view, tuple):
+        return _turned(None, view[1])
+    return "front-exact" if view == EXACT_ONLY else view
 
 
 def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) -> set[int]:

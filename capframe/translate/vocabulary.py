@@ -135,8 +135,15 @@ SHOT_ABBREVIATIONS = {
     "xws": "extreme wide shot",
 }
 SPELLINGS.update(SHOT_ABBREVIATIONS)
-# Two-word spellings merged into one word.
+# A vehicle's sides said as a sailor says them: starboard is its own right, port its own left.
+# "port" is read so only before a word naming a side of it ("its port side", "the port flank"):
+# alone it is more often a socket ("show me the ports").
+SIDE_NAMES = {"starboard": "right", "portside": "left side"}
+SPELLINGS.update(SIDE_NAMES)
+PORT_SIDE_WORDS = ("side", "hand", "flank", "quarter", "end", "bow", "beam", "profile", "three", "rear", "back", "front")
+# Two-word spellings merged into one word, or read as other words.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
+COMPOUNDS |= {("port", word): f"left {word}" for word in PORT_SIDE_WORDS}
 
 # Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
 # word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
@@ -357,7 +364,7 @@ def _compounds(tokens: list[str]) -> list[str]:
     out: list[str] = []
     for token in tokens:
         if out and (out[-1], token) in COMPOUNDS:
-            out[-1] = COMPOUNDS[(out[-1], token)]
+            out[-1:] = COMPOUNDS[(out[-1], token)].split()
         else:
             out.append(token)
     return out
@@ -556,6 +563,37 @@ DEGREE_SCALE = {
         "smack",
     ),
 }
+# A small turn said without a number ("swung a few degrees to its left", "a couple of degrees
+# towards the front"): as the slight degree words, 10 to 40 degrees off the side it starts from.
+OFFSET_HEDGES = (
+    "a few degrees",
+    "few degrees",
+    "a couple of degrees",
+    "a couple degrees",
+    "couple of degrees",
+    "several degrees",
+    "some degrees",
+    "a few notches",
+    "a couple of notches",
+    "a little way",
+    "a short way",
+    "a small amount",
+    "a small angle",
+    "a slight angle",
+    "a little angle",
+    "a few degrees more",
+    "a wee way",
+    # The slight words said bare ("from the rear, little to the right", "just left of the front").
+    "little",
+    "tad",
+    "touch",
+    "smidge",
+    "hair",
+    "just",
+    "only just",
+    "barely",
+    "fractionally",
+)
 # "X on" said of the camera facing the subject: the front, straight ("dead on", "square on",
 # "nose on"); its back end the same way ("tail on").
 HEAD_ON_WORDS = (
@@ -635,6 +673,9 @@ END_PARTS = {
         "face plate",
         "fascia",
         "front cover",
+        # A screen is the front of what carries it ("aim straight at the TV's screen").
+        "screen",
+        "display",
     ),
 }
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
