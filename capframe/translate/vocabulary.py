@@ -1364,9 +1364,17 @@ class Vocabulary:
             if not self._compatible(e, tokens):
                 continue
             for form in e.forms:
-                if set(content) <= set(form) or content[-1] == form[-1]:
+                if set(content) <= set(form) or (content[-1] == form[-1] and self._head_names(e, content)):
                     scores[e.name] = max(scores.get(e.name, (0,)), (len(set(tokens) & e.words),))
         return _best(scores)
+
+    @staticmethod
+    def _head_names(entry: VocabularyEntry, content: list[str]) -> bool:
+        """Whether a mention's head noun (``content``'s last word) names ``entry`` despite its other
+        words: when the head alone is one of its forms ("the reading chair" of an armchair also
+        called "chair"), or those words are its own. A head that names it only with its modifier
+        ("stand" of "lamp stand") does not: an "umbrella stand" is another thing."""
+        return (content[-1],) in entry.forms or set(content[:-1]) <= entry.words
 
     def _by_clipping(self, tokens: tuple[str, ...]) -> list[str]:
         """The names whose head word (a form's last) ``tokens``' one content word clips: its first
