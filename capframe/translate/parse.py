@@ -457,7 +457,8 @@ SHOT_CLAUSES = {
 # The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
 # the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
 SHARE_PHRASES = [
-    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|at|to|so it fills) )?"
+    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|eating up|eats up|using up|uses up"
+    "|at|to|so it fills) )?"
     "((about|around|roughly|approximately|some|only|just|nearly|almost|maybe) )?"
     "({SHARE}) (of )?(the )?{FRAME}( (height|width|high|tall|wide|across))?",
 ]
@@ -1450,11 +1451,11 @@ ROLL_PHRASES = {
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
-        "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
-        "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
+        "(keeping|keep|with|hold|holding) (the )?horizon ({LEVEL})",
+        "(with )?(a |the )?({STRONG} |perfectly |nice and )?({LEVEL}) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
         "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
-        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
+        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({LEVEL})",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
@@ -1922,6 +1923,8 @@ _MACROS = {
     "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
+    # A level horizon, as a builder or a carpenter says it too ("horizon true", "spirit-level").
+    "{LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
     # A moderate grade of a size word ("fairly tight", "pretty small").
     "{FAIRLY}": "(?:fairly|pretty|quite|rather|reasonably|moderately)",
     # Pressed into the frame: the subject fills it ("crammed into the frame", "pack it into the shot").

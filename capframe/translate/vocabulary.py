@@ -181,7 +181,7 @@ def words(text: str) -> list[str]:
     s = text.lower()
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
-    s = s.replace("%", " percent ")
+    s = re.sub(r"%|\bper\s?cent\b", " percent ", s)  # "10%", "10 per cent", "10 percent"
     s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"

@@ -1,6 +1,7 @@
-"""Shot sizes and frame regions in open wording (issue #15): each family a held-out miss belonged
-to ("not too zoomed in", "fairly tight", "crammed into the frame", "every slat in view", "the
-north-west corner"), tested on other words of the family, none of them a suite's sentence."""
+"""Framing in open wording (issue #15): shot sizes, frame regions and a level horizon. Each family
+a held-out miss belonged to ("not too zoomed in", "fairly tight", "crammed into the frame", "every
+slat in view", "the north-west corner", "horizon true", "10 per cent of the frame") is tested on
+other words of the family, none of them a suite's sentence."""
 
 from __future__ import annotations
 
@@ -59,7 +60,23 @@ COMPASS = [
 ]
 
 
-@pytest.mark.parametrize("text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + COMPASS))
+LEVEL = [
+    # A level horizon said as a builder would.
+    ("the bench, horizon plumb", one(BENCH, roll_deg=0.0)),
+    ("teddy from behind, keep the horizon dead flat", one(BEAR, view="back", roll_deg=0.0)),
+    ("the sofa with a spirit-level horizon", one(SOFA, roll_deg=0.0)),
+    ("mug, the horizon kept even", one(MUG, roll_deg=0.0)),
+]
+
+SHARES = [
+    # A share of the frame said in words, and the verbs that take it.
+    ("the mug at roughly 15 per cent of the picture", one(MUG, shot="wide")),
+    ("the bench eating up about 80 percent of the frame", one(BENCH, shot="close-up")),
+    ("the sofa using up half the frame", one(SOFA, shot="medium")),
+]
+
+
+@pytest.mark.parametrize("text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + COMPASS + LEVEL + SHARES))
 def test_sizes_and_regions_in_open_wording(text, want):
     assert read(text) == want
 
