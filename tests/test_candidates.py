@@ -309,20 +309,22 @@ def test_an_unrefined_start_is_the_start_camera_even_when_the_yaw_scan_turned_it
     assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
 
 
-def test_refine_records_the_loss_at_the_given_pose_before_its_yaw_scan():
-    """``start_loss`` is the objective at the camera Refine was given, whether or not the yaw
-    scan then turned it: a refinement of no step from the start reports the same loss."""
+def test_a_start_refined_without_its_scan_descends_from_where_it_is():
+    """``scan=False`` (a closed-form start) keeps the given pose as the trajectory's first, where
+    the yaw scan turns a start whose loss is lower elsewhere on the orbit; the scan records the
+    loss at the given pose (``start_loss``), the same as the unscanned run's first evaluation."""
     gaussians, index, up = walled_scene()
     centroid = gaussians.means[:400].double().mean(0).numpy()
     labels = labels_from_constraints(
         Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
     )
-    side = make_camera(eye=(3.0, -1.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    scanned = refine_pose(gaussians, side, labels, 4.0, RefineConfig(iterations=3))
-    still = refine_pose(gaussians, side, labels, 4.0, RefineConfig(iterations=0, yaw_scan=1))
-    np.testing.assert_array_equal(still.trajectory[0], side.T_cw)
-    assert scanned.start_loss == pytest.approx(float(still.losses[0]), rel=1e-9)
-    assert scanned.start_terms == pytest.approx(still.terms, rel=1e-9)
+    side = make_camera(eye=(3.0, -1.0, 1.0), target=(0.5, 0.5, 0.4), up=(0.0, 0.0, -1.0))
+    config = RefineConfig(iterations=0, occlusion_iterations=0)
+    scanned = refine_pose(gaussians, side, labels, 4.0, config)
+    kept = refine_pose(gaussians, side, labels, 4.0, config, scan=False)
+    assert not np.allclose(scanned.trajectory[0], side.T_cw)
+    np.testing.assert_array_equal(kept.trajectory[0], side.T_cw)
+    assert kept.start_loss is None and scanned.start_loss == pytest.approx(float(kept.losses[0]), rel=1e-9)
 
 
 def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_one():
