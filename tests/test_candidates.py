@@ -273,6 +273,60 @@ def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer():
     assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
 
 
+def test_an_unrefined_start_is_the_start_camera_even_when_the_yaw_scan_turned_it():
+    """Refine's yaw scan turned the start (in front of the wall, the ball seen) to behind the
+    wall before its first step, so the trajectory starts there. The unrefined answer is the start
+    camera itself, with the loss measured at it, and its report (the ball seen) is of that very
+    camera: reporting on one pose while writing another claimed a hidden subject as seen."""
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(
+        Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
+    )
+    front = make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    behind = make_camera(eye=(0.0, 4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [front])
+    trajectory = np.stack([behind.T_cw, behind.T_cw])  # the scan turned the start behind the wall
+    result = RefineResult(
+        behind.T_cw,
+        1,
+        "max_iterations",
+        {},
+        trajectory,
+        np.array([0.2, 0.1]),
+        {"size": np.array([0.1, 0.0])},
+        0.0,
+        start_loss=0.9,
+        start_terms={"size": 0.45},
+    )
+    scene = SceneDir(Path("."), gaussians, [front], None, SceneMeta(up), None)
+    parsed = parse_instruction("the ball, medium shot", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)]))
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(front, result)]), occupancy)
+    assert [r.stop_reason for _, r in answer.runs] == ["unrefined", "max_iterations"]
+    np.testing.assert_array_equal(answer.cameras[0].T_cw, front.T_cw)
+    np.testing.assert_array_equal(answer.runs[0][1].trajectory, front.T_cw[None])
+    assert answer.runs[0][1].terms == {"size": 0.45} and list(answer.runs[0][1].losses) == [0.9]
+    assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
+
+
+def test_a_start_refined_without_its_scan_descends_from_where_it_is():
+    """``scan=False`` (a closed-form start) keeps the given pose as the trajectory's first, where
+    the yaw scan turns a start whose loss is lower elsewhere on the orbit; the scan records the
+    loss at the given pose (``start_loss``), the same as the unscanned run's first evaluation."""
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    labels = labels_from_constraints(
+        Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
+    )
+    side = make_camera(eye=(3.0, -1.0, 1.0), target=(0.5, 0.5, 0.4), up=(0.0, 0.0, -1.0))
+    config = RefineConfig(iterations=0, occlusion_iterations=0)
+    scanned = refine_pose(gaussians, side, labels, 4.0, config)
+    kept = refine_pose(gaussians, side, labels, 4.0, config, scan=False)
+    assert not np.allclose(scanned.trajectory[0], side.T_cw)
+    np.testing.assert_array_equal(kept.trajectory[0], side.T_cw)
+    assert kept.start_loss is None and scanned.start_loss == pytest.approx(float(kept.losses[0]), rel=1e-9)
+
+
 def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_one():
     """Refine traded the asked high angle for the layout (the ball seen from 37 degrees up at the
     start, 8 degrees at the end, both showing it): the start, unrefined, satisfies every clause

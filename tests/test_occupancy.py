@@ -9,7 +9,7 @@ from conftest import make_camera
 
 from capframe.errors import InputError
 from capframe.scene import GaussianScene
-from capframe.scene.occupancy import build_occupancy, cached_occupancy, up_frame
+from capframe.scene.occupancy import _convex_hull, build_occupancy, cached_occupancy, up_frame
 
 IDENTITY = torch.tensor([1.0, 0.0, 0.0, 0.0])
 
@@ -148,15 +148,33 @@ def test_a_room_has_a_ceiling_at_its_walls_top(walls):
     assert low_inside > 0.5
 
 
+def test_past_an_open_side_the_free_space_lies_between_the_walls_planes():
+    """A room open on its -y side (walls at x = ±3 and y = 3): a camera may back out past the
+    opening (the walls beside it go on where the capture did not see them), but not round behind
+    the side walls' planes, nor over them."""
+    up = np.array([0.0, 0.0, 1.0])
+    grid = build_occupancy(room(("+x", "-x", "+y")), up, [camera_at((0.0, -2.0, 1.2))])
+    backed_out, aside = grid.clearance(torch.tensor([[0.0, -4.5, 1.2], [1.5, -4.5, 1.2]], dtype=torch.float64)).tolist()
+    assert backed_out > 1.0 and aside > 1.0  # the sofa box is 1.14 away, the +x wall's plane 1.5
+    behind = grid.clearance(torch.tensor([[3.8, -3.9, 1.2], [-4.5, -4.5, 1.2], [3.6, 0.0, 1.2]], dtype=torch.float64))
+    assert (behind < 0).all()
+
+
+def test_the_hull_of_points_is_counter_clockwise_without_collinear_points():
+    """The convex hull of a square's corners, its edge midpoints and its centre is its corners,
+    counter-clockwise from the lowest-leftmost."""
+    square = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 0], [2, 1], [1, 2], [0, 1], [1, 1]], dtype=np.float64)
+    np.testing.assert_array_equal(_convex_hull(square), [[0, 0], [2, 0], [2, 2], [0, 2]])
+
+
 def test_the_ceiling_is_a_plane_at_the_walls_top_not_above_their_top_voxel():
-    """The walls' top row of Gaussians lies at 2.45 (rows 0.1 apart from 1.25, cut at 2.5; their
-    1-sigma points reach 2.51, in a voxel whose top lies higher still): a camera over the walls'
-    top is out of free space, one below it keeps the depth below the top as its clearance,
-    whichever voxel it falls in."""
+    """The walls' top row of Gaussians lies at 2.45 (rows 0.1 apart from 1.25, cut at 2.5), in a
+    voxel whose top lies higher: a camera over the walls' top is out of free space, one below it
+    keeps the depth below the top as its clearance, whichever voxel it falls in."""
     up = np.array([0.0, 0.0, 1.0])
     grid = build_occupancy(room(("+x", "-x", "+y", "-y")), up, [camera_at((0.0, -2.0, 1.2))])
     assert grid.ceiling_height == pytest.approx(2.45, abs=1e-6)
-    assert grid.origin[2] + grid.ceiling * grid.voxel > 2.51  # the layer above the top voxel
+    assert grid.origin[2] + grid.ceiling * grid.voxel > 2.45 + grid.voxel / 4  # the layer above the top voxel
     for h in (2.25, 2.4):
         assert grid.clearance(torch.tensor([1.5, 1.5, h])).item() == pytest.approx(2.45 - h, abs=1e-6)
     assert grid.clearance(torch.tensor([1.5, 1.5, 2.47])).item() < 0

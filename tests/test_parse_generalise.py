@@ -1231,6 +1231,28 @@ def test_a_material_or_an_object_of_its_own_kind_is_no_synonym():
         parse_instruction("the wine rack next to the bench", PLANTS)
 
 
+@pytest.mark.parametrize(
+    "text, noun",
+    [
+        ("the umbrella stand by the lamp - frame the stand on the right", "umbrella stand"),
+        ("a music stand beside the bench, close", "music stand"),
+    ],
+)
+def test_a_head_noun_that_names_an_object_only_with_its_modifier_is_refused(text, noun):
+    """The floor lamp is also a "lamp stand": an umbrella stand, a music stand or a plant stand
+    shares only the head "stand", which names the lamp only with "lamp" before it; refused, never
+    read as the lamp."""
+    with pytest.raises(InputError, match=f"subject '{noun}' is not in this scene"):
+        parse_instruction(text, PLANTS)
+
+
+@pytest.mark.parametrize("said", ["the lamp stand", "the reading lamp", "the big lamp", "the floor lamp's stand"])
+def test_a_head_noun_that_is_a_name_of_its_own_keeps_naming_it(said):
+    """A head that is one of the object's names ("lamp"), or a head with the object's own words
+    before it, names it whatever else is said."""
+    assert read(f"{said}, from the left", PLANTS)["subjects"][0][0] == LAMP
+
+
 RELATIVE_HEIGHTS = [
     # The subject's own height, or a part of it, with a degree word: the slight classes.
     ("the toy car from slightly below its own height", one(CAR, elevation="slightly below")),

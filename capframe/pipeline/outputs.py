@@ -197,7 +197,7 @@ def closest_answer(
     than one that does not."""
     reports = [own_report(scene, labels, parsed, c, occupancy) for c in refined.cameras]
     if not any(r.all_satisfied for r in reports):
-        starts = [(start, unrefined(result)) for start, result in refined.runs]
+        starts = [(start, unrefined(start, result)) for start, result in refined.runs]
         reports += [own_report(scene, labels, parsed, start, occupancy) for start, _ in starts]
         refined = Refined(refined.runs + starts, refined.solved)
     order = report_order(reports)
@@ -209,18 +209,26 @@ def shows_subjects(report: CheckReport) -> bool:
     return not any(r.constraint == "visibility" and r.satisfied is False for r in report.rows)
 
 
-def unrefined(result: RefineResult) -> RefineResult:
-    """``result``'s start (the first evaluation of its trajectory) as a result of no step."""
-    terms = {name: float(values[0]) for name, values in result.history.items() if np.isfinite(values[0])}
+def unrefined(start: Camera, result: RefineResult) -> RefineResult:
+    """The camera ``start`` that Refine ran from to ``result``, as a result of no step: its own
+    pose, not the trajectory's first (Refine's yaw scan may have turned it before the first step),
+    with the loss Refine measured there (``result.start_loss``; the trajectory's first when
+    unmeasured, as for a run without a scan, which starts at the given pose)."""
+    if result.start_terms is None:
+        loss, terms = float(result.losses[0]), {n: float(v[0]) for n, v in result.history.items() if np.isfinite(v[0])}
+    else:
+        loss, terms = float(result.start_loss), dict(result.start_terms)
     return RefineResult(
-        result.trajectory[0],
+        np.asarray(start.T_cw, dtype=np.float64),
         0,
         "unrefined",
         terms,
-        result.trajectory[:1],
-        result.losses[:1],
-        {name: values[:1] for name, values in result.history.items()},
+        np.asarray(start.T_cw, dtype=np.float64)[None],
+        np.array([loss]),
+        {name: np.array([value]) for name, value in terms.items()},
         0.0,
+        start_loss=loss,
+        start_terms=terms,
     )
 
 

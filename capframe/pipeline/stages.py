@@ -412,8 +412,12 @@ def refine(
         clock.done("solve", f"{len(kept)} of {len(solved)} closed-form cameras free and unoccluded")
         starts = [camera for pair in itertools.zip_longest(kept, starts) for camera in pair if camera is not None]
     runs: list[tuple[Camera, RefineResult]] = []
+    solved_starts = {id(c.camera) for c in solved}
     for start in starts[: max(options.candidates, options.attempts)]:
-        result = refine_pose(scene.gaussians, start, labels, scale, options.refine, occupancy=occupancy)
+        # A closed-form start already sits at the asked angles, free and unoccluded: the yaw scan
+        # (blind to occlusion) would only turn it away.
+        scan = id(start) not in solved_starts
+        result = refine_pose(scene.gaussians, start, labels, scale, options.refine, occupancy=occupancy, scan=scan)
         runs.append((start, result))
         clock.done(
             "refine", f"from {start.name}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})"

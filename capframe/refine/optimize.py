@@ -136,6 +136,9 @@ class RefineResult:
         seconds: wall time of the optimisation.
         occlusion_seconds: the part of ``seconds`` spent on the occlusion phase: the visibility
             check at the end of the first phase and, when a subject was hidden, the second phase.
+        start_loss, start_terms: the total loss and its terms at the pose Refine was given, before
+            its yaw scan (the trajectory starts after the scan, which may turn the start away);
+            None when unmeasured.
     """
 
     T_cw: np.ndarray
@@ -147,6 +150,8 @@ class RefineResult:
     history: dict[str, np.ndarray]
     seconds: float
     occlusion_seconds: float = 0.0
+    start_loss: float | None = None
+    start_terms: dict[str, float] | None = None
 
 
 CULL_CHUNK = 1 << 20  # Gaussians per chunk of the occluder cull: bounds its float64 temporaries
@@ -415,28 +420,34 @@ def free_space_loss(T_cw: Tensor, occupancy: Occupancy, floor_margin: float | No
     return (-slack / occupancy.margin).clamp_min(0.0)
 
 
-def _yaw_scan(objective: _Objective, T0: Tensor, pivot: Tensor, up: Tensor, steps: int) -> tuple[Tensor, float]:
+def _yaw_scan(
+    objective: _Objective, T0: Tensor, pivot: Tensor, up: Tensor, steps: int
+) -> tuple[Tensor, float, tuple[float, dict[str, float]] | None]:
     """The best of ``steps`` rotations of the start about the world up through the pivot.
 
     Gradient descent cannot undo some starts: two subjects in swapped order sit at a stationary
     point of the layout loss along the orbit, and a view side behind the subject is a long walk.
     A coarse scan of the orbit (or of the heading, when the pivot is the camera) fixes both for
-    a few forward renders. Returns the start pose and its yaw in degrees.
+    a few forward renders. Returns the start pose, its yaw in degrees, and the loss and its
+    terms at ``T0`` itself (the scan's first rotation; None without a scan).
     """
     if steps <= 1:
-        return T0, 0.0
+        return T0, 0.0, None
     axis = T0[:3, :3] @ up  # world up in the camera frame
     unpivot_T0 = torch.linalg.inv(pivot) @ T0
-    best = (math.inf, T0, 0.0)
+    best, at_start = (math.inf, T0, 0.0), None
     with torch.no_grad():
         for k in range(steps):
             angle = 2.0 * math.pi * k / steps
             twist = torch.cat([axis * angle, torch.zeros(3, dtype=torch.float64)])
             T = pivot @ se3_exp(twist) @ unpivot_T0
-            loss = float(objective(T)[0])
+            loss, terms = objective(T)
+            loss = float(loss)
+            if k == 0:
+                at_start = (loss, {name: float(term) for name, term in terms.items()})
             if loss < best[0] - 1e-9:
                 best = (loss, T, math.degrees(angle))
-    return best[1], best[2]
+    return best[1], best[2], at_start
 
 
 def refine_pose(
@@ -447,6 +458,7 @@ def refine_pose(
     config: RefineConfig | None = None,
     dtype: torch.dtype = torch.float32,
     occupancy: Occupancy | None = None,
+    scan: bool = True,
 ) -> RefineResult:
     """Optimise ``camera``'s pose so the subjects satisfy their pseudo labels.
 
@@ -456,12 +468,14 @@ def refine_pose(
         labels: pseudo labels from Translate.
         scale: the scene scale (translation steps are relative to it).
         occupancy: the scene's free space; with it the camera is kept out of geometry.
+        scan: start with a yaw scan of ``config.yaw_scan`` rotations (the occlusion phase scans
+            regardless).
     """
     config = config or RefineConfig()
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
-        return _refine(scene, camera, labels, scale, config, dtype, occupancy)
+        return _refine(scene, camera, labels, scale, config, dtype, occupancy, scan)
     finally:
         torch.set_num_threads(threads)
 
@@ -474,11 +488,12 @@ def _refine(
     config: RefineConfig,
     dtype: torch.dtype,
     occupancy: Occupancy | None,
+    scan: bool,
 ) -> RefineResult:
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype, occupancy)
     run = PoseDescent(objective, scale, config)
-    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
+    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=scan)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
     remaining = min(config.occlusion_iterations, config.iterations - run.steps)
@@ -504,6 +519,7 @@ class PoseDescent:
         self.best_terms: dict[str, float] = {}
         self.stop_reason = "max_iterations"
         self.steps = 0  # Adam steps over all phases
+        self.at_start: tuple[float, dict[str, float]] | None = None  # loss and terms at the given pose
 
     def result(self, T: Tensor, start: float, occlusion_seconds: float = 0.0) -> RefineResult:
         """The run as a :class:`RefineResult` with ``T`` its best pose (``start``: its
@@ -518,6 +534,8 @@ class PoseDescent:
             history={k: np.asarray(v) for k, v in self.history.items()},
             seconds=time.perf_counter() - start,
             occlusion_seconds=occlusion_seconds,
+            start_loss=self.at_start[0] if self.at_start else None,
+            start_terms=self.at_start[1] if self.at_start else None,
         )
 
     def descend(self, T0: Tensor, iterations: int, scan: bool) -> Tensor:
@@ -529,7 +547,8 @@ class PoseDescent:
         if subject_in_camera[2] > 0:  # behind the camera an orbit never brings it into view: turn instead
             pivot[:3, 3] = subject_in_camera
         if scan:
-            T0, _ = _yaw_scan(objective, T0, pivot, objective.up, config.yaw_scan)
+            T0, _, at_start = _yaw_scan(objective, T0, pivot, objective.up, config.yaw_scan)
+            self.at_start = self.at_start or at_start  # the first phase's start is the given pose
         unpivot_T0 = torch.linalg.inv(pivot) @ T0
         rotation = torch.zeros(3, dtype=torch.float64, requires_grad=True)
         translation = torch.zeros(3, dtype=torch.float64, requires_grad=True)

@@ -51,7 +51,7 @@ from ._io import write_npz
 from .model import Camera, GaussianScene
 
 FORMAT = 6
-VOXELS = 96  # cells along the longest side of the grid
+VOXELS = 128  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
 # A layer is a floor when it covers this share of the occupied footprint (seen from above).
@@ -60,16 +60,22 @@ FLOOR_COVERAGE = 0.3
 # floor stand in this share of the horizontal directions from the middle of the footprint.
 ENCLOSED_SHARE = 0.6
 WALL_HEIGHT = 0.8
+# An edge of the hull of the walls met runs along a wall when it is this many columns long or
+# more (shorter ones cut a corner) and half of it or more lies within WALL_EDGE_COLUMNS of a wall
+# met.
+WALL_LENGTH_COLUMNS = 8.0
+WALL_EDGE_COLUMNS = 2.0
 # Columns beyond a wall lower than this share of the occupied heights above the floor (the
 # floor's fringe, the foot of the wall, grass) do not hide the wall from a ray.
 FRINGE_HEIGHT = 0.25
-# A camera keeps this many voxels below the ceiling plane (the plane is known to about half a
-# voxel); it is also the unit of Refine's free-space loss.
+# The unit of Refine's free-space loss (Occupancy.margin), in voxels.
 MARGIN_VOXELS = 0.5
-# ... and this many from a surface the voxels hold (Occupancy.slack): one grid knows a surface to
-# about half a voxel, and a second grid of the same scene (built under another estimate of the up
-# or around other training cameras, as the ground-truth check's is) places it up to about a voxel
-# away from the first (0.78 voxel on a tilted room whose two ups differ by 0.7 degrees).
+# A camera keeps this many voxels from a surface the voxels hold and below the ceiling plane
+# (Occupancy.slack): one grid knows a surface to about half a voxel, and a second grid of the same
+# scene (built under another estimate of the up or around other training cameras, as the
+# ground-truth check's is) places it up to about a voxel away from the first (0.78 voxel on a
+# tilted room whose two ups differ by 0.7 degrees); under an up half a degree off, the walls' top
+# plane rises or falls by a third of a 128-voxel grid's voxel across a room.
 SURFACE_MARGIN_VOXELS = 1.0
 # ... and this many voxels above the floor plane or a flat surface, which their own Gaussians
 # place (Occupancy.slack).
@@ -161,11 +167,13 @@ class Occupancy:
         :data:`SURFACE_MARGIN_VOXELS` voxels, the height above the floor plane or a flat surface
         less :meth:`height_kept` of ``floor_margin`` (the plane is measured from the floor's own
         Gaussians, not known to half a voxel only: a camera at a small object's own height, or low
-        under it, stands within half a voxel of the floor), the depth below the ceiling plane less the margin (the walls'
-        top is known as the floor is, but it is inferred: a room captured without a ceiling has one)."""
+        under it, stands within half a voxel of the floor), the depth below the ceiling plane less
+        :data:`SURFACE_MARGIN_VOXELS` voxels (the walls' top is inferred from their Gaussians as the
+        floor is, but a room captured without a ceiling has one, and a tilted up tilts it)."""
         voxels, floor, ceiling = self._terms(points)
         floor = floor - self.height_kept(floor_margin)
-        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor), ceiling - self.margin)
+        kept = SURFACE_MARGIN_VOXELS * self.voxel
+        return torch.minimum(torch.minimum(voxels - kept, floor), ceiling - kept)
 
     def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
         """(voxel clearance, height above the floor plane or the flat surface under the point,
@@ -353,8 +361,9 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
     between it and the middle. The scene is enclosed when
     :data:`ENCLOSED_SHARE` of the rays meet a wall: three walls around a room are, a box or a
     tree standing alone, or a table on a lawn, are not. Inside are the columns a ray crosses
-    before its wall (all of them on an open side); the ceiling is the layer above the median top
-    of the walls met."""
+    before its wall (all of them on an open side), and on the room's side of every wall
+    (:func:`_wall_sides`: past an open side, only between the walls' planes); the ceiling is the
+    layer above the median top of the walls met."""
     above = occupied[:, :, floor_top + 1 :]
     columns = above.any(2)
     if not columns.any():
@@ -369,7 +378,7 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
     middle = np.array([(xs.min() + xs.max()) / 2, (ys.min() + ys.max()) / 2])
     reach = np.arange(0.0, float(np.hypot(*columns.shape)), 0.5)
     inside = np.zeros(columns.shape, dtype=bool)
-    tops = []
+    tops, hits = [], []
     for angle in np.linspace(0.0, 2.0 * np.pi, directions, endpoint=False):
         cells = np.round(middle + reach[:, None] * [np.cos(angle), np.sin(angle)]).astype(int)
         cells = cells[((cells >= 0) & (cells < columns.shape)).all(1)]
@@ -379,11 +388,58 @@ def _walls(occupied: np.ndarray, floor_top: int, directions: int = 720) -> tuple
         # The outermost structure is tall, with lower columns between it and the middle: a wall.
         if len(occupied_at) and along[occupied_at[-1]] and not along[: np.flatnonzero(along).max()].all():
             tops.append(top[tuple(cells[occupied_at[-1]])])
+            hits.append(cells[occupied_at[-1]])
             end = occupied_at[-1] + 1
         inside[cells[:end, 0], cells[:end, 1]] = True
     if len(tops) < ENCLOSED_SHARE * directions:
         return -1, None
-    return floor_top + 1 + int(np.median(tops)) + 1, inside
+    return floor_top + 1 + int(np.median(tops)) + 1, inside & _wall_sides(columns.shape, np.array(hits, dtype=np.float64))
+
+
+def _convex_hull(points: np.ndarray) -> np.ndarray:
+    """The (K, 2) vertices, counter-clockwise, of the convex hull of (N, 2) points (monotone
+    chain; collinear points dropped)."""
+    ordered = sorted(set(map(tuple, points)))
+    if len(ordered) < 3:
+        return np.array(ordered, dtype=np.float64).reshape(-1, 2)
+
+    def chain(sequence):
+        out: list[tuple[float, float]] = []
+        for p in sequence:
+            while len(out) >= 2 and _turn(out[-2], out[-1], p) <= 0:
+                out.pop()
+            out.append(p)
+        return out[:-1]
+
+    return np.array(chain(ordered) + chain(ordered[::-1]), dtype=np.float64)
+
+
+def _turn(o, a, b) -> float:
+    """The z of (a - o) x (b - o) for 2-D points: > 0 when o, a, b turn counter-clockwise."""
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+
+def _wall_sides(shape: tuple[int, int], hits: np.ndarray) -> np.ndarray:
+    """(X, Y) columns on the room's side of every wall: the half-planes of the edges of the convex
+    hull of the (N, 2) wall columns the rays met that run along walls (:data:`WALL_LENGTH_COLUMNS`
+    long or more, half of them or more within :data:`WALL_EDGE_COLUMNS` of a wall met). An edge
+    across an open side is not a wall: the walls beside the opening go on past what the capture
+    saw, as a room's walls do, so the space beyond it lies between their planes (a camera may back
+    out of a stage set, not round behind a side wall)."""
+    hull = _convex_hull(hits)
+    gx, gy = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+    sides = np.ones(shape, dtype=bool)
+    for a, b in zip(hull, np.roll(hull, -1, axis=0)):
+        along = a + np.linspace(0.0, 1.0, max(int(np.linalg.norm(b - a)), 2))[:, None] * (b - a)
+        if np.linalg.norm(b - a) < WALL_LENGTH_COLUMNS:
+            continue  # a corner's chamfer: its plane would cut across the space past an opening
+        near = np.linalg.norm(along[:, None] - hits[None], axis=2).min(1) <= WALL_EDGE_COLUMNS
+        if near.mean() < 0.5:
+            continue  # an open side
+        edge = b - a  # counter-clockwise: the room lies on its left
+        # Inside the inner edge of the wall's outermost column (half a column in from its centre).
+        sides &= edge[0] * (gy - a[1]) - edge[1] * (gx - a[0]) >= 0.5 * np.linalg.norm(edge)
+    return sides
 
 
 def dilate(mask: np.ndarray) -> np.ndarray:
@@ -539,6 +595,8 @@ def occupancy_fingerprint(gaussians: GaussianScene, up: np.ndarray, cameras: lis
         FLOOR_COVERAGE,
         ENCLOSED_SHARE,
         WALL_HEIGHT,
+        WALL_LENGTH_COLUMNS,
+        WALL_EDGE_COLUMNS,
         FRINGE_HEIGHT,
         FLOOR_QUANTILE,
         FLAT_VOXELS,

@@ -304,13 +304,13 @@ SHOT_ADJECTIVES = {
 # "but" ("kept small with plenty of wall around it").
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |extra |nice and )?{WORD}(?= ([,.;!]|$|with |so |but ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and )?{WORD}(?= ([,.;!]|$|with |so |but ))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
 COPULA_SIZE = (
     "(be|being|is|are|look|looks|appear|appears|seem|seems|remain|remains|come out|comes out|show up|shows up|end up|ends up) "
-    "(nice and |quite |pretty |fairly |rather |{VERY} |{WEAK} )?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
+    "(nice and |{FAIRLY} |{VERY} |{WEAK} )?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
@@ -323,8 +323,11 @@ AFTER_SUBJECT = (
 SHOT_CLAUSES = {
     "close-up": [
         "((close|near|big|large|tight) enough (to |that it |so it )?)?"
-        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |nearly all of )?"
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |all |nearly all of )?"
         "the (whole |entire )?{FRAME}( (completely|entirely|fully|totally))?",
+        # Pressed into the frame edge to edge ("crammed into the frame", "pack the sofa into the shot").
+        "({CRAM}) (in|into|inside) the (whole |entire )?{FRAME}",
+        "({CRAM_VERB}) {obj} (in|into|inside) the (whole |entire )?{FRAME}",
         # The whole width or height of the frame ("filling the width of the frame", "spanning the
         # whole frame width").
         "(filling|fills|fill|spanning|spans|covering|covers) the (whole |entire |full )?(width|height) of the {FRAME}",
@@ -383,8 +386,9 @@ SHOT_CLAUSES = {
         "((at|to) )?(about |roughly |around |some )?half (of )?the {FRAME}( (height|width|high|tall|wide))?",
         "(medium|moderately|mid|middle|moderate) (sized|size)( in (the )?{FRAME})?",
         "neither (too )?close nor (too )?far",
-        "not (too |so |that |overly |very )(close|tight|big|large)"
-        "( (and |but |or |, )?not (too |so |that |overly |very )(far|wide|small|tiny)( away)?)?",
+        # Neither size overdone ("not too zoomed in", "not so far away", "not overly tight").
+        "not (too |so |that |overly |very |super |too much )({NOT_TOO})"
+        "( (and |but |or |, )?not (too |so |that |overly |very |super |too much )({NOT_TOO}))?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
@@ -410,6 +414,8 @@ SHOT_CLAUSES = {
         # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
         "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
+        # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
+        "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
         "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
@@ -470,7 +476,8 @@ SHOT_CLAUSES = {
 # The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
 # the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
 SHARE_PHRASES = [
-    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|at|to|so it fills) )?"
+    "((filling|fills|fill|taking up|takes up|take up|occupying|occupies|covering|covers|eating up|eats up|using up|uses up"
+    "|at|to|so it fills) )?"
     "((about|around|roughly|approximately|some|only|just|nearly|almost|maybe) )?"
     "({SHARE}) (of )?(the )?{FRAME}( (height|width|high|tall|wide|across))?",
 ]
@@ -573,6 +580,16 @@ for _region, _words in (
     ("bottom", "(bottom|lower)"),
 ):
     REGION_AREAS[_region].append(f"{_words} (area|region|portion|section|zone|band|strip)")
+# The frame read as a map, north up ("the north-west corner", "the NE quadrant", "the south edge").
+for _region, _compass in (
+    ("upper left", "(north west|northwest|nw)"),
+    ("upper right", "(north east|northeast|ne)"),
+    ("lower left", "(south west|southwest|sw)"),
+    ("lower right", "(south east|southeast|se)"),
+):
+    REGION_AREAS[_region].append(_compass + " (corner|quadrant|quarter|area|region|part|section|zone)")
+for _region, _compass in (("top", "north"), ("bottom", "south"), ("left", "west"), ("right", "east")):
+    REGION_AREAS[_region].append(_compass + " (half|edge|side|part|area|end)")
 # Room left on one side of the subject ("a bit of space on the left", "headroom above it"): the
 # subject sits in the other half.
 ROOM_SIDES = {"left": "right", "right": "left", "top": "bottom", "bottom": "top"}
@@ -1597,11 +1614,11 @@ ROLL_PHRASES = {
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
-        "(keeping|keep|with|hold|holding) (the )?horizon (level|straight|flat|horizontal)",
-        "(with )?(a |the )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal) horizon",
+        "(keeping|keep|with|hold|holding) (the )?horizon ({LEVEL})",
+        "(with )?(a |the )?({STRONG} |perfectly |nice and )?({LEVEL}) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
         "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
-        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?(level|straight|flat|horizontal)",
+        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({LEVEL})",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
@@ -1705,6 +1722,13 @@ STOPWORDS = frozenset(
         "like",
         "need",
         "should",
+        "must",
+        "will",
+        "shall",
+        # The subject said as a person ("he must fill the picture").
+        "he",
+        "she",
+        "they",
         "be",
         "is",
         "are",
@@ -2068,6 +2092,38 @@ _MACROS = {
     # A part on one side of the subject ("the arm", "its end").
     "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
+    # A level horizon, as a builder or a carpenter says it too ("horizon true", "spirit-level").
+    "{LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
+    # A moderate grade of a size word ("fairly tight", "pretty small").
+    "{FAIRLY}": "(?:fairly|pretty|quite|rather|reasonably|moderately)",
+    # Pressed into the frame: the subject fills it ("crammed into the frame", "pack it into the shot").
+    "{CRAM}": "(?:crammed|packed|squeezed|jammed|stuffed|wedged|squished|squashed|shoehorned)",
+    "{CRAM_VERB}": "(?:cram|pack|squeeze|jam|stuff|wedge|squish|squash|shoehorn)",
+    # Sizes "not too" may temper, either way: what is left is the middle size.
+    "{NOT_TOO}": _alternatives(
+        (
+            "close",
+            "tight",
+            "big",
+            "large",
+            "near",
+            "zoomed in",
+            "zoomed",
+            "cropped",
+            "tightly cropped",
+            "close up",
+            "far",
+            "far away",
+            "far off",
+            "wide",
+            "small",
+            "tiny",
+            "distant",
+            "zoomed out",
+            "loose",
+        ),
+        "(?:",
+    ),
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
     "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",

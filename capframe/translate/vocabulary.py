@@ -188,7 +188,7 @@ def words(text: str) -> list[str]:
     s = text.lower()
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
-    s = s.replace("%", " percent ")
+    s = re.sub(r"%|\bper\s?cent\b", " percent ", s)  # "10%", "10 per cent", "10 percent"
     s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
@@ -1405,9 +1405,17 @@ class Vocabulary:
             if not self._compatible(e, tokens):
                 continue
             for form in e.forms:
-                if set(content) <= set(form) or content[-1] == form[-1]:
+                if set(content) <= set(form) or (content[-1] == form[-1] and self._head_names(e, content)):
                     scores[e.name] = max(scores.get(e.name, (0,)), (len(set(tokens) & e.words),))
         return _best(scores)
+
+    @staticmethod
+    def _head_names(entry: VocabularyEntry, content: list[str]) -> bool:
+        """Whether a mention's head noun (``content``'s last word) names ``entry`` despite its other
+        words: when the head alone is one of its forms ("the reading chair" of an armchair also
+        called "chair"), or those words are its own. A head that names it only with its modifier
+        ("stand" of "lamp stand") does not: an "umbrella stand" is another thing."""
+        return (content[-1],) in entry.forms or set(content[:-1]) <= entry.words
 
     def _by_clipping(self, tokens: tuple[str, ...]) -> list[str]:
         """The names whose head word (a form's last) ``tokens``' one content word clips: its first
