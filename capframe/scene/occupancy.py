@@ -51,7 +51,7 @@ from ._io import write_npz
 from .model import Camera, GaussianScene
 
 FORMAT = 6
-VOXELS = 128  # cells along the longest side of the grid
+VOXELS = 96  # cells along the longest side of the grid
 SOLID_OPACITY = 0.5  # fainter Gaussians (haze, floaters) do not block a camera
 PADDING = 0.15  # the grid extends this share of its size beyond the Gaussians and cameras
 # A layer is a floor when it covers this share of the occupied footprint (seen from above).
@@ -68,14 +68,13 @@ WALL_EDGE_COLUMNS = 2.0
 # Columns beyond a wall lower than this share of the occupied heights above the floor (the
 # floor's fringe, the foot of the wall, grass) do not hide the wall from a ray.
 FRINGE_HEIGHT = 0.25
-# The unit of Refine's free-space loss (Occupancy.margin), in voxels.
+# A camera keeps this many voxels below the ceiling plane (the plane is known to about half a
+# voxel); it is also the unit of Refine's free-space loss.
 MARGIN_VOXELS = 0.5
-# A camera keeps this many voxels from a surface the voxels hold and below the ceiling plane
-# (Occupancy.slack): one grid knows a surface to about half a voxel, and a second grid of the same
-# scene (built under another estimate of the up or around other training cameras, as the
-# ground-truth check's is) places it up to about a voxel away from the first (0.78 voxel on a
-# tilted room whose two ups differ by 0.7 degrees); under an up half a degree off, the walls' top
-# plane rises or falls by a third of a 128-voxel grid's voxel across a room.
+# ... and this many from a surface the voxels hold (Occupancy.slack): one grid knows a surface to
+# about half a voxel, and a second grid of the same scene (built under another estimate of the up
+# or around other training cameras, as the ground-truth check's is) places it up to about a voxel
+# away from the first (0.78 voxel on a tilted room whose two ups differ by 0.7 degrees).
 SURFACE_MARGIN_VOXELS = 1.0
 # ... and this many voxels above the floor plane or a flat surface, which their own Gaussians
 # place (Occupancy.slack).
@@ -168,12 +167,11 @@ class Occupancy:
         less :meth:`height_kept` of ``floor_margin`` (the plane is measured from the floor's own
         Gaussians, not known to half a voxel only: a camera at a small object's own height, or low
         under it, stands within half a voxel of the floor), the depth below the ceiling plane less
-        :data:`SURFACE_MARGIN_VOXELS` voxels (the walls' top is inferred from their Gaussians as the
-        floor is, but a room captured without a ceiling has one, and a tilted up tilts it)."""
+        the margin (the walls' top is known as the floor is, but it is inferred: a room captured
+        without a ceiling has one)."""
         voxels, floor, ceiling = self._terms(points)
         floor = floor - self.height_kept(floor_margin)
-        kept = SURFACE_MARGIN_VOXELS * self.voxel
-        return torch.minimum(torch.minimum(voxels - kept, floor), ceiling - kept)
+        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor), ceiling - self.margin)
 
     def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
         """(voxel clearance, height above the floor plane or the flat surface under the point,
