@@ -149,7 +149,7 @@ from __future__ import annotations
 
 import itertools
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
     from re import _constants as _re_nodes
@@ -168,12 +168,18 @@ from .vocabulary import (
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
+    EYE_VIEW_NOUNS,
     EYE_VIEWS,
+    FEW_DEGREES,
     FILLER_WORDS,
     FRAME_FRACTIONS,
     HEAD_ON_WORDS,
     HEADING_TIMES,
+    HEIGHT_AMOUNTS,
     HEIGHT_ANCHORS,
+    HIGH_PLACE_OPENINGS,
+    HIGH_PLACES,
+    LEVEL_WITH,
     NUMBER,
     PLENTY_WORDS,
     PUNCTUATION,
@@ -1006,9 +1012,11 @@ ELEVATION_PHRASES = {
         "(shot )?straight on at {P} height",
         "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
         "(at|from) {P} (height|level)",
-        "level with {obj}",
+        "{LEVEL} {obj}",
+        # As high as it or a part at its height ("camera as high as its head").
+        "((the )?(camera|lens) )?(just )?as high as ({obj}|(the |{P} )?{ANCHOR_EYE})",
         # The subject at the lens's height ("the sofa level with the lens", "the ball at lens height").
-        "(?<=@\\d )(is )?(level with|at) the (camera|lens)( (height|level))?",
+        "(?<=@\\d )(is )?({LEVEL}|at) the (camera|lens)( (height|level))?",
         "(at|from) (the )?(camera|lens) (height|level)",
         # At its middle height ("from mid-height", "at half its height", "from halfway up it").
         "(at |from )?(its |the |{P} )?(mid|middle|half) (height|level)( of {obj})?",
@@ -1027,18 +1035,24 @@ ELEVATION_PHRASES = {
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
-        "(height|level|high|position)",
+        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE} "
+        "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
         "((put |with |set |hold )?(the )?(camera|lens) )?(at|from) (the |a )?(height|level) of (the |a |{P} )?"
         "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
-        "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
+        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
-        "({STRONG} )?level with {obj}",
+        "({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
         "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
-        "((the )?(camera|lens) )?({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
+        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?",
+        # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"); a
+        # horizontal frame or horizon is a roll or an orientation, not a height.
+        "(the )?(camera|lens|line of sight) (is |held |kept |stays |set )?({STRONG} |perfectly |nice and )?horizontal"
+        "(?= ([,.;!]|$|and |with |at |on ))",
+        "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
+        "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
         "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
@@ -1075,6 +1089,14 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
         "(from )?{WEAK} (above|over|higher than) {obj}",
+        # A few degrees said for the slight class ("a few degrees above", "a couple of degrees up",
+        # the camera looking "a few degrees down": N degrees down is N above).
+        "(from |with the camera |camera )?{FEW} (above|up|higher|over|high|overhead|down)"
+        "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (from|to|the|its|his|her|their|left|right) )",
+        "(looking|look|looks|{AIM}) down {FEW}( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
+        # A weak word before any high place ("bit from up top", "a touch from up high").
+        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
@@ -1092,7 +1114,6 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
-        "(from |in |as )?(a |an )?top (shot|angle)",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
@@ -1109,9 +1130,10 @@ ELEVATION_PHRASES = {
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
-        # A top view is a plan view, as in product and architectural photography (a film's
-        # "top shot" stays a steep overhead one).
+        # A top view is a plan view, as in product and architectural photography.
         "(a )?(plan view|flat lay|top view)",
+        # So is a film's top shot (the camera straight above the set), and a top angle with it.
+        "(from |in |as )?(a |an |the )?top (shot|angle)",
         # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
         "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",
@@ -1158,6 +1180,11 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
+        "(from |with the camera |camera )?{FEW} (below|beneath|under|underneath|lower|low)"
+        "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (at|on|onto) )",
+        "(looking|look|looks|{AIM}) up {FEW}( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) {FEW} up( (at|to|towards) {obj})?",
+        "{WEAK} from (down low|low down|lower down|down below)",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
@@ -1166,6 +1193,12 @@ ELEVATION_PHRASES = {
         "(from )?((right|deep|just) )?(underground|below ground|beneath the ground|under the ground|in the ground)( level)?",
         "through (the |a )?({SURFACE}|{SUPPORT})( (top|surface))?",
         "((the |a )?(camera|lens) )?(buried|sunk|dug|set|placed|put|hidden) (down )?(in|into|under|beneath) (the |a )?{SUPPORT}",
+        # A verb of burying, then the camera ("bury the camera in the lawn", "sink the lens into the sand").
+        "(bury|buries|burying|buried|sink|sinks|sinking|sank|sunk|dig|digs|digging|dug|embed|embeds|embedding|embedded)"
+        " (the |a |your |my )?(camera|lens)( (down|deep|right))? (in|into|under|beneath|below|underneath) (the |a )?{SUPPORT}"
+        "( (right )?(below|beneath|under|underneath) {obj})?",
+        "(the |a )?(camera|lens) (is )?(buried|sunk|embedded|dug in|underground)"
+        "(?= ([,.;!]|$|and |with |looking |aiming |pointing ))",
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
@@ -1179,6 +1212,11 @@ ELEVATION_PHRASES = {
 ELEVATION_HINTS = {
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
+        # Looking down on a part of it ("looking down on its crown", "looking down onto the lid").
+        "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
+        # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
+        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting)"
+        " (high|high up|up high|way up|overhead|up above|above( {obj})?)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
@@ -1200,6 +1238,10 @@ ELEVATION_HINTS = {
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        # An amount of height ("from a fair height", "at a decent elevation").
+        "(from |at )?(a |quite a )?{AMOUNT} (height|elevation|altitude)",
+        # A place high above the scene ("from a first-floor window", "from upstairs", "off the rooftop").
+        "((from|out of|at|on|up on|off|through) )?(a |an |the )?{HIGHPLACE}( {OPENING})?",
         # A height joined to a side ("from behind and above").
         "(?<= and )(from )?(above|overhead|up high|high up)(?= ([,.;!]|$))",
     ],
@@ -1251,11 +1293,17 @@ ELEVATION_HINTS = {
         "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
 }
-# "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
+# "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is; said
+# without the eye it needs a view noun ("bird perspective", "an ant's view"), or says whose eyes
+# see it ("as a frog would see it", "from the point of view of an ant").
 for _elevation_class, _creatures in EYE_VIEWS.items():
-    ELEVATION_PHRASES[_elevation_class].append(
-        "(from |in |as )?(a |an )?(" + "|".join(_creatures) + ")( 's)? eye( (view|shot|angle|perspective|level))?"
-    )
+    _creature = "(" + "|".join(sorted(_creatures, key=len, reverse=True)) + ")"
+    ELEVATION_PHRASES[_elevation_class] += [
+        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? eyes?( ({EYENOUN}|level))?",
+        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
+        "(as|like) (a |an )?" + _creature + " (sees|would see|might see|see|views|would view)( it| them| {obj})?",
+        "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
+    ]
 
 # Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
 # degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
@@ -1280,6 +1328,10 @@ EXPLICIT_ELEVATION_PHRASES = {
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
+        # The camera looking N degrees down is N degrees above (a pitch said with "tilted" or
+        # "angled" stays a hint, as "up" does).
+        "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
+        "{d}(?<= degrees) down( (at|on|onto|towards) {obj})?(?! (from|to|the|its|his|her|their|left|right) )",
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
@@ -1302,6 +1354,8 @@ EXPLICIT_ELEVATION_PHRASES = {
         # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
         "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        # A bare number right after a height word, ending its clause ("overhead 90", "top down, 85").
+        "{HIGHVIEW}( ,)? ({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
@@ -1318,8 +1372,26 @@ EXPLICIT_ELEVATION_PHRASES = {
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        "{LOWVIEW}( ,)? ({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
+
+# An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
+# down on it from a drone, about 60 degrees"): an elevation only with a height said in the same
+# sentence, nearer to it than any side or roll (:func:`_bare_angles` gives it that height's sign),
+# else it stays not understood. Degrees that turn the camera round or about its axis are no height.
+BARE_ANGLE_PHRASES = [
+    "((at|from|by|of|like|say|to) )?({ABOUT} )?{d}(?<= degrees)( or so| or thereabouts)?"
+    "(?! (round|around|off|to|towards|toward|left|right|clockwise|counterclockwise|from|of|turn|rotation|roll"
+    "|tilt|cant|dutch|and|or|azimuth|up|down|above|below|high|higher|low|lower|overhead|under|beneath|underneath"
+    "|elevation|angle|pitch) )",
+]
+# Words before an angle that make it a turn, not a height ("swung 30 degrees", "rotate it 20 degrees").
+TURN_WORDS = frozenset(
+    {"turn", "turned", "turning", "rotate", "rotated", "rotating", "swing", "swung", "swinging", "spin", "spun"}
+    | {"orbit", "orbited", "orbiting", "pan", "panned", "panning", "roll", "rolled", "rolling", "yaw", "yawed"}
+    | {"it", "them", "round", "around"}
+)
 
 # Words that ask nothing of the camera beyond what a subject already asks (to be seen): where a
 # subject rests ("the bear on the floor") and its being in the picture ("in the same shot").
@@ -1891,6 +1963,8 @@ _MACROS = {
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    # A bare number of at most two digits (no "degrees"), only where a height word leads it.
+    "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
@@ -1899,6 +1973,15 @@ _MACROS = {
     "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
     "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
+    # Heights said otherwise (vocabulary): "even with", "a few degrees", "a first-floor window".
+    "{LEVEL}": _alternatives(LEVEL_WITH, "(?:"),
+    "{FEW}": _alternatives({" ".join(words(p)) for p in FEW_DEGREES}, "(?:"),
+    "{HIGHPLACE}": _alternatives(HIGH_PLACES, "(?:"),
+    "{OPENING}": _alternatives(HIGH_PLACE_OPENINGS, "(?:"),
+    "{AMOUNT}": _alternatives(HEIGHT_AMOUNTS, "(?:"),
+    "{EYENOUN}": _alternatives(EYE_VIEW_NOUNS, "(?:"),
+    # A hedge on where the camera is ("lens roughly at its chin", "camera about level with it").
+    "{ROUGHLY}": "(?:roughly|about|around|approximately|more or less|pretty much|somewhere around|near enough|just about)",
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
     "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
@@ -1913,7 +1996,7 @@ _MACROS = {
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
-    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up)"
+    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up|top down|straight down)"
     "|(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
     "{LOWVIEW}": "(?:(?:from )?(?:low down|down low)|(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
@@ -2161,6 +2244,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
+    rows += [("elevation_bare", None, t, True) for t in BARE_ANGLE_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
@@ -2240,7 +2324,7 @@ class RuleParser:
         tokens, slips = self._unslip(words(text), vocabulary)
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
-        cues = self._cues(tokens)
+        cues = _bare_angles(self._cues(tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
@@ -2538,6 +2622,8 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     value, weak = rule.value, rule.weak
     if rule.field == "elevation_deg":
         value = rule.value[1] if isinstance(rule.value, tuple) else rule.value * float(groups["d"])
+    elif rule.field == "elevation_bare":
+        value = float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "shot" and rule.value == "share":
@@ -2665,12 +2751,52 @@ def _candidates(cue: _Cue, mentions: list[_Mention]) -> list[str]:
     return far + near if cue.forward and not cue.pronoun else near + far
 
 
+# Cues that carry an angle of their own: a bare angle belongs to the nearest of them.
+ANGLE_FIELDS = ("elevation", "elevation_deg", "view", "roll_deg")
+
+
+def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
+    """``cues`` with each bare angle (:data:`BARE_ANGLE_PHRASES`) read as explicit degrees when
+    the nearest cue carrying an angle (:data:`ANGLE_FIELDS`; of two as near, the one before) is a
+    height above or below the horizontal, signed as it is ("from way up, like 70 deg": +70); a
+    bare angle nearer a side or a roll, after a verb of turning (:data:`TURN_WORDS`) or with no
+    height said is dropped, so its words are reported as not understood."""
+    angled = [c for c in cues if c.field in ANGLE_FIELDS]
+    out = []
+    for cue in cues:
+        if cue.field != "elevation_bare":
+            out.append(cue)
+            continue
+        if cue.start and tokens[cue.start - 1] in TURN_WORDS or not angled:
+            continue
+        nearest = min(angled, key=lambda c: (c.start - cue.end if c.start >= cue.end else cue.start - c.end, c.start > cue.start))
+        sign = _side_of(nearest) if nearest.field.startswith("elevation") else 0.0
+        if sign:
+            out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
+    return out
+
+
+def _side_of(cue: _Cue) -> float:
+    """+1 for a height cue above the horizontal, -1 below, 0 for one that straddles it (eye level)."""
+    if cue.field == "elevation_deg":
+        return float((cue.value > 0.0) - (cue.value < 0.0))
+    lo, hi = ELEVATIONS[cue.value]
+    return 1.0 if lo >= 0.0 else -1.0 if hi <= 0.0 else 0.0
+
+
 def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     """The named elevation or explicit degrees asked (hints yield to any other elevation cue)."""
     found = [c for c in cues if c.field in ("elevation", "elevation_deg")]
     found = [c for c in found if not c.weak] or found
-    named = _narrowest({c.value for c in found if c.field == "elevation"})
+    # A look's direction alone ("looking down on it") yields to a hint naming a height on its side
+    # ("from a drone", "from up a ladder"): the height says how far above.
+    found = [
+        c for c in found if not (_direction_only(c) and any(_side_of(o) == _side_of(c) and not _direction_only(o) for o in found))
+    ]
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
+    if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
+        found = [c for c in found if not _yields_to(c, degrees[0])]
+    named = _narrowest({c.value for c in found if c.field == "elevation"})
     if len(named) > 1 or len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
     if degrees and not -90.0 <= degrees[0] <= 90.0:
@@ -2681,6 +2807,30 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
             raise InputError(f"conflicting elevations: {named[0]!r} is {lo:g} to {hi:g} degrees, not {degrees[0]:g}")
         named = []
     return (named[0] if named else None), (degrees[0] if degrees else None)
+
+
+# Words of a hint that says only which way the camera looks ("looking down at it", "aim the lens up").
+DIRECTION_WORDS = frozenset(
+    {"look", "looks", "looking", "down", "up", "at", "on", "onto", "to", "towards", "into", "the", "camera", "lens"}
+    | {"it", "him", "her", "them", "with", "shoot", "shoots", "shooting", "point", "points", "pointing", "pointed"}
+    | {"aim", "aims", "aiming", "aimed", "angle", "angled", "angling", "tilt", "tilted", "tilting", "pitch", "pitched"}
+)
+
+
+def _direction_only(cue: _Cue) -> bool:
+    """Whether ``cue`` is a height hint made only of the way the camera looks (:data:`DIRECTION_WORDS`)."""
+    return cue.field == "elevation" and cue.weak and all(w in DIRECTION_WORDS or w.startswith("@") for w in cue.text.split())
+
+
+# Named heights exact enough to contradict an angle on their own side ("directly above, 30 degrees up").
+EXACT_ELEVATIONS = frozenset({"top-down"})
+
+
+def _yields_to(cue: _Cue, degrees: float) -> bool:
+    """Whether a named height gives way to an explicit angle: it lies wholly on the angle's side of
+    the horizontal ("from way up, like 70 degrees": high angle and 70 are one elevation, 70) and
+    is not exact (:data:`EXACT_ELEVATIONS`); eye level and the other side stay a conflict."""
+    return cue.field == "elevation" and cue.value not in EXACT_ELEVATIONS and _side_of(cue) * degrees > 0.0
 
 
 def _narrowest(named: set[str]) -> list[str]:
