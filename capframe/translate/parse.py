@@ -1038,7 +1038,7 @@ ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE} "
         "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "((put |with |set |hold )?(the )?(camera|lens) )?(at|from) (the |a )?(height|level) of (the |a |{P} )?"
+        "((put |with |set |hold )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of (the |a |{P} )?"
         "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
@@ -1197,6 +1197,9 @@ ELEVATION_PHRASES = {
         "(bury|buries|burying|buried|sink|sinks|sinking|sank|sunk|dig|digs|digging|dug|embed|embeds|embedding|embedded)"
         " (the |a |your |my )?(camera|lens)( (down|deep|right))? (in|into|under|beneath|below|underneath) (the |a )?{SUPPORT}"
         "( (right )?(below|beneath|under|underneath) {obj})?",
+        # Burying says it alone ("bury the camera under the bench"): below the ground.
+        "(bury|buries|burying|buried) (the |a |your |my )?(camera|lens)( (down|deep))?"
+        "( (right )?(below|beneath|under|underneath) {obj})?",
         "(the |a )?(camera|lens) (is )?(buried|sunk|embedded|dug in|underground)"
         "(?= ([,.;!]|$|and |with |looking |aiming |pointing ))",
         "looking steeply up( at {obj})?",
@@ -1223,7 +1226,7 @@ ELEVATION_HINTS = {
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
         # Said of a place up somewhere ("from higher up", "from on high", "from a height").
         "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
-        "{AIM}( the camera| the lens)? down( (at|on|onto|towards) {obj})?",
+        "{AIM}( the camera| the lens| it)? down( (at|on|onto|towards) {obj})?",
         # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
         CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
         "(a |an )?high (camera|lens)( (position|placement))?",
@@ -1267,7 +1270,7 @@ ELEVATION_HINTS = {
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point|vantage)",
-        "{AIM}( the camera| the lens)? up( (at|to|towards) {obj})?",
+        "{AIM}( the camera| the lens| it)? up( (at|to|towards) {obj})?",
         # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
         CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
         "(a |an |the )?low (camera|lens)( (position|placement))?"
@@ -1331,7 +1334,8 @@ EXPLICIT_ELEVATION_PHRASES = {
         # The camera looking N degrees down is N degrees above (a pitch said with "tilted" or
         # "angled" stays a hint, as "up" does).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
-        "{d}(?<= degrees) down( (at|on|onto|towards) {obj})?(?! (from|to|the|its|his|her|their|left|right) )",
+        "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
+        "(?! (from|to|the|its|his|her|their|left|right) )",
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
@@ -1355,7 +1359,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
         # A bare number right after a height word, ending its clause ("overhead 90", "top down, 85").
-        "{HIGHVIEW}( ,)? ({ABOUT} )?{n}(?= ([,.;!]|$))",
+        "{HIGHVIEW}( ,)? ((at|from) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
@@ -1372,7 +1376,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
-        "{LOWVIEW}( ,)? ({ABOUT} )?{n}(?= ([,.;!]|$))",
+        "{LOWVIEW}( ,)? ((at|from) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
 
@@ -1976,7 +1980,7 @@ _MACROS = {
     # Heights said otherwise (vocabulary): "even with", "a few degrees", "a first-floor window".
     "{LEVEL}": _alternatives(LEVEL_WITH, "(?:"),
     "{FEW}": _alternatives({" ".join(words(p)) for p in FEW_DEGREES}, "(?:"),
-    "{HIGHPLACE}": _alternatives(HIGH_PLACES, "(?:"),
+    "{HIGHPLACE}": _alternatives({" ".join(words(p)) for p in HIGH_PLACES}, "(?:"),
     "{OPENING}": _alternatives(HIGH_PLACE_OPENINGS, "(?:"),
     "{AMOUNT}": _alternatives(HEIGHT_AMOUNTS, "(?:"),
     "{EYENOUN}": _alternatives(EYE_VIEW_NOUNS, "(?:"),
@@ -2809,17 +2813,21 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     return (named[0] if named else None), (degrees[0] if degrees else None)
 
 
-# Words of a hint that says only which way the camera looks ("looking down at it", "aim the lens up").
+# Words of a hint that says only which way the camera looks ("looking down at it", "aim the lens
+# up"), before what it looks at (after one of :data:`LOOK_TARGETS`: "on its crown").
 DIRECTION_WORDS = frozenset(
-    {"look", "looks", "looking", "down", "up", "at", "on", "onto", "to", "towards", "into", "the", "camera", "lens"}
-    | {"it", "him", "her", "them", "with", "shoot", "shoots", "shooting", "point", "points", "pointing", "pointed"}
-    | {"aim", "aims", "aiming", "aimed", "angle", "angled", "angling", "tilt", "tilted", "tilting", "pitch", "pitched"}
+    {"look", "looks", "looking", "down", "up", "the", "camera", "lens", "it", "with"}
+    | {"shoot", "shoots", "shooting", "point", "points", "pointing", "pointed", "aim", "aims", "aiming", "aimed"}
+    | {"angle", "angled", "angling", "tilt", "tilted", "tilting", "pitch", "pitched"}
 )
+LOOK_TARGETS = frozenset({"at", "on", "onto", "to", "towards", "into"})
 
 
 def _direction_only(cue: _Cue) -> bool:
-    """Whether ``cue`` is a height hint made only of the way the camera looks (:data:`DIRECTION_WORDS`)."""
-    return cue.field == "elevation" and cue.weak and all(w in DIRECTION_WORDS or w.startswith("@") for w in cue.text.split())
+    """Whether ``cue`` is a height hint made only of the way the camera looks (:data:`DIRECTION_WORDS`),
+    whatever it looks at."""
+    said = list(itertools.takewhile(lambda w: w not in LOOK_TARGETS, cue.text.split()))
+    return cue.field == "elevation" and cue.weak and all(w in DIRECTION_WORDS for w in said)
 
 
 # Named heights exact enough to contradict an angle on their own side ("directly above, 30 degrees up").

@@ -84,6 +84,7 @@ SPELLINGS = {
     "birdsview": "bird 's view",
     "vogelperspektive": "bird perspective",
     "froschperspektive": "frog perspective",
+    "perspektive": "perspective",
     "fullframe": "full frame",
     "lefthand": "left hand",
     "righthand": "right hand",
@@ -479,6 +480,8 @@ SLIP_TARGETS = (
     "vertical",
     "horizon",
     "looking",
+    "perspective",
+    "horizontal",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
@@ -848,6 +851,8 @@ FEW_DEGREES = (
     "few degrees",
     "a couple of degrees",
     "a couple degrees",
+    "couple of degrees",
+    "couple degrees",
     "a degree or two",
     "one or two degrees",
     "two or three degrees",
@@ -856,7 +861,8 @@ FEW_DEGREES = (
     "a few degrees or so",
 )
 # Places a camera looks down from, higher than anything a scene's subject stands on ("from a
-# first-floor window", "from upstairs", "off the rooftop", "from a crane"): a high angle.
+# first-floor window", "from upstairs", "off the rooftop", "from a crane"): a high angle. Plain
+# words; the parser normalises them ("2nd floor" is "2 nd floor").
 HIGH_PLACES = (
     "first floor",
     "second floor",
@@ -866,6 +872,9 @@ HIGH_PLACES = (
     "upper storey",
     "first storey",
     "second storey",
+    "1st floor",
+    "2nd floor",
+    "3rd floor",
     "upstairs",
     "rooftop",
     "roof top",
