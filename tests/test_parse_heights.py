@@ -93,6 +93,37 @@ def test_a_bare_angle_reads_as_the_same_angle_said_explicitly():
         assert read(bare) == read(explicit)
 
 
+EXPLICIT_ANGLES = [
+    # Raised, lowered, an angle "of" N, N from the ground, an angle named with its direction.
+    ("the toy car, elevated to 40 degrees", 40.0),
+    ("the teddy, camera raised 30 degrees", 30.0),
+    ("the mug, raised to about 35°", 35.0),
+    ("the bench, lifted fifty degrees above the horizontal", 50.0),
+    ("the sofa, camera lowered 20 degrees below the horizontal", -20.0),
+    ("the sofa, a downward angle of 30 degrees", 30.0),
+    ("the toy car, a 60 degree overhead angle", 60.0),
+    ("the sofa at an angle of 40 degrees from above", 40.0),
+    ("the mug at an angle of 25 degrees from below", -25.0),
+    ("the bench at 30 degrees from the ground", 30.0),
+    ("teddy, angle: 40 deg down", 40.0),
+    ("bench, elevation: 35", 35.0),
+    ("the sofa from a high angle of 45", 45.0),
+    ("the teddy at a 20 degree upward angle", -20.0),
+]
+
+
+@pytest.mark.parametrize("text, deg", [pytest.param(t, d, id=t) for t, d in EXPLICIT_ANGLES])
+def test_an_explicit_angle_said_with_a_verb_or_a_direction(text, deg):
+    assert height(text) == (None, deg)
+
+
+def test_a_pitch_of_the_camera_in_degrees_stays_a_hint():
+    """ "Tilted N degrees up" is the camera's pitch: below what it looks at, a low angle hint (not
+    raised by N, which places it above)."""
+    assert height("the teddy, camera tilted 20 degrees up") == ("low angle", None)
+    assert height("the teddy, camera raised 20 degrees") == (None, 20.0)
+
+
 DEGREES_DOWN = [
     # The camera looking N degrees down is N above; N degrees below it is -N.
     ("the mug, camera 30 degrees down", one(MUG, elevation_deg=30.0)),
@@ -206,6 +237,8 @@ PART_HEIGHTS = [
     "the teddy, camera on the height of its head",
     "the teddy, camera about even with its nose",
     "the toy car, camera as high as its roof",
+    "the mug with the lens level to its rim",
+    "the bench, on the same level as its seat",
     # A level camera.
     "the bench, camera horizontal",
     "the mug, camera perfectly horizontal",
@@ -252,6 +285,9 @@ BELOW_GROUND = [
     "sink the camera in the ground beneath the toy car",
     "Please bury the lens in the turf right under the bench",
     "the sofa, camera buried, looking up",
+    "the mug from the cellar, looking up",
+    "the toy car through a hole in the floor",
+    "the teddy from a steep low angle",
 ]
 
 
@@ -271,6 +307,7 @@ HIGH_PLACES = [
     "the teddy from a fair hieght",
     "the bench from a third-floor balcony",
     "the sofa, shot from a considerable height",
+    "the teddy, shot from a fair way up",
 ]
 
 

@@ -1010,7 +1010,7 @@ ELEVATION_PHRASES = {
         "({SURFACE}|tabletop|table top)",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
-        "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
+        "(at|from|on) (the )?(same height|same level|height|level) (as|of) ({obj}|(the |{P} )?{ANCHOR_EYE})",
         "(at|from) {P} (height|level)",
         "{LEVEL} {obj}",
         # As high as it or a part at its height ("camera as high as its head").
@@ -1122,6 +1122,8 @@ ELEVATION_PHRASES = {
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
         "(at |from )?(a )?(steep|sharp) angle (from )?(above|overhead)",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
+        "(high|far|way|well|right) (up )?overhead",
+        "(at |from )?(the )?ceiling (height|level)",
     ],
     "top-down": [
         "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
@@ -1206,6 +1208,10 @@ ELEVATION_PHRASES = {
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
         "from (below|beneath|underneath)( ,)? (at )?(a )?(steep|sharp) angle",
+        "(from |in |with )?(a )?(steep|sharp) (low|upward|up)( (angle|shot|view))?",
+        # Below the floor the subject stands on ("from the cellar", "through a hole in the floor").
+        "(from |in |down in )?(the |a )?(cellar|basement|crawl space|crawlspace)",
+        "(up )?through (a |the )?(hole|gap|crack|opening|trapdoor|trap door|hatch) in (the |a )?{SUPPORT}",
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
@@ -1243,6 +1249,7 @@ ELEVATION_HINTS = {
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
         # An amount of height ("from a fair height", "at a decent elevation").
         "(from |at )?(a |quite a )?{AMOUNT} (height|elevation|altitude)",
+        "(from )?(a |quite a )?({AMOUNT}|long) (way|bit|distance) (up|above)( {obj})?",
         # A place high above the scene ("from a first-floor window", "from upstairs", "off the rooftop").
         "((from|out of|at|on|up on|off|through) )?(a |an |the )?{HIGHPLACE}( {OPENING})?",
         # A height joined to a side ("from behind and above").
@@ -1349,9 +1356,20 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) down( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
         "elevated (by )?({ABOUT} )?{d}",
+        # The camera raised by or to an angle ("camera raised 30 degrees", "lifted to about 35°").
+        "((the )?(camera|lens) )?(elevated|raised|lifted|hoisted)( up)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
+        "( (above|over|off|from) (the )?(horizontal|horizon|ground|floor|level))?",
+        # An angle said with the way it looks ("a 60 degree overhead angle", "a downward angle of
+        # 30 degrees", "at an angle of 40 degrees from above", "angle: 40 deg down").
+        "(at |from )?(a |an )?{d}(?<= degrees) (overhead|down|high|top|elevated|elevation|downwards?) angle",
+        "(at |from )?(a |an )?(down|high|overhead|top|elevated|steep) angle (of )?({ABOUT} )?{d}(?<= degrees)",
+        "(at |from )?(an |a )?angle of ({ABOUT} )?{d}(?<= degrees)( ,)? (from )?(above|overhead)",
+        "(angle|elevation|height) : ({ABOUT} )?{d}(?<= degrees)( (up|down|above))?",
+        # Degrees from the ground or the horizontal ("at 30 degrees from the ground").
+        "(at |from )?({ABOUT} )?{d}(?<= degrees) (from|off) (the )?(ground|floor|horizontal|horizon)",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
-        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,| :)? ({ABOUT} )?{sd}",
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
@@ -1359,7 +1377,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
         # A bare number right after a height word, ending its clause ("overhead 90", "top down, 85").
-        "{HIGHVIEW}( ,)? ((at|from) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
+        "{HIGHVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
@@ -1373,10 +1391,15 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
+        "((the )?(camera|lens) )?(lowered|dropped|sunk)( down)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
+        "( (below|under|beneath) (the )?(horizontal|horizon|level))?",
+        "(at |from )?(a |an )?{d}(?<= degrees) (low|upwards?|up|worm 's eye) angle",
+        "(at |from )?(a |an )?(up|low|upward) angle (of )?({ABOUT} )?{d}(?<= degrees)",
+        "(at |from )?(an |a )?angle of ({ABOUT} )?{d}(?<= degrees)( ,)? (from )?(below|beneath|underneath)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
-        "{LOWVIEW}( ,)? ((at|from) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
+        "{LOWVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
 

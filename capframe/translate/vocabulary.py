@@ -843,7 +843,16 @@ HEIGHT_ANCHORS = {
 }
 # Words saying the camera is at a height, as "level with" does ("even with its head", "flush with
 # the seat", "on a par with its roof"); "in line with" is left out: it also aligns things in the frame.
-LEVEL_WITH = ("level with", "even with", "flush with", "on a level with", "on level with", "on a par with", "on par with")
+LEVEL_WITH = (
+    "level with",
+    "level to",
+    "even with",
+    "flush with",
+    "on a level with",
+    "on level with",
+    "on a par with",
+    "on par with",
+)
 # Small angles said without a number ("a few degrees above", "a couple of degrees down"): the
 # slight height classes, as "a bit" is. Plain words; the parser normalises them as it does text.
 FEW_DEGREES = (
