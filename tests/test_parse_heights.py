@@ -146,7 +146,8 @@ def test_an_angle_outranks_a_vague_height_word_on_its_side_only():
     ("directly above" is 80-90) still contradict it."""
     assert ELEVATIONS["high angle"][1] < 70.0 < ELEVATIONS["bird's-eye"][0] + 15.0
     assert height("the bench from a high angle, about 70 degrees") == (None, 70.0)
-    assert height("the mug slightly above, 40 degrees") == (None, 40.0)
+    assert height("the mug slightly above, 40 degrees") == (None, 40.0)  # within 10 of its 8-30
+    assert height("the mug slightly above, about 15 degrees") == (None, 15.0)
     assert height("the sofa from a low angle, 70 degrees") == (None, -70.0)
     for text in (
         "the bench from a low angle, 40 degrees above",
@@ -163,6 +164,9 @@ NOT_A_HEIGHT = [
     ("the mug from above, from its right side, 40 degrees", "40 degrees"),
     ("the bench, 25 degrees", "25 degrees"),
     ("the sofa from high up, rotated 20 degrees", "20 degrees"),
+    # A slight height says a small angle: a large one beside it is another angle.
+    ("the mug at 45 degrees, slightly above", "45 degrees"),
+    ("the sofa, a touch low, 50 degrees", "50 degrees"),
 ]
 
 
@@ -308,6 +312,8 @@ HIGH_PLACES = [
     "the bench from a third-floor balcony",
     "the sofa, shot from a considerable height",
     "the teddy, shot from a fair way up",
+    "the mug, shot from up on a step-ladder",
+    "the teddy from halfway up the stairs",
 ]
 
 

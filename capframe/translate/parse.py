@@ -158,7 +158,15 @@ except ImportError:
     import sre_constants as _re_nodes
     import sre_parse as _re_parser
 
-from ..constraints import ELEVATIONS, EXACT_ENDS, SHOT_SIZES, VIEW_SIDES, arc_deg, view_tolerance_deg
+from ..constraints import (
+    ELEVATIONS,
+    EXACT_ENDS,
+    EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    SHOT_SIZES,
+    VIEW_SIDES,
+    arc_deg,
+    view_tolerance_deg,
+)
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
@@ -1240,7 +1248,8 @@ ELEVATION_HINTS = {
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
-        "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
+        "((from |off )?(up )?(on|up|standing on|stood on|atop|at the top of|on top of|up on|halfway up) )?(a |the )?"
+        "(step ?ladder|ladder|step stool|balcony|stairs|staircase)",
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
@@ -2798,9 +2807,23 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
             continue
         nearest = min(angled, key=lambda c: (c.start - cue.end if c.start >= cue.end else cue.start - c.end, c.start > cue.start))
         sign = _side_of(nearest) if nearest.field.startswith("elevation") else 0.0
-        if sign:
+        if sign and not _beyond_slight(nearest, sign * cue.value):
             out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
     return out
+
+
+# A slight height says a small angle: a bare angle farther than this past its range is another
+# angle ("slightly above, 45 degrees" may turn the camera 45 degrees round): reported, not read.
+SLIGHT_ELEVATIONS = frozenset({"slightly above", "slightly below"})
+
+
+def _beyond_slight(cue: _Cue, degrees: float) -> bool:
+    """Whether ``degrees`` lies more than the explicit tolerance past the range of a slight height
+    ``cue`` (:data:`SLIGHT_ELEVATIONS`)."""
+    if cue.field != "elevation" or cue.value not in SLIGHT_ELEVATIONS:
+        return False
+    lo, hi = ELEVATIONS[cue.value]
+    return not lo - EXPLICIT_ELEVATION_TOLERANCE_DEG <= degrees <= hi + EXPLICIT_ELEVATION_TOLERANCE_DEG
 
 
 def _side_of(cue: _Cue) -> float:
