@@ -109,6 +109,10 @@ EXPLICIT_ANGLES = [
     ("bench, elevation: 35", 35.0),
     ("the sofa from a high angle of 45", 45.0),
     ("the teddy at a 20 degree upward angle", -20.0),
+    ("the teddy from a height of 45 degrees", 45.0),
+    ("the bench at a 45 from above", 45.0),
+    ("the toy car, sixty degrees above the floor", 60.0),
+    ("the sofa, 0 degrees, dead level", 0.0),
 ]
 
 
@@ -212,6 +216,12 @@ def test_a_creature_named_as_a_thing_is_no_view():
         parse_instruction("the frog sitting by the bench", SCENE)
 
 
+def test_steeply_from_above_or_below_is_the_steep_class():
+    assert height("the bench, looking down steeply") == ("bird's-eye", None)
+    assert height("the mug, looking sharply up at it") == ("worm's-eye", None)
+    assert height("the bench from straight up above") == ("top-down", None)
+
+
 TOP_SHOTS = [
     ("the bench, TOP SHOT", one(BENCH, elevation="top-down")),
     ("top-angle, the mug, small", one(MUG, shot="wide", elevation="top-down")),
@@ -271,6 +281,8 @@ SMALL_HEIGHTS = [
     ("the teddy, slightly from up top", "slightly above"),
     ("the teddy, a few degrees below", "slightly below"),
     ("the sofa, camera a degree or two under it", "slightly below"),
+    ("the mug from above at a shallow angle", "slightly above"),
+    ("the teddy from below at a gentle angle", "slightly below"),
     ("toy car, a bit from down low", "slightly below"),
 ]
 
@@ -314,6 +326,7 @@ HIGH_PLACES = [
     "the teddy, shot from a fair way up",
     "the mug, shot from up on a step-ladder",
     "the teddy from halfway up the stairs",
+    "the sofa, camera high on a shelf",
 ]
 
 

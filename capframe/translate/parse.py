@@ -1105,6 +1105,9 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
         # A weak word before any high place ("bit from up top", "a touch from up high").
         "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
+        # A shallow angle said with its direction ("from above at a shallow angle").
+        "(from )?(above|over)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
+        "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(above|over)",
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
@@ -1127,6 +1130,7 @@ ELEVATION_PHRASES = {
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "(look|looks|looking|{AIM}) (down (steeply|sharply)|(steeply|sharply) down)( (at|on|onto) {obj})?",
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
         "(at |from )?(a )?(steep|sharp) angle (from )?(above|overhead)",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
@@ -1134,7 +1138,7 @@ ELEVATION_PHRASES = {
         "(at |from )?(the )?ceiling (height|level)",
     ],
     "top-down": [
-        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
@@ -1195,6 +1199,8 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) up {FEW}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) {FEW} up( (at|to|towards) {obj})?",
         "{WEAK} from (down low|low down|lower down|down below)",
+        "(from )?(below|beneath|under|underneath)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
+        "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(below|beneath|under|underneath)",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
@@ -1217,6 +1223,7 @@ ELEVATION_PHRASES = {
         "(steeply|strongly|sharply) from (below|beneath)",
         "from (below|beneath|underneath)( ,)? (at )?(a )?(steep|sharp) angle",
         "(from |in |with )?(a )?(steep|sharp) (low|upward|up)( (angle|shot|view))?",
+        "(look|looks|looking|{AIM}) (up (steeply|sharply)|(steeply|sharply) up)( (at|to|towards) {obj})?",
         # Below the floor the subject stands on ("from the cellar", "through a hole in the floor").
         "(from |in |down in )?(the |a )?(cellar|basement|crawl space|crawlspace)",
         "(up )?through (a |the )?(hole|gap|crack|opening|trapdoor|trap door|hatch) in (the |a )?{SUPPORT}",
@@ -1256,6 +1263,9 @@ ELEVATION_HINTS = {
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        # The camera put up on something tall ("camera high on a shelf", "lens up on the wardrobe").
+        "(the )?(camera|lens) (placed |set |sitting |perched |put )?(high |high up |up high |up )on (top of )?(a |the )?"
+        "(shelf|ledge|wardrobe|cupboard|cabinet|wall|mantelpiece|windowsill)",
         # An amount of height ("from a fair height", "at a decent elevation").
         "(from |at )?(a |quite a )?{AMOUNT} (height|elevation|altitude)",
         "(from )?(a |quite a )?({AMOUNT}|long) (way|bit|distance) (up|above)( {obj})?",
@@ -1295,7 +1305,7 @@ ELEVATION_HINTS = {
         # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
-        CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
+        CAMERA + " (right |low |flat )?(down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
         # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
         "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
         "(floor|ground|rug|carpet|grass|lawn|mat)",
@@ -1352,7 +1362,11 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
         "(?! (from|to|the|its|his|her|their|left|right) )",
-        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
+        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        "(from |at )?(a )?(height|elevation|angle) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
+        # A bare number with its article and direction ("at a 45 from above", "a high 45").
+        "(at |from )?(a |an )(high |steep )?{n}( degrees)?( angle)? (from )?(above|overhead)",
+        "(a |an )high {n}(?= ([,.;!]|$))",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
@@ -1389,7 +1403,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{HIGHVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
     -1.0: [
-        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
+        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -2807,6 +2821,8 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
             continue
         nearest = min(angled, key=lambda c: (c.start - cue.end if c.start >= cue.end else cue.start - c.end, c.start > cue.start))
         sign = _side_of(nearest) if nearest.field.startswith("elevation") else 0.0
+        if cue.value == 0.0 and nearest.field.startswith("elevation"):  # no side to take: level
+            sign = 1.0
         if sign and not _beyond_slight(nearest, sign * cue.value):
             out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
     return out
