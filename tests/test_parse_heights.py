@@ -113,6 +113,9 @@ EXPLICIT_ANGLES = [
     ("the bench at a 45 from above", 45.0),
     ("the toy car, sixty degrees above the floor", 60.0),
     ("the sofa, 0 degrees, dead level", 0.0),
+    ("the mug from an elevaton of 30 degrees", 30.0),  # a letter dropped
+    ("teddy from ~60° up high", 60.0),
+    ("the toy car from high up at sixty", 60.0),
 ]
 
 
@@ -194,6 +197,8 @@ CREATURE_VIEWS = [
     ("the sofa as a bird would see it", "bird's-eye"),
     ("the bench from a bird perspecitve", "bird's-eye"),  # a typo of the noun
     ("the mug in Vogelperspektive", "bird's-eye"),
+    ("mug - bird persp.", "bird's-eye"),
+    ("Kindly photograph the sofa from a frog's-eye perspective, thank you", "low angle"),
     ("the mug from a frog's perspective", "low angle"),
     ("frog view of the teddy", "low angle"),
     ("the toy car in frog perspektive", "low angle"),

@@ -85,6 +85,7 @@ SPELLINGS = {
     "vogelperspektive": "bird perspective",
     "froschperspektive": "frog perspective",
     "perspektive": "perspective",
+    "persp": "perspective",
     "fullframe": "full frame",
     "lefthand": "left hand",
     "righthand": "right hand",
@@ -482,6 +483,7 @@ SLIP_TARGETS = (
     "looking",
     "perspective",
     "horizontal",
+    "elevation",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
