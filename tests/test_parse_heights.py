@@ -271,9 +271,14 @@ def test_a_height_said_by_a_part_or_a_level_camera_is_eye_level(text):
     assert height(text) == ("eye level", None)
 
 
-def test_a_horizontal_horizon_stays_a_roll():
+def test_a_horizontal_horizon_stays_a_roll_and_a_horizontal_camera_yields():
+    """A level horizon is a roll; a camera held horizontal is only a hint of eye level (it may mean
+    a landscape frame), so a height said with it wins; an angle "of" N alone may be a turn."""
     got = read("the mug, horizon dead horizontal")
     assert got["roll_deg"] == 0.0 and got["elevation"] is None
+    assert height("the bench from a high angle, camera held horizontal") == ("high angle", None)
+    got = read("the sofa at an angle of 30 degrees")
+    assert got["elevation_deg"] is None and got["not_understood"]
 
 
 SMALL_HEIGHTS = [

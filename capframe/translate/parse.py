@@ -1055,12 +1055,6 @@ ELEVATION_PHRASES = {
         "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
         "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?",
-        # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"); a
-        # horizontal frame or horizon is a roll or an orientation, not a height.
-        "(the )?(camera|lens|line of sight) (is |held |kept |stays |set )?({STRONG} |perfectly |nice and )?horizontal"
-        "(?= ([,.;!]|$|and |with |at |on ))",
-        "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
-        "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
         "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
@@ -1234,6 +1228,15 @@ ELEVATION_PHRASES = {
     ],
 }
 ELEVATION_HINTS = {
+    # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"): a hint, as
+    # a camera held horizontal may also mean a landscape frame; a horizontal frame or horizon is a
+    # roll or an orientation, not a height.
+    "eye level": [
+        "(the )?(camera|lens|line of sight) (is |held |kept |stays |set )?({STRONG} |perfectly |nice and )?horizontal"
+        "(?= ([,.;!]|$|and |with |at |on ))",
+        "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
+        "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
+    ],
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
         # Looking down on a part of it ("looking down on its crown", "looking down onto the lid").
@@ -1363,7 +1366,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
         "(?! (from|to|the|its|his|her|their|left|right) )",
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
-        "(from |at )?(a )?(height|elevation|angle) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
+        "(from |at )?(a )?(height|elevation) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
         # A bare number with its article and direction ("at a 45 from above", "a high 45").
         "(at |from )?(a |an )(high |steep )?{n}( degrees)?( angle)? (from )?(above|overhead)",
         "(a |an )high {n}(?= ([,.;!]|$))",
