@@ -1034,7 +1034,7 @@ def test_an_unknown_object_after_a_head_is_still_refused():
 
 def test_shot_list_names_a_two_shot_and_a_top_shot():
     assert read("a two-shot of the mug and the teddy")["not_understood"] == []
-    assert read("a top shot of the tv") == one(TV, elevation="bird's-eye")
+    assert read("a top shot of the tv") == one(TV, elevation="top-down")  # film: the camera straight above
 
 
 MODAL_REQUESTS = [
@@ -1493,9 +1493,9 @@ TOP_VIEWS_AHEAD_AND_TIPS = [
     ("a top view of the mug", one(MUG, elevation="top-down")),
     ("the teddy, top view, centred", one(BEAR, region="center", elevation="top-down")),
     ("Top view: toy car.", one(CAR, elevation="top-down")),
-    # A top angle or shot stays a steep one, as "from the top" does.
-    ("the bench from a top angle", one(BENCH, elevation="bird's-eye")),
-    ("the bench, top shot", one(BENCH, elevation="bird's-eye")),
+    # So is a film's top shot (the camera straight above), and a top angle with it.
+    ("the bench from a top angle", one(BENCH, elevation="top-down")),
+    ("the bench, top shot", one(BENCH, elevation="top-down")),
     # Dead ahead is the front, exactly.
     ("the sofa dead ahead", one(SOFA, view="front-exact")),
     ("a dead-ahead view of the television", one(TV, view="front-exact")),

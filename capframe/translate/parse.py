@@ -166,7 +166,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
     from re import _constants as _re_nodes
@@ -175,7 +175,15 @@ except ImportError:
     import sre_constants as _re_nodes
     import sre_parse as _re_parser
 
-from ..constraints import ELEVATIONS, EXACT_ENDS, SHOT_SIZES, VIEW_SIDES, arc_deg, view_tolerance_deg
+from ..constraints import (
+    ELEVATIONS,
+    EXACT_ENDS,
+    EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    SHOT_SIZES,
+    VIEW_SIDES,
+    arc_deg,
+    view_tolerance_deg,
+)
 from ..errors import InputError, clip
 from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
@@ -185,12 +193,18 @@ from .vocabulary import (
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
+    EYE_VIEW_NOUNS,
     EYE_VIEWS,
+    FEW_DEGREES,
     FILLER_WORDS,
     FRAME_FRACTIONS,
     HEAD_ON_WORDS,
     HEADING_TIMES,
+    HEIGHT_AMOUNTS,
     HEIGHT_ANCHORS,
+    HIGH_PLACE_OPENINGS,
+    HIGH_PLACES,
+    LEVEL_WITH,
     NUMBER,
     OFFSET_HEDGES,
     PLENTY_WORDS,
@@ -1184,11 +1198,13 @@ ELEVATION_PHRASES = {
         "({SURFACE}|tabletop|table top)",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
-        "(at|from) (the )?(same height|same level|height|level) (as|of) {obj}",
+        "(at|from|on) (the )?(same height|same level|height|level) (as|of) ({obj}|(the |{P} )?{ANCHOR_EYE})",
         "(at|from) {P} (height|level)",
-        "level with {obj}",
+        "{LEVEL} {obj}",
+        # As high as it or a part at its height ("camera as high as its head").
+        "((the )?(camera|lens) )?(just )?as high as ({obj}|(the |{P} )?{ANCHOR_EYE})",
         # The subject at the lens's height ("the sofa level with the lens", "the ball at lens height").
-        "(?<=@\\d )(is )?(level with|at) the (camera|lens)( (height|level))?",
+        "(?<=@\\d )(is )?({LEVEL}|at) the (camera|lens)( (height|level))?",
         "(at|from) (the )?(camera|lens) (height|level)",
         # At its middle height ("from mid-height", "at half its height", "from halfway up it").
         "(at |from )?(its |the |{P} )?(mid|middle|half) (height|level)( of {obj})?",
@@ -1207,18 +1223,18 @@ ELEVATION_PHRASES = {
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?((down |up |right |low )?(at|from) )?(the |a |{P} )?{ANCHOR_EYE} "
-        "(height|level|high|position)",
+        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE} "
+        "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "((put |with |set |hold )?(the )?(camera|lens) )?(at|from) (the |a )?(height|level) of (the |a |{P} )?"
+        "((put |with |set |hold )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of (the |a |{P} )?"
         "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
-        "((with )?(the )?(camera|lens) )?(at|from) {P} (own )?(height|level)",
+        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
-        "({STRONG} )?level with {obj}",
+        "({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
         "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
-        "((the )?(camera|lens) )?({STRONG} )?level with (the |{P} )?{ANCHOR_EYE}( (height|level))?",
+        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
         "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
@@ -1255,6 +1271,17 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
         "(from )?{WEAK} (above|over|higher than) {obj}",
+        # A few degrees said for the slight class ("a few degrees above", "a couple of degrees up",
+        # the camera looking "a few degrees down": N degrees down is N above).
+        "(from |with the camera |camera )?{FEW} (above|up|higher|over|high|overhead|down)"
+        "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (from|to|the|its|his|her|their|left|right) )",
+        "(looking|look|looks|{AIM}) down {FEW}( (at|on|onto) {obj})?",
+        "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
+        # A weak word before any high place ("bit from up top", "a touch from up high").
+        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
+        # A shallow angle said with its direction ("from above at a shallow angle").
+        "(from )?(above|over)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
+        "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(above|over)",
     ],
     "high angle": [
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
@@ -1272,26 +1299,29 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
-        "(from |in |as )?(a |an )?top (shot|angle)",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
         "((seen|shot|viewed|looking) )?(steeply|strongly|sharply) (from above|down( (at|on) {obj})?)",
         "(from |in |with )?(a )?steep high angle( (shot|view))?",
+        "(look|looks|looking|{AIM}) (down (steeply|sharply)|(steeply|sharply) down)( (at|on|onto) {obj})?",
         "from (above|overhead)( ,)? (at )?(a )?(steep|sharp) angle",
         "(at |from )?(a )?(steep|sharp) angle (from )?(above|overhead)",
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
+        "(high|far|way|well|right) (up )?overhead",
+        "(at |from )?(the )?ceiling (height|level)",
     ],
     "top-down": [
-        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (above|overhead|over)( {obj})?",
+        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
         "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
-        # A top view is a plan view, as in product and architectural photography (a film's
-        # "top shot" stays a steep overhead one).
+        # A top view is a plan view, as in product and architectural photography.
         "(a )?(plan view|flat lay|top view)",
+        # So is a film's top shot (the camera straight above the set), and a top angle with it.
+        "(from |in |as )?(a |an |the )?top (shot|angle)",
         # As near to vertical as can be ("as close to vertical as you can", "near-vertical").
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
         "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",
@@ -1338,6 +1368,13 @@ ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
+        "(from |with the camera |camera )?{FEW} (below|beneath|under|underneath|lower|low)"
+        "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (at|on|onto) )",
+        "(looking|look|looks|{AIM}) up {FEW}( (at|to|towards) {obj})?",
+        "(looking|look|looks|{AIM}) {FEW} up( (at|to|towards) {obj})?",
+        "{WEAK} from (down low|low down|lower down|down below)",
+        "(from )?(below|beneath|under|underneath)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
+        "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(below|beneath|under|underneath)",
     ],
     "worm's-eye": [
         "(from |in |as )?(a |an )?worms?( 's)? eye( (view|shot|angle|perspective))?",
@@ -1346,10 +1383,24 @@ ELEVATION_PHRASES = {
         "(from )?((right|deep|just) )?(underground|below ground|beneath the ground|under the ground|in the ground)( level)?",
         "through (the |a )?({SURFACE}|{SUPPORT})( (top|surface))?",
         "((the |a )?(camera|lens) )?(buried|sunk|dug|set|placed|put|hidden) (down )?(in|into|under|beneath) (the |a )?{SUPPORT}",
+        # A verb of burying, then the camera ("bury the camera in the lawn", "sink the lens into the sand").
+        "(bury|buries|burying|buried|sink|sinks|sinking|sank|sunk|dig|digs|digging|dug|embed|embeds|embedding|embedded)"
+        " (the |a |your |my )?(camera|lens)( (down|deep|right))? (in|into|under|beneath|below|underneath) (the |a )?{SUPPORT}"
+        "( (right )?(below|beneath|under|underneath) {obj})?",
+        # Burying says it alone ("bury the camera under the bench"): below the ground.
+        "(bury|buries|burying|buried) (the |a |your |my )?(camera|lens)( (down|deep))?"
+        "( (right )?(below|beneath|under|underneath) {obj})?",
+        "(the |a )?(camera|lens) (is )?(buried|sunk|embedded|dug in|underground)"
+        "(?= ([,.;!]|$|and |with |looking |aiming |pointing ))",
         "looking steeply up( at {obj})?",
         "from the ground( level)?( ,)? looking steeply up( at {obj})?",
         "(steeply|strongly|sharply) from (below|beneath)",
         "from (below|beneath|underneath)( ,)? (at )?(a )?(steep|sharp) angle",
+        "(from |in |with )?(a )?(steep|sharp) (low|upward|up)( (angle|shot|view))?",
+        "(look|looks|looking|{AIM}) (up (steeply|sharply)|(steeply|sharply) up)( (at|to|towards) {obj})?",
+        # Below the floor the subject stands on ("from the cellar", "through a hole in the floor").
+        "(from |in |down in )?(the |a )?(cellar|basement|crawl space|crawlspace)",
+        "(up )?through (a |the )?(hole|gap|crack|opening|trapdoor|trap door|hatch) in (the |a )?{SUPPORT}",
         # From under what the subject stands on ("from underneath the table", "from beneath the
         # floor"): below the support, looking steeply up.
         "(from )?(underneath|beneath|below|under) (the |a )?{SURFACE}( (surface|top|level))?",
@@ -1357,15 +1408,29 @@ ELEVATION_PHRASES = {
     ],
 }
 ELEVATION_HINTS = {
+    # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"): a hint, as
+    # a camera held horizontal may also mean a landscape frame; a horizontal frame or horizon is a
+    # roll or an orientation, not a height.
+    "eye level": [
+        "(the )?(camera|lens|line of sight) (is |held |kept |stays |set )?({STRONG} |perfectly |nice and )?horizontal"
+        "(?= ([,.;!]|$|and |with |at |on ))",
+        "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
+        "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
+    ],
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
+        # Looking down on a part of it ("looking down on its crown", "looking down onto the lid").
+        "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
+        # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
+        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting)"
+        " (high|high up|up high|way up|overhead|up above|above( {obj})?)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
         # Said of a place up somewhere ("from higher up", "from on high", "from a height").
         "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
-        "{AIM}( the camera| the lens)? down( (at|on|onto|towards) {obj})?",
+        "{AIM}( the camera| the lens| it)? down( (at|on|onto|towards) {obj})?",
         # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
         CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
         "(a |an )?high (camera|lens)( (position|placement))?",
@@ -1373,13 +1438,22 @@ ELEVATION_HINTS = {
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
         "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
-        "((from|on|up|standing on|atop) )?(a |the )?(step ?ladder|ladder|step stool|balcony|stairs)",
+        "((from |off )?(up )?(on|up|standing on|stood on|atop|at the top of|on top of|up on|halfway up) )?(a |the )?"
+        "(step ?ladder|ladder|step stool|balcony|stairs|staircase)",
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        # The camera put up on something tall ("camera high on a shelf", "lens up on the wardrobe").
+        "(the )?(camera|lens) (placed |set |sitting |perched |put )?(high |high up |up high |up )on (top of )?(a |the )?"
+        "(shelf|ledge|wardrobe|cupboard|cabinet|wall|mantelpiece|windowsill)",
+        # An amount of height ("from a fair height", "at a decent elevation").
+        "(from |at )?(a |quite a )?{AMOUNT} (height|elevation|altitude)",
+        "(from )?(a |quite a )?({AMOUNT}|long) (way|bit|distance) (up|above)( {obj})?",
+        # A place high above the scene ("from a first-floor window", "from upstairs", "off the rooftop").
+        "((from|out of|at|on|up on|off|through) )?(a |an |the )?{HIGHPLACE}( {OPENING})?",
         # A height joined to a side ("from behind and above").
         "(?<= and )(from )?(above|overhead|up high|high up)(?= ([,.;!]|$))",
     ],
@@ -1405,7 +1479,7 @@ ELEVATION_HINTS = {
         "(crouch|crouching|crouched|kneel|kneeling|knelt|squat|squatting)( down)?( low)?",
         "(from )?{VERY} (low|low down|down low)(?! (in|on|at) )",
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point|vantage)",
-        "{AIM}( the camera| the lens)? up( (at|to|towards) {obj})?",
+        "{AIM}( the camera| the lens| it)? up( (at|to|towards) {obj})?",
         # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
         CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
         "(a |an |the )?low (camera|lens)( (position|placement))?"
@@ -1414,7 +1488,7 @@ ELEVATION_HINTS = {
         # A pitch said in degrees is a hint, as a pitch without them ("lens angled 15 degrees upward").
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (up )?{d} up",
         # The camera itself down by the ground ("camera near the ground").
-        CAMERA + " (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
+        CAMERA + " (right |low |flat )?(down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn)",
         # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
         "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
         "(floor|ground|rug|carpet|grass|lawn|mat)",
@@ -1431,11 +1505,17 @@ ELEVATION_HINTS = {
         "(look|looks|looking) up (at |to |towards |into |along )?(the |{P} )?{PARTS}",
     ],
 }
-# "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is.
+# "<creature>'s-eye view" (vocabulary.EYE_VIEWS): the elevation class of whose eye it is; said
+# without the eye it needs a view noun ("bird perspective", "an ant's view"), or says whose eyes
+# see it ("as a frog would see it", "from the point of view of an ant").
 for _elevation_class, _creatures in EYE_VIEWS.items():
-    ELEVATION_PHRASES[_elevation_class].append(
-        "(from |in |as )?(a |an )?(" + "|".join(_creatures) + ")( 's)? eye( (view|shot|angle|perspective|level))?"
-    )
+    _creature = "(" + "|".join(sorted(_creatures, key=len, reverse=True)) + ")"
+    ELEVATION_PHRASES[_elevation_class] += [
+        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? eyes?( ({EYENOUN}|level))?",
+        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
+        "(as|like) (a |an )?" + _creature + " (sees|would see|might see|see|views|would view)( it| them| {obj})?",
+        "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
+    ]
 
 # Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
 # degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
@@ -1460,7 +1540,16 @@ EXPLICIT_ELEVATION_PHRASES = {
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
-        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal)?",
+        # The camera looking N degrees down is N degrees above (a pitch said with "tilted" or
+        # "angled" stays a hint, as "up" does).
+        "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
+        "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
+        "(?! (from|to|the|its|his|her|their|left|right) )",
+        "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        "(from |at )?(a )?(height|elevation) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
+        # A bare number with its article and direction ("at a 45 from above", "a high 45").
+        "(at |from )?(a |an )(high |steep )?{n}( degrees)?( angle)? (from )?(above|overhead)",
+        "(a |an )high {n}(?= ([,.;!]|$))",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
@@ -1473,18 +1562,31 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) down( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
         "elevated (by )?({ABOUT} )?{d}",
+        # The camera raised by or to an angle ("camera raised 30 degrees", "lifted to about 35°").
+        "((the )?(camera|lens) )?(elevated|raised|lifted|hoisted)( up)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
+        "( (above|over|off|from) (the )?(horizontal|horizon|ground|floor|level))?",
+        # An angle said with the way it looks ("a 60 degree overhead angle", "a downward angle of
+        # 30 degrees", "at an angle of 40 degrees from above", "angle: 40 deg down").
+        "(at |from )?(a |an )?{d}(?<= degrees) (overhead|down|high|top|elevated|elevation|downwards?) angle",
+        "(at |from )?(a |an )?(down|high|overhead|top|elevated|steep) angle (of )?({ABOUT} )?{d}(?<= degrees)",
+        "(at |from )?(an |a )?angle of ({ABOUT} )?{d}(?<= degrees)( ,)? (from )?(above|overhead)",
+        "(angle|elevation|height) : ({ABOUT} )?{d}(?<= degrees)( (up|down|above))?",
+        # Degrees from the ground or the horizontal ("at 30 degrees from the ground").
+        "(at |from )?({ABOUT} )?{d}(?<= degrees) (from|off) (the )?(ground|floor|horizontal|horizon)",
         # Degrees higher than the subject, or an elevation named then given ("elevation about 20 degrees").
         "((the )?camera )?{d}(?<= degrees) (higher|over) than {obj}",
-        "((the )?camera )?(elevation|elevation angle)( of| at| ,)? ({ABOUT} )?{sd}",
+        "((the )?camera )?(elevation|elevation angle)( of| at| ,| :)? ({ABOUT} )?{sd}",
         # "10 degrees high": the degrees said, so a height word is no size ("2 high").
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
         # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
         "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        # A bare number right after a height word, ending its clause ("overhead 90", "top down, 85").
+        "{HIGHVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
     -1.0: [
-        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal)?",
+        "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -1495,11 +1597,34 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
+        "((the )?(camera|lens) )?(lowered|dropped|sunk)( down)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
+        "( (below|under|beneath) (the )?(horizontal|horizon|level))?",
+        "(at |from )?(a |an )?{d}(?<= degrees) (low|upwards?|up|worm 's eye) angle",
+        "(at |from )?(a |an )?(up|low|upward) angle (of )?({ABOUT} )?{d}(?<= degrees)",
+        "(at |from )?(an |a )?angle of ({ABOUT} )?{d}(?<= degrees)( ,)? (from )?(below|beneath|underneath)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
         "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
         "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        "{LOWVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
+
+# An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
+# down on it from a drone, about 60 degrees"): an elevation only with a height said in the same
+# sentence, nearer to it than any side or roll (:func:`_bare_angles` gives it that height's sign),
+# else it stays not understood. Degrees that turn the camera round or about its axis are no height.
+BARE_ANGLE_PHRASES = [
+    "((at|from|by|of|like|say|to) )?({ABOUT} )?{d}(?<= degrees)( or so| or thereabouts)?"
+    "(?! (round|around|off|to|towards|toward|left|right|clockwise|counterclockwise|from|of|turn|rotation|roll"
+    "|tilt|cant|dutch|and|or|azimuth|up|down|above|below|high|higher|low|lower|overhead|under|beneath|underneath"
+    "|elevation|angle|pitch) )",
+]
+# Words before an angle that make it a turn, not a height ("swung 30 degrees", "rotate it 20 degrees").
+TURN_WORDS = frozenset(
+    {"turn", "turned", "turning", "rotate", "rotated", "rotating", "swing", "swung", "swinging", "spin", "spun"}
+    | {"orbit", "orbited", "orbiting", "pan", "panned", "panning", "roll", "rolled", "rolling", "yaw", "yawed"}
+    | {"it", "them", "round", "around"}
+)
 
 # Words that ask nothing of the camera beyond what a subject already asks (to be seen): where a
 # subject rests ("the bear on the floor") and its being in the picture ("in the same shot").
@@ -1614,11 +1739,11 @@ ROLL_PHRASES = {
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
     ],
     0.0: [
-        "(keeping|keep|with|hold|holding) (the )?horizon ({LEVEL})",
-        "(with )?(a |the )?({STRONG} |perfectly |nice and )?({LEVEL}) horizon",
+        "(keeping|keep|with|hold|holding) (the )?horizon ({HORIZON_LEVEL})",
+        "(with )?(a |the )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL}) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
         "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
-        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({LEVEL})",
+        "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL})",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
@@ -2078,6 +2203,8 @@ _MACROS = {
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    # A bare number of at most two digits (no "degrees"), only where a height word leads it.
+    "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
@@ -2093,7 +2220,7 @@ _MACROS = {
     "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     # A level horizon, as a builder or a carpenter says it too ("horizon true", "spirit-level").
-    "{LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
+    "{HORIZON_LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
     # A moderate grade of a size word ("fairly tight", "pretty small").
     "{FAIRLY}": "(?:fairly|pretty|quite|rather|reasonably|moderately)",
     # Pressed into the frame: the subject fills it ("crammed into the frame", "pack it into the shot").
@@ -2124,6 +2251,15 @@ _MACROS = {
         ),
         "(?:",
     ),
+    # Heights said otherwise (vocabulary): "even with", "a few degrees", "a first-floor window".
+    "{LEVEL}": _alternatives(LEVEL_WITH, "(?:"),
+    "{FEW}": _alternatives({" ".join(words(p)) for p in FEW_DEGREES}, "(?:"),
+    "{HIGHPLACE}": _alternatives({" ".join(words(p)) for p in HIGH_PLACES}, "(?:"),
+    "{OPENING}": _alternatives(HIGH_PLACE_OPENINGS, "(?:"),
+    "{AMOUNT}": _alternatives(HEIGHT_AMOUNTS, "(?:"),
+    "{EYENOUN}": _alternatives(EYE_VIEW_NOUNS, "(?:"),
+    # A hedge on where the camera is ("lens roughly at its chin", "camera about level with it").
+    "{ROUGHLY}": "(?:roughly|about|around|approximately|more or less|pretty much|somewhere around|near enough|just about)",
     "{ANCHOR_EYE}": _alternatives(HEIGHT_ANCHORS["eye level"], "(?:"),
     "{ANCHOR_LOW}": _alternatives(HEIGHT_ANCHORS["low angle"], "(?:"),
     "{mod}": "(?P<mod>" + "|".join(DUTCH_SIZE_DEG) + ")",
@@ -2138,7 +2274,7 @@ _MACROS = {
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
-    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up)"
+    "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up|top down|straight down)"
     "|(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
     "(?: (?:view|shot|angle|perspective))?|(?:from |in |as )?(?:a |an )?high (?:view|shot)|from above)",
     "{LOWVIEW}": "(?:(?:from )?(?:low down|down low)|(?:from |in |as )?(?:a |an )?(?:low angle|worms?(?: 's)? eye)"
@@ -2395,6 +2531,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
+    rows += [("elevation_bare", None, t, True) for t in BARE_ANGLE_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
@@ -2488,7 +2625,7 @@ class RuleParser:
         tokens, slips = self._unslip(words(text), vocabulary)
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
-        cues = self._cues(tokens)
+        cues = _bare_angles(self._cues(tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
@@ -2787,6 +2924,8 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     value, weak = rule.value, rule.weak
     if rule.field == "elevation_deg":
         value = rule.value[1] if isinstance(rule.value, tuple) else rule.value * float(groups["d"])
+    elif rule.field == "elevation_bare":
+        value = float(groups["d"])
     elif rule.field == "roll_deg":
         value, weak = _roll_value(rule.value, groups)
     elif rule.field == "shot" and rule.value == "share":
@@ -2989,12 +3128,68 @@ def _candidates(cue: _Cue, mentions: list[_Mention]) -> list[str]:
     return far + near if cue.forward and not cue.pronoun else near + far
 
 
+# Cues that carry an angle of their own: a bare angle belongs to the nearest of them.
+ANGLE_FIELDS = ("elevation", "elevation_deg", "view", "roll_deg")
+
+
+def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
+    """``cues`` with each bare angle (:data:`BARE_ANGLE_PHRASES`) read as explicit degrees when
+    the nearest cue carrying an angle (:data:`ANGLE_FIELDS`; of two as near, the one before) is a
+    height above or below the horizontal, signed as it is ("from way up, like 70 deg": +70); a
+    bare angle nearer a side or a roll, after a verb of turning (:data:`TURN_WORDS`) or with no
+    height said is dropped, so its words are reported as not understood."""
+    angled = [c for c in cues if c.field in ANGLE_FIELDS]
+    out = []
+    for cue in cues:
+        if cue.field != "elevation_bare":
+            out.append(cue)
+            continue
+        if cue.start and tokens[cue.start - 1] in TURN_WORDS or not angled:
+            continue
+        nearest = min(angled, key=lambda c: (c.start - cue.end if c.start >= cue.end else cue.start - c.end, c.start > cue.start))
+        sign = _side_of(nearest) if nearest.field.startswith("elevation") else 0.0
+        if cue.value == 0.0 and nearest.field.startswith("elevation"):  # no side to take: level
+            sign = 1.0
+        if sign and not _beyond_slight(nearest, sign * cue.value):
+            out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
+    return out
+
+
+# A slight height says a small angle: a bare angle farther than this past its range is another
+# angle ("slightly above, 45 degrees" may turn the camera 45 degrees round): reported, not read.
+SLIGHT_ELEVATIONS = frozenset({"slightly above", "slightly below"})
+
+
+def _beyond_slight(cue: _Cue, degrees: float) -> bool:
+    """Whether ``degrees`` lies more than the explicit tolerance past the range of a slight height
+    ``cue`` (:data:`SLIGHT_ELEVATIONS`)."""
+    if cue.field != "elevation" or cue.value not in SLIGHT_ELEVATIONS:
+        return False
+    lo, hi = ELEVATIONS[cue.value]
+    return not lo - EXPLICIT_ELEVATION_TOLERANCE_DEG <= degrees <= hi + EXPLICIT_ELEVATION_TOLERANCE_DEG
+
+
+def _side_of(cue: _Cue) -> float:
+    """+1 for a height cue above the horizontal, -1 below, 0 for one that straddles it (eye level)."""
+    if cue.field == "elevation_deg":
+        return float((cue.value > 0.0) - (cue.value < 0.0))
+    lo, hi = ELEVATIONS[cue.value]
+    return 1.0 if lo >= 0.0 else -1.0 if hi <= 0.0 else 0.0
+
+
 def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     """The named elevation or explicit degrees asked (hints yield to any other elevation cue)."""
     found = [c for c in cues if c.field in ("elevation", "elevation_deg")]
     found = [c for c in found if not c.weak] or found
-    named = _narrowest({c.value for c in found if c.field == "elevation"})
+    # A look's direction alone ("looking down on it") yields to a hint naming a height on its side
+    # ("from a drone", "from up a ladder"): the height says how far above.
+    found = [
+        c for c in found if not (_direction_only(c) and any(_side_of(o) == _side_of(c) and not _direction_only(o) for o in found))
+    ]
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
+    if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
+        found = [c for c in found if not _yields_to(c, degrees[0])]
+    named = _narrowest({c.value for c in found if c.field == "elevation"})
     if len(named) > 1 or len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
     if degrees and not -90.0 <= degrees[0] <= 90.0:
@@ -3005,6 +3200,34 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
             raise InputError(f"conflicting elevations: {named[0]!r} is {lo:g} to {hi:g} degrees, not {degrees[0]:g}")
         named = []
     return (named[0] if named else None), (degrees[0] if degrees else None)
+
+
+# Words of a hint that says only which way the camera looks ("looking down at it", "aim the lens
+# up"), before what it looks at (after one of :data:`LOOK_TARGETS`: "on its crown").
+DIRECTION_WORDS = frozenset(
+    {"look", "looks", "looking", "down", "up", "the", "camera", "lens", "it", "with"}
+    | {"shoot", "shoots", "shooting", "point", "points", "pointing", "pointed", "aim", "aims", "aiming", "aimed"}
+    | {"angle", "angled", "angling", "tilt", "tilted", "tilting", "pitch", "pitched"}
+)
+LOOK_TARGETS = frozenset({"at", "on", "onto", "to", "towards", "into"})
+
+
+def _direction_only(cue: _Cue) -> bool:
+    """Whether ``cue`` is a height hint made only of the way the camera looks (:data:`DIRECTION_WORDS`),
+    whatever it looks at."""
+    said = list(itertools.takewhile(lambda w: w not in LOOK_TARGETS, cue.text.split()))
+    return cue.field == "elevation" and cue.weak and all(w in DIRECTION_WORDS for w in said)
+
+
+# Named heights exact enough to contradict an angle on their own side ("directly above, 30 degrees up").
+EXACT_ELEVATIONS = frozenset({"top-down"})
+
+
+def _yields_to(cue: _Cue, degrees: float) -> bool:
+    """Whether a named height gives way to an explicit angle: it lies wholly on the angle's side of
+    the horizontal ("from way up, like 70 degrees": high angle and 70 are one elevation, 70) and
+    is not exact (:data:`EXACT_ELEVATIONS`); eye level and the other side stay a conflict."""
+    return cue.field == "elevation" and cue.value not in EXACT_ELEVATIONS and _side_of(cue) * degrees > 0.0
 
 
 def _narrowest(named: set[str]) -> list[str]:

@@ -79,6 +79,13 @@ SPELLINGS = {
     "eyelevel": "eye level",
     "topdown": "top down",
     "wormseye": "worm 's eye",
+    # Perspective names run together or calqued ("birdview"; German "Vogelperspektive").
+    "birdview": "bird view",
+    "birdsview": "bird 's view",
+    "vogelperspektive": "bird perspective",
+    "froschperspektive": "frog perspective",
+    "perspektive": "perspective",
+    "persp": "perspective",
     "fullframe": "full frame",
     "lefthand": "left hand",
     "righthand": "right hand",
@@ -481,6 +488,9 @@ SLIP_TARGETS = (
     "vertical",
     "horizon",
     "looking",
+    "perspective",
+    "horizontal",
+    "elevation",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
@@ -681,11 +691,36 @@ END_PARTS = {
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
 # god's-eye view" is a bird's-eye one, "an ant's-eye view" a worm's-eye one, "a frog's-eye view"
 # a low angle).
+# The same creatures name a view without the eye, as other languages do ("bird perspective", German
+# Vogelperspektive; "frog perspective", Froschperspektive; "an ant's view", "satellite view"),
+# with one of :data:`EYE_VIEW_NOUNS` after them.
 EYE_VIEWS = {
-    "bird's-eye": ("bird", "birds", "god", "gods", "eagle", "hawk", "crow", "satellite"),
-    "worm's-eye": ("worm", "worms", "ant", "ants", "bug", "beetle"),
-    "low angle": ("frog", "mouse", "dog", "cat", "pet"),
+    "bird's-eye": (
+        "bird",
+        "birds",
+        "god",
+        "gods",
+        "eagle",
+        "hawk",
+        "crow",
+        "pigeon",
+        "seagull",
+        "gull",
+        "owl",
+        "falcon",
+        "vulture",
+        "satellite",
+        "helicopter",
+        "aeroplane",
+        "airplane",
+        "aircraft",
+        "pilot",
+    ),
+    "worm's-eye": ("worm", "worms", "earthworm", "ant", "ants", "bug", "bugs", "beetle", "insect", "mole", "snail", "slug"),
+    "low angle": ("frog", "frogs", "toad", "mouse", "rat", "rabbit", "dog", "cat", "pet"),
 }
+# Nouns naming a view after its creature ("a bird perspective", "the frog's view", "ant POV").
+EYE_VIEW_NOUNS = ("view", "perspective", "angle", "shot", "pov", "point of view", "vantage", "vantage point", "viewpoint")
 
 # Parts of the catalog's kinds of things (capframe.synth.objects builds each kind from them), by
 # kind: a camera level with one (or at its height) is level with the subject ("lens level with its
@@ -849,6 +884,67 @@ HEIGHT_ANCHORS = {
         "baseboard",
     ),
 }
+# Words saying the camera is at a height, as "level with" does ("even with its head", "flush with
+# the seat", "on a par with its roof"); "in line with" is left out: it also aligns things in the frame.
+LEVEL_WITH = (
+    "level with",
+    "level to",
+    "even with",
+    "flush with",
+    "on a level with",
+    "on level with",
+    "on a par with",
+    "on par with",
+)
+# Small angles said without a number ("a few degrees above", "a couple of degrees down"): the
+# slight height classes, as "a bit" is. Plain words; the parser normalises them as it does text.
+FEW_DEGREES = (
+    "a few degrees",
+    "few degrees",
+    "a couple of degrees",
+    "a couple degrees",
+    "couple of degrees",
+    "couple degrees",
+    "a degree or two",
+    "one or two degrees",
+    "two or three degrees",
+    "a handful of degrees",
+    "several degrees",
+    "a few degrees or so",
+)
+# Places a camera looks down from, higher than anything a scene's subject stands on ("from a
+# first-floor window", "from upstairs", "off the rooftop", "from a crane"): a high angle. Plain
+# words; the parser normalises them ("2nd floor" is "2 nd floor").
+HIGH_PLACES = (
+    "first floor",
+    "second floor",
+    "third floor",
+    "top floor",
+    "upper floor",
+    "upper storey",
+    "first storey",
+    "second storey",
+    "1st floor",
+    "2nd floor",
+    "3rd floor",
+    "upstairs",
+    "rooftop",
+    "roof top",
+    "mezzanine",
+    "crane",
+    "jib",
+    "cherry picker",
+    "scaffolding",
+    "scaffold",
+    "tree house",
+    "treehouse",
+)
+# What such a place is looked out of ("a first-floor window", "the upstairs landing").
+HIGH_PLACE_OPENINGS = ("window", "windows", "balcony", "landing", "level", "railing")
+# Amounts of height said as a size ("from a fair height", "at a good elevation"): a high angle.
+HEIGHT_AMOUNTS = ("fair", "good", "decent", "great", "considerable", "reasonable", "healthy", "respectable", "goodly")
+
+
 # Single words for a size, said after the subject or alone as a clause ("the cup small, bottom
 # right", "sofa tiny in the upper half", "TV big and square on"), or after a verb of being or
 # seeming ("it must be big", "make the fridge look massive").
