@@ -12,7 +12,7 @@ import pytest
 
 from capframe.errors import InputError
 from capframe.scene import SemanticObject
-from capframe.translate.parse import RuleParser, _required, _required_any, parse_instruction
+from capframe.translate.parse import RuleParser, _pattern_tree, _required, _required_any, parse_instruction
 from capframe.translate.vocabulary import Vocabulary, slip_of, sounds_alike, words
 
 SCENE = Vocabulary.from_semantics(
@@ -430,8 +430,8 @@ def test_the_lens_turned_to_the_floor_is_top_down():
 def test_the_required_strings_prefilter_changes_no_parse():
     """Rules are skipped when the text lacks a string every match holds (_required); the parses
     of every text of this file are the same with the prefilter and without it."""
-    assert _required(re.compile("(?:from )?(?:the )?left side(?: of)?")) == ("left side",)
-    assert _required(re.compile("(?:a|b)cde(?:fgh)?")) == ("cde",)
+    assert _required(_pattern_tree("(?:from )?(?:the )?left side(?: of)?")) == ("left side",)
+    assert _required(_pattern_tree("(?:a|b)cde(?:fgh)?")) == ("cde",)
     texts = re.findall(r'\(\s*"([^"]+)"', open(__file__).read())
     fast = RuleParser()
     slow = RuleParser()
@@ -766,12 +766,12 @@ def test_a_slight_side_without_a_move_or_round_stays_a_region():
 
 
 def test_required_any_groups_every_match_holds_one_of():
-    assert _required_any(re.compile("(?:a |an )?(?:tight|close|big)(?: shot)?")) == (("tight", "close", "big"),)
+    assert _required_any(_pattern_tree("(?:a |an )?(?:tight|close|big)(?: shot)?")) == (("tight", "close", "big"),)
     # An alternative inside an optional part, or one with a branch holding no literal, gives none.
-    assert _required_any(re.compile("(?:from (?:abc|def) )?xyz")) == ()
-    assert _required_any(re.compile("(?:abcd|xy)")) == ()
+    assert _required_any(_pattern_tree("(?:from (?:abc|def) )?xyz")) == ()
+    assert _required_any(_pattern_tree("(?:abcd|xy)")) == ()
     # Nested: each branch's own longest literal.
-    assert _required_any(re.compile("(?:xyz(?:abc|def)|ghi)")) == (("xyz", "ghi"),)
+    assert _required_any(_pattern_tree("(?:xyz(?:abc|def)|ghi)")) == (("xyz", "ghi"),)
 
 
 MORE_PROBES = [

@@ -19,9 +19,9 @@ Factory = Callable[[BackendContext], Any]
 
 
 def _rules(context: BackendContext):
-    from ..translate.parse import RuleParser
+    from ..translate.parse import shared_parser
 
-    return RuleParser()
+    return shared_parser()
 
 
 def _oracle(kind: str) -> Factory:

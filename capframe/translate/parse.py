@@ -2333,8 +2333,15 @@ class _Rule:
     needs_any: tuple[tuple[str, ...], ...] = ()
 
 
-def _required(pattern: re.Pattern) -> tuple[str, ...]:
-    """Literal strings of 3 characters or more that every match of ``pattern`` contains: runs of
+def _pattern_tree(pattern: str):
+    """The parse tree of a regular expression (``re``'s own parser), which :func:`_required` and
+    :func:`_required_any` walk: parsed once per rule, as it is the slow part of building them."""
+    return _re_parser.parse(pattern)
+
+
+def _required(tree) -> tuple[str, ...]:
+    """Literal strings of 3 characters or more that every match of the pattern whose parse
+    ``tree`` (:func:`_pattern_tree`) is given contains: runs of
     literal characters outside optional parts, alternatives and lookarounds (a mandatory group or
     a repeat of one or more counts as its contents)."""
     out: list[str] = []
@@ -2353,13 +2360,13 @@ def _required(pattern: re.Pattern) -> tuple[str, ...]:
                 walk(arg[2])
         out.append("".join(run))
 
-    walk(_re_parser.parse(pattern.pattern))
+    walk(tree)
     return tuple(dict.fromkeys(r for r in out if len(r) >= 3))
 
 
-def _required_any(pattern: re.Pattern) -> tuple[tuple[str, ...], ...]:
-    """Groups of literal strings (3 characters or more) of which every match of ``pattern``
-    contains at least one: for each mandatory choice between alternatives ("(tight|close|big)"),
+def _required_any(tree) -> tuple[tuple[str, ...], ...]:
+    """Groups of literal strings (3 characters or more) of which every match of the pattern whose
+    parse ``tree`` is given contains at least one: for each mandatory choice between alternatives ("(tight|close|big)"),
     one string each alternative must hold (its longest literal run, or the strings of its own
     first such group); a choice with an alternative holding none gives no group."""
     groups: list[tuple[str, ...]] = []
@@ -2396,7 +2403,7 @@ def _required_any(pattern: re.Pattern) -> tuple[tuple[str, ...], ...]:
             return [max(singles, key=len)]
         return list(min(found, key=len)) if found else []
 
-    witnesses(_re_parser.parse(pattern.pattern), True)
+    witnesses(tree, True)
     # A string holding another of its group adds nothing ("a little bit" holds "bit"): the
     # shortest ones are enough and quicker to look for.
     minimal = (tuple(w for w in g if not any(o != w and o in w for o in g)) for g in groups)
@@ -2608,10 +2615,10 @@ class RuleParser:
     def __init__(self):
         rows = _templates()
         compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
-        self.rules = [
-            _Rule(field, value, pattern, weak, _required(pattern), _required_any(pattern))
-            for field, value, pattern, weak in compiled
-        ]
+        self.rules = []
+        for field, value, pattern, weak in compiled:
+            tree = _pattern_tree(pattern.pattern)
+            self.rules.append(_Rule(field, value, pattern, weak, _required(tree), _required_any(tree)))
         self.lexicon = _lexicon(rows)
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
@@ -3259,9 +3266,15 @@ def _example(vocabulary: Vocabulary) -> str:
 _DEFAULT: RuleParser | None = None
 
 
-def parse_instruction(text: str, vocabulary: Vocabulary) -> ParsedInstruction:
-    """Parse ``text`` with a shared :class:`RuleParser` (its tables are compiled once)."""
+def shared_parser() -> RuleParser:
+    """The process's one :class:`RuleParser`: its tables are compiled once (about half a second),
+    not per instruction (it holds no state between parses)."""
     global _DEFAULT
     if _DEFAULT is None:
         _DEFAULT = RuleParser()
-    return _DEFAULT.parse(text, vocabulary)
+    return _DEFAULT
+
+
+def parse_instruction(text: str, vocabulary: Vocabulary) -> ParsedInstruction:
+    """Parse ``text`` with the :func:`shared_parser`."""
+    return shared_parser().parse(text, vocabulary)
