@@ -1,6 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout6`` and the blind ``heldout7``, ``heldout8``, ``heldout9`` and
-``heldout10``, issue #15).
+sets ``heldout``, ``heldout2`` ... ``heldout9``, development sets now, and the blind ``heldout10``,
+issue #15).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
 folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene::
