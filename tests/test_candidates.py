@@ -247,10 +247,14 @@ def test_report_order_puts_a_free_camera_that_shows_the_subject_first():
     assert report_order([report(), hidden, low]) == [0, 1, 2]
 
 
-def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer():
+@pytest.mark.parametrize("scan_turned", [False, True])
+def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer(scan_turned):
     """A ball before a wall: Refine ended behind the wall (free space, the ball hidden by the
     wall) from a start in front that shows it; the start, unrefined, is returned first and its
-    report says the ball is seen; the refined pose follows."""
+    report says the ball is seen; the refined pose follows. When Refine's yaw scan turned the
+    start behind the wall before its first step (so the trajectory starts there), the answer is
+    still the start camera itself, with the loss measured at it before the scan: reporting on one
+    pose while writing another claimed a hidden subject as seen."""
     gaussians, index, up = walled_scene()
     centroid = gaussians.means[:400].double().mean(0).numpy()
     labels = labels_from_constraints(
@@ -260,52 +264,27 @@ def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer():
     behind = make_camera(eye=(0.0, 4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
     occupancy = build_occupancy(gaussians, up, [front])
     assert float(occupancy.clearance(torch.as_tensor(behind.center))) > 0
-    trajectory = np.stack([front.T_cw, behind.T_cw])
+    first = behind if scan_turned else front
+    at_start = {"start_loss": 0.9, "start_terms": {"size": 0.45}} if scan_turned else {}
     result = RefineResult(
-        behind.T_cw, 1, "max_iterations", {}, trajectory, np.array([1.0, 0.1]), {"size": np.array([0.7, 0.0])}, 0.0
+        behind.T_cw,
+        1,
+        "max_iterations",
+        {},
+        np.stack([first.T_cw, behind.T_cw]),
+        np.array([1.0, 0.1]),
+        {"size": np.array([0.7, 0.0])},
+        0.0,
+        **at_start,
     )
     scene = SceneDir(Path("."), gaussians, [front], None, SceneMeta(up), None)
     parsed = parse_instruction("the ball, medium shot", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)]))
     answer, reports = closest_answer(scene, labels, parsed, Refined([(front, result)]), occupancy)
     assert [(r.iterations, r.stop_reason) for _, r in answer.runs] == [(0, "unrefined"), (1, "max_iterations")]
     np.testing.assert_array_equal(answer.cameras[0].T_cw, front.T_cw)
-    assert answer.runs[0][1].terms == {"size": 0.7} and list(answer.runs[0][1].losses) == [1.0]
-    assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
-
-
-def test_an_unrefined_start_is_the_start_camera_even_when_the_yaw_scan_turned_it():
-    """Refine's yaw scan turned the start (in front of the wall, the ball seen) to behind the
-    wall before its first step, so the trajectory starts there. The unrefined answer is the start
-    camera itself, with the loss measured at it, and its report (the ball seen) is of that very
-    camera: reporting on one pose while writing another claimed a hidden subject as seen."""
-    gaussians, index, up = walled_scene()
-    centroid = gaussians.means[:400].double().mean(0).numpy()
-    labels = labels_from_constraints(
-        Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
-    )
-    front = make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    behind = make_camera(eye=(0.0, 4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    occupancy = build_occupancy(gaussians, up, [front])
-    trajectory = np.stack([behind.T_cw, behind.T_cw])  # the scan turned the start behind the wall
-    result = RefineResult(
-        behind.T_cw,
-        1,
-        "max_iterations",
-        {},
-        trajectory,
-        np.array([0.2, 0.1]),
-        {"size": np.array([0.1, 0.0])},
-        0.0,
-        start_loss=0.9,
-        start_terms={"size": 0.45},
-    )
-    scene = SceneDir(Path("."), gaussians, [front], None, SceneMeta(up), None)
-    parsed = parse_instruction("the ball, medium shot", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)]))
-    answer, reports = closest_answer(scene, labels, parsed, Refined([(front, result)]), occupancy)
-    assert [r.stop_reason for _, r in answer.runs] == ["unrefined", "max_iterations"]
-    np.testing.assert_array_equal(answer.cameras[0].T_cw, front.T_cw)
     np.testing.assert_array_equal(answer.runs[0][1].trajectory, front.T_cw[None])
-    assert answer.runs[0][1].terms == {"size": 0.45} and list(answer.runs[0][1].losses) == [0.9]
+    loss, terms = (0.9, {"size": 0.45}) if scan_turned else (1.0, {"size": 0.7})
+    assert answer.runs[0][1].terms == terms and list(answer.runs[0][1].losses) == [loss]
     assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
 
 

@@ -6,45 +6,11 @@ make a height stays reported as not understood."""
 from __future__ import annotations
 
 import pytest
+from test_parse_generalise import BEAR, BENCH, CAR, MUG, SCENE, SOFA, TV, one, read, rows
 
 from capframe.constraints import ELEVATIONS
 from capframe.errors import InputError
-from capframe.scene import SemanticObject
 from capframe.translate.parse import parse_instruction
-from capframe.translate.vocabulary import Vocabulary
-
-BEAR, MUG, CAR, BENCH, SOFA, TV = "teddy bear", "mug", "toy car", "bench", "sofa", "television"
-SCENE = Vocabulary.from_semantics(
-    [SemanticObject(k, name, [], False) for k, name in enumerate((BEAR, MUG, CAR, BENCH, SOFA, TV))]
-)
-
-
-def read(text: str) -> dict:
-    """The parse in :data:`SCENE` as plain values: subjects (name, region, shot, view), elevation,
-    degrees, roll and the words not understood."""
-    p = parse_instruction(text, SCENE)
-    return {
-        "subjects": [(s.name, s.region, s.shot, s.view) for s in p.subjects],
-        "elevation": p.elevation,
-        "elevation_deg": p.elevation_deg,
-        "roll_deg": p.roll_deg,
-        "not_understood": p.not_understood(),
-    }
-
-
-def one(name: str, region=None, shot=None, view=None, elevation=None, elevation_deg=None, roll_deg=None) -> dict:
-    """What :func:`read` gives for one subject, every word understood."""
-    return {
-        "subjects": [(name, region, shot, view)],
-        "elevation": elevation,
-        "elevation_deg": elevation_deg,
-        "roll_deg": roll_deg,
-        "not_understood": [],
-    }
-
-
-def rows(table: list[tuple[str, dict]]) -> list:
-    return [pytest.param(text, want, id=text) for text, want in table]
 
 
 def height(text: str) -> tuple[str | None, float | None]:
