@@ -60,6 +60,19 @@ COMPASS = [
 ]
 
 
+PLACED = [
+    # Areas said film-style, noun-first, with the frame's possessive, or after a placing verb.
+    ("the mug screen right", one(MUG, region="right")),
+    ("bench, left of screen", one(BENCH, region="left")),
+    ("the teddy in the image's top-left", one(BEAR, region="upper left")),
+    ("toy car in the corner bottom right", one(CAR, region="lower right")),
+    ("the sofa tucked bottom-left", one(SOFA, region="lower left")),
+    ("TV parked upper right of the frame", one(TV, region="upper right")),
+    ("keep the mug central", one(MUG, region="center")),
+    ("the bench, dead central", one(BENCH, region="center")),
+    ("the mug at the foot of the picture", one(MUG, region="bottom")),
+]
+
 LEVEL = [
     # A level horizon said as a builder would.
     ("the bench, horizon plumb", one(BENCH, roll_deg=0.0)),
@@ -76,7 +89,7 @@ SHARES = [
 ]
 
 
-@pytest.mark.parametrize("text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + COMPASS + LEVEL + SHARES))
+@pytest.mark.parametrize("text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + COMPASS + PLACED + LEVEL + SHARES))
 def test_sizes_and_regions_in_open_wording(text, want):
     assert read(text) == want
 

@@ -501,6 +501,8 @@ SHARE_PHRASES = [
 REGION_PREPOSITIONS = "(on|in|at|to|near|towards|within|into|inside|along|across)"
 # What may lead into a region: a placing verb or a direction ("tucked into the top-left corner",
 # "up in the top half").
+# Verbs of placing a subject in the frame, before an area said without a preposition.
+PLACING = "(tucked|placed|put|positioned|parked|set|kept|nudged|pushed|shoved|squeezed|sat|sitting|framed)"
 REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
@@ -561,26 +563,31 @@ REGION_AREAS = {
         "bottom center",
         "bottom middle",
         "lower center",
+        "foot",
     ],
     "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
     "center third": ["middle third", "central third", "center third", "middle vertical third"],
     "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
     "upper left": [
+        "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "top left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left top corner",
     ],
     "upper right": [
+        "corner (top|upper) right",
         "upper right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "top right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right top corner",
     ],
     "lower left": [
+        "corner (bottom|lower) left",
         "lower left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "bottom left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "left bottom corner",
     ],
     "lower right": [
+        "corner (bottom|lower) right",
         "lower right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "bottom right( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
         "right bottom corner",
@@ -626,9 +633,13 @@ OFF_CENTER = [
     "(({WEAK}|just|{VERY}) )?off (the )?(center|middle) (to|towards) the {TOWARD}( of (the )?{FRAME})?",
 ]
 REGION_PHRASES = {
-    "left": ["(on |at |in )?(the )?{FRAME} left", "left of (the )?{FRAME}"],
-    "right": ["(on |at |in )?(the )?{FRAME} right", "right of (the )?{FRAME}"],
+    # "Screen left" is film language for frame left.
+    "left": ["(on |at |in )?(the )?({FRAME}|screen) left", "left of (the )?({FRAME}|screen)"],
+    "right": ["(on |at |in )?(the )?({FRAME}|screen) right", "right of (the )?({FRAME}|screen)"],
     "center": [
+        # Kept central ("keep the mug central", "the bench, dead central").
+        "(keep|keeping|kept|placed|positioned|sitting) (it |{obj} )?((dead|right|nicely) )?central(ly)?",
+        "{CLAUSE}((dead|right) )?central(?= ([,.;!]|$))",
         "centered( in (the )?{FRAME})?",
         "centrally( placed| positioned)?( in (the )?{FRAME})?",
         "center {obj}( in (the )?{FRAME})?",
@@ -2461,7 +2472,12 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # Right after its subject, an area that cannot be a view side ("bench left third, tree
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
+        # An area of the frame's, said with its possessive ("in the image's top-left").
+        rows.append(("region", region, f"{REGION_PREPOSITIONS} the {{FRAME}} 's {_alternatives(areas)}", False))
         if named:
+            # After a verb of placing, a named area needs no preposition ("tucked bottom-left").
+            template = f"{PLACING} (the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
+            rows.append(("region", region, template, False))
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
             # ... or alone as a clause ("bench, left third, from low down").
