@@ -60,6 +60,19 @@ COMPASS = [
 ]
 
 
+SIZES_MORE = [
+    # More size wordings probed on phrasing of no suite.
+    ("a snug framing of the mug", one(MUG, shot="close-up")),
+    ("zoom right into the bench", one(BENCH, shot="close-up")),
+    ("the teddy up close and personal", one(BEAR, shot="close-up")),
+    ("the sofa covering most of the picture", one(SOFA, shot="close-up")),
+    ("the bench, not cut off anywhere", one(BENCH, shot="medium")),
+    ("the TV with nothing cropped", one(TV, shot="medium")),
+    ("zoom out a lot on the mug", one(MUG, shot="wide")),
+    ("the toy car, leave loads of space around it", one(CAR, shot="wide")),
+    ("the mug should be minuscule", one(MUG, shot="wide")),
+]
+
 PLACED = [
     # Areas said film-style, noun-first, with the frame's possessive, or after a placing verb.
     ("the mug screen right", one(MUG, region="right")),
@@ -89,7 +102,9 @@ SHARES = [
 ]
 
 
-@pytest.mark.parametrize("text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + COMPASS + PLACED + LEVEL + SHARES))
+@pytest.mark.parametrize(
+    "text, want", rows(TEMPERED + GRADED + CRAMMED + EVERY_PART + SIZES_MORE + COMPASS + PLACED + LEVEL + SHARES)
+)
 def test_sizes_and_regions_in_open_wording(text, want):
     assert read(text) == want
 

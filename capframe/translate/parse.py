@@ -280,7 +280,7 @@ SHOT_TERMS = {
     "wide": list(SIZE_IDIOMS["wide"]),
 }
 SHOT_ADJECTIVES = {
-    "close-up": ["tight", "close", "detail", "macro", "extreme close", "very close"],
+    "close-up": ["tight", "close", "detail", "macro", "extreme close", "very close", "snug"],
     "medium": [
         "medium",
         "mid",
@@ -361,10 +361,14 @@ SHOT_CLAUSES = {
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go"
         "|it ll go|it will get|it ll get|you can make it)( in (the )?{FRAME})?",
         "(as )?(big|large) as the {FRAME} (allows|permits|will allow|lets you)",
-        "(taking up|takes up|take up|occupying|occupies|occupy) (most of |all of )?the (whole |entire )?{FRAME}",
+        "(taking up|takes up|take up|occupying|occupies|occupy|covering|covers|cover) (most of |all of )?"
+        "the (whole |entire )?{FRAME}",
         "(dominating|dominates|dominate|dominated|dominant in) the ({FRAME}|composition)",
         "{obj} (dominates|dominating|dominant)(?= ([,.;!]|$))",
-        "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?",
+        "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?( (a lot|lots|loads))?",
+        "zoom(ed|ing)? (way |all the way |right |well )?into {obj}",
+        # The idiom ("up close and personal").
+        "(up )?close and personal",
         # Right up to it ("get right up to the mug").
         "(get|getting|go|going|come|coming|move|moving|step|stepping|walk|walking) (right |really )?up "
         "(to|close to|next to) {obj}",
@@ -415,6 +419,8 @@ SHOT_CLAUSES = {
         "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
         # Nothing of it cropped ("don't crop it", "do not cut it off").
         "(don t|do not|dont|never) (crop|cut off|cut|chop)( {obj}| anything| any of {obj})?( off)?",
+        # Nothing of it cut by the frame ("not cut off anywhere", "nothing cropped").
+        "(not|nothing|no part|none of it) (cut off|cropped|clipped|chopped off|cut)( anywhere| at all| by the {FRAME})?",
         # All of it seen ("fully visible", "completely in frame").
         "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
         # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
@@ -457,12 +463,13 @@ SHOT_CLAUSES = {
         "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
         "( (around|round|about) {obj})?",
         # Room left around it, of whatever kind ("loads of room", "lots of table around it").
-        "(with )?{PLENTY} ([a-z]+ )?(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
+        "(with |leave |leaving |give it |giving it )?{PLENTY} ([a-z]+ )?"
+        "(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
         "( (around|round|about) {obj})?",
         "(with )?{PLENTY} [a-z]+ (around|round|about) {obj}",
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
-        "zoom(ed|ing)? (way |all the way |well )?out( (from|on) {obj})?",
+        "zoom(ed|ing)? (way |all the way |well )?out( (a lot|lots|loads))?( (from|on) {obj})?",
         # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
         "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"
         "(?= ([,.;!]|$|and |with |from |at ))",

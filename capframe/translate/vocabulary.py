@@ -965,7 +965,7 @@ SIZE_WORDS = {
         "bigger",
         "larger",
     ),
-    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider"),
+    "wide": ("small", "tiny", "little", "wee", "distant", "far", "wide", "smaller", "wider", "minuscule", "teeny", "diminutive"),
 }
 # Size idioms: verbs of moving in or back, and phrases for the whole subject with little room.
 SIZE_IDIOMS = {
