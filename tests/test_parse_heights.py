@@ -319,3 +319,21 @@ def test_a_look_down_yields_to_the_height_named_with_it():
     assert height("a drone shot, looking down onto the mug's rim") == ("bird's-eye", None)
     with pytest.raises(InputError, match="conflicting elevations"):
         parse_instruction("the mug looking down at it from the floor", SCENE)
+
+
+@pytest.mark.parametrize(
+    "text, named",
+    [
+        ("a downward shot of the mug", "high angle"),
+        ("the bench, downward angle", "high angle"),
+        ("a downwards perspective on the sofa", "high angle"),
+        ("an upward shot of the teddy", "low angle"),
+        ("the toy car, upward angle", "low angle"),
+    ],
+)
+def test_a_shot_named_by_its_direction_is_that_angle(text, named):
+    """ "A downward (upward) shot" looks down (up) at the subject; "a top-down shot" stays a plan
+    view and "a close up shot" a size, not these."""
+    assert height(text) == (named, None)
+    assert read("a top-down shot of the mug")["elevation"] == "top-down"
+    assert read("a close up shot of the mug")["elevation"] is None

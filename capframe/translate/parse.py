@@ -1305,6 +1305,9 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
         "(from |in |with )?(a |an )?{VERY} high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
+        # A shot named by its direction ("a downward shot": "downward" reads as "down").
+        # An article or a clause's start before it: "top down shot" is a plan view, not this.
+        "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )down (shot|angle|view|perspective|camera angle)( (of|on|onto) {obj})?",
         "with the camera (well|high|far) above {obj}",
         "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
         "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
@@ -1355,6 +1358,8 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(from |in |with )?(a |an )?{VERY} low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
+        # An article or a clause's start before it: "a close up shot" is a size, not this.
+        "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )up (shot|angle|view|perspective|camera angle)( (of|at|on) {obj})?",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
