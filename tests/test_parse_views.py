@@ -272,3 +272,15 @@ def test_a_slip_near_a_name_of_the_scene_is_no_view_word():
     """ "seat" (an armchair's alias word) is one letter from "reat" as "rear" is: not guessed."""
     scene = Vocabulary.from_semantics([SemanticObject(0, "mug", [], False), SemanticObject(1, "armchair", ["seat"], False)])
     assert parse_instruction("the mug from the reat", scene).subjects[0].view is None
+
+
+@pytest.mark.parametrize(
+    "text, side",
+    [
+        ("the teddy, left side facing us", "left"),
+        ("armchair; back facing the camera", "back"),
+        ("sofa, right side to the lens", "right"),
+    ],
+)
+def test_a_side_turned_to_the_camera_needs_no_article_at_a_clause_start(text, side):
+    assert view_of(text) == side

@@ -767,7 +767,9 @@ VIEW_FRAMES = [
     CAMERA + " {MOVE} (a?round |over )?(to|towards) (the|{P}) {SIDE}{PART}( of {obj})?",
     # Off a side of it ("camera off its left-hand flank", "front three-quarter off its right side").
     "(" + CAMERA + " )?({EXACT} )?off ({P} {SIDE}{PART}|the {SIDE}{PART} of {obj})",
-    "(with )?(the|{P}) {SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to) (the (camera|viewer|lens)|us|me)",
+    # The article may be dropped at a clause's start ("teddy, left side facing us").
+    "(with )?((the|{P}) |{CLAUSE}){SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to)"
+    " (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
     # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
