@@ -288,22 +288,23 @@ def test_when_every_refined_pose_hides_the_subject_its_start_is_the_answer(scan_
     assert shows_subjects(reports[0]) and not shows_subjects(reports[1])
 
 
-def test_a_start_refined_without_its_scan_descends_from_where_it_is():
-    """``scan=False`` (a closed-form start) keeps the given pose as the trajectory's first, where
-    the yaw scan turns a start whose loss is lower elsewhere on the orbit; the scan records the
-    loss at the given pose (``start_loss``), the same as the unscanned run's first evaluation."""
+def test_refine_records_the_loss_at_the_given_pose_before_its_yaw_scan():
+    """``start_loss`` is the objective at the camera Refine was given, though the yaw scan turned
+    it (a start whose loss is lower elsewhere on the orbit): a run without the scan, which starts
+    at the given pose, measures the same loss there."""
     gaussians, index, up = walled_scene()
     centroid = gaussians.means[:400].double().mean(0).numpy()
     labels = labels_from_constraints(
         Constraints(subjects=[SubjectConstraint("ball", shot="medium")]), {"ball": (index, centroid, None)}, up
     )
     side = make_camera(eye=(3.0, -1.0, 1.0), target=(0.5, 0.5, 0.4), up=(0.0, 0.0, -1.0))
-    config = RefineConfig(iterations=0, occlusion_iterations=0)
-    scanned = refine_pose(gaussians, side, labels, 4.0, config)
-    kept = refine_pose(gaussians, side, labels, 4.0, config, scan=False)
+    scanned = refine_pose(gaussians, side, labels, 4.0, RefineConfig(iterations=0, occlusion_iterations=0))
+    still = refine_pose(gaussians, side, labels, 4.0, RefineConfig(iterations=0, occlusion_iterations=0, yaw_scan=1))
     assert not np.allclose(scanned.trajectory[0], side.T_cw)
-    np.testing.assert_array_equal(kept.trajectory[0], side.T_cw)
-    assert kept.start_loss is None and scanned.start_loss == pytest.approx(float(kept.losses[0]), rel=1e-9)
+    np.testing.assert_array_equal(still.trajectory[0], side.T_cw)
+    assert still.start_loss is None
+    assert scanned.start_loss == pytest.approx(float(still.losses[0]), rel=1e-9)
+    assert scanned.start_terms == pytest.approx(still.terms, rel=1e-9)
 
 
 def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_one():

@@ -412,12 +412,8 @@ def refine(
         clock.done("solve", f"{len(kept)} of {len(solved)} closed-form cameras free and unoccluded")
         starts = [camera for pair in itertools.zip_longest(kept, starts) for camera in pair if camera is not None]
     runs: list[tuple[Camera, RefineResult]] = []
-    solved_starts = {id(c.camera) for c in solved}
     for start in starts[: max(options.candidates, options.attempts)]:
-        # A closed-form start already sits at the asked angles, free and unoccluded: the yaw scan
-        # (blind to occlusion) would only turn it away.
-        scan = id(start) not in solved_starts
-        result = refine_pose(scene.gaussians, start, labels, scale, options.refine, occupancy=occupancy, scan=scan)
+        result = refine_pose(scene.gaussians, start, labels, scale, options.refine, occupancy=occupancy)
         runs.append((start, result))
         clock.done(
             "refine", f"from {start.name}: {result.iterations} iterations, loss {result.losses.min():.4g} ({result.stop_reason})"

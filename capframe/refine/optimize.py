@@ -458,7 +458,6 @@ def refine_pose(
     config: RefineConfig | None = None,
     dtype: torch.dtype = torch.float32,
     occupancy: Occupancy | None = None,
-    scan: bool = True,
 ) -> RefineResult:
     """Optimise ``camera``'s pose so the subjects satisfy their pseudo labels.
 
@@ -468,14 +467,12 @@ def refine_pose(
         labels: pseudo labels from Translate.
         scale: the scene scale (translation steps are relative to it).
         occupancy: the scene's free space; with it the camera is kept out of geometry.
-        scan: start with a yaw scan of ``config.yaw_scan`` rotations (the occlusion phase scans
-            regardless).
     """
     config = config or RefineConfig()
     threads = torch.get_num_threads()
     torch.set_num_threads(config.threads)
     try:
-        return _refine(scene, camera, labels, scale, config, dtype, occupancy, scan)
+        return _refine(scene, camera, labels, scale, config, dtype, occupancy)
     finally:
         torch.set_num_threads(threads)
 
@@ -488,12 +485,11 @@ def _refine(
     config: RefineConfig,
     dtype: torch.dtype,
     occupancy: Occupancy | None,
-    scan: bool,
 ) -> RefineResult:
     start = time.perf_counter()
     objective = _Objective(scene, camera.with_long_side(config.long_side), labels, config, dtype, occupancy)
     run = PoseDescent(objective, scale, config)
-    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=scan)
+    T = run.descend(torch.as_tensor(camera.T_cw, dtype=torch.float64), config.iterations, scan=True)
     # Other objects may hide a subject that satisfies every clause: only then pay for full-scene
     # renders, continuing from the best pose with the occlusion term on.
     remaining = min(config.occlusion_iterations, config.iterations - run.steps)
