@@ -434,9 +434,9 @@ def _wall_sides(shape: tuple[int, int], hits: np.ndarray) -> np.ndarray:
         near = np.linalg.norm(along[:, None] - hits[None], axis=2).min(1) <= WALL_EDGE_COLUMNS
         if near.mean() < 0.5:
             continue  # an open side
-        edge = b - a  # counter-clockwise: the room lies on its left
-        # Inside the inner edge of the wall's outermost column (half a column in from its centre).
-        sides &= edge[0] * (gy - a[1]) - edge[1] * (gx - a[0]) >= 0.5 * np.linalg.norm(edge)
+        # Counter-clockwise, the room lies on the edge's left; inside the inner edge of the
+        # wall's outermost column (half a column in from its centre).
+        sides &= _turn(a, b, (gx, gy)) >= 0.5 * np.linalg.norm(b - a)
     return sides
 
 
