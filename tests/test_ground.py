@@ -11,7 +11,7 @@ from _synth_helpers import build_scene
 from capframe.cli import main
 from capframe.evaluate.check import GroundTruthChecker, read_result_camera
 from capframe.pipeline import GroundOptions, ground
-from capframe.pipeline.stages import own_report
+from capframe.pipeline.stages import own_checker, own_report
 from capframe.refine.optimize import RefineConfig
 from capframe.scene import SceneMeta, load_scene_dir, read_camera_json
 from capframe.scene.directory import write_scene_meta
@@ -86,7 +86,7 @@ def test_own_report_matches_ground_truth_checker_with_label_subjects(scene_dir, 
 
     parsed = ParsedInstruction.from_dict(result["instruction"])
     camera, _ = read_result_camera(out / "result.json")
-    own = own_report(scene, labels, parsed, camera)
+    own = own_report(own_checker(scene, labels), parsed, camera)
     truth = GroundTruthChecker(scene_dir).check(camera, parsed.constraints())
     for a, b in zip(own.rows, truth.rows):
         assert (a.constraint, a.subject) == (b.constraint, b.subject)

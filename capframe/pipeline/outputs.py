@@ -45,7 +45,7 @@ from ..scene._io import atomic_directory, write_json
 from ..scene.occupancy import Occupancy
 from ..translate.instruction import ParsedInstruction
 from ..translate.labels import PseudoLabels, write_pseudo_labels
-from .stages import GroundOptions, Refined, StageClock, own_report
+from .stages import GroundOptions, Refined, StageClock, own_checker, own_report
 
 
 def write_camera_result(out: Path, camera: Camera, image: torch.Tensor, fields: dict) -> dict:
@@ -195,10 +195,11 @@ def closest_answer(
     showing the subjects at the asked angles may fail fewer clauses than where Refine ended; a
     camera that shows the subject, reported as failing what it fails, is closer to the request
     than one that does not."""
-    reports = [own_report(scene, labels, parsed, c, occupancy) for c in refined.cameras]
+    checker = own_checker(scene, labels, occupancy)
+    reports = [own_report(checker, parsed, c) for c in refined.cameras]
     if not any(r.all_satisfied for r in reports):
         starts = [(start, unrefined(start, result)) for start, result in refined.runs]
-        reports += [own_report(scene, labels, parsed, start, occupancy) for start, _ in starts]
+        reports += [own_report(checker, parsed, start) for start, _ in starts]
         refined = Refined(refined.runs + starts, refined.solved)
     order = report_order(reports)
     return Refined([refined.runs[k] for k in order], refined.solved), [reports[k] for k in order]

@@ -432,11 +432,10 @@ def refine(
     return Refined(distinct, solved)
 
 
-def own_report(
-    scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, camera: Camera, occupancy: Occupancy | None = None
-) -> CheckReport:
-    """The per-clause report of ``camera``, measured with the method's own pseudo labels (what it
-    believes it achieved, not a ground-truth verdict), with its clearance when ``occupancy`` is given."""
+def own_checker(scene: SceneDir, labels: PseudoLabels, occupancy: Occupancy | None = None) -> ConstraintChecker:
+    """The checker of the method's own pseudo labels (what it believes it achieved, not a
+    ground-truth verdict), with a clearance row when ``occupancy`` is given: built once for all
+    the cameras of one instruction."""
     objects, members = {}, {}
     means = scene.gaussians.means.detach().double().numpy()
     for k, s in enumerate(labels.subjects):
@@ -447,7 +446,11 @@ def own_report(
         member = torch.zeros(len(means), dtype=torch.bool)
         member[torch.as_tensor(s.gaussians)] = True
         members[k] = member
-    checker = ConstraintChecker(scene.gaussians, objects, members, labels.up, occupancy=occupancy)
+    return ConstraintChecker(scene.gaussians, objects, members, labels.up, occupancy=occupancy)
+
+
+def own_report(checker: ConstraintChecker, parsed: ParsedInstruction, camera: Camera) -> CheckReport:
+    """The per-clause report of ``camera`` by the method's own ``checker`` (:func:`own_checker`)."""
     report = checker.check(camera, parsed.constraints())
     report.text = parsed.text
     return report
