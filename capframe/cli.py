@@ -933,7 +933,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_baseline, outputs={"output": "folder"})
 
     p = verbs.add_parser("bench", help="print benchmark figures")
-    p.add_argument("what", choices=["render", "refine", "ground", "segment", "models", "mllm", "startup", "colmap", "scale"])
+    p.add_argument(
+        "what", choices=["render", "render-cuda", "refine", "ground", "segment", "models", "mllm", "startup", "colmap", "scale"]
+    )
     p.add_argument(
         "--suite",
         default=None,

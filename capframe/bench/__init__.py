@@ -73,6 +73,16 @@ def run_bench(
         from .render import bench_render
 
         figures = bench_render()
+    elif what == "render-cuda":
+        import importlib.util
+
+        import torch
+
+        if not torch.cuda.is_available() or importlib.util.find_spec("gsplat") is None:
+            raise InputError("bench render-cuda needs a CUDA device and gsplat (pip install -e .[cuda])")
+        from .render import bench_render_cuda
+
+        figures = bench_render_cuda()
     elif what == "refine":
         from ..synth.heldout import has_committed_instructions
         from .refine import bench_refine

@@ -1,6 +1,7 @@
 """Renderer benchmark: forward + backward (w.r.t. the pose) time per iteration of the torch
 reference and the compiled CPU backend side by side, with ns per Gaussian-pixel pair, their
-parity, peak memory, and the pose-gradient error against central finite differences.
+parity, peak memory, and the pose-gradient error against central finite differences;
+``capframe bench render-cuda`` times gsplat against the torch reference on a GPU.
 
 A **Gaussian-pixel pair** is a (Gaussian, pixel) pair that is composited: the pixel centre lies
 inside the Gaussian's cut-offs (3-sigma ellipse, alpha >= 1/255) and compositing has not stopped
@@ -122,16 +123,20 @@ def _loss(out) -> torch.Tensor:
 def time_forward_backward(
     scene: GaussianScene, camera: Camera, iterations: int = 10, warmup: int = 2, backends=BACKENDS
 ) -> dict[str, tuple[float, dict]]:
-    """Per backend: median seconds of one forward + backward w.r.t. the pose, and its stats."""
+    """Per backend: median seconds of one forward + backward w.r.t. the pose, and its stats.
+    On a GPU scene the clock stops after the device has finished (CUDA runs asynchronously)."""
     prepared = prepare(scene)
+    device = scene.means.device
     times: dict[str, list[float]] = {b: [] for b in backends}
     stats: dict[str, dict] = {}
     for i in range(warmup + iterations):
         for backend in backends:
-            T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+            T = torch.as_tensor(camera.T_cw, device=device).clone().requires_grad_()
             start = time.perf_counter()
             out = render(prepared, camera, T_cw=T, backend=backend)
             _loss(out).backward()
+            if device.type == "cuda":
+                torch.cuda.synchronize(device)
             if i >= warmup:
                 times[backend].append(time.perf_counter() - start)
             stats[backend] = out.stats
@@ -240,4 +245,67 @@ def bench_render() -> dict:
         figures[f"{backend}_render_mem_growth_100k_640x480_mb"] = growth
         figures[f"{backend}_pose_grad_rel_err"] = pose_gradient_error(backend)
     figures["load_after"] = os.getloadavg()[0]
+    return figures
+
+
+def gsplat_parity(scene: GaussianScene, camera: Camera) -> dict[str, float]:
+    """gsplat against the torch reference on the GPU, float32: mean and max abs differences of
+    rgb, alpha and depth, and the pose gradients' cosine and relative difference (of
+    :func:`_loss`). A mean, since one rule differs on purpose (the 3-sigma cut,
+    :mod:`capframe.render.torch_backend`), which moves a few edge pixels by up to 1/255."""
+    results = {}
+    prepared = prepare(scene)
+    for backend in ("torch", "gsplat"):
+        T = torch.as_tensor(camera.T_cw, device=scene.means.device).clone().requires_grad_()
+        out = render(prepared, camera, T_cw=T, backend=backend)
+        _loss(out).backward()
+        results[backend] = (out.rgb.detach(), out.alpha.detach(), out.depth.detach(), T.grad.flatten())
+    figures = {}
+    for name, a, b in zip(("rgb", "alpha", "depth"), results["torch"], results["gsplat"]):
+        figures[f"{name}_mean_abs"] = float((a - b).abs().mean())
+        figures[f"{name}_max_abs"] = float((a - b).abs().max())
+    g_torch, g_gsplat = results["torch"][3], results["gsplat"][3]
+    figures["pose_grad_cosine"] = float(torch.nn.functional.cosine_similarity(g_torch, g_gsplat, dim=0))
+    figures["pose_grad_rel"] = float((g_torch - g_gsplat).norm() / g_torch.norm())
+    return figures
+
+
+CUDA_SIZES = ((50_000, (160, 120)), (300_000, (640, 480)), (1_000_000, (1280, 720)))
+
+
+def bench_render_cuda() -> dict:
+    """The figures of ``capframe bench render-cuda`` (CUDA and gsplat): per size, the seconds of
+    one forward + backward to the pose of gsplat and of the torch reference on the GPU, and of
+    the compiled CPU backend in the same run (all CPU threads), each with ns per Gaussian-pixel
+    pair (counted by the compiled backend); gsplat's speed-up over both; parity at 50k.
+    A size or backend that fails records its error instead of stopping the others."""
+    device = torch.device("cuda")
+    figures: dict = {"gpu": torch.cuda.get_device_name(device), "cpu_threads": torch.get_num_threads()}
+    for n, (w, h) in CUDA_SIZES:
+        scene, camera = surface_scene(n), orbit_camera(w, h)
+        label = f"{n // 1000}k_{w}x{h}"
+        on_gpu = scene.to(device)
+        for backend, on, iterations in (("compiled", scene, 3), ("torch", on_gpu, 10), ("gsplat", on_gpu, 10)):
+            key = f"{backend}_{on.means.device.type}_{label}"
+            try:
+                seconds, stats = time_forward_backward(on, camera, iterations=iterations, warmup=2, backends=(backend,))[backend]
+            except Exception as error:  # a failing size is a figure: the others still run
+                figures[f"{key}_error"] = f"{type(error).__name__}: {error}"
+                continue
+            figures[f"{key}_s"] = seconds
+            if backend == "compiled":
+                figures[f"gaussian_pixel_pairs_{label}"] = stats["composited"]
+        pairs, gsplat_s = figures.get(f"gaussian_pixel_pairs_{label}"), figures.get(f"gsplat_cuda_{label}_s")
+        for key in (f"torch_cuda_{label}", f"gsplat_cuda_{label}", f"compiled_cpu_{label}"):
+            if pairs and f"{key}_s" in figures:
+                figures[f"{key}_ns_per_pair"] = figures[f"{key}_s"] / pairs * 1e9
+            if gsplat_s and f"{key}_s" in figures and key != f"gsplat_cuda_{label}":
+                figures[f"gsplat_speedup_over_{key}"] = figures[f"{key}_s"] / gsplat_s
+        if n == 50_000:
+            try:
+                for name, value in gsplat_parity(on_gpu, camera).items():
+                    figures[f"parity_gsplat_torch_{label}_{name}"] = value
+            except Exception as error:
+                figures[f"parity_gsplat_torch_{label}_error"] = f"{type(error).__name__}: {error}"
+    figures["peak_gpu_mem_mb"] = torch.cuda.max_memory_allocated(device) / 1e6
     return figures

@@ -236,7 +236,7 @@ def frame_index(
             factors = gaussians.factors[rows][front].detach().to(torch.float64)
             front = front[may_touch_frame(local[front], factors, K, width, height)]
             kept.append(start + front if pool is None else rows[front])
-        return torch.cat(kept) if kept else torch.zeros(0, dtype=torch.long)
+        return torch.cat(kept) if kept else torch.zeros(0, dtype=torch.long, device=pose.device)
 
 
 def render(

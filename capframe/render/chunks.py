@@ -67,19 +67,21 @@ class ChunkIndex:
         packed = (((scale_class << 16 | key[:, 0]) << 16 | key[:, 1]) << 16) | key[:, 2]
         packed, order = torch.sort(packed, stable=True)
         # Chunk boundaries: where the key changes, and every `chunk` members within a run.
-        change = torch.ones(n, dtype=torch.bool)
+        device = means.device
+        change = torch.ones(n, dtype=torch.bool, device=device)
         change[1:] = packed[1:] != packed[:-1]
-        run_start = torch.cummax(torch.where(change, torch.arange(n), torch.zeros(n, dtype=torch.long)), 0).values
-        boundary = change | ((torch.arange(n) - run_start) % chunk == 0)
-        starts = torch.cat([boundary.nonzero()[:, 0], torch.tensor([n])])
+        position = torch.arange(n, device=device)
+        run_start = torch.cummax(torch.where(change, position, torch.zeros_like(position)), 0).values
+        boundary = change | ((position - run_start) % chunk == 0)
+        starts = torch.cat([boundary.nonzero()[:, 0], position.new_tensor([n])])
         owner = torch.cumsum(boundary.long(), 0) - 1  # chunk of each position
         count = len(starts) - 1
         m = means[order]
-        low = torch.full((count, 3), math.inf, dtype=torch.float64).scatter_reduce(0, owner[:, None].expand(-1, 3), m, "amin")
-        high = torch.full((count, 3), -math.inf, dtype=torch.float64).scatter_reduce(0, owner[:, None].expand(-1, 3), m, "amax")
+        low = m.new_full((count, 3), math.inf).scatter_reduce(0, owner[:, None].expand(-1, 3), m, "amin")
+        high = m.new_full((count, 3), -math.inf).scatter_reduce(0, owner[:, None].expand(-1, 3), m, "amax")
         centres = (low + high) / 2
-        radii = torch.zeros(count, dtype=torch.float64).scatter_reduce(0, owner, (m - centres[owner]).norm(dim=1), "amax")
-        widest = torch.zeros(count, dtype=torch.float64).scatter_reduce(0, owner, spreads[order], "amax")
+        radii = m.new_zeros(count).scatter_reduce(0, owner, (m - centres[owner]).norm(dim=1), "amax")
+        widest = m.new_zeros(count).scatter_reduce(0, owner, spreads[order], "amax")
         return cls(order, starts, centres, radii, widest)
 
     def candidates(self, pose: Tensor, K: Tensor, width: int, height: int, near: float, far: float) -> Tensor:
@@ -103,10 +105,11 @@ class ChunkIndex:
             keep &= (low_side > 0) & (high_side > 0)
         chosen = keep.nonzero()[:, 0]
         if len(chosen) == 0:
-            return torch.zeros(0, dtype=torch.long)
+            return self.order[:0]
         lengths = self.starts[chosen + 1] - self.starts[chosen]
         first = torch.repeat_interleave(self.starts[chosen], lengths)
-        offset = torch.arange(int(lengths.sum())) - torch.repeat_interleave(torch.cumsum(lengths, 0) - lengths, lengths)
+        run_start = torch.repeat_interleave(torch.cumsum(lengths, 0) - lengths, lengths)
+        offset = torch.arange(int(lengths.sum()), device=lengths.device) - run_start
         return self.order[first + offset]
 
 
