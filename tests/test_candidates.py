@@ -31,11 +31,11 @@ from capframe.refine.candidates import (
     SIZE_SLACK,
     _above_floor,
     _floor_elevation,
+    _floor_reach,
     _free_edge,
     _inner_aim_point,
     _margin_azimuths,
     _margin_elevations,
-    _plane_reach,
     _Ray,
     _size_miss,
     _sized_distance,
@@ -543,19 +543,19 @@ def test_the_floor_bounds_a_low_angle_at_the_asked_distance():
     assert _above_floor([-20.0], [-40.0], [None]) == ([-20.0], [-40.0])
 
 
-def test_plane_reach_stops_a_ray_at_the_floor_less_its_margin():
+def test_floor_reach_stops_a_ray_at_the_floor_less_its_margin():
     gaussians, _, up = walled_scene()
     occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))])
     origin = np.array([0.0, -1.0, 0.4])
     for elevation in (-10.0, -45.0, -90.0):
         e = math.radians(elevation)
         direction = np.array([0.0, -math.cos(e), math.sin(e)])
-        reach = _plane_reach(occupancy, _Ray(origin, origin, direction))
+        reach = _floor_reach(occupancy, _Ray(origin, origin, direction))
         end = origin + reach * direction
         assert end[2] - occupancy.floor_height == pytest.approx(occupancy.height_kept(None), abs=1e-12)
-    # Level or rising, with no ceiling: unbounded.
+    # Level or rising: unbounded.
     for direction in ([0.0, -1.0, 0.0], [0.0, -0.6, 0.8]):
-        assert _plane_reach(occupancy, _Ray(origin, origin, np.array(direction))) == math.inf
+        assert _floor_reach(occupancy, _Ray(origin, origin, np.array(direction))) == math.inf
 
 
 def test_a_low_angle_from_a_far_reference_view_finds_the_stretch_above_the_floor():

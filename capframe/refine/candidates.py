@@ -385,7 +385,7 @@ def solve_candidates(
             torch.tensor(up, **f64),
         ).numpy()
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
-        ray = _Ray(origin, centroid, direction, floor_margin, subject_voxels)
+        ray = _Ray(origin, centroid, direction, floor_margin, subject_voxels, float(up @ origin) - height / 2)
         camera, clearance, seen, status = _place(occupancy, sight, ray, along, radius, labels, point, reference)
         camera.name = f"solved-{rank}"
         distance_out = float(np.linalg.norm(camera.center - origin))
@@ -460,13 +460,15 @@ class _Ray:
     """Where :func:`_place` puts a camera: at ``origin + t direction`` (the view centre, (3,),
     and a unit (3,) direction), aimed at ``target`` (the centroid, (3,)), kept ``floor_margin``
     above the floor (None: the occupancy's own margin); ``subject_voxels`` ((X, Y, Z) bool, the
-    subject's own) do not block its line of sight."""
+    subject's own) do not block its line of sight; ``base`` is the height (along the up) of the
+    subject's lowest Gaussian."""
 
     origin: np.ndarray
     target: np.ndarray
     direction: np.ndarray
     floor_margin: float | None = None
     subject_voxels: np.ndarray | None = None
+    base: float = -math.inf
 
 
 def _place(
@@ -481,10 +483,11 @@ def _place(
 ) -> tuple[Camera, float, _Seen, str]:
     """The first camera along ``ray``, at the :data:`SLIDES` shares of ``distance``, that is free
     (it keeps the occupancy's margins, the ray's above the floor: :meth:`Occupancy.slack`) and sees the
-    subject (of the first :data:`RENDERS_PER_RAY` free ones, those whose straight line to the
-    centroid crosses no occupied voxel but the subject's first: a low angle at an object on a
-    table finds free space under the table far out, where the table top hides the object, and
-    above the table only near it), moved once along the ray towards the
+    subject (of the first :data:`RENDERS_PER_RAY` free ones, those below the subject's base whose
+    straight line to the centroid crosses an occupied voxel, the subject's aside, last: a low
+    angle at an object on a table finds free space under the table far out, where the table top
+    hides it, and above the table only near it; nearer is not better elsewhere, between a subject
+    and a wall behind it say), moved once along the ray towards the
     asked size when its render shows the subject at a size the checker does not accept
     (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
     and the camera there is free and sees it too; else the first free one (``occluded`` or ``too
@@ -498,7 +501,7 @@ def _place(
         free = float(occupancy.slack(torch.as_tensor(centre), ray.floor_margin)) >= 0
         return camera, float(occupancy.clearance(torch.as_tensor(centre))), free
 
-    distance = min(distance, _plane_reach(occupancy, ray))
+    distance = min(distance, _floor_reach(occupancy, ray))
     outermost, blocked, free_ones = None, None, []
     for share in SLIDES:
         along = share * distance
@@ -507,10 +510,11 @@ def _place(
         if not free:
             blocked = along
             continue
-        hidden = occupancy.segment_blocked(camera.center, ray.target, ray.subject_voxels) > 0
+        under = float(occupancy.rotation[2] @ camera.center) < ray.base
+        hidden = under and occupancy.segment_blocked(camera.center, ray.target, ray.subject_voxels) > 0
         free_ones.append((hidden, along, camera, clearance, blocked))
     first_free = None
-    # A stable sort: the free positions in the clear first, each group in the slides' order.
+    # A stable sort: the positions seen through the support last, each group in the slides' order.
     for _, along, camera, clearance, blocked in sorted(free_ones, key=lambda position: position[0])[:RENDERS_PER_RAY]:
         seen = sight(camera)
         if sight.sees(seen):
@@ -525,24 +529,18 @@ def _place(
     return first_free or outermost
 
 
-def _plane_reach(occupancy: Occupancy, ray: _Ray) -> float:
-    """How far along ``ray`` from its origin a camera stays above the floor plane and below the
-    ceiling plane, each less the margin a camera keeps from it (inf when the ray meets neither):
-    the slides of :func:`_place` start there, so that a low angle, whose ray meets the ground
-    soon, samples the stretch above it (a distance of 74 at a car on a lawn put its last two
-    slides at 15 and 9, and the free stretch at -9 degrees lay between 10 and 14.5)."""
-    up = occupancy.rotation[2]
-    height, rise = float(up @ ray.origin), float(up @ ray.direction)
-    reach = math.inf
-    if rise < 0 and math.isfinite(occupancy.floor_height):
-        above = height - occupancy.floor_height - occupancy.height_kept(ray.floor_margin)
-        if above > 0:
-            reach = above / -rise
-    if rise > 0 and math.isfinite(occupancy.ceiling_height):
-        below = occupancy.ceiling_height - occupancy.margin - height
-        if below > 0:
-            reach = below / rise
-    return reach
+def _floor_reach(occupancy: Occupancy, ray: _Ray) -> float:
+    """How far along ``ray`` from its origin a camera stays its margin above the floor plane (inf
+    when the ray does not descend to it): the slides of :func:`_place` start there, so that a low
+    angle, whose ray meets the ground soon, samples the stretch above it (a distance of 74 at a
+    car on a lawn put its last two slides at 15 and 9, and the free stretch at -9 degrees lay
+    between 10 and 14.5). Not the ceiling plane: it is inferred from the walls' top, and the
+    first slide at its margin would put the camera against it."""
+    rise = float(occupancy.rotation[2] @ ray.direction)
+    if rise >= 0 or not math.isfinite(occupancy.floor_height):
+        return math.inf
+    above = float(occupancy.rotation[2] @ ray.origin) - occupancy.floor_height - occupancy.height_kept(ray.floor_margin)
+    return above / -rise if above > 0 else math.inf
 
 
 def _accepted_extent(asked: tuple[float, float]) -> tuple[float, float]:
