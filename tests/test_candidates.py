@@ -31,9 +31,12 @@ from capframe.refine.candidates import (
     SIZE_SLACK,
     _above_floor,
     _floor_elevation,
+    _floor_reach,
     _free_edge,
+    _inner_aim_point,
     _margin_azimuths,
     _margin_elevations,
+    _Ray,
     _size_miss,
     _sized_distance,
     aimed_pose,
@@ -538,3 +541,82 @@ def test_the_floor_bounds_a_low_angle_at_the_asked_distance():
     assert _above_floor([-20.0, -30.0], [-40.0], [-13.0]) == ([-20.0, -30.0], [-40.0])
     assert _above_floor([-20.0, -30.0], [-8.0, -40.0], [-7.0, -13.0]) == ([], [-8.0])  # the nearer distance's
     assert _above_floor([-20.0], [-40.0], [None]) == ([-20.0], [-40.0])
+
+
+def test_floor_reach_stops_a_ray_at_the_floor_less_its_margin():
+    gaussians, _, up = walled_scene()
+    occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -4.0, 1.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))])
+    origin = np.array([0.0, -1.0, 0.4])
+    for elevation in (-10.0, -45.0, -90.0):
+        e = math.radians(elevation)
+        direction = np.array([0.0, -math.cos(e), math.sin(e)])
+        reach = _floor_reach(occupancy, _Ray(origin, origin, direction))
+        end = origin + reach * direction
+        assert end[2] - occupancy.floor_height == pytest.approx(occupancy.height_kept(None), abs=1e-12)
+    # Level or rising: unbounded.
+    for direction in ([0.0, -1.0, 0.0], [0.0, -0.6, 0.8]):
+        assert _floor_reach(occupancy, _Ray(origin, origin, np.array(direction))) == math.inf
+
+
+def test_a_low_angle_from_a_far_reference_view_finds_the_stretch_above_the_floor():
+    """The reference view is 40 units out: its distance scales the slides, which all fell under
+    the floor at a low angle before they started where the ray meets the floor plane."""
+    gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=2.9, wall_height=0.2, scale=0.06, opacity=0.9)
+    up = np.array([0.0, 0.0, 1.0])
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -40.0, 2.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    low = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball")], elevation="low angle"), subjects, up)
+    kept = [c for c in solve_candidates(gaussians, low, reference, occupancy) if c.status == "kept"]
+    assert kept and all(c.elevation_deg < 0 for c in kept)
+    assert float(occupancy.clearance(torch.as_tensor(kept[0].camera.center))) >= 0
+
+
+def test_the_inner_aim_point_is_the_region_point_nearest_the_frame_centre():
+    def subject(region):
+        return SubjectLabel("lamp", np.arange(3), np.zeros(3), region=region)
+
+    assert _inner_aim_point(subject((0.04, 0.04, 0.41, 0.41))) == (0.41, 0.41)
+    assert _inner_aim_point(subject((0.59, 0.04, 0.96, 0.96))) == (0.59, 0.5)
+    assert _inner_aim_point(subject((0.3, 0.3, 0.7, 0.7))) is None  # its centre already
+    assert _inner_aim_point(subject(None)) is None
+
+
+def ball_on_table(seed: int) -> GaussianScene:
+    """The ball of :func:`ball_before_wall` (indices 0..399) lifted onto a table top at z = 1
+    (x, y in [-2, 2]) over a floor z = 0 (x, y in [-6, 6]), both of flat Gaussians."""
+    g = torch.Generator().manual_seed(seed)
+    ball = torch.randn(400, 3, generator=g, dtype=torch.float64)
+    ball = ball / ball.norm(dim=1, keepdim=True) * 0.3 + torch.tensor([0.0, 0.0, 1.3], dtype=torch.float64)
+
+    def sheet(half: float, z: float) -> torch.Tensor:
+        s = torch.arange(-half, half + 1e-9, 0.1, dtype=torch.float64)
+        a, b = torch.meshgrid(s, s, indexing="ij")
+        return torch.stack([a.reshape(-1), b.reshape(-1), torch.full((a.numel(),), z, dtype=torch.float64)], 1)
+
+    means = torch.cat([ball, sheet(2.0, 1.0), sheet(6.0, 0.0)])
+    n = len(means)
+    scales = torch.tensor([0.06, 0.06, 0.005]).repeat(n, 1)
+    scales[:400] = 0.06
+    return GaussianScene.from_activated(
+        means.float(),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        scales,
+        torch.full((n,), 0.9),
+        torch.rand(n, 3, generator=g),
+    )
+
+
+def test_a_low_angle_at_a_ball_on_a_table_is_solved_above_the_table_not_under_it():
+    """Far out along a low ray the free space lies under the table top, which hides the ball; the
+    positions whose line of sight is clear (near the ball, above the table) are rendered first."""
+    gaussians = ball_on_table(seed=3)
+    up = np.array([0.0, 0.0, 1.0])
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -12.0, 3.0), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    low = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball")], elevation="low angle"), subjects, up)
+    kept = [c for c in solve_candidates(gaussians, low, reference, occupancy) if c.status == "kept"]
+    assert kept and kept[0].camera.center[2] > 1.0

@@ -227,6 +227,18 @@ def _aim_point(subject: SubjectLabel) -> tuple[float, float]:
     return ((box[0] + box[2]) / 2, (box[1] + box[3]) / 2) if box is not None else (0.5, 0.5)
 
 
+def _inner_aim_point(subject: SubjectLabel) -> tuple[float, float] | None:
+    """The point of the subject's region nearest the frame centre, or None without a region or
+    when that is its centre: a large subject aimed at a corner region's centre overflows the frame
+    (a tall lamp seen from above under a low ceiling), and the checker asks only that its centroid
+    lie in the region."""
+    if subject.region is None:
+        return None
+    x0, y0, x1, y1 = subject.region
+    inner = (min(max(0.5, x0), x1), min(max(0.5, y0), y1))
+    return None if np.allclose(inner, _aim_point(subject)) else inner
+
+
 def _angles_to_try(subject: SubjectLabel, reference_elevation: float) -> tuple[list[float], list[float]]:
     """Azimuths (degrees, about the subject's front) and elevations to place candidates at."""
     view = subject.view
@@ -337,6 +349,7 @@ def solve_candidates(
         distance = max(float(np.linalg.norm(to_reference)), shot_distance(radius, 0.9, reference))
     azimuths, elevations = _angles_to_try(subject, math.degrees(float(reference_elevation)))
     sight = _Sight(gaussians, labels, reference)
+    subject_voxels = occupancy.voxelize(gaussians.subset(torch.as_tensor(subject.gaussians, dtype=torch.long)))
     point = _aim_point(subject)
     # The grid, then (only while no camera is as asked) elevations over an occluder when none is
     # asked (the asked azimuths stay central), then the azimuths in the margin of an asked side,
@@ -349,15 +362,18 @@ def solve_candidates(
         nearest = distance * (subject.box[2] - subject.box[0]) / _accepted_extent(subject.extent)[1]
         bounds = [_floor_elevation(occupancy, origin, d, floor_margin) for d in (distance, nearest)]
         elevations, margin_elevations = _above_floor(elevations, margin_elevations, bounds)
+    inner = _inner_aim_point(subject)
     phases = [
-        [(e, a) for e in elevations for a in azimuths],
-        [(e, a) for e in over for a in azimuths],
-        [(e, a) for e in elevations for a in margin_azimuths],
-        [(e, a) for e in margin_elevations for a in azimuths],
+        [(e, a, point) for e in elevations for a in azimuths],
+        [(e, a, point) for e in over for a in azimuths],
+        [(e, a, point) for e in elevations for a in margin_azimuths],
+        [(e, a, point) for e in margin_elevations for a in azimuths],
+        # Last, the grid aimed nearer the frame centre, inside the asked region.
+        [(e, a, inner) for e in elevations for a in azimuths] if inner is not None else [],
     ]
     starts = np.cumsum([len(p) for p in phases])[:-1]
     out = []
-    for rank, (elevation, azimuth) in enumerate(angle for phase in phases for angle in phase):
+    for rank, (elevation, azimuth, point) in enumerate(angle for phase in phases for angle in phase):
         if rank in starts and any(c.as_asked for c in out):
             break
         if sight.renders >= RENDER_BUDGET and any(c.status == "kept" for c in out):
@@ -369,7 +385,7 @@ def solve_candidates(
             torch.tensor(up, **f64),
         ).numpy()
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
-        ray = _Ray(origin, centroid, direction, floor_margin)
+        ray = _Ray(origin, centroid, direction, floor_margin, subject_voxels, float(up @ origin) - height / 2)
         camera, clearance, seen, status = _place(occupancy, sight, ray, along, radius, labels, point, reference)
         camera.name = f"solved-{rank}"
         distance_out = float(np.linalg.norm(camera.center - origin))
@@ -443,12 +459,16 @@ class _Sight:
 class _Ray:
     """Where :func:`_place` puts a camera: at ``origin + t direction`` (the view centre, (3,),
     and a unit (3,) direction), aimed at ``target`` (the centroid, (3,)), kept ``floor_margin``
-    above the floor (None: the occupancy's own margin)."""
+    above the floor (None: the occupancy's own margin); ``subject_voxels`` ((X, Y, Z) bool, the
+    subject's own) do not block its line of sight; ``base`` is the height (along the up) of the
+    subject's lowest Gaussian."""
 
     origin: np.ndarray
     target: np.ndarray
     direction: np.ndarray
     floor_margin: float | None = None
+    subject_voxels: np.ndarray | None = None
+    base: float = -math.inf
 
 
 def _place(
@@ -463,7 +483,11 @@ def _place(
 ) -> tuple[Camera, float, _Seen, str]:
     """The first camera along ``ray``, at the :data:`SLIDES` shares of ``distance``, that is free
     (it keeps the occupancy's margins, the ray's above the floor: :meth:`Occupancy.slack`) and sees the
-    subject (of the first :data:`RENDERS_PER_RAY` free ones), moved once along the ray towards the
+    subject (of the first :data:`RENDERS_PER_RAY` free ones, those below the subject's base whose
+    straight line to the centroid crosses an occupied voxel, the subject's aside, last: a low
+    angle at an object on a table finds free space under the table far out, where the table top
+    hides it, and above the table only near it; nearer is not better elsewhere, between a subject
+    and a wall behind it say), moved once along the ray towards the
     asked size when its render shows the subject at a size the checker does not accept
     (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
     and the camera there is free and sees it too; else the first free one (``occluded`` or ``too
@@ -477,18 +501,22 @@ def _place(
         free = float(occupancy.slack(torch.as_tensor(centre), ray.floor_margin)) >= 0
         return camera, float(occupancy.clearance(torch.as_tensor(centre))), free
 
-    first_free, outermost, renders, blocked = None, None, 0, None
+    distance = min(distance, _floor_reach(occupancy, ray))
+    outermost, blocked, free_ones = None, None, []
     for share in SLIDES:
-        if renders == RENDERS_PER_RAY:
-            break
         along = share * distance
         camera, clearance, free = at(along)
         outermost = outermost or (camera, clearance, _Seen(), "inside geometry")
         if not free:
             blocked = along
             continue
+        under = float(occupancy.rotation[2] @ camera.center) < ray.base
+        hidden = under and occupancy.segment_blocked(camera.center, ray.target, ray.subject_voxels) > 0
+        free_ones.append((hidden, along, camera, clearance, blocked))
+    first_free = None
+    # A stable sort: the positions seen through the support last, each group in the slides' order.
+    for _, along, camera, clearance, blocked in sorted(free_ones, key=lambda position: position[0])[:RENDERS_PER_RAY]:
         seen = sight(camera)
-        renders += 1
         if sight.sees(seen):
             sized = _sized_distance(along, seen.extent, labels.subjects[0].extent)
             if sized is not None and sized > along and blocked is not None:
@@ -499,6 +527,20 @@ def _place(
             return camera, clearance, seen, "kept"
         first_free = first_free or (camera, clearance, seen, "occluded" if seen.visible < MIN_VISIBLE_FRACTION else "too close")
     return first_free or outermost
+
+
+def _floor_reach(occupancy: Occupancy, ray: _Ray) -> float:
+    """How far along ``ray`` from its origin a camera stays its margin above the floor plane (inf
+    when the ray does not descend to it): the slides of :func:`_place` start there, so that a low
+    angle, whose ray meets the ground soon, samples the stretch above it (a distance of 74 at a
+    car on a lawn put its last two slides at 15 and 9, and the free stretch at -9 degrees lay
+    between 10 and 14.5). Not the ceiling plane: it is inferred from the walls' top, and the
+    first slide at its margin would put the camera against it."""
+    rise = float(occupancy.rotation[2] @ ray.direction)
+    if rise >= 0 or not math.isfinite(occupancy.floor_height):
+        return math.inf
+    above = float(occupancy.rotation[2] @ ray.origin) - occupancy.floor_height - occupancy.height_kept(ray.floor_margin)
+    return above / -rise if above > 0 else math.inf
 
 
 def _accepted_extent(asked: tuple[float, float]) -> tuple[float, float]:

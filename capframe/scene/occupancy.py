@@ -204,7 +204,9 @@ class Occupancy:
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
         """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
-        fall in occupied voxels, not counting those where ``ignore`` ((X, Y, Z) bool) is set."""
+        fall in occupied voxels, not counting those where ``ignore`` ((X, Y, Z) bool) is set, nor
+        those above the height of a flat surface in its voxel (the clearance's rule: a camera low
+        over a table top stands in the top's voxel, and so does its line of sight)."""
         t = np.linspace(0.0, 1.0, samples)[:, None]
         points = torch.as_tensor(start + t * (end - start), dtype=torch.float64)
         index = self.grid_coordinates(points).round().long().numpy()
@@ -213,6 +215,9 @@ class Occupancy:
         hit = self.occupied[i, j, k]
         if ignore is not None:
             hit &= ~ignore[i, j, k]
+        if self.surface_layer is not None:
+            heights = points[valid].numpy() @ self.rotation[2]
+            hit &= ~((self.surface_layer[i, j] == k) & (heights > self.surface_height[i, j]))
         return float(hit.sum()) / samples
 
     def voxelize(self, gaussians: GaussianScene) -> np.ndarray:
