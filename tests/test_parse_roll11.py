@@ -74,7 +74,7 @@ def test_a_level_camera_said_as_an_absence_is_roll_zero(text):
 
 
 def test_a_negated_crooked_frame_is_level_not_a_dutch_angle():
-    """"not crooked" once read as a crooked frame: a default dutch angle of 15 degrees."""
+    """A horizon "not crooked" once read as a crooked frame: a dutch angle of 15 degrees."""
     assert roll("mug, horizon not crooked") == 0.0
     assert read("mug, horizon crooked")["roll_deg"] == 15.0
 
