@@ -1703,6 +1703,36 @@ NOTE_PHRASES = [
 # constraint the camera keeps, so these words stay reported as not understood.
 DEPTH_WORDS = frozenset({"behind", "beyond", "background", "back", "distance", "foreground"})
 
+# The roll family as parts, in any order around a number and a direction: a verb or noun of
+# turning about the lens axis, what is turned (the camera, or the picture, which turns the other
+# way), where ("sideways", "about the lens axis"). "15 degrees of tilt clockwise", "20 degree
+# clockwise camera rotation", "spin the camera 20 degrees clockwise on its axis".
+ROLL_VERB_FORMS = (
+    "(roll|rolled|rolling|tilt|tilted|tilting|cant|canted|rotate|rotated|rotating|turn|turned|twist|twisted|spin|spun"
+    "|lean|leaned|leaning|bank|banked|dutch|dutched|skew|skewed|tip|tipped|cock|cocked|angle|angled|swing|swung)"
+)
+ROLL_NOUNS = "(roll|rolling|tilt|tilting|cant|canting|dutch|dutch angle|dutch tilt|rotation|lean|skew|slant|twist|spin|bank)"
+ROLL_AXIS = (
+    "(sideways|on its axis|on the lens axis|(about|around|round) (its|the) (own |lens |optical |viewing )?axis"
+    "|(about|around|round) the lens)"
+)
+# The frame is the camera's rectangle: it turns with the camera ("frame rotated ten degrees
+# clockwise"); the picture's content turns the other way.
+CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
+PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|scene|photo)"
+
+
+def _roll_family(thing: str) -> list[str]:
+    """Roll templates about ``thing`` (what turns), with a number and a direction said once."""
+    return [
+        f"({thing} )?{ROLL_VERB_FORMS}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?",
+        f"({thing} )?{ROLL_VERB_FORMS}( {thing}| it)?( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
+        f"(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?",
+        f"(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {{dir}}( {ROLL_AXIS})?",
+        f"{thing} at (a |an )?{{d}} (angle|slant|tilt) {{dir}}",
+    ]
+
+
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
 # picture (a horizon rotated clockwise means the camera rolled counter-clockwise), 0 a level camera.
 ROLL_PHRASES = {
@@ -1729,6 +1759,7 @@ ROLL_PHRASES = {
         "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
+        "(camera )?roll angle( of| at)? {sd}( {dir})?",
         "(camera )?rolled (by )?{sd}",
         "(with )?(the )?camera 's {side} side (dipped|lowered|dipping|down)( by)?( {d})?",
         "(with )?(the )?{side} side (of the (camera|{FRAME}) )?(dipped|lowered|dipping|down)( by)?( {d})?",
@@ -1754,28 +1785,44 @@ ROLL_PHRASES = {
         # Degrees and a direction alone as a clause ("Dutch angle on the car, 20 degrees CW").
         "{CLAUSE}(by )?{d} {dir}(?= ([,.;!]|$|and |with ))",
         "(roll|rolled|tilt|tilted|cant|canted)( the camera)? {dir} (by )?{d}",
+        *_roll_family(CAMERA_THING),
+        # Leaning or tipping to a side by a number ("lean the camera fifteen degrees to the left").
+        "(lean|leaning|leaned|tip|tipping|tipped|bank|banking|banked)( the camera| the lens| it)? "
+        "(by )?{d} (to|towards) the {side}",
+        # A dutch angle as a verb ("dutched 15 degrees"): clockwise unless a direction is said.
+        "dutched (by )?{d}( {dir})?",
     ],
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) {dir}(( by)? {d})?",
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted|leaning) "
-        "({WEAKROLL} |(by )?{d} )?(down |downwards |downward )?(to the |towards the )?{side}",
+        "({WEAKROLL} |(by )?{d} )?(down |downwards |downward )?(to the |towards the )?{side}( by {d})?",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
+        "(a |an )?(tilted|rotated|slanted|canted|turned|sloping) (horizon|picture|image|frame) (of |by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
+        *_roll_family(PICTURE_THING),
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon ({HORIZON_LEVEL})",
         "(with )?(a |the )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL}) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
-        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?(?! (up|down) )",
+        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?"
+        "( at all| whatsoever)?(?! (up|down) )",
         "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL})",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
         "(with )?no camera roll",
         "without (any )?((dutch|canted) (angle|tilt)|roll|camera roll|tilt)",
-        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?level",
+        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?(dead |perfectly |nice and )?level",
         "(a )?level camera",
+        # Said as an absence of any roll word ("no tilt at all", "no rolling", "not rotated") or
+        # of a crooked frame ("horizon not crooked").
+        f"(with )?(no|0) {ROLL_NOUNS}( at all| whatsoever)?",
+        f"(not|never) {ROLL_VERB_FORMS}( {ROLL_AXIS})?( at all)?(?! (up|down|to|towards|by|{{dir}}) )",
+        "((the )?(frame|shot|picture|image|horizon|camera) (is |being |stays )?)?(not|never) (at all )?{ROLLADJ}",
+        # Square to the horizon ("the frame square to the horizon").
+        "((the )?(frame|shot|picture|image|camera) )?(square|squared|parallel) (to|with) the horizon",
     ],
 }
 DUTCH_DEFAULT_DEG = 15.0  # a dutch angle without degrees: clockwise, inside the generator's 10..30
