@@ -1149,6 +1149,60 @@ NAME_SYNONYMS = (
     ("vase", "flower vase", "jar"),
     ("tree", "small tree", "sapling", "young tree"),
 )
+# Longer everyday names of the same objects, as different people write them ("toy automobile",
+# "3 seater", "stuffed animal"). They answer as synonyms do but, like the kinds, are never offered
+# as the closest name to a word the scene lacks (a long descriptive name looks a little like too
+# many words), and none carries a colour (a colour in a name excludes the object from a mention
+# of another colour). A name written as one word ("teddybear", "sofabed") is left to the
+# correction of one edit, which reports it.
+NAME_VARIANTS = (
+    ("television", "smart tv", "led tv", "lcd tv", "plasma tv", "flat screen tv", "widescreen tv", "television screen", "teevee"),
+    ("sofa", "sofa bed", "daybed", "chaise longue", "2 seater", "3 seater", "2 seater sofa", "3 seater sofa"),
+    ("refrigerator", "ice box", "american fridge", "refrigerator unit"),
+    (
+        "teddy bear",
+        "stuffed animal",
+        "plush animal",
+        "cuddly bear",
+        "toy bear",
+        "bear toy",
+        "soft bear",
+        "stuffie",
+        "teddy toy",
+    ),
+    ("potted plant", "flower pot", "leafy plant", "plant in a pot", "container plant"),
+    ("floor lamp", "standing light", "tall lamp", "floor standing lamp", "pole lamp", "arc lamp", "torchere"),
+    (
+        "toy car",
+        "toy automobile",
+        "model automobile",
+        "toy auto",
+        "car toy",
+        "mini car",
+        "model vehicle",
+        "toy racer",
+        "die cast car",
+    ),
+    ("traffic cone", "road cone", "witches hat", "hazard cone", "warning cone", "street cone", "highway cone", "safety pylon"),
+    ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil"),
+    ("bookshelf", "book stand", "book rack", "book cabinet", "bookshelf unit", "storage shelf", "etagere"),
+    (
+        "cushion",
+        "sofa cushion",
+        "couch cushion",
+        "couch pillow",
+        "decorative pillow",
+        "accent pillow",
+        "scatter pillow",
+        "seat cushion",
+    ),
+    ("mug", "tea mug", "cuppa", "drinking cup", "travel mug"),
+    ("coffee table", "center table", "tea table", "lounge table", "occasional table", "living room table", "sofa table"),
+    ("ball", "play ball", "kick ball", "bouncing ball", "plastic ball", "playground ball"),
+    ("bench", "garden seat", "park seat", "outdoor bench", "wooden bench", "bench seat"),
+    ("vase", "bud vase", "flower holder", "amphora"),
+    ("tree", "shade tree", "leafy tree", "big tree", "tall tree", "conifer", "evergreen"),
+)
 # Kinds of those objects people name instead ("a potted palm", "the fern", "a chesterfield"): the
 # first word of each group is the object's name, the others answer to it as synonyms do; they are
 # never offered as the closest name to a word the scene lacks ("succulent" looks like "bicycle").
@@ -1469,7 +1523,7 @@ class Vocabulary:
         text = " ".join(key(mention))
         scored: dict[str, float] = {}
         for e in self.entries:
-            # Not its kinds: a kind word ("succulent", "bolster") looks like too many others.
+            # Not its kinds nor variants: a kind word ("succulent", "bolster") looks like too many others.
             for form in set(e.forms) - KIND_FORMS:
                 ratio = difflib.SequenceMatcher(None, text, " ".join(form)).ratio()
                 scored[e.name] = max(scored.get(e.name, 0.0), ratio)
@@ -1530,10 +1584,11 @@ class Vocabulary:
 
 
 def _synonym_forms(forms: list[set[tuple[str, ...]]]) -> list[set[tuple[str, ...]]]:
-    """Per object (its forms), the forms :data:`NAME_SYNONYMS` and :data:`NAME_KINDS` add: every
+    """Per object (its forms), the forms :data:`NAME_SYNONYMS`, :data:`NAME_VARIANTS` and
+    :data:`NAME_KINDS` add: every
     word of a group one of its forms belongs to, unless another object's forms hold that word or
     the group too."""
-    groups = [{key(w) for w in group} for group in (*NAME_SYNONYMS, *NAME_KINDS)]
+    groups = [{key(w) for w in group} for group in (*NAME_SYNONYMS, *NAME_VARIANTS, *NAME_KINDS)]
     owners = [[k for k, f in enumerate(forms) if f & g] for g in groups]
     used = set().union(*forms) if forms else set()
     extra: list[set[tuple[str, ...]]] = [set() for _ in forms]
@@ -1653,8 +1708,9 @@ def one_edit(a: str, b: str) -> bool:
     return a[i + 1 :] == b[i + 1 :] or transposed(a, b)
 
 
-# The kinds' forms (not their objects' names), which :meth:`Vocabulary.closest` never offers.
-KIND_FORMS = frozenset(key(w) for group in NAME_KINDS for w in group[1:])
+# The kinds' and the variants' forms (not their objects' names), which :meth:`Vocabulary.closest`
+# never offers.
+KIND_FORMS = frozenset(key(w) for group in (*NAME_KINDS, *NAME_VARIANTS) for w in group[1:])
 
 
 def _contains(tokens: tuple[str, ...], form: tuple[str, ...]) -> bool:
