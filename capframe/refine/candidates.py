@@ -18,8 +18,10 @@ radius ``r``, front ``f``, world up ``u``):
   of its region (or layout box).
 
 Each candidate is then checked against the scene's free space (:mod:`capframe.scene.occupancy`)
-and by a low-resolution render of the whole scene: along its ray the centre slides towards the
-subject (:data:`SLIDES`) until it is free, and the subject is seen there as the checker asks
+and by a low-resolution render of the whole scene: along its ray, from where it meets the floor
+plane when that is nearer than its distance, the centre slides towards the subject
+(:data:`SLIDES`) until it is free (positions below the subject that look up at it through an
+occupied voxel, its support, rendered last), and the subject is seen there as the checker asks
 (:data:`~capframe.constraints.MIN_VISIBLE_FRACTION` of it unhidden by other objects, enough of it
 inside the frame); so an asked elevation below the subject, whose ray meets the floor, puts the
 camera low near the floor, looking up, and a view behind a couch against a wall uses the gap
@@ -28,7 +30,9 @@ whose free positions all show the subject hidden as ``occluded``, or cut off by 
 close``. The render, not the voxels, judges occlusion: a voxel is coarse next to small subjects
 (a table top a voxel thick, a subject a few voxels wide). The kept ones are ranked by how far the
 other subjects' projected centroids land from their regions (the closed form places only the
-primary), then by how central their angles are in the accepted ranges.
+primary), then by how central their angles are in the accepted ranges. When none is kept and the
+primary has a region, the grid is tried once more aimed at the region's point nearest the frame
+centre (a large subject aimed at a corner's centre overflows the frame).
 """
 
 from __future__ import annotations
