@@ -176,10 +176,10 @@ def test_angle_mapping_conventions():
 
 def test_a_synonym_the_model_reads_is_reported_and_an_unknown_subject_names_the_closest():
     answers = bear_answers()
-    answers["subjects"] = {"subjects": [{"name": "teddy bear", "mention": "the stuffed animal"}]}
-    parsed = MLLMParser(ScriptedChat(answers)).parse("a close-up of the stuffed animal on the left", SCENE)
+    answers["subjects"] = {"subjects": [{"name": "teddy bear", "mention": "the plush critter"}]}
+    parsed = MLLMParser(ScriptedChat(answers)).parse("a close-up of the plush critter on the left", SCENE)
     assert parsed.subjects[0].name == "teddy bear"
-    assert parsed.corrected == [{"said": "stuffed animal", "read": "teddy bear"}]
+    assert parsed.corrected == [{"said": "plush critter", "read": "teddy bear"}]
     answers["subjects"] = {"subjects": [{"name": UNKNOWN, "mention": "the teddi baer"}]}
     with pytest.raises(InputError, match=r"subject 'the teddi baer' is not in this scene; closest: \['teddy bear'\]"):
         MLLMParser(ScriptedChat(answers)).parse("the teddi baer", SCENE)
