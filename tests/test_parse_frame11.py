@@ -21,6 +21,8 @@ ELEVATIONS_AND_SQUARE = [
     ("left elevation of the toy car", one(CAR, view="left-exact")),
     ("the teddy bear, right side elevation", one(BEAR, view="right-exact")),
     ("bench side elevation", one(BENCH, view="side")),
+    ("sofa: elevation from the front", one(SOFA, view="front-exact")),
+    ("the mug, the elevation of its left side", one(MUG, view="left-exact")),
     # Square to the subject: its front, exactly.
     ("the sofa, perfectly square to it", one(SOFA, view="front-exact")),
     ("shoot the bench square to it", one(BENCH, view="front-exact")),
@@ -44,6 +46,9 @@ NOUN_FIRST_AND_LATERAL = [
     ("the toy car, lateral right", one(CAR, view="right")),
     ("sofa, left-lateral", one(SOFA, view="left")),
     ("LATERAL VIEW, RIGHT - BENCH", one(BENCH, view="right")),
+    ("toy car, right-side lateral view", one(CAR, view="right")),
+    ("teddy bear, profile to the right", one(BEAR, view="right")),
+    ("SIDE VIEW (LEFT) OF THE SOFA", one(SOFA, view="left")),
 ]
 
 DOWN_THE_LENS = [
@@ -53,6 +58,8 @@ DOWN_THE_LENS = [
     ("the bear gazing down the barrel of the lens", one(BEAR, view="front-exact")),
     ("toy car pointing right down the lens", one(CAR, view="front-exact")),
     ("the teddy peering directly down the camera, close", one(BEAR, shot="close-up", view="front-exact")),
+    ("the teddy bear gazing right into the lens", one(BEAR, view="front-exact")),
+    ("teddy bear, looking right at us", one(BEAR, view="front-exact")),
 ]
 
 CORNERS = [
@@ -66,6 +73,8 @@ CORNERS = [
     ("mug in the corner, bottom right", one(MUG, region="lower right")),
     ("the teddy in the lower corner to the right", one(BEAR, region="lower right")),
     ("the television in the right bottom quadrant", one(TV, region="lower right")),
+    ("mug in the right lower quarter of the picture", one(MUG, region="lower right")),
+    ("put the sofa right up in the top left", one(SOFA, region="upper left")),
     ("the toy car in the right-hand top corner", one(CAR, region="upper right")),
     # A height and a side said apart join into the corner between them.
     ("the mug at the bottom, on the left", one(MUG, region="lower left")),
@@ -84,6 +93,8 @@ MIDDLES_AND_THIRDS = [
     ("bench on the right vertical third line", one(BENCH, region="right third")),
     ("the television in the central vertical third", one(TV, region="center third")),
     ("mug in the first vertical third", one(MUG, region="left third")),
+    ("sofa on the right-hand vertical line of thirds", one(SOFA, region="right third")),
+    ("mug smack bang in the middle of the pic", one(MUG, region="center")),
 ]
 
 SIZES = [
@@ -98,6 +109,9 @@ SIZES = [
     ("the mug really really close", one(MUG, shot="close-up")),
     ("toy car very, very big", one(CAR, shot="close-up")),
     ("the teddy so so small", one(BEAR, shot="wide")),
+    ("the mug tiny tiny", one(MUG, shot="wide")),
+    ("the teddy bear very, very, very small", one(BEAR, shot="wide")),
+    ("Make it really small: the mug", one(MUG, shot="wide")),
     # A small element of a larger whole.
     ("the mug as a small element in the picture", one(MUG, shot="wide")),
     ("the bench as a tiny part of the scene", one(BENCH, shot="wide")),
@@ -143,6 +157,10 @@ def test_an_elevation_before_a_number_stays_a_height():
     got = read("the sofa from the front, elevation 20 degrees")
     assert got["subjects"] == [(SOFA, None, None, "front")]
     assert got["elevation_deg"] == 20.0
+
+
+def test_a_comma_between_other_repeated_words_parts_clauses():
+    assert read("the mug, zoomed right in, in the middle of the frame") == one(MUG, region="center", shot="close-up")
 
 
 def test_a_mid_shot_is_still_a_size():

@@ -319,20 +319,20 @@ SHOT_ADJECTIVES = {
 # "but" ("kept small with plenty of wall around it").
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;!]|$|with |so |but ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but ))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
 COPULA_SIZE = (
     "(be|being|is|are|look|looks|appear|appears|seem|seems|remain|remains|come out|comes out|show up|shows up|end up|ends up) "
-    "(nice and |{FAIRLY} |{VERY} |{WEAK} |(so )+)?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
+    "(nice and |{FAIRLY} |{VERY} |{WEAK} |(so )+)?{WORD}(?= ([,.;:!]|$|and |with |so |but |in |on ))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
     "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
-    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but ))"
+    "(?= ([,.;:!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
 )
 
 SHOT_CLAUSES = {
@@ -531,7 +531,7 @@ REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
     "|nudged|moved|slid|pulled|set) )?"
-    "((up|down|over|out|way|right|off|low|high|slap bang|{STRONG}) )?"
+    "((up|down|over|out|way|right|off|low|high|slap bang|smack bang|{STRONG}) ){0,2}"
 )
 REGION_AREAS = {
     "left": [
@@ -590,9 +590,9 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    "left third": ["(left|leftmost|first|left hand)( vertical)? thirds?( line)?"],
+    "left third": ["(left|leftmost|first|left hand)( vertical)? (thirds?( line)?|line of thirds)"],
     "center third": ["(middle|central|center)( vertical)? third"],
-    "right third": ["(right|rightmost|last|right hand)( vertical)? thirds?( line)?"],
+    "right third": ["(right|rightmost|last|right hand)( vertical)? (thirds?( line)?|line of thirds)"],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
@@ -739,8 +739,8 @@ VIEW_SIDE_WORDS = {
     "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"],
     # "Lateral" is the side, as anatomy and technical drawing say it ("left lateral view", "lateral
     # right"), before or after the side named.
-    "left": ["left", "left hand", "left( hand)? lateral", "lateral left"],
-    "right": ["right", "right hand", "right( hand)? lateral", "lateral right"],
+    "left": ["left", "left hand", "left( hand)?( side)? lateral", "lateral left"],
+    "right": ["right", "right hand", "right( hand)?( side)? lateral", "lateral right"],
     "side": ["side", "profile", "lateral"],
     "front-left": ["front left", "left front", "front and left", "front left three quarter", "left three quarter"],
     "front-right": ["front right", "right front", "front and right", "front right three quarter", "right three quarter"],
@@ -826,6 +826,7 @@ VIEW_FRAMES = [
     # "the rear elevation of the sofa", "a left side elevation"); never a height, and not before a
     # number ("from the front, elevation 20 degrees" says a height).
     "(in |from |as )?(a |an |the )?(?P<exact>{SIDE})( side)? elevation( (view|drawing))?( of {obj})?{NOT_A_NUMBER}",
+    "(an |the )?elevation( (view|drawing))? (from|of) (the|{P}) (?P<exact>{SIDE})( side)?( of {obj})?{NOT_A_NUMBER}",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
     # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
     "((?<=^ )|{CLAUSE}){SIDE}{PART} of {obj}",
@@ -851,8 +852,8 @@ SIDE_AFTER_SIDE_VIEW = (
 # left", "side view from the left", "lateral view: right"), as a clause of its own or right after
 # its subject.
 NOUN_BEFORE_SIDE = (
-    "((?<=^ )|{CLAUSE}|(?<=@\\d ))(the |a |{P} )?((side|lateral) )?(profile|view|lateral|angle)( view| shot)?( [,:;])?"
-    " (from |on )?(the |{P} )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+    "((?<=^ )|{CLAUSE}|(?<=@\\d ))(the |a |{P} )?((side|lateral) )?(profile|view|lateral|angle)( view| shot)?( [,:;(])?"
+    " (from |on |to |towards )?(the |{P} )?{LAT}( hand)?( side)?(?= ([,.;:!)]|$))"
 )
 # A left or right side said as the clause right after its subject ("armchair: right side, half the
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
@@ -938,6 +939,9 @@ VIEW_PHRASES = {
         "(in |from |as )?(a |an |the )?(frontal|facade) elevation( (view|drawing))?( of {obj})?{NOT_A_NUMBER}",
         # Square to the subject ("perfectly square to it", "dead square to the sofa").
         "(({STRONG}) )?(square|squarely) (on )?(to|towards|with|facing|onto|on to) {obj}",
+        # Looking right (straight) at the camera; "right" there is no side ("gazing right into the lens").
+        "(looking|look|looks|staring|stares|stare|gazing|gazes|gaze|peering|peers|glaring|eyeing)"
+        " (right|straight|directly|dead|squarely) (at|into|towards) (the (camera|lens|viewer)|us|me)",
         # Looking (pointing) down the lens: straight at the camera ("looking right down the lens",
         # "staring straight down the barrel").
         "(looking|look|looks|staring|stares|stare|gazing|gazes|gaze|peering|peers|pointing|points|pointed|aimed|facing|faces)"
@@ -2740,7 +2744,7 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, slips = self._unslip(words(text), vocabulary)
+        tokens, slips = self._unslip(_unrepeated(words(text)), vocabulary)
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
         cues = _bare_angles(self._cues(tokens), tokens)
@@ -2944,6 +2948,26 @@ class RuleParser:
         if not determined and any(w in self.lexicon and w not in ATTRIBUTES and w not in TABLE_NOUNS for w in content):
             return None  # "focus on the mug": a verb of the tables, not a thing
         return " ".join(phrase)
+
+
+# Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
+EMPHATIC_WORDS = frozenset(DEGREE_SCALE["strong"]) | {"so"} | {w for ws in SIZE_WORDS.values() for w in ws}
+
+
+def _unrepeated(tokens: list[str]) -> list[str]:
+    """``tokens`` with a word said again straight after itself (an emphatic word also after a
+    comma) said once: emphasis by repetition grades as the word once ("tiny tiny", "really,
+    really small", "so so close"). A comma between other words parts clauses ("zoomed in, in the
+    middle")."""
+    out: list[str] = []
+    for token in tokens:
+        if token.isalpha() and out[-1:] == [token]:
+            continue
+        if token in EMPHATIC_WORDS and out[-2:] == [token, ","]:
+            out.pop()
+            continue
+        out.append(token)
+    return out
 
 
 def _before_relation(text: str) -> str:
