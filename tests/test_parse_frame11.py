@@ -49,6 +49,8 @@ NOUN_FIRST_AND_LATERAL = [
     ("toy car, right-side lateral view", one(CAR, view="right")),
     ("teddy bear, profile to the right", one(BEAR, view="right")),
     ("SIDE VIEW (LEFT) OF THE SOFA", one(SOFA, view="left")),
+    ("teddy bear, view front-left", one(BEAR, view="front-left")),
+    ("the sofa, angle: rear right", one(SOFA, view="back-right")),
 ]
 
 DOWN_THE_LENS = [
@@ -95,6 +97,7 @@ MIDDLES_AND_THIRDS = [
     ("mug in the first vertical third", one(MUG, region="left third")),
     ("sofa on the right-hand vertical line of thirds", one(SOFA, region="right third")),
     ("mug smack bang in the middle of the pic", one(MUG, region="center")),
+    ("the mug in the midst of the frame", one(MUG, region="center")),
 ]
 
 SIZES = [
@@ -112,12 +115,15 @@ SIZES = [
     ("the mug tiny tiny", one(MUG, shot="wide")),
     ("the teddy bear very, very, very small", one(BEAR, shot="wide")),
     ("Make it really small: the mug", one(MUG, shot="wide")),
+    ("the mug teeny-tiny", one(MUG, shot="wide")),
+    ("the teddy ginormous in the frame", one(BEAR, shot="close-up")),
     # A small element of a larger whole.
     ("the mug as a small element in the picture", one(MUG, shot="wide")),
     ("the bench as a tiny part of the scene", one(BENCH, shot="wide")),
     ("the teddy, a minor element in the frame", one(BEAR, shot="wide")),
     ("the sofa, just a small element of the composition", one(SOFA, shot="wide")),
     ("toy car as a little feature in the landscape", one(CAR, shot="wide")),
+    ("the teddy as a small part of a bigger picture", one(BEAR, shot="wide")),
     # Wide on the subject, as a shot list says it.
     ("wide on the mug, from the left", one(MUG, shot="wide", view="left")),
     ("EXT. PARK - WIDE on the bench", one(BENCH, shot="wide")),

@@ -143,6 +143,15 @@ Mappings that are choices (the phrase tables are the full list):
   above it (low). Words ending on "of"/"at" right before a named object describe the picture of
   it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
   in the sand") is never the subject;
+* views, regions and sizes as families of parts in any order (frame11): an architect's elevation
+  is its side square on ("front elevation" front exactly, "side elevation" either profile; never
+  a height), "square to it" and "looking (right) down the lens" the front exactly, the view's noun
+  before its side ("PROFILE RIGHT", "side view (left)"), "lateral" the side; a corner is a height,
+  a side and a corner noun in any order and glue ("right upper corner", "the corner at the top on
+  the left"), and a height and a side said apart join into it (:func:`_combined_region`); "dead
+  middle", "mid-frame", "the left vertical third"; a word said twice for emphasis counts once
+  ("really really tiny"); "so big it fills everything" (no group), "a small element in the
+  landscape", "WIDE on X";
 * a view offset is a family of a reference view, an amount and a direction, in any order
   (:data:`OFFSET_VIEW_FRAMES`, :data:`SIDE_OFFSET_FRAMES`, :data:`TURN_FRAMES`): "from behind him,
   little bit more to right", "looking at the camera but swung a few degrees to its left", "45 deg
@@ -481,9 +490,9 @@ SHOT_CLAUSES = {
         # One small element of a larger picture ("as a small element in the landscape", "a minor
         # part of the scene"): said with "as" or with the whole it is part of.
         "(as |is |be |becomes |looks like )(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
-        " (element|part|feature|presence|component)( (in|of|within) (the )?{WHOLE})?",
+        " (element|part|feature|presence|component)( (in|of|within) (the |a |an )?{WHOLE})?",
         "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
-        " (element|part|feature|presence|component|detail) (in|of|within) (the )?{WHOLE}",
+        " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
         # Wide on the subject, as a shot list says it ("WIDE on the cone").
         "(a )?(wide|wider|long|extreme wide|very wide) on {obj}",
         "zoom(ed|ing)? (way |all the way |well )?out( (a lot|lots|loads))?( (from|on) {obj})?",
@@ -531,7 +540,7 @@ REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
     "|nudged|moved|slid|pulled|set) )?"
-    "((up|down|over|out|way|right|off|low|high|slap bang|smack bang|{STRONG}) ){0,2}"
+    "((up|down|over|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
 )
 REGION_AREAS = {
     "left": [
@@ -556,7 +565,17 @@ REGION_AREAS = {
         "center right",
         "middle right",
     ],
-    "center": ["center", "middle", "very center", "dead center", "exact center", "very middle", "dead middle", "exact middle"],
+    "center": [
+        "center",
+        "middle",
+        "very center",
+        "dead center",
+        "exact center",
+        "very middle",
+        "dead middle",
+        "exact middle",
+        "midst",
+    ],
     # The middle of the top or bottom edge is that half ("bottom-centre", "top middle").
     "top": [
         "top",
@@ -849,11 +868,11 @@ SIDE_AFTER_SIDE_VIEW = (
     "|(?<=lateral view [,:;] ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
 )
 # The view's noun before its side, as a caption or a shot list writes it ("PROFILE RIGHT", "view
-# left", "side view from the left", "lateral view: right"), as a clause of its own or right after
-# its subject.
+# front-left", "side view from the left", "lateral view: right", "angle (rear right)"), as a clause
+# of its own or right after its subject.
 NOUN_BEFORE_SIDE = (
     "((?<=^ )|{CLAUSE}|(?<=@\\d ))(the |a |{P} )?((side|lateral) )?(profile|view|lateral|angle)( view| shot)?( [,:;(])?"
-    " (from |on |to |towards )?(the |{P} )?{LAT}( hand)?( side)?(?= ([,.;:!)]|$))"
+    " (from |on |to |towards )?(the |{P} )?{SIDE}( side)?(?= ([,.;:!)]|$))"
 )
 # A left or right side said as the clause right after its subject ("armchair: right side, half the
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
@@ -2419,7 +2438,9 @@ _MACROS = {
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
     "{CLAUSE}": "(?<=[,;:.!?] )",
     # The whole picture a small element is part of ("a small element in the landscape").
-    "{WHOLE}": "(?:" + FRAME + "|scene|landscape|composition|view|background|setting|surroundings|scenery|big picture)",
+    "{WHOLE}": "(?:(?:bigger|wider|larger|whole|overall|entire|big) )?(?:"
+    + FRAME
+    + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
     # Not before a number, which would make the words before it a height ("elevation 20 degrees").
     "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
@@ -2598,6 +2619,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
         if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
             rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
+        rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
@@ -2635,7 +2657,6 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows.append(("view", lat, SIDE_AFTER_HEIGHT.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_VIEW.replace("{LAT}", lat), False))
         rows.append(("view", lat, SIDE_AFTER_SIDE_VIEW.replace("{LAT}", lat), False))
-        rows.append(("view", lat, NOUN_BEFORE_SIDE.replace("{LAT}", lat), False))
         for lon, lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
             rows += [
                 ("view", f"{lat}-slight-{lon}", t.replace("{LAT}", lat).replace("{LON}", lon_words), False)
