@@ -143,6 +143,15 @@ Mappings that are choices (the phrase tables are the full list):
   above it (low). Words ending on "of"/"at" right before a named object describe the picture of
   it ("frame a dramatic look at the mug"), and a noun phrase about the camera ("a camera buried
   in the sand") is never the subject;
+* views, regions and sizes as families of parts in any order (frame11): an architect's elevation
+  is its side square on ("front elevation" front exactly, "side elevation" either profile; never
+  a height), "square to it" and "looking (right) down the lens" the front exactly, the view's noun
+  before its side ("PROFILE RIGHT", "side view (left)"), "lateral" the side; a corner is a height,
+  a side and a corner noun in any order and glue ("right upper corner", "the corner at the top on
+  the left"), and a height and a side said apart join into it (:func:`_combined_region`); "dead
+  middle", "mid-frame", "the left vertical third"; a word said twice for emphasis counts once
+  ("really really tiny"); "so big it fills everything" (no group), "a small element in the
+  landscape", "WIDE on X";
 * a view offset is a family of a reference view, an amount and a direction, in any order
   (:data:`OFFSET_VIEW_FRAMES`, :data:`SIDE_OFFSET_FRAMES`, :data:`TURN_FRAMES`): "from behind him,
   little bit more to right", "looking at the camera but swung a few degrees to its left", "45 deg
@@ -283,7 +292,8 @@ SHOT_ADJECTIVES = {
     "close-up": ["tight", "close", "detail", "macro", "extreme close", "very close", "snug"],
     "medium": [
         "medium",
-        "mid",
+        # Not "mid-frame", the middle of the frame (a region).
+        "mid(?! (frame|picture|image|photo|photograph|composition|viewfinder|pic)( |$))",
         "medium distance",
         "mid distance",
         "mid range",
@@ -318,20 +328,20 @@ SHOT_ADJECTIVES = {
 # "but" ("kept small with plenty of wall around it").
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and )?{WORD}(?= ([,.;!]|$|with |so |but ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but ))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
 COPULA_SIZE = (
     "(be|being|is|are|look|looks|appear|appears|seem|seems|remain|remains|come out|comes out|show up|shows up|end up|ends up) "
-    "(nice and |{FAIRLY} |{VERY} |{WEAK} )?{WORD}(?= ([,.;!]|$|and |with |so |but |in |on ))"
+    "(nice and |{FAIRLY} |{VERY} |{WEAK} |(so )+)?{WORD}(?= ([,.;:!]|$|and |with |so |but |in |on ))"
 )
 # A size word said right after its subject, before a clause's end or a place ("sofa small in the
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra )?{WORD}"
-    "(?= ([,.;!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but ))"
+    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
+    "(?= ([,.;:!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
 )
 
 SHOT_CLAUSES = {
@@ -339,6 +349,14 @@ SHOT_CLAUSES = {
         "((close|near|big|large|tight) enough (to |that it |so it )?)?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up) (most of |all of |all |nearly all of )?"
         "the (whole |entire )?{FRAME}( (completely|entirely|fully|totally))?",
+        # So big it fills the frame, or everything ("make it SO big it fills up everything", "so
+        # close that the mug fills the whole picture").
+        "((so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so |to )?(it |{obj} )?)?"
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up|fill up|takes up|taking up|take up)"
+        " (up )?(everything|it all|the whole thing|all of it)",
+        "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so |to )?(it |{obj} )?"
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up|fill up) "
+        "(most of |all of |all |nearly all of )?the (whole |entire )?{FRAME}",
         # Pressed into the frame edge to edge ("crammed into the frame", "pack the sofa into the shot").
         "({CRAM}) (in|into|inside) the (whole |entire )?{FRAME}",
         "({CRAM_VERB}) {obj} (in|into|inside) the (whole |entire )?{FRAME}",
@@ -469,6 +487,14 @@ SHOT_CLAUSES = {
         "(with )?{PLENTY} [a-z]+ (around|round|about) {obj}",
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
+        # One small element of a larger picture ("as a small element in the landscape", "a minor
+        # part of the scene"): said with "as" or with the whole it is part of.
+        "(as |is |be |becomes |looks like )(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
+        " (element|part|feature|presence|component)( (in|of|within) (the |a |an )?{WHOLE})?",
+        "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
+        " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
+        # Wide on the subject, as a shot list says it ("WIDE on the cone").
+        "(a )?(wide|wider|long|extreme wide|very wide) on {obj}",
         "zoom(ed|ing)? (way |all the way |well )?out( (a lot|lots|loads))?( (from|on) {obj})?",
         # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
         "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"
@@ -514,7 +540,7 @@ REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
     "|nudged|moved|slid|pulled|set) )?"
-    "((up|down|over|out|way|right|off|low|high|{STRONG}) )?"
+    "((up|down|over|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
 )
 REGION_AREAS = {
     "left": [
@@ -539,7 +565,17 @@ REGION_AREAS = {
         "center right",
         "middle right",
     ],
-    "center": ["center", "middle", "very center", "dead center", "exact center", "very middle"],
+    "center": [
+        "center",
+        "middle",
+        "very center",
+        "dead center",
+        "exact center",
+        "very middle",
+        "dead middle",
+        "exact middle",
+        "midst",
+    ],
     # The middle of the top or bottom edge is that half ("bottom-centre", "top middle").
     "top": [
         "top",
@@ -572,9 +608,10 @@ REGION_AREAS = {
         "lower center",
         "foot",
     ],
-    "left third": ["left third", "leftmost third", "first third", "left thirds? line", "left hand third"],
-    "center third": ["middle third", "central third", "center third", "middle vertical third"],
-    "right third": ["right third", "rightmost third", "last third", "right thirds? line", "right hand third"],
+    # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
+    "left third": ["(left|leftmost|first|left hand)( vertical)? (thirds?( line)?|line of thirds)"],
+    "center third": ["(middle|central|center)( vertical)? third"],
+    "right third": ["(right|rightmost|last|right hand)( vertical)? (thirds?( line)?|line of thirds)"],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
@@ -600,6 +637,24 @@ REGION_AREAS = {
         "right bottom corner",
     ],
 }
+# A corner is a height, a side and a corner noun in any order, with any glue between them ("right
+# upper corner", "the upper corner on the left", "the left-hand corner at the bottom", "the corner
+# at the top on the right", "the corner, bottom right"); a height and a side said apart as two
+# regions join into it too (_combined_region).
+CORNER_NOUN = "(corner|quadrant|quarter)"
+CORNER_GLUE = "( ,)? (on|to|at|in|towards) the "
+for _vertical, _height in (("upper", "(top|upper)"), ("lower", "(bottom|lower)")):
+    for _lat in ("left", "right"):
+        _side = f"{_lat}( hand)?"
+        REGION_AREAS[f"{_vertical} {_lat}"] += [
+            f"{_side} {_height}( hand)? {CORNER_NOUN}",
+            f"{_height} {CORNER_NOUN}{CORNER_GLUE}{_side}( side)?",
+            f"{_side} {CORNER_NOUN}{CORNER_GLUE}{_height}",
+            f"corner{CORNER_GLUE}{_height}( ,)?( (on|to|at|in|towards) the)? {_side}( side)?",
+            f"corner{CORNER_GLUE}{_side}( side)?( ,)?( (on|to|at|in|towards) the)? {_height}",
+            f"corner( ,)? {_height} {_side}",
+            f"corner( ,)? {_side} {_height}",
+        ]
 # A half said as any part of the frame ("the upper area", "the lower portion", "the left section").
 for _region, _words in (
     ("left", "(left|left hand)"),
@@ -641,8 +696,18 @@ OFF_CENTER = [
 ]
 REGION_PHRASES = {
     # "Screen left" is film language for frame left.
-    "left": ["(on |at |in )?(the )?({FRAME}|screen) left", "left of (the )?({FRAME}|screen)"],
-    "right": ["(on |at |in )?(the )?({FRAME}|screen) right", "right of (the )?({FRAME}|screen)"],
+    # A corner said by its side alone ("in the right-hand corner"): that side, its height unsaid
+    # (said with one, the corner: "low in the right corner", "at the bottom, in the left corner").
+    "left": [
+        "(on |at |in )?(the )?({FRAME}|screen) left",
+        "left of (the )?({FRAME}|screen)",
+        "(in|into|at|towards|on) the left( hand)? corner( (of|in) (the )?{FRAME})?",
+    ],
+    "right": [
+        "(on |at |in )?(the )?({FRAME}|screen) right",
+        "right of (the )?({FRAME}|screen)",
+        "(in|into|at|towards|on) the right( hand)? corner( (of|in) (the )?{FRAME})?",
+    ],
     "center": [
         # Kept central ("keep the mug central", "the bench, dead central").
         "(keep|keeping|kept|placed|positioned|sitting) (it |{obj} )?((dead|right|nicely) )?central(ly)?",
@@ -656,6 +721,9 @@ REGION_PHRASES = {
         "(in |at )?(the )?((dead|exact|very|right) )?(center|middle) (of )?{FRAME}",
         "dead center",
         "(front and|center) (center|stage)",
+        # Mid-frame: the middle of the frame ("mug mid-frame", "midframe", "mid-picture").
+        "(in |at )?(the )?mid ?{FRAME}",
+        "midframe",
     ],
     "top": ["high (up )?in (the )?{FRAME}"],
     "bottom": ["low (down )?in (the )?{FRAME}"],
@@ -688,9 +756,11 @@ VIEW_SIDE_WORDS = {
     # a part ("so its tail shows") but where the camera is seen from (VIEW_PHRASES).
     "front": ["front", "face", "front end", "nose end", "bow"],
     "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"],
-    "left": ["left", "left hand"],
-    "right": ["right", "right hand"],
-    "side": ["side", "profile"],
+    # "Lateral" is the side, as anatomy and technical drawing say it ("left lateral view", "lateral
+    # right"), before or after the side named.
+    "left": ["left", "left hand", "left( hand)?( side)? lateral", "lateral left"],
+    "right": ["right", "right hand", "right( hand)?( side)? lateral", "lateral right"],
+    "side": ["side", "profile", "lateral"],
     "front-left": ["front left", "left front", "front and left", "front left three quarter", "left three quarter"],
     "front-right": ["front right", "right front", "front and right", "front right three quarter", "right three quarter"],
     "back-left": [
@@ -771,6 +841,11 @@ VIEW_FRAMES = [
     "(with )?((the|{P}) |{CLAUSE}){SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to)"
     " (the (camera|viewer|lens)|us|me)",
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
+    # An architect's elevation: the side drawn square on, so an end is exact ("front elevation",
+    # "the rear elevation of the sofa", "a left side elevation"); never a height, and not before a
+    # number ("from the front, elevation 20 degrees" says a height).
+    "(in |from |as )?(a |an |the )?(?P<exact>{SIDE})( side)? elevation( (view|drawing))?( of {obj})?{NOT_A_NUMBER}",
+    "(an |the )?elevation( (view|drawing))? (from|of) (the|{P}) (?P<exact>{SIDE})( side)?( of {obj})?{NOT_A_NUMBER}",
     NOT_A_RELATION + "(the|a) {SIDE}{PART} of {obj}",
     # Opening the sentence or a clause the article may be dropped ("back of the fridge, eye level").
     "((?<=^ )|{CLAUSE}){SIDE}{PART} of {obj}",
@@ -781,14 +856,24 @@ VIEW_FRAMES = [
 VIEW_CLAUSE = "((?<=^ )|{CLAUSE})(the )?({EXACT} ({STRONG} )?)?{SIDE}( side| view| angle| corner)?(?= ([,.;!]|$))"
 # A left or right profile or flank as a clause ("the bear's profile, left side" is its left; a
 # bare "left side" there stays a region).
-PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end)(?= ([,.;!]|$))"
+PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end|lateral)(?= ([,.;!]|$))"
 # A side other than a lone left or right named right after its subject, ending the clause ("tedy
 # bear three quarter rear right", "chair front, medium"); not "behind", which says where the
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
 # A lone side said right after a side view ("from the side, left"): which side.
-SIDE_AFTER_SIDE_VIEW = "(?:(?<=side , )|(?<=profile , ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+SIDE_AFTER_SIDE_VIEW = (
+    "(?:(?<=side [,:;] )|(?<=profile [,:;] )|(?<=lateral [,:;] )|(?<=side view [,:;] )|(?<=profile view [,:;] )"
+    "|(?<=lateral view [,:;] ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+)
+# The view's noun before its side, as a caption or a shot list writes it ("PROFILE RIGHT", "view
+# front-left", "side view from the left", "lateral view: right", "angle (rear right)"), as a clause
+# of its own or right after its subject.
+NOUN_BEFORE_SIDE = (
+    "((?<=^ )|{CLAUSE}|(?<=@\\d ))(the |a |{P} )?((side|lateral) )?(profile|view|lateral|angle)( view| shot)?( [,:;(])?"
+    " (from |on |to |towards )?(the |{P} )?{SIDE}( side)?(?= ([,.;:!)]|$))"
+)
 # A left or right side said as the clause right after its subject ("armchair: right side, half the
 # frame"): with "side" it is the subject's (the frame's would say "on the right side").
 # A side joined to a height ("from above and to the left"): the camera's, not the frame's.
@@ -870,6 +955,16 @@ VIEW_PHRASES = {
     # An end said "X on" is that end exactly ("nose on"; "tail on"); "head on", "dead on" say only
     # exactly (:data:`EXACT_ONLY`).
     "front-exact": [
+        "(in |from |as )?(a |an |the )?(frontal|facade) elevation( (view|drawing))?( of {obj})?{NOT_A_NUMBER}",
+        # Square to the subject ("perfectly square to it", "dead square to the sofa").
+        "(({STRONG}) )?(square|squarely) (on )?(to|towards|with|facing|onto|on to) {obj}",
+        # Looking right (straight) at the camera; "right" there is no side ("gazing right into the lens").
+        "(looking|look|looks|staring|stares|stare|gazing|gazes|gaze|peering|peers|glaring|eyeing)"
+        " (right|straight|directly|dead|squarely) (at|into|towards) (the (camera|lens|viewer)|us|me)",
+        # Looking (pointing) down the lens: straight at the camera ("looking right down the lens",
+        # "staring straight down the barrel").
+        "(looking|look|looks|staring|stares|stare|gazing|gazes|gaze|peering|peers|pointing|points|pointed|aimed|facing|faces)"
+        " ((right|straight|directly|dead|square|squarely) )?down (the|its|his|her) (lens|camera|barrel)( of the (lens|camera))?",
         "(a |in )?(" + "|".join(w for w in HEAD_ON_WORDS if w not in GENERIC_ON_WORDS) + ") on( (view|shot|angle))?",
         # Its front squared to the camera ("square to the lens", "face it square", "shooting
         # straight at it").
@@ -2283,7 +2378,11 @@ _MACROS = {
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
     # The same words where they make a view side exact (read back by _cue).
     "{EXACT}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?P<exact>"),
-    "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:"),
+    # Said once or repeated ("really really tiny", "very, very small", "so so close").
+    "{VERY}": _alternatives(DEGREE_SCALE["strong"], "(?:")
+    + "(?:(?: ,)? "
+    + _alternatives((*DEGREE_SCALE["strong"], "so"), "(?:")
+    + ")*",
     # A small amount to turn by: a slight degree word or a small turn without a number, maybe
     # "more" ("a little bit more", "a few degrees").
     "{HEDGE}": _alternatives((*DEGREE_SCALE["slight"], *OFFSET_HEDGES), "(?:") + "(?: more)?",
@@ -2385,6 +2484,12 @@ _MACROS = {
     ),
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
     "{CLAUSE}": "(?<=[,;:.!?] )",
+    # The whole picture a small element is part of ("a small element in the landscape").
+    "{WHOLE}": "(?:(?:bigger|wider|larger|whole|overall|entire|big) )?(?:"
+    + FRAME
+    + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
+    # Not before a number, which would make the words before it a height ("elevation 20 degrees").
+    "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
     "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
     # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
     "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
@@ -2561,6 +2666,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
         if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
             rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
+        rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
     rows += [("view", view, t, False) for view, ts in VIEW_PHRASES.items() for t in ts]
@@ -2706,7 +2812,7 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, slips = self._unslip(words(text), vocabulary)
+        tokens, slips = self._unslip(_unrepeated(words(text)), vocabulary)
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
         cues = _bare_angles(self._cues(tokens), tokens)
@@ -2912,6 +3018,26 @@ class RuleParser:
         return " ".join(phrase)
 
 
+# Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
+EMPHATIC_WORDS = frozenset(DEGREE_SCALE["strong"]) | {"so"} | {w for ws in SIZE_WORDS.values() for w in ws}
+
+
+def _unrepeated(tokens: list[str]) -> list[str]:
+    """``tokens`` with a word said again straight after itself (an emphatic word also after a
+    comma) said once: emphasis by repetition grades as the word once ("tiny tiny", "really,
+    really small", "so so close"). A comma between other words parts clauses ("zoomed in, in the
+    middle")."""
+    out: list[str] = []
+    for token in tokens:
+        if token.isalpha() and out[-1:] == [token]:
+            continue
+        if token in EMPHATIC_WORDS and out[-2:] == [token, ","]:
+            out.pop()
+            continue
+        out.append(token)
+    return out
+
+
 def _before_relation(text: str) -> str:
     """A noun phrase's words before a place relation ("vase" of "vase on its left"), so a refusal
     names the thing; ``text`` whole when none follows its first word."""
@@ -3074,7 +3200,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = _combined_view(held, cue.value) if cue.field == "view" else None
+        combined = {"view": _combined_view, "region": _combined_region}.get(cue.field, lambda *_: None)(held, cue.value)
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
@@ -3139,6 +3265,25 @@ def _combined_view(held, said):
             return None
         return _turned(reference, turn[1])
     return VIEW_COMBINATIONS.get(frozenset((held, said)))
+
+
+# A height and a side of the frame said apart are the corner between them ("at the bottom, on the
+# left"; "in the corner at the top, to the right").
+REGION_CORNERS = {
+    f"{'upper' if height == 'top' else 'lower'} {lat}": frozenset((height, lat))
+    for height in ("top", "bottom")
+    for lat in ("left", "right")
+}
+
+
+def _combined_region(held, said) -> str | None:
+    """The corner two region cues of a subject name together: a half of each axis ("at the
+    bottom" + "on the left": "lower left"), or a corner and one of its own halves ("in the
+    lower-left corner" + "at the bottom"); else None (a conflict)."""
+    for corner, halves in REGION_CORNERS.items():
+        if {held, said} <= halves | {corner} and {held, said} != {corner} and len({held, said}) == 2:
+            return corner
+    return None
 
 
 def _turned(reference: str | None, degrees: float) -> str | None:
