@@ -9,7 +9,7 @@ import pytest
 from capframe.errors import InputError
 from capframe.scene import SemanticObject
 from capframe.translate.parse import parse_instruction
-from capframe.translate.vocabulary import COLORS, NAME_VARIANTS, Vocabulary, key
+from capframe.translate.vocabulary import COLORS, NAME_KINDS, NAME_SYNONYMS, NAME_VARIANTS, Vocabulary, key
 
 
 def scene(*names: str) -> Vocabulary:
@@ -37,3 +37,9 @@ def test_a_word_the_scene_lacks_is_not_offered_a_variant_as_closest():
     with pytest.raises(InputError) as error:
         vocabulary.match("sundial")
     assert "closest" not in str(error.value) and "known" in str(error.value)
+
+
+def test_the_variants_repeat_no_synonym_or_kind():
+    """The tables stay disjoint: a name in two of them is kept in one place."""
+    others = {key(w) for group in (*NAME_SYNONYMS, *NAME_KINDS) for w in group[1:]}
+    assert not [v for _, v in VARIANTS if key(v) in others]

@@ -1181,7 +1181,7 @@ NAME_SYNONYMS = (
     ("vase", "flower vase", "jar"),
     ("tree", "small tree", "sapling", "young tree"),
 )
-# Longer everyday names of the same objects, as different people write them ("toy automobile",
+# Longer everyday names of the same objects, as different people write them ("car toy",
 # "3 seater", "stuffed animal"). They answer as synonyms do but, like the kinds, are never offered
 # as the closest name to a word the scene lacks (a long descriptive name looks a little like too
 # many words), and none carries a colour (a colour in a name excludes the object from a mention
@@ -1206,8 +1206,6 @@ NAME_VARIANTS = (
     ("floor lamp", "standing light", "tall lamp", "floor standing lamp", "pole lamp", "arc lamp", "torchere"),
     (
         "toy car",
-        "toy automobile",
-        "model automobile",
         "toy auto",
         "car toy",
         "mini car",
@@ -1215,7 +1213,7 @@ NAME_VARIANTS = (
         "toy racer",
         "die cast car",
     ),
-    ("traffic cone", "road cone", "witches hat", "hazard cone", "warning cone", "street cone", "highway cone", "safety pylon"),
+    ("traffic cone", "witches hat", "hazard cone", "warning cone", "street cone", "highway cone", "safety pylon"),
     ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil"),
     ("bookshelf", "book stand", "book rack", "book cabinet", "bookshelf unit", "storage shelf", "etagere"),
     (
