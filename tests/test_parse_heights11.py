@@ -212,3 +212,20 @@ def test_a_gimbal_or_an_angle_without_a_height_is_not_guessed(text):
 def test_a_level_viewpoint_leaves_each_subject_its_name():
     for name in (BEAR, BENCH, MUG, SOFA, TV):
         assert read(f"the {name}, level viewpoint")["subjects"][0][0] == name
+
+
+# --- an angle's direction after its degrees, a drone held high, "from the upside" ----------------
+
+MORE_HEIGHTS = [
+    ("get under the table and shoot up at the mug from about 70 degrees below it", (None, -70.0)),
+    ("point down at the bench from roughly forty degrees above it", (None, 40.0)),
+    ("drone holding high over the toy car at around 55 degrees", (None, 55.0)),
+    ("the sofa, camera staying high above it", ("high angle", None)),
+    ("photo of the mug from the upside", ("high angle", None)),
+    ("the bench from upside, straight down", TOP_DOWN),
+]
+
+
+@pytest.mark.parametrize("text, want", params(MORE_HEIGHTS))
+def test_an_angle_with_its_direction_after_or_a_drone_held_high(text, want):
+    assert height(text) == want

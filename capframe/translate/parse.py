@@ -1466,11 +1466,13 @@ ELEVATION_HINTS = {
         # Looking down on a part of it ("looking down on its crown", "looking down onto the lid").
         "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
         # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
-        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting)"
-        " (high|high up|up high|way up|overhead|up above|above( {obj})?)(?! (in|on|at) )",
+        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting|holding|staying|kept)"
+        " (((high|well|far|way) )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
+        # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
         # Said of a place up somewhere ("from higher up", "from on high", "from a height").
         "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
@@ -1623,7 +1625,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        # The angle's direction may follow it ("shoot down at it from about 40 degrees above it").
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        "( (above|over)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{sd} (elevation|elevation angle)",
@@ -1666,7 +1670,8 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
-        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        "( (below|under|beneath|underneath)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((the )?(camera|lens) )?(lowered|dropped|sunk)( down)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
