@@ -46,6 +46,7 @@ PART_HEIGHTS = [
     "the television, camera at the screen's middle",
     "the toy car, camera levelled with the bumpers",
     "the toy car, camera on the same height like its wheels",
+    "the sofa - camera at the hight of the seat cushions",
 ]
 
 
@@ -64,6 +65,7 @@ LEVEL_WORDS = [
     "could you shoot the bench from a level position",
     "the mug, level camera angle",
     "the mug, from a levelled viewpoint",
+    "the mug, viewpoint level",
 ]
 
 
@@ -90,6 +92,7 @@ ANGLES_THEN_DIRECTION = [
     ("the bench, 20 degrees over the horizontal", 20.0),
     ("the sofa, 15 degrees under the horizon", -15.0),
     ("the mug, 40 degrees up from level", 40.0),
+    ("the bench, 60 degrees from the top", 60.0),
     ("the mug from 10 degrees above its centre", 10.0),
     ("the teddy bear from 15 degrees below his center", -15.0),
     ("the bench, from about 20° below the middle of it", -20.0),

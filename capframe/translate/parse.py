@@ -1249,12 +1249,12 @@ ELEVATION_PHRASES = {
         # The height of a surface or part named ("from the height of the coffee table").
         "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of "
         "(the |a |{P} )?"
-        "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)( of {obj})?",
+        "({ANCHOR_EYE}|{SURFACE}|coffee table|side table)( of {obj})?",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
-        "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
+        "({EYENOUN}|lens|camera) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
         "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?"
         "( of ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
@@ -1616,7 +1616,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
         # The angle, then where from ("approx. 30 degrees from above", "25 degrees over it",
         # "10 degrees above its centre").
-        "(from |at )?({ABOUT} )?{d}(?<= degrees) from (up )?(above|overhead|on high|up high|high up|up above)",
+        "(from |at )?({ABOUT} )?{d}(?<= degrees) from (up )?(above|overhead|on high|up high|high up|up above|the top)",
         "(from |at )?({ABOUT} )?{d}(?<= degrees) (above|over|higher than)( {ELEVREF})?",
         "(from |at )?(a )?(height|elevation) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
         # A bare number with its article and direction ("at a 45 from above", "a high 45").
