@@ -1254,7 +1254,8 @@ ELEVATION_PHRASES = {
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
-        "({EYENOUN}|lens|camera) (level|flat)(?= ([,.;!]|$))",
+        # A view noun, then "level" ("viewpoint level"); not "camera level": that keeps the horizon level.
+        "({EYENOUN}|lens) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
         "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?"
         "( of ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
