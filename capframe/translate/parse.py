@@ -1313,7 +1313,7 @@ ELEVATION_PHRASES = {
         "({SURFACE}|tabletop|table top)",
         "with the camera at {P} (height|level|eye level)",
         "(shot )?straight on at {P} height",
-        "(at|from|on) (the )?(same height|same level|height|level) (as|of) ({obj}|(the |{P} )?{ANCHOR_EYE})",
+        "(at|from|on) (the )?(same height|same level|height|level) (as|of|with|like) ({obj}|(the |{P} )?{ANCHOR_EYE})",
         "(at|from) {P} (height|level)",
         "{LEVEL} {obj}",
         # As high as it or a part at its height ("camera as high as its head").
@@ -1333,23 +1333,30 @@ ELEVATION_PHRASES = {
         "((the )?(camera|lens) )?(crouched|crouching|crouch|squatting|squat|kneeling|kneel|down|lowered|dropped|brought|raised"
         "|lifted|held|set|come|coming|get|getting) (down |up )?to (the |{P} )?(own )?{ANCHOR_EYE}( (level|height|line))?",
         "(from |at )?(a )?(neutral|level|straight) (angle|height)",
-        "(from |at |in )?(a |an )?(horizontal|flat|neutral|level) (view|angle|shot|perspective|camera)",
+        "(from |at |in )?(a |an )?(horizontal|flat|neutral|level|levelled|leveled|even) "
+        "(camera angle|camera position|{EYENOUN}|camera|position)",
         # The height of the surface the subject rests on, or sits on: level with the subject.
         "(with the camera |camera )?(at|from) (the |a )?{SURFACE} (height|level)",
         # A height named by a body or a surface ("chest height", "at seat level", "lens at the
         # car's own height"), and a level camera said plainly ("dead level with it", "flat on").
-        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE} "
+        "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE}( 's)? "
         "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "((put |with |set |hold )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of (the |a |{P} )?"
-        "({SURFACE}|{ANCHOR_EYE}|coffee table|side table)",
+        "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of "
+        "(the |a |{P} )?"
+        "({ANCHOR_EYE}|{SURFACE}|coffee table|side table)( of {obj})?",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
         "({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
-        "(shot|lens|view) (level|flat)(?= ([,.;!]|$))",
+        # A view noun, then "level" ("viewpoint level"); not "camera level": that keeps the horizon level.
+        "({EYENOUN}|lens) (level|flat)(?= ([,.;!]|$))",
         # Level with a part or a surface named by a height anchor ("level with the seat").
-        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?",
+        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?"
+        "( of ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
+        # The camera at the subject's middle ("camera roughly at its middle", "lens on its centre").
+        "(the )?(camera|lens) (is |held |kept |set |placed |put )?({ROUGHLY} )?(at|on) ({P}|(the )?{ANCHOR_EYE} 's) "
+        "(own )?{MIDDLE}",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
         "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
@@ -1359,6 +1366,8 @@ ELEVATION_PHRASES = {
     ],
     "slightly above": [
         "(from |with the camera )?({WEAK}|just) (above|higher( up)?|overhead)( {obj}| than {obj})?",
+        # A hedge before a place on top ("the camera is a bit on top of him", "slightly on top").
+        "(from |with the camera )?({WEAK}|just) (on|over|above) (the )?top( of {obj})?",
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(down|high) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (down {WEAK}|{WEAK} down)",
         "{WEAK} from above",
@@ -1428,6 +1437,8 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a )?steep (overhead|downward|down|top)( (angle|shot|view))?",
         "(high|far|way|well|right) (up )?overhead",
         "(at |from )?(the )?ceiling (height|level)",
+        # From the sky or the air, as a drone or a bird sees it.
+        "(from|out of) (up in )?the (sky|air)",
     ],
     "top-down": [
         "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
@@ -1450,6 +1461,15 @@ ELEVATION_PHRASES = {
         # The lens turned to the floor ("right above it, lens facing the floor").
         "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
         "the (floor|ground|grass|table)",
+        # The camera or a drone's gimbal turned as far down as it goes ("gimbal straight down",
+        # "camera tilted all the way down", "lens pointed completely downward", "aimed down vertically").
+        "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} down"
+        "( (at|on|onto) {obj})?",
+        "{AIM}( the camera| the lens)? {FULLY} down( (at|on|onto) {obj})?",
+        # The subject right under the camera, said from the camera's side ("the tree directly beneath
+        # us", "straight below the drone"): the camera straight above it.
+        "({STRONG}|just) (below|beneath|under|underneath) (us|me|the (camera|lens|drone|gimbal))",
+        "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? down (vertically|straight|fully)",
     ],
     "low angle": [
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
@@ -1542,11 +1562,13 @@ ELEVATION_HINTS = {
         # Looking down on a part of it ("looking down on its crown", "looking down onto the lid").
         "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
         # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
-        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting)"
-        " (high|high up|up high|way up|overhead|up above|above( {obj})?)(?! (in|on|at) )",
+        "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting|holding|staying|kept)"
+        " (((high|well|far|way) )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
+        # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
         "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
         # Said of a place up somewhere ("from higher up", "from on high", "from a height").
         "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
@@ -1563,6 +1585,8 @@ ELEVATION_HINTS = {
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
         "((the )?(camera|lens) )?(held|kept|raised|lifted) (high|up high|high up|up)(?= ([,.;!]|$))",
         "(with )?(the )?(camera|lens) {AIM} (down|at the (floor|ground|grass))",
+        # A camera or a drone's gimbal turned down ("gimbal facing down", "gimbal pointing down").
+        "(the )?(camera|lens|gimbal) (is )?(facing|turned|{AIM}) down( (at|on|onto|towards) {obj})?",
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
         "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
@@ -1578,7 +1602,8 @@ ELEVATION_HINTS = {
         "(?<= and )(from )?(above|overhead|up high|high up)(?= ([,.;!]|$))",
     ],
     "bird's-eye": [
-        "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?",
+        "((from|with|by|as|like) )?(a |the )?drone( 's)?( (shot|view|style|angle|camera|perspective|height))?"
+        "( (hovering |high |right |straight )?(above|over) {obj})?",
     ],
     "low angle": [
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
@@ -1633,7 +1658,13 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
     ELEVATION_PHRASES[_elevation_class] += [
         "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? eyes?( ({EYENOUN}|level))?",
         "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
-        "(as|like) (a |an )?" + _creature + " (sees|would see|might see|see|views|would view)( it| them| {obj})?",
+        # As it sees things, said any way ("the way a bird sees it", "how birds see it", "as a bird
+        # would look at it", "as seen by a frog"), or the creature alone ("from above, like a bird").
+        "(as|like|the way|how|in the way) (a |an |the )?" + _creature + "s?"
+        " (sees|would see|might see|see|views|would view|would look at|looks at|look at|would|does|do)"
+        "( it| them| {obj}| things)?",
+        "(as )?seen (by|through the eyes of) (a |an |the )?" + _creature + "s?",
+        "(like|as) (a |an |the )?" + _creature + "s?(?= ([,.;!]|$))",
         "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
     ]
 
@@ -1650,8 +1681,21 @@ VERTICAL_UP_PHRASES = [
     "(a |an |the )?zenith( (shot|view|angle|perspective))?",
     "from the ground( level)?( ,)? looking straight up( at {obj})?",
     "(from )?(directly|straight|right) (below|beneath|underneath|under)( {obj}| {P} {PARTS})?",
-    "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj})",
+    "(looking )?(straight|directly|right) up (at|into|under) ({P} [a-z]+|{obj}|the (bottom|underside|base) of {obj})",
     "straight up at {obj}",
+    # The camera turned as far up as it goes, maybe through what the subject stands on ("LENS
+    # STRAIGHT UP THROUGH THE TOP", "camera tilted all the way up", "lens facing straight up").
+    "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} up"
+    "( (at|to|towards) {obj})?{THROUGH}",
+    "{AIM}( the camera| the lens)? {FULLY} up( (at|to|towards) {obj})?{THROUGH}",
+    "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? up (vertically|straight|fully){THROUGH}",
+]
+
+# A drone gimbal's pitch: the angle the camera looks down, written with either sign ("gimbal at 90",
+# "gimbal -45", "gimbal pitched down about 50 degrees"); its magnitude is the elevation (an aircraft
+# looks down on what it shoots). "Up" after it is no such pitch.
+GIMBAL_PHRASES = [
+    "(the )?(drone 's )?gimbal( ({AIM}|facing|turned|looking|set|at|to|of|is|:))*( down)? ({ABOUT} )?{sd}( down)?(?! up )",
 ]
 
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
@@ -1659,13 +1703,17 @@ EXPLICIT_ELEVATION_PHRASES = {
     1.0: [
         # "around 30 degrees up" (not a pitch: "tilted 10 degrees up" is a low-angle hint).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
-        "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|{obj}))?",
+        "{d} (up|overhead)( (from|above|off) (the )?(ground|horizontal|horizon|level|{obj}))?",
         # The camera looking N degrees down is N degrees above (a pitch said with "tilted" or
         # "angled" stays a hint, as "up" does).
         "(?<!tilted )(?<!tilt )(?<!tilting )(?<!pitched )(?<!angled )(?<!aimed )(?<!pointed )(?<!pointing )"
         "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
         "(?! (from|to|the|its|his|her|their|left|right) )",
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        # The angle, then where from ("approx. 30 degrees from above", "25 degrees over it",
+        # "10 degrees above its centre").
+        "(from |at )?({ABOUT} )?{d}(?<= degrees) from (up )?(above|overhead|on high|up high|high up|up above|the top)",
+        "(from |at )?({ABOUT} )?{d}(?<= degrees) (above|over|higher than)( {ELEVREF})?",
         "(from |at )?(a )?(height|elevation) of ({ABOUT} )?{d}(?<= degrees)( (up|above))?",
         # A bare number with its article and direction ("at a 45 from above", "a high 45").
         "(at |from )?(a |an )(high |steep )?{n}( degrees)?( angle)? (from )?(above|overhead)",
@@ -1673,7 +1721,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        # The angle's direction may follow it ("shoot down at it from about 40 degrees above it").
+        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        "( (above|over)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{sd} (elevation|elevation angle)",
@@ -1707,6 +1757,8 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        "(from |at )?({ABOUT} )?{d}(?<= degrees) from (down )?(below|beneath|underneath|down low|low down|down below)",
+        "(from |at )?({ABOUT} )?{d}(?<= degrees) (below|under|beneath|underneath|lower than)( {ELEVREF})?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) up( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -1714,7 +1766,8 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
-        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}",
+        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        "( (below|under|beneath|underneath)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
         "((the )?(camera|lens) )?(lowered|dropped|sunk)( down)? (by |to )?({ABOUT} )?{d}(?<= degrees)"
@@ -2365,6 +2418,14 @@ def _alternatives(options, opening: str = "(") -> str:
 _MACROS = {
     # A height named by eye level, a height anchor or the subject's own ("its own", "the seat",
     # "its roof"), before "level" / "height" / "line"; expanded first, its macros after it.
+    "{MIDDLE}": "(?:middle|center|midpoint|mid point|midsection|mid section|mid height|half height)",
+    # What an angle is measured from ("25 degrees over it", "above the horizontal", "below its centre").
+    "{ELEVREF}": "(?:{obj}|(?:the )?(?:horizontal|horizon|level|ground|floor|eye level|eye line)"
+    "|(?:the |{P} )(?:own )?(?:{ANCHOR_EYE}|height|level)(?: of {obj})?)",
+    # As far as it goes ("tilted fully down", "all the way up", "straight up").
+    "{FULLY}": "(?:fully|all the way|completely|totally|straight|directly|vertically)",
+    # Up through what the subject stands on ("LENS STRAIGHT UP THROUGH THE TOP").
+    "{THROUGH}": "(?: through (?:the |a |{P} )?(?:{SURFACE}|{SUPPORT}|top|surface|glass|floor)(?: (?:top|surface))?)?",
     "{HEIGHT_OF}": "(?:(?:the |a |{P} )?(?:own )?(?:eye|{ANCHOR_EYE})|{P}(?: own)?)",
     "{FRAME}": FRAME,
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
@@ -2721,6 +2782,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("elevation", e, t, True) for e, ts in ELEVATION_HINTS.items() for t in ts]
     rows += [("elevation_deg", sign, t, False) for sign, ts in EXPLICIT_ELEVATION_PHRASES.items() for t in ts]
     rows += [("elevation_deg", ("fixed", VERTICAL_UP_DEG), t, False) for t in VERTICAL_UP_PHRASES]
+    rows += [("elevation_deg", ("magnitude", 1.0), t, False) for t in GIMBAL_PHRASES]
     rows += [("elevation_bare", None, t, True) for t in BARE_ANGLE_PHRASES]
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
@@ -3133,7 +3195,10 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     ref = int(slot.split()[0][1:]) if slot and slot.startswith("@") else None
     value, weak = rule.value, rule.weak
     if rule.field == "elevation_deg":
-        value = rule.value[1] if isinstance(rule.value, tuple) else rule.value * float(groups["d"])
+        if isinstance(rule.value, tuple):  # ("fixed", degrees) or ("magnitude", sign): a sign of its own
+            value = rule.value[1] if rule.value[0] == "fixed" else rule.value[1] * abs(float(groups["d"]))
+        else:
+            value = rule.value * float(groups["d"])
     elif rule.field == "elevation_bare":
         value = float(groups["d"])
     elif rule.field == "roll_deg":

@@ -94,6 +94,8 @@ SPELLINGS = {
     "sideon": "side on",
     "headon": "head on",
     "approx": "approximately",
+    "appr": "approximately",
+    "ca": "circa",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
@@ -767,6 +769,16 @@ SUBJECT_PARTS = {
         "licence plate",
         "wing mirror",
         "wing mirrors",
+        # A vehicle's lamps said plainly ("camera on the height of the lights"); "light" alone also
+        # names a lamp, so only the plural and the named ones are parts.
+        "lights",
+        "front lights",
+        "tail lights",
+        "taillights",
+        "rear lights",
+        "brake lights",
+        "fog lights",
+        "indicators",
     ),
     "creature": (
         "snout",
@@ -859,6 +871,13 @@ HEIGHT_ANCHORS = {
         "neck",
         "torso",
         "handle",
+        # Its middle ("camera held level with its middle", "from 15 degrees below its centre").
+        "middle",
+        "center",
+        "midpoint",
+        "mid point",
+        "midsection",
+        "mid section",
         # Any part of the subject itself ("lens down at bonnet height", "level with its snout",
         # "crouched down to its roofline"): the camera at the subject's own height.
         *(part for parts in SUBJECT_PARTS.values() for part in parts),
@@ -895,6 +914,20 @@ LEVEL_WITH = (
     "on level with",
     "on a par with",
     "on par with",
+    # Non-native and spoken forms ("on height with the lights", "at the same level with its seat").
+    "levelled with",
+    "leveled with",
+    "on height with",
+    "on a height with",
+    "on one height with",
+    "on one level with",
+    "in level with",
+    "at level with",
+    "at height with",
+    "on the same height with",
+    "at the same height with",
+    "on the same level with",
+    "at the same level with",
 )
 # Small angles said without a number ("a few degrees above", "a couple of degrees down"): the
 # slight height classes, as "a bit" is. Plain words; the parser normalises them as it does text.
