@@ -558,17 +558,22 @@ def test_floor_reach_stops_a_ray_at_the_floor_less_its_margin():
         assert _floor_reach(occupancy, _Ray(origin, origin, np.array(direction))) == math.inf
 
 
+def kept_low_angles(gaussians: GaussianScene, reference) -> tuple[list, object]:
+    """The kept closed-form cameras for a low angle at the ball (indices 0..399, front -y) of a
+    scene whose up is +z, and the occupancy built around ``reference``."""
+    up = np.array([0.0, 0.0, 1.0])
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    occupancy = build_occupancy(gaussians, up, [reference])
+    low = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball")], elevation="low angle"), subjects, up)
+    return [c for c in solve_candidates(gaussians, low, reference, occupancy) if c.status == "kept"], occupancy
+
+
 def test_a_low_angle_from_a_far_reference_view_finds_the_stretch_above_the_floor():
     """The reference view is 40 units out: its distance scales the slides, which all fell under
     the floor at a low angle before they started where the ray meets the floor plane."""
     gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=2.9, wall_height=0.2, scale=0.06, opacity=0.9)
-    up = np.array([0.0, 0.0, 1.0])
-    centroid = gaussians.means[:400].double().mean(0).numpy()
-    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
-    reference = make_camera(eye=(0.0, -40.0, 2.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    occupancy = build_occupancy(gaussians, up, [reference])
-    low = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball")], elevation="low angle"), subjects, up)
-    kept = [c for c in solve_candidates(gaussians, low, reference, occupancy) if c.status == "kept"]
+    kept, occupancy = kept_low_angles(gaussians, make_camera(eye=(0.0, -40.0, 2.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0)))
     assert kept and all(c.elevation_deg < 0 for c in kept)
     assert float(occupancy.clearance(torch.as_tensor(kept[0].camera.center))) >= 0
 
@@ -609,14 +614,9 @@ def ball_on_table(seed: int) -> GaussianScene:
 
 
 def test_a_low_angle_at_a_ball_on_a_table_is_solved_above_the_table_not_under_it():
-    """Far out along a low ray the free space lies under the table top, which hides the ball; the
-    positions whose line of sight is clear (near the ball, above the table) are rendered first."""
-    gaussians = ball_on_table(seed=3)
-    up = np.array([0.0, 0.0, 1.0])
-    centroid = gaussians.means[:400].double().mean(0).numpy()
-    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    """Far out along a low ray the free space lies under the table top, which hides the ball: the
+    positions below the ball that look at it through the table are rendered last, so the near
+    ones above the table are reached."""
     reference = make_camera(eye=(0.0, -12.0, 3.0), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
-    occupancy = build_occupancy(gaussians, up, [reference])
-    low = labels_from_constraints(Constraints(subjects=[SubjectConstraint("ball")], elevation="low angle"), subjects, up)
-    kept = [c for c in solve_candidates(gaussians, low, reference, occupancy) if c.status == "kept"]
+    kept, _ = kept_low_angles(ball_on_table(seed=3), reference)
     assert kept and kept[0].camera.center[2] > 1.0
