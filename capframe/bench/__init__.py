@@ -74,11 +74,9 @@ def run_bench(
 
         figures = bench_render()
     elif what == "render-cuda":
-        import importlib.util
+        from ..render import resolve_backend
 
-        import torch
-
-        if not torch.cuda.is_available() or importlib.util.find_spec("gsplat") is None:
+        if resolve_backend("auto") != "gsplat":  # "auto" is gsplat exactly when CUDA and gsplat are there
             raise InputError("bench render-cuda needs a CUDA device and gsplat (pip install -e .[cuda])")
         from .render import bench_render_cuda
 

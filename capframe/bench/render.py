@@ -143,16 +143,23 @@ def time_forward_backward(
     return {b: (float(np.median(times[b])), stats[b]) for b in backends}
 
 
-def parity(scene: GaussianScene, camera: Camera, dtype: torch.dtype) -> dict[str, float]:
-    """Max abs differences compiled - torch of rgb, alpha, depth and the pose gradient (of
-    :func:`_loss`), and the gradient's relative difference."""
+def _renders_and_pose_grads(scene: GaussianScene, camera: Camera, backends, dtype: torch.dtype) -> dict[str, tuple]:
+    """Per backend: rgb (H, W, 3), alpha (H, W), depth (H, W) and the gradient (4, 4) of
+    :func:`_loss` with respect to the pose, rendered on the scene's device."""
     results = {}
     prepared = prepare(scene, dtype)
-    for backend in BACKENDS:
-        T = torch.as_tensor(camera.T_cw).clone().requires_grad_()
+    for backend in backends:
+        T = torch.as_tensor(camera.T_cw, device=scene.means.device).clone().requires_grad_()
         out = render(prepared, camera, T_cw=T, backend=backend, dtype=dtype)
         _loss(out).backward()
         results[backend] = (out.rgb.detach(), out.alpha.detach(), out.depth.detach(), T.grad)
+    return results
+
+
+def parity(scene: GaussianScene, camera: Camera, dtype: torch.dtype) -> dict[str, float]:
+    """Max abs differences compiled - torch of rgb, alpha, depth and the pose gradient (of
+    :func:`_loss`), and the gradient's relative difference."""
+    results = _renders_and_pose_grads(scene, camera, BACKENDS, dtype)
     diffs = [float((a - b).abs().max()) for a, b in zip(results["torch"], results["compiled"])]
     grad_rel = float((results["torch"][3] - results["compiled"][3]).norm() / results["torch"][3].norm())
     return {"rgb": diffs[0], "alpha": diffs[1], "depth": diffs[2], "pose_grad": diffs[3], "pose_grad_rel": grad_rel}
@@ -253,18 +260,12 @@ def gsplat_parity(scene: GaussianScene, camera: Camera) -> dict[str, float]:
     rgb, alpha and depth, and the pose gradients' cosine and relative difference (of
     :func:`_loss`). A mean, since one rule differs on purpose (the 3-sigma cut,
     :mod:`capframe.render.torch_backend`), which moves a few edge pixels by up to 1/255."""
-    results = {}
-    prepared = prepare(scene)
-    for backend in ("torch", "gsplat"):
-        T = torch.as_tensor(camera.T_cw, device=scene.means.device).clone().requires_grad_()
-        out = render(prepared, camera, T_cw=T, backend=backend)
-        _loss(out).backward()
-        results[backend] = (out.rgb.detach(), out.alpha.detach(), out.depth.detach(), T.grad.flatten())
+    results = _renders_and_pose_grads(scene, camera, ("torch", "gsplat"), torch.float32)
     figures = {}
     for name, a, b in zip(("rgb", "alpha", "depth"), results["torch"], results["gsplat"]):
         figures[f"{name}_mean_abs"] = float((a - b).abs().mean())
         figures[f"{name}_max_abs"] = float((a - b).abs().max())
-    g_torch, g_gsplat = results["torch"][3], results["gsplat"][3]
+    g_torch, g_gsplat = results["torch"][3].flatten(), results["gsplat"][3].flatten()
     figures["pose_grad_cosine"] = float(torch.nn.functional.cosine_similarity(g_torch, g_gsplat, dim=0))
     figures["pose_grad_rel"] = float((g_torch - g_gsplat).norm() / g_torch.norm())
     return figures
