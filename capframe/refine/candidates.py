@@ -288,10 +288,8 @@ def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, 
     """The steepest elevation (degrees, < 0) at which a camera ``distance`` from the view centre
     ``origin`` (3,) stays its floor margin above the floor plane: ``-asin(h / distance)`` for a
     centre ``h`` above the plane and margin; None without a floor or when no elevation reaches it."""
-    if not math.isfinite(occupancy.floor_height):
-        return None
-    height = float(occupancy.rotation[2] @ origin) - occupancy.floor_height - occupancy.height_kept(floor_margin)
-    if height <= 0.0 or height >= distance:
+    height = _height_over_floor(occupancy, origin, floor_margin)
+    if height is None or height <= 0.0 or height >= distance:
         return None
     return -math.degrees(math.asin(height / distance))
 
@@ -541,10 +539,16 @@ def _floor_reach(occupancy: Occupancy, ray: _Ray) -> float:
     between 10 and 14.5). Not the ceiling plane: it is inferred from the walls' top, and the
     first slide at its margin would put the camera against it."""
     rise = float(occupancy.rotation[2] @ ray.direction)
-    if rise >= 0 or not math.isfinite(occupancy.floor_height):
-        return math.inf
-    above = float(occupancy.rotation[2] @ ray.origin) - occupancy.floor_height - occupancy.height_kept(ray.floor_margin)
-    return above / -rise if above > 0 else math.inf
+    above = _height_over_floor(occupancy, ray.origin, ray.floor_margin)
+    return above / -rise if rise < 0 and above is not None and above > 0 else math.inf
+
+
+def _height_over_floor(occupancy: Occupancy, point: np.ndarray, floor_margin: float | None) -> float | None:
+    """How high the world ``point`` (3,) stands above the floor plane less the height a camera
+    keeps over it (:meth:`Occupancy.height_kept` of ``floor_margin``); None without a floor."""
+    if not math.isfinite(occupancy.floor_height):
+        return None
+    return float(occupancy.rotation[2] @ point) - occupancy.floor_height - occupancy.height_kept(floor_margin)
 
 
 def _accepted_extent(asked: tuple[float, float]) -> tuple[float, float]:
