@@ -433,15 +433,16 @@ def _wall_sides(shape: tuple[int, int], hits: np.ndarray) -> np.ndarray:
     gx, gy = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
     sides = np.ones(shape, dtype=bool)
     for a, b in zip(hull, np.roll(hull, -1, axis=0)):
-        along = a + np.linspace(0.0, 1.0, max(int(np.linalg.norm(b - a)), 2))[:, None] * (b - a)
-        if np.linalg.norm(b - a) < WALL_LENGTH_COLUMNS:
+        length = np.linalg.norm(b - a)
+        if length < WALL_LENGTH_COLUMNS:
             continue  # a corner's chamfer: its plane would cut across the space past an opening
+        along = a + np.linspace(0.0, 1.0, max(int(length), 2))[:, None] * (b - a)
         near = np.linalg.norm(along[:, None] - hits[None], axis=2).min(1) <= WALL_EDGE_COLUMNS
         if near.mean() < 0.5:
             continue  # an open side
         # Counter-clockwise, the room lies on the edge's left; inside the inner edge of the
         # wall's outermost column (half a column in from its centre).
-        sides &= _turn(a, b, (gx, gy)) >= 0.5 * np.linalg.norm(b - a)
+        sides &= _turn(a, b, (gx, gy)) >= 0.5 * length
     return sides
 
 
