@@ -134,13 +134,13 @@ def _occupancy(args: argparse.Namespace, scene, labels, options, clock):
     if not options.free_space:
         return None
     if args.occupancy is None:
-        return stages.free_space(scene, labels.up, options, clock)
+        return stages.free_space(scene, labels.up, options, clock, labels)
     occupancy = load_occupancy(args.occupancy, gaussians=gaussians_fingerprint(scene.gaussians))
     if occupancy is None:
         raise InputError(
             "not found or not an occupancy of this version; rebuild it with capframe occupancy", source=args.occupancy
         )
-    return occupancy
+    return stages.subject_space(occupancy, scene, labels, clock)
 
 
 def _cmd_warm_server(args: argparse.Namespace) -> None:

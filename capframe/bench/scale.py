@@ -170,7 +170,7 @@ def measure_size(scene_dir: Path, texts: list[str], work: Path) -> dict:
         with per.phase("translate"):
             labels = stages.perceive(job, retrieved, options, clock)
         with per.phase("refine"):
-            occupancy = stages.free_space(scene, job.up, options, clock)
+            occupancy = stages.free_space(scene, job.up, options, clock, labels)
             starts = [scene.cameras[v] for v in job.view_indices(retrieved.starts)]
             refined = stages.refine(scene, labels, starts, options, clock, occupancy)
         with per.phase("result"):

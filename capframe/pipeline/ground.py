@@ -23,7 +23,7 @@ def ground(
     parsed = stages.parse(job, text, clock)
     retrieved = stages.qe(job, stages.coarse(job, parsed, clock), options, clock)
     labels = stages.perceive(job, retrieved, options, clock)
-    occupancy = stages.free_space(job.scene, job.up, options, clock)
+    occupancy = stages.free_space(job.scene, job.up, options, clock, labels)
     starts = [job.scene.cameras[v] for v in job.view_indices(retrieved.starts)]
     refined = stages.refine(job.scene, labels, starts, options, clock, occupancy)
     return write_ground_result(out_dir, job.scene, labels, retrieved, refined, options, clock, occupancy)

@@ -381,12 +381,26 @@ def _same_pose(a: np.ndarray, b: np.ndarray, scale: float) -> bool:
     return angle < DISTINCT_ROTATION_DEG and distance < DISTINCT_TRANSLATION
 
 
-def free_space(scene: SceneDir, up: np.ndarray, options: GroundOptions, clock: StageClock) -> Occupancy | None:
-    """The scene's occupancy from the per-scene cache (built once), None without ``free_space``."""
+def free_space(
+    scene: SceneDir, up: np.ndarray, options: GroundOptions, clock: StageClock, labels: PseudoLabels | None = None
+) -> Occupancy | None:
+    """The scene's occupancy from the per-scene cache (built once), with a finer grid around the
+    primary subject of ``labels`` when it is small for the scene's grid (:meth:`Occupancy.around`);
+    None without ``free_space``."""
     if not options.free_space:
         return None
     occupancy = cached_occupancy(scene.gaussians, up, scene.cameras, cache_dir(scene, options))
     clock.done("space", f"{int(occupancy.free.sum())} free voxels of {occupancy.voxel:.3g}")
+    return subject_space(occupancy, scene, labels, clock)
+
+
+def subject_space(occupancy: Occupancy, scene: SceneDir, labels: PseudoLabels | None, clock: StageClock) -> Occupancy:
+    """``occupancy`` with a finer grid around the primary subject of ``labels`` where it needs one."""
+    if labels is None or not labels.subjects:
+        return occupancy
+    occupancy = occupancy.around(scene.gaussians, labels.subjects[0].gaussians)
+    if occupancy.detail is not None:
+        clock.done("detail", f"{int(occupancy.detail.free.sum())} free cells of {occupancy.detail.voxel:.3g}")
     return occupancy
 
 

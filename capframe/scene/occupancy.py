@@ -39,7 +39,7 @@ import hashlib
 import json
 import math
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -88,6 +88,17 @@ FLOOR_QUANTILE = 0.9
 # The ceiling plane lies at this quantile of the heights of the solid Gaussians' centres in the
 # walls' two top layers (their 1-sigma points reach above the walls; a few floaters may too).
 CEILING_QUANTILE = 0.98
+# A subject spanning fewer than this many voxels (a teddy on a table in a room 45 units across)
+# gets a finer grid around it (Occupancy.around): the scene grid's margins (a voxel from a
+# surface) keep a camera farther from such a subject and its table top than the subject's own
+# size, so a low close view is never free in it.
+DETAIL_SUBJECT_VOXELS = 6.0
+DETAIL_SUBJECT_CELLS = 16  # the finer grid's voxel: this fraction of the subject's longest extent
+DETAIL_CELLS = 64  # cells along each side of the finer grid (four subject extents)
+DETAIL_REACH_CELLS = 16  # its clearance is exact up to this many cells, and this many beyond
+# Over this many cells inside its faces the finer grid's clearance blends into the scene grid's,
+# so the clearance stays continuous (Refine follows its gradient).
+DETAIL_BLEND_CELLS = 4.0
 
 
 @dataclass
@@ -111,6 +122,8 @@ class Occupancy:
         surface_layer: (X, Y) int16, the layer of the flat upward surface in each column, or -1.
         surface_height: (X, Y) float32, its grid-frame height (the highest of its samples; 0
             where there is none).
+        detail: a finer grid around one small subject (:meth:`around`; never cached), whose
+            voxel clearance and margin replace this grid's inside it.
     """
 
     rotation: np.ndarray
@@ -125,6 +138,7 @@ class Occupancy:
     ceiling_height: float = math.nan
     surface_layer: np.ndarray | None = None
     surface_height: np.ndarray | None = None
+    detail: Occupancy | None = None
 
     @property
     def margin(self) -> float:
@@ -146,7 +160,7 @@ class Occupancy:
         camera with a padding: beyond it, past an open side, stands the room's fourth wall); never more
         than the height above the floor plane or a flat surface in the point's column (within a
         voxel of the surface's; negative under it), nor than the depth below the ceiling plane."""
-        voxels, floor, ceiling = self._terms(points)
+        voxels, _, floor, ceiling = self._terms(points)
         return torch.minimum(torch.minimum(voxels, floor), ceiling)
 
     @property
@@ -163,35 +177,37 @@ class Occupancy:
     def slack(self, points: Tensor | np.ndarray, floor_margin: float | None = None) -> Tensor:
         """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
         (< 0: too near a surface), differentiable: the voxel clearance less
-        :data:`SURFACE_MARGIN_VOXELS` voxels, the height above the floor plane or a flat surface
-        less :meth:`height_kept` of ``floor_margin`` (the plane is measured from the floor's own
-        Gaussians, not known to half a voxel only: a camera at a small object's own height, or low
-        under it, stands within half a voxel of the floor), the depth below the ceiling plane less
-        the margin (the walls' top is known as the floor is, but it is inferred: a room captured
-        without a ceiling has one)."""
-        voxels, floor, ceiling = self._terms(points)
+        :data:`SURFACE_MARGIN_VOXELS` voxels (of the finer grid inside :attr:`detail`), the height
+        above the floor plane or a flat surface less :meth:`height_kept` of ``floor_margin`` (the
+        plane is measured from the floor's own Gaussians, not known to half a voxel only: a camera
+        at a small object's own height, or low under it, stands within half a voxel of the floor),
+        the depth below the ceiling plane less the margin (the walls' top is known as the floor is,
+        but it is inferred: a room captured without a ceiling has one)."""
+        voxels, kept, floor, ceiling = self._terms(points)
         floor = floor - self.height_kept(floor_margin)
-        return torch.minimum(torch.minimum(voxels - SURFACE_MARGIN_VOXELS * self.voxel, floor), ceiling - self.margin)
+        return torch.minimum(torch.minimum(voxels - kept, floor), ceiling - self.margin)
 
-    def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor]:
-        """(voxel clearance, height above the floor plane or the flat surface under the point,
-        depth below the ceiling plane) of (..., 3) points; +inf where there is none."""
+    def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor, Tensor]:
+        """(voxel clearance, the margin a camera keeps from the voxels' surfaces, height above the
+        floor plane or the flat surface under the point, depth below the ceiling plane) of (..., 3)
+        points; +inf where there is none."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
-        g = self.grid_coordinates(points.to(dtype))
-        shape = torch.tensor(self.sdf.shape, dtype=dtype)
-        inside = torch.minimum(torch.maximum(g, torch.zeros_like(g)), shape - 1)
-        outside = (g - inside).norm(dim=-1) * self.voxel
-        value = _trilinear(torch.as_tensor(self.sdf, dtype=dtype), inside)
-        value = value + torch.where(value >= 0, outside, -outside)
-        if self.ceiling >= 0:  # a room: beyond the grid (past its open side) is outside the room
-            value = torch.where(outside > 0, value.clamp_max(0.0) - outside, value)
-        height = points.to(dtype) @ torch.as_tensor(self.rotation[2], dtype=dtype)
+        points = points.to(dtype)
+        value = self._voxel_clearance(points)
+        kept = torch.full_like(value, SURFACE_MARGIN_VOXELS * self.voxel)
+        if self.detail is not None:
+            weight = self.detail._inner_weight(points)
+            value = weight * self.detail._voxel_clearance(points) + (1 - weight) * value
+            kept = weight * SURFACE_MARGIN_VOXELS * self.detail.voxel + (1 - weight) * kept
+        height = points @ torch.as_tensor(self.rotation[2], dtype=dtype)
         unbounded = torch.full_like(value, math.inf)
         floor = height - self.floor_height if math.isfinite(self.floor_height) else unbounded
         if self.surface_layer is not None:
+            g = self.grid_coordinates(points)
             cell = g.detach().round().long()
-            column = ((cell[..., :2] >= 0) & (cell[..., :2] < shape[:2].long())).all(-1)
+            shape = torch.tensor(self.sdf.shape)
+            column = ((cell[..., :2] >= 0) & (cell[..., :2] < shape[:2])).all(-1)
             i, j = (cell[..., a].clamp(0, self.sdf.shape[a] - 1) for a in range(2))
             layer = torch.as_tensor(self.surface_layer, dtype=torch.long)[i, j]
             # Its voxel, the one over it and the one under it: the slab under a surface stays
@@ -200,7 +216,43 @@ class Occupancy:
             surface = height - torch.as_tensor(self.surface_height, dtype=dtype)[i, j]
             floor = torch.where(above, torch.minimum(floor, surface), floor)
         ceiling = self.ceiling_height - height if math.isfinite(self.ceiling_height) else unbounded
-        return value, floor, ceiling
+        return value, kept, floor, ceiling
+
+    def _voxel_clearance(self, points: Tensor) -> Tensor:
+        """The voxel values' clearance of (..., 3) float points, extended beyond the grid
+        (:meth:`clearance`)."""
+        g = self.grid_coordinates(points)
+        shape = torch.tensor(self.sdf.shape, dtype=g.dtype)
+        inside = torch.minimum(torch.maximum(g, torch.zeros_like(g)), shape - 1)
+        outside = (g - inside).norm(dim=-1) * self.voxel
+        value = _trilinear(torch.as_tensor(self.sdf, dtype=g.dtype), inside)
+        value = value + torch.where(value >= 0, outside, -outside)
+        if self.ceiling >= 0:  # a room: beyond the grid (past its open side) is outside the room
+            value = torch.where(outside > 0, value.clamp_max(0.0) - outside, value)
+        return value
+
+    def _inner_weight(self, points: Tensor) -> Tensor:
+        """(...,) weight of this grid's clearance at (..., 3) points: 1 deeper inside than a cell
+        and :data:`DETAIL_BLEND_CELLS` more, falling linearly to 0 a cell inside its faces."""
+        g = self.grid_coordinates(points)
+        shape = torch.tensor(self.sdf.shape, dtype=g.dtype)
+        depth = torch.minimum(g + 0.5, shape - 0.5 - g).min(-1).values
+        return ((depth - 1.0) / DETAIL_BLEND_CELLS).clamp(0.0, 1.0)
+
+    def around(self, gaussians: GaussianScene, members: Tensor | np.ndarray) -> Occupancy:
+        """This occupancy with a finer grid (:attr:`detail`) around the Gaussians ``members``
+        ((M,) long indices: a subject) when they span fewer than :data:`DETAIL_SUBJECT_VOXELS`
+        voxels; itself otherwise, or when the finer grid finds no free space."""
+        rotation = torch.as_tensor(self.rotation)
+        means = gaussians.means.detach()[torch.as_tensor(members, dtype=torch.long)].double() @ rotation.T
+        if len(means) == 0:
+            return self
+        lo, hi = (means.quantile(q, dim=0).numpy() for q in (0.02, 0.98))
+        extent = float((hi - lo).max())
+        if extent >= DETAIL_SUBJECT_VOXELS * self.voxel:
+            return self
+        detail = _detail_grid(self, gaussians, (lo + hi) / 2, extent / DETAIL_SUBJECT_CELLS)
+        return self if detail is None else replace(self, detail=detail)
 
     def segment_blocked(self, start: np.ndarray, end: np.ndarray, ignore: np.ndarray | None = None, samples: int = 64) -> float:
         """Share of ``samples`` points on the segment ``start`` -> ``end`` (world, (3,) each) that
@@ -488,6 +540,23 @@ def _distance_to(mask: np.ndarray, chunk: int = 4096) -> np.ndarray:
     return field.clamp_max(big).sqrt().numpy()
 
 
+def _distance_within(mask: np.ndarray, reach: int) -> np.ndarray:
+    """(X, Y, Z) float32 Euclidean distance (voxels) from every voxel centre to the nearest voxel
+    of ``mask``, exact up to ``reach`` voxels and ``reach`` beyond: :func:`_distance_to`'s three
+    separable passes, each a minimum over the ``reach`` voxels either side (every axis offset
+    of a nearest voxel within ``reach`` is within it), in O(reach) shifts of the whole grid."""
+    field = torch.where(torch.as_tensor(mask), 0.0, float(3 * (reach + 1) ** 2))
+    for axis in range(3):
+        n = field.shape[axis]
+        out = field.clone()
+        for step in range(1, min(reach, n - 1) + 1):
+            lower, upper = out.narrow(axis, 0, n - step), out.narrow(axis, step, n - step)
+            lower.copy_(torch.minimum(lower, field.narrow(axis, step, n - step) + step * step))
+            upper.copy_(torch.minimum(upper, field.narrow(axis, 0, n - step) + step * step))
+        field = out
+    return field.sqrt().clamp_max(reach).numpy()
+
+
 def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Camera] = ()) -> Occupancy:
     """The occupancy of a scene (see the module docstring) in a grid of :data:`VOXELS` cells
     along its longest side, around the solid Gaussians and the training camera centres."""
@@ -548,6 +617,40 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
     else:
         grid.sdf = np.full(shape, -voxel, dtype=np.float32)
     return grid
+
+
+def _detail_grid(grid: Occupancy, gaussians: GaussianScene, centre: np.ndarray, voxel: float) -> Occupancy | None:
+    """A grid of :data:`DETAIL_CELLS` cells a side, of side ``voxel``, centred on the grid-frame
+    point ``centre`` (3,), finer than ``grid``: its voxels hold the solid samples,
+    grown by a cell (samples a fine voxel apart leave gaps a flood would pass through, into a
+    closed object or behind a wall); free are the empty cells connected to ``grid``'s free space,
+    within a voxel of the space ``grid`` counts clear (its free space with the floor's layers and
+    the flat surfaces). None when no cell is free."""
+    shape = (DETAIL_CELLS,) * 3
+    origin = centre - DETAIL_CELLS / 2 * voxel
+    rotation = torch.as_tensor(grid.rotation)
+    # The Gaussians whose 1-sigma points can reach the grid.
+    means = gaussians.means.detach().double() @ rotation.T
+    reach = gaussians.log_scales.detach().double().exp().max(1).values
+    near = ((means - torch.as_tensor(centre)).abs().max(1).values <= DETAIL_CELLS / 2 * voxel + reach).nonzero()[:, 0]
+    points = _solid_samples(gaussians.subset(near)) @ rotation.T
+    detail = Occupancy(grid.rotation, origin, voxel, np.zeros(shape, bool), np.zeros(shape, bool), -1, np.zeros(shape))
+    detail.occupied = dilate(_occupied(detail, points))
+    cells = torch.as_tensor(origin + (np.indices(shape).reshape(3, -1).T + 0.5) * voxel)
+    index, inside = _voxel_index(cells, grid.origin, grid.voxel, grid.sdf.shape)
+    i, j, k = index.clamp_min(0).minimum(torch.tensor(grid.sdf.shape) - 1).T.numpy()
+    inside = inside.numpy()
+    # Beyond the scene grid: free unless the scene is a room (past its open side stands a wall).
+    clear = np.where(inside, dilate(grid.sdf > 0)[i, j, k], grid.ceiling < 0).reshape(shape)
+    seeds = np.where(inside, grid.free[i, j, k], grid.ceiling < 0).reshape(shape)
+    empty = ~detail.occupied & clear
+    detail.free = _flood(empty, seeds & empty)
+    if not detail.free.any():
+        return None
+    outside = _distance_within(~detail.free, DETAIL_REACH_CELLS) - 0.5
+    within = _distance_within(detail.free, DETAIL_REACH_CELLS) - 0.5
+    detail.sdf = (np.where(detail.free, outside, -within) * voxel).astype(np.float32)
+    return detail
 
 
 def enclosed(gaussians: GaussianScene, point: np.ndarray, cells: int = 32) -> bool:
