@@ -9,7 +9,14 @@ from conftest import make_camera
 
 from capframe.errors import InputError
 from capframe.scene import GaussianScene
-from capframe.scene.occupancy import _convex_hull, build_occupancy, cached_occupancy, up_frame
+from capframe.scene.occupancy import (
+    _convex_hull,
+    _distance_to,
+    _distance_within,
+    build_occupancy,
+    cached_occupancy,
+    up_frame,
+)
 
 IDENTITY = torch.tensor([1.0, 0.0, 0.0, 0.0])
 
@@ -320,3 +327,85 @@ def test_a_table_top_is_a_flat_surface_at_its_own_height_and_what_stands_on_it_i
     assert grid.clearance(torch.tensor([-1.0, -1.0, 1.0])).item() < 0  # in the top
     beside = torch.tensor([3.0, 0.0, 0.5], dtype=torch.float64)
     assert grid.clearance(beside).item() == pytest.approx(0.5 - grid.floor_height, abs=1e-6)
+
+
+def small_subject_on_a_table() -> tuple[GaussianScene, torch.Tensor]:
+    """A floor (16 x 16), a table top (flat, 4 x 4, z = 1) and on it a closed cube of side 0.6
+    centred at (0, 0, 1.3): a subject two and a half voxels of the scene grid high. Returns the
+    scene and the cube's Gaussian indices."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 8.0, 0.1)
+    top = plane((0, 0, 1.0), (1, 0, 0), (0, 1, 0), 2.0, 0.03)
+    cube = [plane((0, 0, 1.3 + s), (1, 0, 0), (0, 1, 0), 0.3, 0.02) for s in (-0.3, 0.3)]
+    cube += [plane((s, 0, 1.3), (0, 1, 0), (0, 0, 1), 0.3, 0.02) for s in (-0.3, 0.3)]
+    cube += [plane((0, s, 1.3), (1, 0, 0), (0, 0, 1), 0.3, 0.02) for s in (-0.3, 0.3)]
+    parts = [floor, top, torch.cat(cube)]
+    means = torch.cat(parts)
+    n = len(means)
+    scales = torch.cat([torch.full((len(floor), 3), 0.05), torch.tensor([[0.03, 0.03, 0.002]]).expand(len(top), 3)])
+    scales = torch.cat([scales, torch.full((len(parts[2]), 3), 0.015)])
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), scales, torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    return gaussians, torch.arange(n - len(parts[2]), n)
+
+
+@pytest.fixture(scope="module")
+def table_grids():
+    gaussians, cube = small_subject_on_a_table()
+    grid = build_occupancy(gaussians, np.array([0.0, 0.0, 1.0]), [camera_at((6.0, 0.0, 3.0))])
+    return grid, grid.around(gaussians, cube), gaussians
+
+
+def test_a_small_subject_gets_a_finer_grid_where_a_low_close_camera_is_free(table_grids):
+    """0.15 over the table top and 0.2 in front of the cube the scene grid (voxel 0.21) keeps no
+    camera (a voxel from the cube); the finer grid (voxel 0.6 / 16) does, while the cube's inside
+    and the table top's underside stay out of free space, and farther from the cube the scene
+    grid's flat surface still frees a camera lower over the top than the finer grid would."""
+    grid, detailed, _ = table_grids
+    assert detailed.detail is not None and grid.detail is None
+    assert detailed.detail.voxel == pytest.approx(0.6 / 16, rel=0.05)
+    low_front = torch.tensor([0.5, 0.0, 1.15], dtype=torch.float64)
+    assert grid.slack(low_front).item() < 0 < detailed.slack(low_front).item()
+    lower = torch.tensor([0.8, 0.0, 1.1], dtype=torch.float64)
+    assert detailed.detail._voxel_clearance(lower).item() < detailed.detail.voxel  # the finer grid alone
+    assert detailed.slack(lower).item() == pytest.approx(grid.slack(lower).item()) and grid.slack(lower).item() > 0
+    for inside in ([0.0, 0.0, 1.3], [0.1, -0.1, 1.2], [0.8, 0.0, 0.98]):  # in the cube, in the cube, in the top
+        assert detailed.clearance(torch.tensor(inside, dtype=torch.float64)).item() < 0
+    far = torch.tensor([4.0, 3.0, 2.0], dtype=torch.float64)  # beyond the finer grid: the scene grid's
+    assert detailed.slack(far).item() == grid.slack(far).item()
+
+
+def test_a_subject_large_for_the_scene_grid_gets_no_finer_grid(table_grids):
+    grid, _, gaussians = table_grids
+    assert grid.around(gaussians, torch.arange(1000)).detail is None  # a strip of the floor, 16 long
+    assert grid.around(gaussians, torch.zeros(0, dtype=torch.long)).detail is None
+
+
+def test_the_finer_clearance_blends_into_the_scene_grid_continuously(table_grids):
+    """Across the finer grid's face (1.2 from the cube's centre) the clearance has no jump, and
+    its gradient in the blend matches finite differences."""
+    _, detailed, _ = table_grids
+    x = torch.linspace(0.9, 2.0, 600, dtype=torch.float64)
+    line = torch.stack([x, torch.full_like(x, 0.2), torch.full_like(x, 1.6)], -1)
+    steps = detailed.clearance(line).diff().abs()
+    assert steps.max().item() < 5 * (x[1] - x[0]).item()
+    point = torch.tensor([1.12, 0.2, 1.6], dtype=torch.float64, requires_grad=True)  # in the blend
+    assert 0 < detailed.detail._inner_weight(point.detach()).item() < 1
+    detailed.slack(point).backward()
+    h = 1e-5
+    numeric = [
+        (detailed.slack(point.detach() + h * e) - detailed.slack(point.detach() - h * e)).item() / (2 * h)
+        for e in torch.eye(3, dtype=torch.float64)
+    ]
+    np.testing.assert_allclose(point.grad.numpy(), numeric, atol=1e-5)
+
+
+def test_distances_within_a_reach_are_exact_and_capped_beyond():
+    rng = np.random.default_rng(3)
+    mask = rng.random((20, 18, 16)) < 0.004
+    mask[3, 4, 5] = True
+    exact = _distance_to(mask)
+    near = _distance_within(mask, 5)
+    within = exact <= 5
+    np.testing.assert_allclose(near[within], exact[within], atol=1e-5)
+    assert (near[~within] == 5).all() and (~within).any()

@@ -159,8 +159,9 @@ class Occupancy:
         room, where it falls with that distance (the grid holds the room and every training
         camera with a padding: beyond it, past an open side, stands the room's fourth wall); never more
         than the height above the floor plane or a flat surface in the point's column (within a
-        voxel of the surface's; negative under it), nor than the depth below the ceiling plane."""
-        voxels, _, floor, ceiling = self._terms(points)
+        voxel of the surface's; negative under it), nor than the depth below the ceiling plane.
+        Inside :attr:`detail` the voxel clearance is the larger of its grid's and this grid's."""
+        voxels, floor, ceiling = self._terms(points, kept=False)
         return torch.minimum(torch.minimum(voxels, floor), ceiling)
 
     @property
@@ -177,31 +178,33 @@ class Occupancy:
     def slack(self, points: Tensor | np.ndarray, floor_margin: float | None = None) -> Tensor:
         """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
         (< 0: too near a surface), differentiable: the voxel clearance less
-        :data:`SURFACE_MARGIN_VOXELS` voxels (of the finer grid inside :attr:`detail`), the height
+        :data:`SURFACE_MARGIN_VOXELS` voxels (inside :attr:`detail`, the larger of its grid's and
+        this grid's, each less its own voxels), the height
         above the floor plane or a flat surface less :meth:`height_kept` of ``floor_margin`` (the
         plane is measured from the floor's own Gaussians, not known to half a voxel only: a camera
         at a small object's own height, or low under it, stands within half a voxel of the floor),
         the depth below the ceiling plane less the margin (the walls' top is known as the floor is,
         but it is inferred: a room captured without a ceiling has one)."""
-        voxels, kept, floor, ceiling = self._terms(points)
+        voxels, floor, ceiling = self._terms(points)
         floor = floor - self.height_kept(floor_margin)
-        return torch.minimum(torch.minimum(voxels - kept, floor), ceiling - self.margin)
+        return torch.minimum(torch.minimum(voxels, floor), ceiling - self.margin)
 
-    def _terms(self, points: Tensor | np.ndarray) -> tuple[Tensor, Tensor, Tensor, Tensor]:
-        """(voxel clearance, the margin a camera keeps from the voxels' surfaces, height above the
-        floor plane or the flat surface under the point, depth below the ceiling plane) of (..., 3)
-        points; +inf where there is none."""
+    def _terms(self, points: Tensor | np.ndarray, kept: bool = True) -> tuple[Tensor, Tensor, Tensor]:
+        """(voxel clearance, less the margin a camera keeps from the voxels' surfaces when
+        ``kept``; height above the floor plane or the flat surface under the point; depth below
+        the ceiling plane) of (..., 3) points; +inf where there is none. Inside :attr:`detail`,
+        free in either grid is free: the finer grid frees what lies near a small subject, the
+        scene grid keeps what its flat surfaces free (the finer grid knows a table top only to a
+        cell)."""
         points = torch.as_tensor(points)
         dtype = points.dtype if points.is_floating_point() else torch.float64
         points = points.to(dtype)
-        value = self._voxel_clearance(points)
-        kept = torch.full_like(value, SURFACE_MARGIN_VOXELS * self.voxel)
+        voxels = self._voxel_clearance(points) - SURFACE_MARGIN_VOXELS * self.voxel * kept
         if self.detail is not None:
-            weight = self.detail._inner_weight(points)
-            value = weight * self.detail._voxel_clearance(points) + (1 - weight) * value
-            kept = weight * SURFACE_MARGIN_VOXELS * self.detail.voxel + (1 - weight) * kept
+            finer = self.detail._voxel_clearance(points) - SURFACE_MARGIN_VOXELS * self.detail.voxel * kept
+            voxels = voxels + self.detail._inner_weight(points) * torch.relu(finer - voxels)
         height = points @ torch.as_tensor(self.rotation[2], dtype=dtype)
-        unbounded = torch.full_like(value, math.inf)
+        unbounded = torch.full_like(voxels, math.inf)
         floor = height - self.floor_height if math.isfinite(self.floor_height) else unbounded
         if self.surface_layer is not None:
             g = self.grid_coordinates(points)
@@ -216,7 +219,7 @@ class Occupancy:
             surface = height - torch.as_tensor(self.surface_height, dtype=dtype)[i, j]
             floor = torch.where(above, torch.minimum(floor, surface), floor)
         ceiling = self.ceiling_height - height if math.isfinite(self.ceiling_height) else unbounded
-        return value, kept, floor, ceiling
+        return voxels, floor, ceiling
 
     def _voxel_clearance(self, points: Tensor) -> Tensor:
         """The voxel values' clearance of (..., 3) float points, extended beyond the grid
