@@ -543,6 +543,18 @@ def _distance_to(mask: np.ndarray, chunk: int = 4096) -> np.ndarray:
     return field.clamp_max(big).sqrt().numpy()
 
 
+def _on_surface(grid: Occupancy, points: Tensor) -> np.ndarray:
+    """(P,) bool: which (P, 3) grid-frame ``points`` lie in a voxel of ``grid`` holding a flat
+    upward surface (:func:`_flat_surfaces`)."""
+    if grid.surface_layer is None:
+        return np.zeros(len(points), dtype=bool)
+    index, inside = _voxel_index(points, grid.origin, grid.voxel, grid.occupied.shape)
+    i, j, k = index[inside].T.numpy()
+    out = np.zeros(len(points), dtype=bool)
+    out[inside.numpy()] = grid.surface_layer[i, j] == k
+    return out
+
+
 def _distance_within(mask: np.ndarray, reach: int) -> np.ndarray:
     """(X, Y, Z) float32 Euclidean distance (voxels) from every voxel centre to the nearest voxel
     of ``mask``, exact up to ``reach`` voxels and ``reach`` beyond: :func:`_distance_to`'s three
@@ -624,11 +636,13 @@ def build_occupancy(gaussians: GaussianScene, up: np.ndarray, cameras: list[Came
 
 def _detail_grid(grid: Occupancy, gaussians: GaussianScene, centre: np.ndarray, voxel: float) -> Occupancy | None:
     """A grid of :data:`DETAIL_CELLS` cells a side, of side ``voxel``, centred on the grid-frame
-    point ``centre`` (3,), finer than ``grid``: its voxels hold the solid samples,
-    grown by a cell (samples a fine voxel apart leave gaps a flood would pass through, into a
-    closed object or behind a wall); free are the empty cells connected to ``grid``'s free space,
-    within a voxel of the space ``grid`` counts clear (its free space with the floor's layers and
-    the flat surfaces). None when no cell is free."""
+    point ``centre`` (3,), finer than ``grid``. Its voxels hold the solid samples, grown by a cell
+    (samples a fine voxel apart leave gaps a flood would pass through, into a closed object or
+    behind a wall), but not those of ``grid``'s flat surfaces: their height bounds the clearance,
+    as in ``grid`` (grown by a cell, a table top would keep a camera three cells over it). Free
+    are the empty cells connected to ``grid``'s free space, within a voxel of the space ``grid``
+    counts clear (its free space with the floor's layers and the flat surfaces). None when no
+    cell is free."""
     shape = (DETAIL_CELLS,) * 3
     origin = centre - DETAIL_CELLS / 2 * voxel
     rotation = torch.as_tensor(grid.rotation)
@@ -638,7 +652,7 @@ def _detail_grid(grid: Occupancy, gaussians: GaussianScene, centre: np.ndarray, 
     near = ((means - torch.as_tensor(centre)).abs().max(1).values <= DETAIL_CELLS / 2 * voxel + reach).nonzero()[:, 0]
     points = _solid_samples(gaussians.subset(near)) @ rotation.T
     detail = Occupancy(grid.rotation, origin, voxel, np.zeros(shape, bool), np.zeros(shape, bool), -1, np.zeros(shape))
-    detail.occupied = dilate(_occupied(detail, points))
+    detail.occupied = dilate(_occupied(detail, points[~_on_surface(grid, points)]))
     cells = torch.as_tensor(origin + (np.indices(shape).reshape(3, -1).T + 0.5) * voxel)
     index, inside = _voxel_index(cells, grid.origin, grid.voxel, grid.sdf.shape)
     i, j, k = index.clamp_min(0).minimum(torch.tensor(grid.sdf.shape) - 1).T.numpy()
