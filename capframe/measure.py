@@ -17,7 +17,8 @@ view        azimuth of the camera centre around the subject (DESIGN §3)   withi
 elevation   asin(p . up) around the primary subject's centre              in elevation_range()
 roll        geometry.camera_roll                                          within ROLL_TOLERANCE_DEG
 clearance   signed distance of the camera centre to geometry (walls,      >= 0 (not inside)
-            floor, objects): scene.occupancy, when one is given
+            floor, objects): scene.occupancy, when one is given, with
+            its finer grid around a small primary subject
 ==========  ===========================================================  ======================
 
 ``error`` is the distance outside the accepted set for region (normalised units), shot and
@@ -205,6 +206,7 @@ class ConstraintChecker:
         self.up = np.asarray(up, dtype=np.float64)
         self.long_side = long_side or CHECK_LONG_SIDE
         self.near = NEAR_FRACTION * scene_extent(self.gaussians.means.detach())
+        self._around: dict[int, Occupancy] = {}
 
     def resolve(self, name: str) -> Subject:
         """The object a constraint's subject name refers to."""
@@ -240,7 +242,7 @@ class ConstraintChecker:
         if constraints.roll_deg is not None:
             rows.append(self._roll(constraints.roll_deg, T, up))
         if self.occupancy is not None:
-            rows.append(self._clearance(centre))
+            rows.append(self._clearance(centre, primary))
         return CheckReport(rows)
 
     # --- measurements -------------------------------------------------------------------------
@@ -344,12 +346,24 @@ class ConstraintChecker:
         error = interval_distance(angles[1], *rng)
         return CheckRow("elevation", name, error == 0.0, angles[1], target, error, "deg")
 
-    def _clearance(self, centre: np.ndarray) -> CheckRow:
-        clearance = float(self.occupancy.clearance(torch.as_tensor(centre, dtype=torch.float64)))
+    def _clearance(self, centre: np.ndarray, primary: Subject) -> CheckRow:
+        clearance = float(self._space_around(primary).clearance(torch.as_tensor(centre, dtype=torch.float64)))
         note = "" if clearance >= 0 else "camera inside geometry (an object, a wall or below the floor)"
         return CheckRow(
             "clearance", None, clearance >= 0, clearance, {"clearance": ">= 0"}, max(-clearance, 0.0), "scene units", note
         )
+
+    def _space_around(self, primary: Subject) -> Occupancy:
+        """The free space with a finer grid around ``primary`` where it is small for the scene's
+        grid (:meth:`~capframe.scene.occupancy.Occupancy.around`; one per subject): half a voxel
+        of a large outdoor grid from a toy car is open air, not inside the car. An occupancy that
+        has its finer grid already (the method's own) is kept."""
+        if self.occupancy.detail is not None:
+            return self.occupancy
+        if primary.id not in self._around:
+            members = self.members[primary.id].nonzero()[:, 0].cpu()
+            self._around[primary.id] = self.occupancy.around(self.gaussians, members)
+        return self._around[primary.id]
 
     def _roll(self, roll_deg: float, T: np.ndarray, up: np.ndarray) -> CheckRow:
         target = {"roll_deg": roll_deg, "tolerance_deg": ROLL_TOLERANCE_DEG}

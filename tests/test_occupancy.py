@@ -7,7 +7,9 @@ import pytest
 import torch
 from conftest import make_camera
 
+from capframe.constraints import Constraints, SubjectConstraint
 from capframe.errors import InputError
+from capframe.measure import ConstraintChecker, Subject
 from capframe.scene import GaussianScene
 from capframe.scene.occupancy import (
     _convex_hull,
@@ -411,3 +413,27 @@ def test_distances_within_a_reach_are_exact_and_capped_beyond():
     within = exact <= 5
     np.testing.assert_allclose(near[within], exact[within], atol=1e-5)
     assert (near[~within] == 5).all() and (~within).any()
+
+
+def test_the_checker_judges_clearance_with_the_finer_grid_around_a_small_primary(table_grids):
+    """0.1 from the cube's side, at its mid-height, the scene grid puts a camera inside geometry
+    (its boundary lies half a voxel from the cube's voxels); the checker's clearance row builds the
+    finer grid around the cube and finds it free, and keeps the scene grid's verdict when the
+    primary is large (a strip of the floor)."""
+    grid, _, gaussians = table_grids
+    n = len(gaussians)
+    cube = torch.zeros(n, dtype=torch.bool)
+    cube[small_subject_on_a_table()[1]] = True
+    strip = torch.zeros(n, dtype=torch.bool)
+    strip[:1000] = True
+    objects = {"cube": Subject(0, "cube", np.array([0.0, 0.0, 1.3]), 0.5, None)}
+    objects["floor"] = Subject(1, "floor", np.array([0.0, -7.0, 0.0]), 5.0, None)
+    checker = ConstraintChecker(gaussians, objects, {0: cube, 1: strip}, np.array([0.0, 0.0, 1.0]), occupancy=grid)
+    camera = make_camera(eye=(0.4, 0.0, 1.3), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
+    assert grid.clearance(torch.as_tensor(camera.center)).item() < 0
+    row = checker.check(camera, Constraints([SubjectConstraint("cube")])).row("clearance")
+    assert row.satisfied and row.measured > 0
+    row = checker.check(camera, Constraints([SubjectConstraint("floor"), SubjectConstraint("cube", "secondary")])).row(
+        "clearance"
+    )
+    assert not row.satisfied

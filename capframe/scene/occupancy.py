@@ -31,6 +31,10 @@ Gaussians (:func:`build_occupancy`, cached by :func:`cached_occupancy`):
 differentiable with respect to the point): positive in free space (distance to the nearest voxel
 that is not free), negative elsewhere (distance to the nearest free voxel). The zero level lies
 half a voxel from the centres of the boundary voxels.
+
+Around a small subject a query adds a finer grid (:meth:`Occupancy.around`): a voxel a third of a
+teddy's height keeps a camera a voxel from the teddy and from its table top, more than a low close
+view leaves between them. Inside it, a point is free when either grid frees it.
 """
 
 from __future__ import annotations
@@ -246,6 +250,7 @@ class Occupancy:
         """This occupancy with a finer grid (:attr:`detail`) around the Gaussians ``members``
         ((M,) long indices: a subject) when they span fewer than :data:`DETAIL_SUBJECT_VOXELS`
         voxels; itself otherwise, or when the finer grid finds no free space."""
+        gaussians = gaussians.to(device="cpu")
         rotation = torch.as_tensor(self.rotation)
         means = gaussians.means.detach()[torch.as_tensor(members, dtype=torch.long)].double() @ rotation.T
         if len(means) == 0:
