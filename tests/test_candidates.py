@@ -368,6 +368,42 @@ def test_kept_cameras_that_see_every_subject_rank_first():
     assert [c.others_unseen for c in kept] == sorted(c.others_unseen for c in kept)
 
 
+def test_a_kept_camera_turns_to_the_middle_of_the_subjects_to_see_them_all():
+    """A second ball 2.6 to the side of the first, as far as the reference view stands from it:
+    from the reference's side (the first of the grid) looking at the primary, the second lies 33
+    degrees off the axis, out of the 28-degree half frame; turned where it stands to the middle
+    of the two, the camera sees both (the primary left of the centre, the second right of it),
+    and its view angles stay."""
+    gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
+    second = gaussians.means[:400].clone()
+    second[:, 0] += 2.6
+    n = len(gaussians) + 400
+    gaussians = GaussianScene.from_activated(
+        torch.cat([gaussians.means, second]),
+        torch.tensor([1.0, 0, 0, 0]).expand(n, 4).clone(),
+        torch.full((n, 3), 0.04),
+        torch.full((n,), 0.95),
+        torch.rand(n, 3, generator=torch.Generator().manual_seed(3)),
+    )
+    up = np.array([0.0, 0.0, 1.0])
+    means = gaussians.means.double().numpy()
+    first, other = np.arange(400), np.arange(n - 400, n)
+    subjects = {"ball": (first, means[first].mean(0), None), "bear": (other, means[other].mean(0), None)}
+    reference = make_camera(eye=(0.0, -4.0, 0.4), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    constraints = Constraints(subjects=[SubjectConstraint("ball"), SubjectConstraint("bear", role="secondary")])
+    labels = labels_from_constraints(constraints, subjects, up)
+    solved = solve_candidates(gaussians, labels, reference, occupancy, keep=8)
+    front = next(c for c in solved if c.status == "kept" and c.azimuth_deg == 0.0)
+    assert front.others_unseen == 0
+    T, K = front.camera.T_cw, front.camera.K
+    u = [float(K[0] @ (p / p[2])) for p in (T[:3, :3] @ means[k].mean(0) + T[:3, 3] for k in (first, other))]
+    assert u[0] < front.camera.width / 2 < u[1]
+    origin, _ = view_centre(gaussians, labels.subjects[0], up)
+    direction = (front.camera.center - origin) / np.linalg.norm(front.camera.center - origin)
+    assert direction @ np.array([0.0, -1.0, 0.0]) > 0.99  # still on the reference's side
+
+
 def test_margin_elevations_reach_into_the_accepted_interval_never_beyond():
     """The margin elevations invert view_target's margin for wide and narrow intervals: each lies
     between the aimed and the accepted end, at MARGIN_SPREAD of the margin, upper end first."""

@@ -30,7 +30,9 @@ whose free positions all show the subject hidden as ``occluded``, or cut off by 
 close``. The render, not the voxels, judges occlusion: a voxel is coarse next to small subjects
 (a table top a voxel thick, a subject a few voxels wide). The kept ones are ranked by how far the
 other subjects' projected centroids land from their regions (the closed form places only the
-primary), then by how central their angles are in the accepted ranges. When none is kept and the
+primary), then by how central their angles are in the accepted ranges; without regions, a kept
+camera that misses another subject is first turned where it stands to the middle of them all
+(:func:`_group_aim`), which keeps its view angles. When none is kept and the
 primary has a region, the grid is tried once more aimed at the region's point nearest the frame
 centre (a large subject aimed at a corner's centre overflows the frame).
 """
@@ -389,6 +391,8 @@ def solve_candidates(
         along = distance if subject.extent is not None else _spread_distance(labels, direction, distance, point, reference)
         ray = _Ray(origin, centroid, direction, floor_margin, subject_voxels, float(up @ origin) - height / 2)
         camera, clearance, seen, status = _place(occupancy, sight, ray, along, radius, labels, point, reference)
+        if status == "kept" and seen.others_unseen and all(s.region is None for s in labels.subjects):
+            camera, seen = _group_aim(camera, seen, labels, reference, sight)
         camera.name = f"solved-{rank}"
         distance_out = float(np.linalg.norm(camera.center - origin))
         layout = _layout_error(camera, labels.subjects[1:])
@@ -529,6 +533,26 @@ def _place(
             return camera, clearance, seen, "kept"
         first_free = first_free or (camera, clearance, seen, "occluded" if seen.visible < MIN_VISIBLE_FRACTION else "too close")
     return first_free or outermost
+
+
+def _group_aim(camera: Camera, seen: _Seen, labels: PseudoLabels, reference: Camera, sight: _Sight) -> tuple[Camera, _Seen]:
+    """``camera`` turned where it stands to look at the middle of all the subjects (the mean of
+    the unit directions to their centroids) when its check render there shows more of the other
+    subjects and still the primary as the checker asks; else ``camera`` and what it ``seen``.
+    Where it stands fixes every view angle, and without regions no subject has a place in the
+    frame: a car seen from behind, high over a tree beyond it, shows the tree only looking
+    between the two."""
+    directions = [np.asarray(s.centroid, dtype=np.float64) - camera.center for s in labels.subjects]
+    middle = np.mean([d / np.linalg.norm(d) for d in directions], axis=0)
+    if np.linalg.norm(middle) < 1e-6:  # subjects on opposite sides: no middle to look at
+        return camera, seen
+    turned = reference.with_pose(
+        aimed_pose(camera.center, camera.center + middle, (0.5, 0.5), reference, labels.up, labels.roll_deg)
+    )
+    seen_turned = sight(turned)
+    if sight.sees(seen_turned) and seen_turned.others_unseen < seen.others_unseen:
+        return turned, seen_turned
+    return camera, seen
 
 
 def _floor_reach(occupancy: Occupancy, ray: _Ray) -> float:
