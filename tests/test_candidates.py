@@ -339,44 +339,13 @@ def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_
     assert [r.stop_reason for _, r in answer.runs] == ["plateau"] and reports[0].all_satisfied
 
 
-def test_kept_cameras_that_see_every_subject_rank_first():
-    """A second ball straight behind the first as the reference view sees them: the closed-form
-    camera on the reference's side (the first of the grid) sees the primary but not the other,
-    hidden behind it; cameras 45 degrees round see both and rank first."""
+def solve_two_balls(offset: tuple[float, float, float]):
+    """The closed-form cameras (up to 8 kept) for the ball of :func:`ball_before_wall` with a
+    second ball ``offset`` from it (secondary), seen by a reference 4 in front of it along -y.
+    Returns the candidates, the Gaussian means (N, 3), the two balls' indices, the labels and the
+    scene."""
     gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
-    second = gaussians.means[:400].clone()
-    second[:, 1] += 2.5
-    gaussians = GaussianScene.from_activated(
-        torch.cat([gaussians.means, second]),
-        torch.tensor([1.0, 0, 0, 0]).expand(len(gaussians) + 400, 4).clone(),
-        torch.full((len(gaussians) + 400, 3), 0.04),
-        torch.full((len(gaussians) + 400,), 0.95),
-        torch.rand(len(gaussians) + 400, 3, generator=torch.Generator().manual_seed(3)),
-    )
-    up = np.array([0.0, 0.0, 1.0])
-    means = gaussians.means.double().numpy()
-    first, other = np.arange(400), np.arange(len(gaussians) - 400, len(gaussians))
-    subjects = {"ball": (first, means[first].mean(0), None), "bear": (other, means[other].mean(0), None)}
-    reference = make_camera(eye=(0.0, -4.0, 0.4), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0))
-    occupancy = build_occupancy(gaussians, up, [reference])
-    constraints = Constraints(subjects=[SubjectConstraint("ball"), SubjectConstraint("bear", role="secondary")])
-    labels = labels_from_constraints(constraints, subjects, up)
-    solved = solve_candidates(gaussians, labels, reference, occupancy, keep=8)
-    kept = [c for c in solved if c.status == "kept"]
-    assert kept[0].others_unseen == 0 and abs(kept[0].azimuth_deg) == 45.0
-    assert next(c for c in kept if c.azimuth_deg == 0.0).others_unseen == 1
-    assert [c.others_unseen for c in kept] == sorted(c.others_unseen for c in kept)
-
-
-def test_a_kept_camera_turns_to_the_middle_of_the_subjects_to_see_them_all():
-    """A second ball 2.6 to the side of the first, as far as the reference view stands from it:
-    from the reference's side (the first of the grid) looking at the primary, the second lies 33
-    degrees off the axis, out of the 28-degree half frame; turned where it stands to the middle
-    of the two, the camera sees both (the primary left of the centre, the second right of it),
-    and its view angles stay."""
-    gaussians = ball_before_wall(seed=2, spacing=0.1, wall_y=3.0, wall_height=0.2, scale=0.04, opacity=0.95)
-    second = gaussians.means[:400].clone()
-    second[:, 0] += 2.6
+    second = gaussians.means[:400] + torch.tensor(offset, dtype=gaussians.means.dtype)
     n = len(gaussians) + 400
     gaussians = GaussianScene.from_activated(
         torch.cat([gaussians.means, second]),
@@ -393,13 +362,33 @@ def test_a_kept_camera_turns_to_the_middle_of_the_subjects_to_see_them_all():
     occupancy = build_occupancy(gaussians, up, [reference])
     constraints = Constraints(subjects=[SubjectConstraint("ball"), SubjectConstraint("bear", role="secondary")])
     labels = labels_from_constraints(constraints, subjects, up)
-    solved = solve_candidates(gaussians, labels, reference, occupancy, keep=8)
+    return solve_candidates(gaussians, labels, reference, occupancy, keep=8), means, (first, other), labels, gaussians
+
+
+def test_kept_cameras_that_see_every_subject_rank_first():
+    """A second ball straight behind the first as the reference view sees them: the closed-form
+    camera on the reference's side (the first of the grid) sees the primary but not the other,
+    hidden behind it; cameras 45 degrees round see both and rank first."""
+    solved, *_ = solve_two_balls((0.0, 2.5, 0.0))
+    kept = [c for c in solved if c.status == "kept"]
+    assert kept[0].others_unseen == 0 and abs(kept[0].azimuth_deg) == 45.0
+    assert next(c for c in kept if c.azimuth_deg == 0.0).others_unseen == 1
+    assert [c.others_unseen for c in kept] == sorted(c.others_unseen for c in kept)
+
+
+def test_a_kept_camera_turns_to_the_middle_of_the_subjects_to_see_them_all():
+    """A second ball 2.6 to the side of the first, as far as the reference view stands from it:
+    from the reference's side (the first of the grid) looking at the primary, the second lies 33
+    degrees off the axis, out of the 28-degree half frame; turned where it stands to the middle
+    of the two, the camera sees both (the primary left of the centre, the second right of it),
+    and its view angles stay."""
+    solved, means, balls, labels, gaussians = solve_two_balls((2.6, 0.0, 0.0))
     front = next(c for c in solved if c.status == "kept" and c.azimuth_deg == 0.0)
     assert front.others_unseen == 0
     T, K = front.camera.T_cw, front.camera.K
-    u = [float(K[0] @ (p / p[2])) for p in (T[:3, :3] @ means[k].mean(0) + T[:3, 3] for k in (first, other))]
+    u = [float(K[0] @ (p / p[2])) for p in (T[:3, :3] @ means[k].mean(0) + T[:3, 3] for k in balls)]
     assert u[0] < front.camera.width / 2 < u[1]
-    origin, _ = view_centre(gaussians, labels.subjects[0], up)
+    origin, _ = view_centre(gaussians, labels.subjects[0], np.array([0.0, 0.0, 1.0]))
     direction = (front.camera.center - origin) / np.linalg.norm(front.camera.center - origin)
     assert direction @ np.array([0.0, -1.0, 0.0]) > 0.99  # still on the reference's side
 

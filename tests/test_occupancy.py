@@ -72,16 +72,22 @@ def test_clearance_is_the_distance_to_the_nearest_surface(grid):
         assert grid.clearance(torch.tensor(point)).item() == pytest.approx(distance, abs=1.5 * grid.voxel)
 
 
-def test_clearance_gradient_matches_finite_differences(grid):
-    point = torch.tensor([3.3, 1.7, 2.9], dtype=torch.float64, requires_grad=True)
-    grid.clearance(point).backward()
-    h = 1e-4
+def gradient_matching_finite_differences(field, point, h: float, atol: float) -> torch.Tensor:
+    """The autograd gradient of the scalar ``field`` at the (3,) ``point``, asserted equal (to
+    ``atol``) to its central differences of step ``h``."""
+    point = torch.tensor(point, dtype=torch.float64, requires_grad=True)
+    field(point).backward()
     numeric = [
-        (grid.clearance(point.detach() + h * e) - grid.clearance(point.detach() - h * e)).item() / (2 * h)
+        (field(point.detach() + h * e) - field(point.detach() - h * e)).item() / (2 * h)
         for e in torch.eye(3, dtype=torch.float64)
     ]
-    np.testing.assert_allclose(point.grad.numpy(), numeric, atol=1e-6)
-    assert point.grad.norm() > 0.5  # a distance field: gradient norm near 1
+    np.testing.assert_allclose(point.grad.numpy(), numeric, atol=atol)
+    return point.grad
+
+
+def test_clearance_gradient_matches_finite_differences(grid):
+    gradient = gradient_matching_finite_differences(grid.clearance, [3.3, 1.7, 2.9], 1e-4, 1e-6)
+    assert gradient.norm() > 0.5  # a distance field: gradient norm near 1
 
 
 def test_clearance_scales_with_the_scene_and_follows_a_tilted_world(grid):
@@ -393,15 +399,9 @@ def test_the_finer_clearance_blends_into_the_scene_grid_continuously(table_grids
     line = torch.stack([x, torch.full_like(x, 0.2), torch.full_like(x, 1.6)], -1)
     steps = detailed.clearance(line).diff().abs()
     assert steps.max().item() < 5 * (x[1] - x[0]).item()
-    point = torch.tensor([1.12, 0.2, 1.6], dtype=torch.float64, requires_grad=True)  # in the blend
-    assert 0 < detailed.detail._inner_weight(point.detach()).item() < 1
-    detailed.slack(point).backward()
-    h = 1e-5
-    numeric = [
-        (detailed.slack(point.detach() + h * e) - detailed.slack(point.detach() - h * e)).item() / (2 * h)
-        for e in torch.eye(3, dtype=torch.float64)
-    ]
-    np.testing.assert_allclose(point.grad.numpy(), numeric, atol=1e-5)
+    point = [1.12, 0.2, 1.6]  # in the blend
+    assert 0 < detailed.detail._inner_weight(torch.tensor(point, dtype=torch.float64)).item() < 1
+    gradient_matching_finite_differences(detailed.slack, point, 1e-5, 1e-5)
 
 
 def test_distances_within_a_reach_are_exact_and_capped_beyond():
