@@ -268,3 +268,23 @@ def test_a_thing_got_is_the_subject_and_refused_when_unknown(text, unknown):
 )
 def test_getting_a_known_thing_or_a_picture_word_is_no_refusal(text, name):
     assert read(text)["name"] == name
+
+
+@pytest.mark.parametrize(
+    "text, view",
+    [
+        # Which side, said after a side view as "the left one" (the subject's own side).
+        ("the car, side view (the right one)", "right"),
+        ("the bench seen from a side - the left one", "left"),
+        ("the car from one side, the right one, low", "right"),
+        ("the car from the side, the left hand one", "left"),
+        ("the bench in profile, the right one", "right"),
+        ("the car from the side: the left one", "left"),
+        ("bench, side on, the right one", "right"),
+        ("the toy car from its side; the left side", "left"),
+    ],
+)
+def test_which_side_said_after_a_side_view(text, view):
+    parsed = read(text)
+    assert parsed["view"] == view
+    assert parsed["not_understood"] == []

@@ -882,10 +882,11 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
-# A lone side said right after a side view ("from the side, left"): which side.
+# A lone side said right after a side view ("from the side, left", "from its side, the left one",
+# "side view (the right one)"): which side.
 SIDE_AFTER_SIDE_VIEW = (
-    "(?:(?<=side [,:;] )|(?<=profile [,:;] )|(?<=lateral [,:;] )|(?<=side view [,:;] )|(?<=profile view [,:;] )"
-    "|(?<=lateral view [,:;] ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+    "(?:(?<=side [,:;(] )|(?<=profile [,:;(] )|(?<=lateral [,:;(] )|(?<=side view [,:;(] )|(?<=profile view [,:;(] )"
+    "|(?<=lateral view [,:;(] )|(?<=side on [,:;(] ))(the )?{LAT}( hand)?( side| one)?(?= ([,.;!)]|$))"
 )
 # The view's noun before its side, as a caption or a shot list writes it ("PROFILE RIGHT", "view
 # front-left", "side view from the left", "lateral view: right", "angle (rear right)"), as a clause
