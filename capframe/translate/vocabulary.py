@@ -1511,7 +1511,7 @@ class Vocabulary:
         self.entries = tuple(entries)
         self._by_name = {e.name: e for e in entries}
         self._corrections: dict[str, tuple[str, ...] | None] = {}  # the parser asks per run of words
-        self._short_forms: dict[str, tuple[str, ...]] | None = None  # built when a word is first unknown
+        self._expansions: dict[str, tuple[str, ...] | None] = {}  # and per word it does not know
 
     @classmethod
     def from_semantics(cls, objects) -> Vocabulary:
@@ -1569,17 +1569,18 @@ class Vocabulary:
         of one name word (:func:`skeleton`: "tbl" is "table", "flr" "floor"), or two consecutive
         words of one name or alias written as one ("teddybear", "motorcar" of "motor car"). A
         token read two ways is read as neither."""
-        if self._short_forms is None:
-            short: dict[str, set[tuple[str, ...]]] = {}
+        if token not in self._expansions:
+            # Only a word without vowels after its first letter can be a skeleton (most are not).
+            consonants = len(token) >= MIN_SKELETON_LETTERS and VOWELS.isdisjoint(token[1:])
+            found = set()
             for form in self.forms():
                 for k, word in enumerate(form):
-                    for written in skeleton(word):
-                        if len(written) >= MIN_SKELETON_LETTERS and written != word:
-                            short.setdefault(written, set()).add((word,))
-                    if k + 1 < len(form):
-                        short.setdefault(word + form[k + 1], set()).add(form[k : k + 2])
-            self._short_forms = {written: read.pop() for written, read in short.items() if len(read) == 1}
-        return self._short_forms.get(token)
+                    if consonants and word != token and word[:1] == token[:1] and token in skeleton(word):
+                        found.add((word,))
+                    if k + 1 < len(form) and token.startswith(word) and token == word + form[k + 1]:
+                        found.add(form[k : k + 2])
+            self._expansions[token] = found.pop() if len(found) == 1 else None
+        return self._expansions[token]
 
     def _targets(self) -> frozenset[tuple[str, ...]]:
         """Names, aliases and their head nouns: what a misspelling may be read as."""
@@ -1680,7 +1681,7 @@ def skeleton(word: str) -> tuple[str, ...]:
     """How ``word`` is written short by its consonants: its first letter and the consonants after
     it, as written and with a doubled consonant once ("teddy" -> "tddy", "tdy"; "table" -> "tbl")."""
     short = word[:1] + "".join(c for c in word[1:] if c not in VOWELS)
-    once = re.sub(r"(.)\1+", r"\1", short)
+    once = "".join(c for k, c in enumerate(short) if not k or c != short[k - 1])
     return (short, once) if once != short else (short,)
 
 
