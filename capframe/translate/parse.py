@@ -167,7 +167,21 @@ Mappings that are choices (the phrase tables are the full list):
   is that end exactly. Side names: starboard / port (before a side word) are the right / left
   (``vocabulary.SIDE_NAMES``), stern / aft / bow the ends, "a rear (tail-end) quarter" the rear
   three-quarter, "round the back" the back; a word one slip from a view word right after "from
-  the" / "from its" is read as it ("from the font": :func:`_view_slip`).
+  the" / "from its" is read as it ("from the font": :func:`_view_slip`);
+* parse12's families: a roll's direction said as a side of the camera ("a 10 degree right roll",
+  "rotate the cam 15 degrees to the left around the lens": right is clockwise) where the camera
+  or picture is named or the lens axis said ("turn", "swing", "angle" to a side without the axis
+  stay aims), or given to the camera ("give the camera a twelfth of a turn clockwise"); a corner
+  said with plain heights ("up", "down", "high", "low"), a side and "corner" or "quadrant" in any
+  order and glue ("the corner up and right of the picture"); letters held for emphasis
+  ("pleeease", "biiig": :func:`~capframe.translate.vocabulary.unstretched`) and "please" dropped
+  before the tables are read; one end of the subject to the other in any words ("roots up to
+  crown, all in frame": medium); looking or aiming down with "straight", "directly" or "right"
+  before or after "down" (top-down, never a front view); a word written by the consonants of one
+  name word or two name words run together ("tbl", "teddybear":
+  :meth:`~capframe.translate.vocabulary.Vocabulary.expansion`), reported in ``corrected``; a verb
+  of getting before a determiner ("get the kite") a head, so the thing got is the subject and
+  refused when the scene lacks it; which side after a side view said as "the left one".
 """
 
 from __future__ import annotations
