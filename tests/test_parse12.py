@@ -52,6 +52,8 @@ ROLLS = [
     ("the vase, spin the frame 30 degrees left on the lens axis", -30.0),
     ("ball, turn the cam round the lens 25 degrees to the right", 25.0),
     ("the vase, rotate the camera 20 degrees to the right about the lens axis", 20.0),
+    ("the bear, camera rolled left 10", -10.0),
+    ("the bear, tilt the frame right by 12 degrees", 12.0),
     # Degrees, or a share of a turn, given to the camera.
     ("the tree, give the camera a tenth of a turn to the right", 36.0),
     ("the vase, give the camera 20 degrees counterclockwise", -20.0),

@@ -2002,8 +2002,8 @@ ROLL_PHRASES = {
         "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
         "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
         "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
-        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)( the camera| the lens| it)? "
-        "(to the |towards the )?{side} (by )?{d}",
+        "((the )?(camera|lens) )?(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)"
+        "( the camera| the lens| it)? (to the |towards the )?{side} (by )?{d}",
         # The camera itself turned to a side is a roll, not the subject's azimuth ("lens rotated ten degrees to the right").
         "(the )?(camera|lens) (rolled|rotated|tilted|turned|canted|twisted|spun) (by )?{d} (to|towards) the {side}",
         # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
