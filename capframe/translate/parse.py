@@ -167,7 +167,21 @@ Mappings that are choices (the phrase tables are the full list):
   is that end exactly. Side names: starboard / port (before a side word) are the right / left
   (``vocabulary.SIDE_NAMES``), stern / aft / bow the ends, "a rear (tail-end) quarter" the rear
   three-quarter, "round the back" the back; a word one slip from a view word right after "from
-  the" / "from its" is read as it ("from the font": :func:`_view_slip`).
+  the" / "from its" is read as it ("from the font": :func:`_view_slip`);
+* parse12's families: a roll's direction said as a side of the camera ("a 10 degree right roll",
+  "rotate the cam 15 degrees to the left around the lens": right is clockwise) where the camera
+  or picture is named or the lens axis said ("turn", "swing", "angle" to a side without the axis
+  stay aims), or given to the camera ("give the camera a twelfth of a turn clockwise"); a corner
+  said with plain heights ("up", "down", "high", "low"), a side and "corner" or "quadrant" in any
+  order and glue ("the corner up and right of the picture"); letters held for emphasis
+  ("pleeease", "biiig": :func:`~capframe.translate.vocabulary.unstretched`) and "please" dropped
+  before the tables are read; one end of the subject to the other in any words ("roots up to
+  crown, all in frame": medium); looking or aiming down with "straight", "directly" or "right"
+  before or after "down" (top-down, never a front view); a word written by the consonants of one
+  name word or two name words run together ("tbl", "teddybear":
+  :meth:`~capframe.translate.vocabulary.Vocabulary.expansion`), reported in ``corrected``; a verb
+  of getting before a determiner ("get the kite") a head, so the thing got is the subject and
+  refused when the scene lacks it; which side after a side view said as "the left one".
 """
 
 from __future__ import annotations
@@ -234,6 +248,7 @@ from .vocabulary import (
     one_edit,
     singular,
     slip_of,
+    unstretched,
     words,
 )
 
@@ -260,6 +275,9 @@ HEADS = [
     "(a |an )?(photo|picture|photograph|shot|image|snapshot|snap|view|portrait|capture|render|rendering) " + HEAD_LINK,
     "(take|get|make|shoot|snap|grab) (a |an )?(photo|picture|photograph|shot|image|snapshot) (of|with)",
     "(frame|capture|photograph|shoot|film|show|picture)",
+    # Taking a picture said by a verb of getting, before the thing it gets ("get the kite",
+    # "grab that bench"): what follows is the subject, refused by its own words if the scene lacks it.
+    "(get|grab|snap|take|nab|catch|bag)(?= (the|this|that|my|our|your|a|an) )",
     # Requests said politely or in passing ("could you show me", "I'd like", "let's see").
     "(show|give|get|find|bring) (me|us)",
     "(i|we) (d|would|should) (really )?(like|love|prefer|want)( to (see|have|get|take))?",
@@ -450,7 +468,8 @@ SHOT_CLAUSES = {
         "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
         "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
         # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
-        "(from )?(the |{P} )?{END} to (the |{P} )?{END}( (in|inside|within) (the )?{FRAME}| visible| in view| showing)?",
+        "(from )?(the |{P} )?{END} {END_TO} (the |{P} )?{END}"
+        "(( ,)?( all| fully| completely| entirely| wholly)? ((in|inside|within) (the )?({FRAME}|view)|visible|showing))?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
         "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
@@ -733,6 +752,21 @@ REGION_PHRASES = {
     "lower right": ["(bottom|lower) right corner"],
 }
 
+# A corner with plain words of height too ("up", "down", "high", "low") and any glue between the
+# two, in either order, the corner noun before or after them ("the corner up and right of the
+# picture", "the up-right corner", "the right and upper corner", "the corner, left and down", "the
+# corner of the frame up and to the left"): the noun is said, so no height or side alone is
+# taken for a corner. "Quarter" is left out: "rear quarter, left side, low" is a view and a height.
+CORNER_AND = "( and| &)?( (on|to|at|in|towards) the)? "
+CORNER_AFTER = "( ,)?( (of|in) (the )?{FRAME})?( ,)?( (on|to|at|in|towards) the)? "
+for _vertical, _height in (("upper", "(top|upper|up|high|higher)"), ("lower", "(bottom|lower|down|low)")):
+    for _lat in ("left", "right"):
+        _both = f"({_height}{CORNER_AND}{_lat}( hand)?( side)?|{_lat}( hand)?( side)?{CORNER_AND}{_height})"
+        REGION_PHRASES[f"{_vertical} {_lat}"].append(
+            f"({REGION_PREPOSITIONS} )?(the )?((corner|quadrant){CORNER_AFTER}{_both}|{_both} (corner|quadrant))"
+            "( (of|in) (the )?{FRAME})?(?! of )"
+        )
+
 # A corner said with a height ("low in the right corner of the picture", "up in the left corner").
 for _lat in ("left", "right"):
     for _corner, _height in (("upper", "(high|up|higher) (up )?"), ("lower", "(low|down|lower) (down )?")):
@@ -862,10 +896,11 @@ PROFILE_CLAUSE = "((?<=^ )|{CLAUSE})(the |{P} )?{LAT}( hand)? (profile|flank|end
 # a later subject stands ("the ball in front, the bench behind"; the first one's "bench behind" is
 # its back).
 VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle| corner)?(?= ([,.;!]|$))"
-# A lone side said right after a side view ("from the side, left"): which side.
+# A lone side said right after a side view ("from the side, left", "from its side, the left one",
+# "side view (the right one)"): which side.
 SIDE_AFTER_SIDE_VIEW = (
-    "(?:(?<=side [,:;] )|(?<=profile [,:;] )|(?<=lateral [,:;] )|(?<=side view [,:;] )|(?<=profile view [,:;] )"
-    "|(?<=lateral view [,:;] ))(the )?{LAT}( hand)?( side)?(?= ([,.;!]|$))"
+    "(?:(?<=side [,:;(] )|(?<=profile [,:;(] )|(?<=lateral [,:;(] )|(?<=side view [,:;(] )|(?<=profile view [,:;(] )"
+    "|(?<=lateral view [,:;(] )|(?<=side on [,:;(] ))(the )?{LAT}( hand)?( side| one)?(?= ([,.;!)]|$))"
 )
 # The view's noun before its side, as a caption or a shot list writes it ("PROFILE RIGHT", "view
 # front-left", "side view from the left", "lateral view: right", "angle (rear right)"), as a clause
@@ -1455,6 +1490,12 @@ ELEVATION_PHRASES = {
         "(as )?(near|close|nearly|almost|near) (to )?vertical(ly)?( as (possible|you can|it gets|can be|you can get))?",
         "(straight |perfectly |fully )?vertical(ly)? (down|overhead|above)",
         "(a |an )?(drone|overhead) (style )?top down",
+        # Looking (or aiming) down straight, the insisting word before or after "down": "look
+        # down straight on it", "peering right down onto the mug", "camera looks directly down at
+        # him", "look down right on top of it"; "straight on" there is no front view.
+        "((the )?(camera|lens|cam) )?{LOOK} ({NEARLY} )?{DOWNRIGHT} down({DOWNONTO})?",
+        "((the )?(camera|lens|cam) )?{LOOK} down ({NEARLY} )?{DOWNRIGHT}{DOWNONTO}",
+        "((the )?(camera|lens|cam) )?{LOOK} down ({NEARLY} )?(straight|directly|vertically)(?= ([,.;!]|$|and |from ))",
         # The nadir: the point straight below the camera.
         "(a |an |the )?nadir( (shot|view|angle|perspective))?",
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
@@ -1870,15 +1911,55 @@ CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
 PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|scene|photo)"
 
 
-def _roll_family(thing: str) -> list[str]:
-    """Roll templates about ``thing`` (what turns), with a number and a direction said once."""
+# A roll's direction as a side: the camera's top going to that side ("rolled to the left",
+# "a 10 degree right roll", "a leftward cant"): right is clockwise. "Of" after it makes a place
+# ("to the left of the bear").
+ROLL_SIDE = "((to |towards )?(the )?{side}( hand| side|wards?)?)(?! of )"
+ROLL_SIDE_ADJECTIVE = "({side}( hand|wards?)?)"
+ROLL_DIRECTION = "({dir}|" + ROLL_SIDE + ")"
+# Verbs that turn the camera about its lens axis only: said with a side they roll it. "Turn",
+# "swing" and "angle" the camera to a side may aim it instead, and are a roll with a side only
+# about the lens axis.
+ROLL_SIDE_VERBS = "(roll|rolled|rolling|tilt|tilted|tilting|cant|canted|rotate|rotated|rotating|twist|twisted|spin|spun"
+ROLL_SIDE_VERBS += "|lean|leaned|leaning|bank|banked|dutch|dutched|skew|skewed|tip|tipped|cock|cocked)"
+# Giving the camera a roll ("give the camera 30 degrees clockwise", "apply a 15 degree tilt to the lens").
+GIVE = (
+    "(give|giving|gave|put|putting|apply|applying|applied|add|adding|added|dial in|dialling in|dialing in|set"
+    "|hold|holding|keep|keeping)"
+)
+
+
+def _roll_family(thing: str, given: bool = True) -> list[str]:
+    """Roll templates about ``thing`` (what turns): a verb or noun of turning, a number and a
+    direction (clockwise, or a side) said once, in any order; a side needs the thing or the axis.
+    ``given``: also the thing given degrees or a share of a turn ("give the camera 30 degrees
+    clockwise")."""
+    verb = f"({thing} )?{ROLL_VERB_FORMS}"
+    given = f"({GIVE}( {thing}| it)? )?"  # "apply a 15 degree clockwise tilt (to the camera)"
+    to_thing = f"( (to|on|for) {thing})?"
     return [
-        f"({thing} )?{ROLL_VERB_FORMS}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?",
-        f"({thing} )?{ROLL_VERB_FORMS}( {thing}| it)?( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
-        f"(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?",
-        f"(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {{dir}}( {ROLL_AXIS})?",
+        f"{verb}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?",
+        f"{verb}( {thing}| it)?( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
+        f"{given}(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
+        f"{given}(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {ROLL_DIRECTION}( {ROLL_AXIS})?{to_thing}",
         f"{thing} at (a |an )?{{d}} (angle|slant|tilt) {{dir}}",
-    ]
+        # A side as the direction, with the thing turned or the lens axis said.
+        f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?",
+        f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
+        f"{verb}( {thing}| it)?( by| through)? {{d}} {ROLL_SIDE} {ROLL_AXIS}",
+        f"{verb}( {thing}| it)? {ROLL_AXIS}( by| through)? {{d}} {ROLL_SIDE}",
+        f"{verb}( {thing}| it)? {ROLL_AXIS} {ROLL_SIDE}( by| through)? {{d}}",
+        # A side said as the roll's adjective ("a 10 degree right roll", "a right-hand cant of 12").
+        f"{given}(a |an )?{{d}}( of)? {ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
+        f"{given}(a |an )?{ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( of)? {{d}}{to_thing}",
+    ] + (
+        [  # given degrees or a share of a turn ("give the camera one twelfth of a turn clockwise")
+            f"{GIVE} {thing} (a |an )?{{d}}( turn| of (a )?turn)?( {ROLL_AXIS})? {ROLL_DIRECTION}( {ROLL_AXIS})?",
+            f"{GIVE} {thing} {ROLL_DIRECTION} (a |an )?{{d}}( turn| of (a )?turn)?",
+        ]
+        if given
+        else []
+    )
 
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
@@ -1905,6 +1986,9 @@ ROLL_PHRASES = {
         "(with )?(a |an )?{mod} (cant|tilt|lean|slant)(?= ([,.;!]|$))",
         # A direction or side without degrees ("a gentle clockwise tilt", "slight dutch to the left").
         "(with )?(a |an )?({mod} )?{dir} (tilt|roll|cant|rotation)",
+        "(with )?(a |an )?({mod} )?" + ROLL_SIDE_ADJECTIVE + " (tilt|roll|cant|rotation)",
+        # Degrees given to the camera, said after them ("apply 10 degrees anticlockwise to the camera").
+        f"{GIVE} (a |an )?{{d}}( turn| of (a )?turn)? {ROLL_DIRECTION} (to|on) {CAMERA_THING}",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?roll angle( of| at)? {sd}( {dir})?",
@@ -1918,8 +2002,8 @@ ROLL_PHRASES = {
         "(a |an )?{d} of (camera )?(roll|cant|rotation|dutch( angle| tilt)?)( {dir})?",
         "((the )?camera )?(rolled|tilted|rotated|canted|turned|spun|twisted|swivelled|swiveled) (by )?(a |an )?{d} turn {dir}",
         "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting)( the camera| it)? (by )?{d} (to|towards) the {side}",
-        "(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)( the camera| the lens| it)? "
-        "(to the |towards the )?{side} (by )?{d}",
+        "((the )?(camera|lens) )?(roll|rolled|rolling|cant|canted|tilt|tilted|tilting|rotate|rotated)"
+        "( the camera| the lens| it)? (to the |towards the )?{side} (by )?{d}",
         # The camera itself turned to a side is a roll, not the subject's azimuth ("lens rotated ten degrees to the right").
         "(the )?(camera|lens) (rolled|rotated|tilted|turned|canted|twisted|spun) (by )?{d} (to|towards) the {side}",
         # Spun or twisted about the lens axis ("camera spun 15 degrees clockwise about the lens axis").
@@ -1948,7 +2032,7 @@ ROLL_PHRASES = {
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(a |an )?(tilted|rotated|slanted|canted|turned|sloping) (horizon|picture|image|frame) (of |by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
-        *_roll_family(PICTURE_THING),
+        *_roll_family(PICTURE_THING, given=False),
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon ({HORIZON_LEVEL})",
@@ -1987,6 +2071,9 @@ DUTCH_SIZE_DEG = {
     "steep": 30.0,
 }
 
+# "Please" is dropped before the tables are read: said anywhere ("the mug really big please",
+# "the bear please from behind") it parts no phrase from the clause end it asks for.
+PLEASE = frozenset({"please"})
 # Words that carry no constraint: left out of ``unparsed`` and never taken as a subject's attribute.
 STOPWORDS = frozenset(
     {
@@ -2499,10 +2586,12 @@ _MACROS = {
     # Moving the camera or oneself to a height ("get down low", "crouch lower").
     "{GET}": "(?:get|getting|go|going|crouch|crouching|kneel|kneeling|squat|squatting|climb|climbing|stand|standing|move|moving)",
     "{SHARE}": "(?P<share>" + "|".join(sorted(FRAME_FRACTIONS, key=len, reverse=True)) + r"|\d+(?:\.\d+)? percent)",
-    # An end of a subject, from which to which all of it is seen.
-    "{END}": "(?:base|bottom|top|floor|ground|foot|feet|toe|toes|head|bulb|shade|tip|end|ear|arm|leg|legs|wheel|wheels"
-    "|bumper|nose|tail|front|back|rear|stern"
-    "|roof|lid|rim|handle|edge|pot|leaves|crown|trunk|seat|backrest)",
+    # An end of a subject, from which to which all of it is seen ("head to toe", "roots up to
+    # crown", "base through to the tip"), in the singular or the plural.
+    "{END}": "(?:(?:base|bottom|top|floor|ground|foot|feet|toe|head|bulb|shade|tip|end|ear|arm|armrest|leg|wheel"
+    "|bumper|nose|tail|front|back|rear|stern|bonnet|hood|boot|grille|paw|root|crown|canopy|treetop|peak|summit|apex"
+    "|roof|lid|rim|lip|brim|spout|handle|edge|pot|leaves|branch|trunk|stem|stalk|pole|seat|backrest|side)(?:e?s)?)",
+    "{END_TO}": "(?:(?:up|down|right|all the way|the whole way|through|over|across) )?(?:to|till|until|thru)",
     # A hedge before a number ("about 30 degrees", "maybe 40").
     "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
@@ -2543,6 +2632,11 @@ _MACROS = {
         | {"crown", "canopy", "underside", "belly"},
         "(?:",
     ),
+    # Looking or aiming, and how straight down ("look down straight on it", "peering right down at").
+    "{LOOK}": "(?:look|looks|looking|looked|peer|peers|peering|peered|gaze|gazes|gazing|gazed|stare|stares|staring"
+    "|stared|glance|glances|glancing|shoot|shoots|shooting|point|points|pointing|pointed|aim|aims|aiming|aimed)",
+    "{DOWNRIGHT}": "(?:straight|directly|vertically|right|squarely|dead|perpendicularly|plumb)",
+    "{DOWNONTO}": " (?:on|at|onto|upon|into|over|to)(?: (?:the )?top of)?(?: {obj})?",
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
     "{CLAUSE}": "(?<=[,;:.!?] )",
     # The whole picture a small element is part of ("a small element in the landscape").
@@ -2874,7 +2968,8 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, slips = self._unslip(_unrepeated(words(text)), vocabulary)
+        tokens, slips = self._unslip(words(text), vocabulary)
+        tokens = _unrepeated([t for t in tokens if t not in PLEASE])
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
         cues = _bare_angles(self._cues(tokens), tokens)
@@ -2915,12 +3010,23 @@ class RuleParser:
         names = {w for form in vocabulary.forms() for w in form}
         out, read = [], []
         for token in tokens:
-            known = token in self.lexicon or singular(token) in names
-            target = None if known else slip_of(token) or _view_slip(out, token, names)
-            out.append(target or token)
+            known = token in self.lexicon or token in STOPWORDS or singular(token) in names
+            target = None if known else self._unknown_word(out, token, names, vocabulary)
+            out.extend(target or (token,))
             if target:
-                read.append({"said": token, "read": target})
+                read.append({"said": token, "read": " ".join(target)})
         return out, read
+
+    def _unknown_word(self, before: list[str], token: str, names: set[str], vocabulary: Vocabulary) -> tuple[str, ...] | None:
+        """How a word neither the tables nor the scene's names use is read, or None: with its
+        held letters let go ("pleeease", "biiig": :func:`unstretched`), as the table word it
+        mistypes, as the name words it writes short or runs together
+        (:meth:`Vocabulary.expansion`: "tbl", "teddybear")."""
+        if not token.isalpha():
+            return None
+        loose = unstretched(token, lambda w: w in self.lexicon or w in STOPWORDS or w in names)
+        target = loose or slip_of(token) or _view_slip(before, token, names)
+        return (target,) if target else vocabulary.expansion(token)
 
     def _spot(self, tokens: list[str], vocabulary: Vocabulary) -> tuple[list[str], list[_Mention], list[dict[str, str]]]:
         """Replace each subject mention by a placeholder ``@k``: the longest name or alias at each

@@ -493,6 +493,10 @@ SLIP_TARGETS = (
     "perspective",
     "horizontal",
     "elevation",
+    # Intensifiers and size words, read as emphasis grades a size ("realy big", "hugh").
+    "really",
+    "little",
+    "large",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
@@ -1239,6 +1243,8 @@ NAME_VARIANTS = (
     ("floor lamp", "standing light", "tall lamp", "floor standing lamp", "pole lamp", "arc lamp", "torchere"),
     (
         "toy car",
+        "toy motor car",
+        "motor car",
         "toy auto",
         "car toy",
         "mini car",
@@ -1505,6 +1511,7 @@ class Vocabulary:
         self.entries = tuple(entries)
         self._by_name = {e.name: e for e in entries}
         self._corrections: dict[str, tuple[str, ...] | None] = {}  # the parser asks per run of words
+        self._expansions: dict[str, tuple[str, ...] | None] = {}  # and per word it does not know
 
     @classmethod
     def from_semantics(cls, objects) -> Vocabulary:
@@ -1556,6 +1563,24 @@ class Vocabulary:
             best = min(found, key=lambda f: (edit_distance(text, " ".join(f), 3), f), default=None)
             self._corrections[text] = best if len(found) == 1 or len(owners) == 1 else None
         return self._corrections[text]
+
+    def expansion(self, token: str) -> tuple[str, ...] | None:
+        """The name words one written-short ``token`` stands for, or None: the consonant skeleton
+        of one name word (:func:`skeleton`: "tbl" is "table", "flr" "floor"), or two consecutive
+        words of one name or alias written as one ("teddybear", "motorcar" of "motor car"). A
+        token read two ways is read as neither."""
+        if token not in self._expansions:
+            # Only a word without vowels after its first letter can be a skeleton (most are not).
+            consonants = len(token) >= MIN_SKELETON_LETTERS and VOWELS.isdisjoint(token[1:])
+            found = set()
+            for form in self.forms():
+                for k, word in enumerate(form):
+                    if consonants and word != token and word[:1] == token[:1] and token in skeleton(word):
+                        found.add((word,))
+                    if k + 1 < len(form) and token.startswith(word) and token == word + form[k + 1]:
+                        found.add(form[k : k + 2])
+            self._expansions[token] = found.pop() if len(found) == 1 else None
+        return self._expansions[token]
 
     def _targets(self) -> frozenset[tuple[str, ...]]:
         """Names, aliases and their head nouns: what a misspelling may be read as."""
@@ -1644,6 +1669,37 @@ class Vocabulary:
             for e in self.entries
             if self._compatible(e, tokens) and any(len(f[-1]) > len(said) and f[-1].startswith(said) for f in e.forms)
         ]
+
+
+# A word written short by its consonants keeps at least three of them ("tbl", "flr"): two ("tb")
+# are too few to name one word.
+MIN_SKELETON_LETTERS = 3
+VOWELS = frozenset("aeiou")
+
+
+def skeleton(word: str) -> tuple[str, ...]:
+    """How ``word`` is written short by its consonants: its first letter and the consonants after
+    it, as written and with a doubled consonant once ("teddy" -> "tddy", "tdy"; "table" -> "tbl")."""
+    short = word[:1] + "".join(c for c in word[1:] if c not in VOWELS)
+    once = "".join(c for k, c in enumerate(short) if not k or c != short[k - 1])
+    return (short, once) if once != short else (short,)
+
+
+# Letters held for emphasis ("pleeease", "sooo", "biiig"): a letter written three times or more.
+STRETCHED = re.compile(r"(.)\1{2,}")
+
+
+def unstretched(token: str, known) -> str | None:
+    """``token`` with its held letters written as the word ``known(word)`` accepts: twice, else
+    once ("sooo" -> "so", "tooo" -> "too", "pleeease" -> "please"); None when no letter is held or
+    neither is a known word."""
+    if not STRETCHED.search(token):
+        return None
+    for times in (r"\1\1", r"\1"):
+        word = STRETCHED.sub(times, token)
+        if known(word):
+            return word
+    return None
 
 
 def _synonym_forms(forms: list[set[tuple[str, ...]]]) -> list[set[tuple[str, ...]]]:
