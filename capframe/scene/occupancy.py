@@ -126,8 +126,8 @@ class Occupancy:
         surface_layer: (X, Y) int16, the layer of the flat upward surface in each column, or -1.
         surface_height: (X, Y) float32, its grid-frame height (the highest of its samples; 0
             where there is none).
-        detail: a finer grid around one small subject (:meth:`around`; never cached), whose
-            voxel clearance and margin replace this grid's inside it.
+        detail: a finer grid around one small subject (:meth:`around`; never cached): inside
+            it a point is free when either grid frees it.
     """
 
     rotation: np.ndarray
@@ -183,12 +183,12 @@ class Occupancy:
         """How far (world units) (..., 3) points are from breaking the clearance a camera keeps
         (< 0: too near a surface), differentiable: the voxel clearance less
         :data:`SURFACE_MARGIN_VOXELS` voxels (inside :attr:`detail`, the larger of its grid's and
-        this grid's, each less its own voxels), the height
-        above the floor plane or a flat surface less :meth:`height_kept` of ``floor_margin`` (the
-        plane is measured from the floor's own Gaussians, not known to half a voxel only: a camera
-        at a small object's own height, or low under it, stands within half a voxel of the floor),
-        the depth below the ceiling plane less the margin (the walls' top is known as the floor is,
-        but it is inferred: a room captured without a ceiling has one)."""
+        this grid's, each less its own voxels), the height above the floor plane or a flat surface
+        less :meth:`height_kept` of ``floor_margin`` (the plane is measured from the floor's own
+        Gaussians, not known to half a voxel only: a camera at a small object's own height, or low
+        under it, stands within half a voxel of the floor), the depth below the ceiling plane less
+        the margin (the walls' top is known as the floor is, but it is inferred: a room captured
+        without a ceiling has one)."""
         voxels, floor, ceiling = self._terms(points)
         floor = floor - self.height_kept(floor_margin)
         return torch.minimum(torch.minimum(voxels, floor), ceiling - self.margin)
