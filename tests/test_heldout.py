@@ -6,7 +6,8 @@ changes tuned on heldout6 landed; heldout8, blind too, before the changes tuned 
 heldout9, blind too, before the changes tuned on heldout7 and heldout8 landed; heldout10, blind too,
 before the changes tuned on heldout8 and heldout9 landed; heldout11, blind too, before the changes
 tuned on heldout10 landed; heldout12, blind too, written before the changes tuned on heldout11 landed;
-heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only):
+heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only;
+heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -47,6 +48,7 @@ COMMITTED = {
     "heldout11": [15, 14, 15, 14, 15, 15],
     "heldout12": [15, 14, 15, 14, 15, 15],
     "heldout13": [15, 14, 15, 14, 15, 15],
+    "heldout14": [15, 14, 15, 14, 15, 15],
 }
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
@@ -253,6 +255,7 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     assert resolve_suite("heldout8") == SUITES / "heldout8.yaml" and resolve_suite("heldout9") == SUITES / "heldout9.yaml"
     assert resolve_suite("heldout10") == SUITES / "heldout10.yaml" and resolve_suite("heldout11") == SUITES / "heldout11.yaml"
     assert resolve_suite("heldout12") == SUITES / "heldout12.yaml" and resolve_suite("heldout13") == SUITES / "heldout13.yaml"
+    assert resolve_suite("heldout14") == SUITES / "heldout14.yaml"
     assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
