@@ -1222,8 +1222,8 @@ NAME_SYNONYMS = (
 # "3 seater", "stuffed animal"). They answer as synonyms do but, like the kinds, are never offered
 # as the closest name to a word the scene lacks (a long descriptive name looks a little like too
 # many words), and none carries a colour (a colour in a name excludes the object from a mention
-# of another colour). A name written as one word ("teddybear", "sofabed") is left to the
-# correction of one edit, which reports it.
+# of another colour). A name written as one word ("teddybear", "sofabed") is read by
+# Vocabulary.expansion, which reports it.
 NAME_VARIANTS = (
     ("television", "smart tv", "led tv", "lcd tv", "plasma tv", "flat screen tv", "widescreen tv", "television screen", "teevee"),
     ("sofa", "sofa bed", "daybed", "chaise longue", "2 seater", "3 seater", "2 seater sofa", "3 seater sofa"),
