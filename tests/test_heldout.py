@@ -249,13 +249,8 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     from capframe.bench import resolve_suite
     from capframe.cli import main
 
-    assert resolve_suite("heldout2") == SUITES / "heldout2.yaml" and resolve_suite("heldout3") == SUITES / "heldout3.yaml"
-    assert resolve_suite("heldout4") == SUITES / "heldout4.yaml" and resolve_suite("heldout5") == SUITES / "heldout5.yaml"
-    assert resolve_suite("heldout6") == SUITES / "heldout6.yaml" and resolve_suite("heldout7") == SUITES / "heldout7.yaml"
-    assert resolve_suite("heldout8") == SUITES / "heldout8.yaml" and resolve_suite("heldout9") == SUITES / "heldout9.yaml"
-    assert resolve_suite("heldout10") == SUITES / "heldout10.yaml" and resolve_suite("heldout11") == SUITES / "heldout11.yaml"
-    assert resolve_suite("heldout12") == SUITES / "heldout12.yaml" and resolve_suite("heldout13") == SUITES / "heldout13.yaml"
-    assert resolve_suite("heldout14") == SUITES / "heldout14.yaml"
+    for name in COMMITTED:  # every committed set by its name
+        assert resolve_suite(name) == SUITES / f"{name}.yaml"
     assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
