@@ -7,7 +7,9 @@ heldout9, blind too, before the changes tuned on heldout7 and heldout8 landed; h
 before the changes tuned on heldout8 and heldout9 landed; heldout11, blind too, before the changes
 tuned on heldout10 landed; heldout12, blind too, written before the changes tuned on heldout11 landed;
 heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only;
-heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only):
+heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
+heldout15, blind too, written after heldout14 before the changes tuned on the development sets land,
+read by its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -49,6 +51,7 @@ COMMITTED = {
     "heldout12": [15, 14, 15, 14, 15, 15],
     "heldout13": [15, 14, 15, 14, 15, 15],
     "heldout14": [15, 14, 15, 14, 15, 15],
+    "heldout15": [15, 14, 15, 14, 15, 15],
 }
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
