@@ -939,8 +939,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout14) or a suite "
-        "file; a suite with hand-written specs (the heldout sets) prints full success and failures per kind",
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout15, the "
+        "parse-only corpus phrasing1) or a suite file; a suite with hand-written specs (the heldout sets) prints full success "
+        "and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
     p.add_argument(

@@ -8,8 +8,9 @@ before the changes tuned on heldout8 and heldout9 landed; heldout11, blind too, 
 tuned on heldout10 landed; heldout12, blind too, written before the changes tuned on heldout11 landed;
 heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only;
 heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
-heldout15, blind too, written after heldout14 before the changes tuned on the development sets land,
-read by its writer only):
+heldout15, blind too, written after heldout14 before the changes tuned on heldout12 land,
+read by its writer only; and the parse-only corpus phrasing1, written blind before any parser ran on
+it, read by its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -53,6 +54,10 @@ COMMITTED = {
     "heldout14": [15, 14, 15, 14, 15, 15],
     "heldout15": [15, 14, 15, 14, 15, 15],
 }
+# parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
+# never generated and their feasibility was not searched (a flag says only: an unknown subject or
+# conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
+PARSE_ONLY = {"phrasing1": [25] * 8}
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
 
@@ -74,6 +79,38 @@ def test_the_committed_set_is_valid_and_shaped_as_asked(name):
     assert {"phrasing", "view", "height", "size"} <= {spec.kind for _, spec in cases} <= set(KINDS)
     assert len({spec.text.lower() for _, spec in cases}) == len(cases), "every text is different"
     assert has_committed_instructions(SUITES / f"{name}.yaml") and not has_committed_instructions(SUITES / "default.yaml")
+
+
+@pytest.mark.parametrize("name", sorted(PARSE_ONLY))
+def test_the_parse_only_corpus_is_valid_and_shaped_as_asked(name):
+    """Loadable (every spec and subject validated), the counts per scene, every preset and capture,
+    seeds no other suite uses, 5-20 % infeasible (unknown subjects, conflicting clauses), every text
+    different within the corpus and from every text of the held-out sets. Generation-free: the scenes
+    are valid suite scenes but a parse-only corpus is never generated, so no scene or ground truth is
+    checked."""
+    suite = load_heldout(SUITES / f"{name}.yaml")
+    cases = suite.cases()
+    assert suite.name == name and [len(suite.specs[s.id]) for s in suite.scenes] == PARSE_ONLY[name]
+    assert {s.preset for s in suite.scenes} == {"tabletop", "room", "outdoor"}
+    assert {s.capture for s in suite.scenes} == {"orbit", "forward", "walkthrough"}
+    assert all(4 <= len(s.objects) <= 5 for s in suite.scenes)
+    seeds = [s.seed for s in suite.scenes]
+    others = [
+        s
+        for other in ("default", "full", *COMMITTED, *PARSE_ONLY)
+        if other != name
+        for s in load_suite(SUITES / f"{other}.yaml")[1]
+    ]
+    assert len(set(seeds)) == len(seeds) and not set(seeds) & {s.seed for s in others}, "freshly seeded scenes"
+    infeasible = [spec for _, spec in cases if not spec.feasible]
+    assert 0.05 <= len(infeasible) / len(cases) <= 0.2
+    assert {spec.reason for spec in infeasible} <= {"unknown subject", "no free space"}
+    assert {"phrasing", "view", "height", "size", "framing", "roll", "subject"} <= {spec.kind for _, spec in cases} <= set(KINDS)
+    texts = {spec.text.lower() for _, spec in cases}
+    assert len(texts) == len(cases), "every text is different"
+    for other in COMMITTED:
+        assert not texts & {spec.text.lower() for _, spec in load_heldout(SUITES / f"{other}.yaml").cases()}, other
+    assert has_committed_instructions(SUITES / f"{name}.yaml")
 
 
 ORDER = list(COMMITTED)  # written order (sorted names would put heldout10 before heldout2)
@@ -252,13 +289,13 @@ def test_bench_suite_option_names_a_suite_or_fails_in_one_line(capsys):
     from capframe.bench import resolve_suite
     from capframe.cli import main
 
-    for name in COMMITTED:  # every committed set by its name
+    for name in (*COMMITTED, *PARSE_ONLY):  # every committed set and parse-only corpus by its name
         assert resolve_suite(name) == SUITES / f"{name}.yaml"
     assert resolve_suite("heldout") == SUITES / "heldout.yaml" and resolve_suite(None) == SUITES / "default.yaml"
     assert main(["bench", "ground", "--suite", "nosuch"]) == 2
     err = capsys.readouterr().err.strip()
     known = f"known: {sorted(p.stem for p in SUITES.glob('*.yaml'))}"
-    assert {"captured", "default", "full", *COMMITTED} <= {p.stem for p in SUITES.glob("*.yaml")}
+    assert {"captured", "default", "full", *COMMITTED, *PARSE_ONLY} <= {p.stem for p in SUITES.glob("*.yaml")}
     assert f"--suite 'nosuch' is neither a file nor a suite name; {known}" in err and "\n" not in err
     assert main(["bench", "refine", "--suite", "heldout"]) == 2
     assert "bench refine needs generated instructions" in capsys.readouterr().err
