@@ -174,6 +174,29 @@ def test_a_valid_spec_file_loads(tmp_path):
     assert scene.id == "a" and spec.subject_names == ["sofa"] and spec.constraints.subjects[0].role == "primary"
 
 
+def test_a_parse_only_corpus_is_refused_by_the_ground_bench(tmp_path, capsys, monkeypatch):
+    """``parse_only: true`` loads as the flag; any other value is a one-line error; ``bench
+    ground`` refuses such a corpus without ``--parse-only`` (its flags of feasibility were never
+    searched, so a ground figure on it would not be a success rate), before generating anything."""
+    from capframe.cli import main
+    from capframe.errors import InputError
+
+    suite = _write(tmp_path, GOOD)
+    assert not load_heldout(suite).parse_only
+    suite.write_text(suite.read_text().replace("specs: s\n", "specs: s\nparse_only: true\n"))
+    assert load_heldout(suite).parse_only
+    assert all(load_heldout(SUITES / f"{name}.yaml").parse_only for name in PARSE_ONLY)
+    assert not any(load_heldout(SUITES / f"{name}.yaml").parse_only for name in COMMITTED)
+    monkeypatch.chdir(tmp_path)  # where the bench would write results/bench/s
+    assert main(["bench", "ground", "--suite", str(suite)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "suite 's' is a parse-only corpus" in err and "--parse-only" in err and "\n" not in err
+    assert not (tmp_path / "results").exists()
+    suite.write_text(suite.read_text().replace("parse_only: true", "parse_only: maybe"))
+    with pytest.raises(InputError, match=r"s\.yaml: 'parse_only' is 'maybe'; expected true or false"):
+        load_heldout(suite)
+
+
 def test_arc_deviation_wraps_around():
     assert arc_deviation(180.0, 165.0, 195.0) == 0.0
     assert arc_deviation(-170.0, 165.0, 195.0) == 0.0  # -170 is 190

@@ -198,6 +198,8 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None, blind: bool
 
     start = time.perf_counter()
     heldout = load_heldout(suite)
+    if heldout.parse_only:
+        raise InputError(f"suite {heldout.name!r} is a parse-only corpus (its feasibility was not searched); add --parse-only")
     root = Path(root) if root is not None else Path("results/bench") / heldout.name
     outcomes = []
     for scene in heldout.scenes:

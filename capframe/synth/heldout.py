@@ -5,7 +5,8 @@ sets ``heldout``, ``heldout2`` ... ``heldout12``, development sets now, and the 
 --suite phrasing2 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
-folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene::
+folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene (and, for a
+parse-only corpus, ``parse_only: true``, which ``bench ground`` refuses without ``--parse-only``)::
 
     scene: <scene id>
     instructions:
@@ -33,11 +34,13 @@ from .suite import SuiteScene, load_suite
 
 @dataclass
 class HeldoutSuite:
-    """A suite with committed instructions: its name, scenes, and each scene's specs (by id)."""
+    """A suite with committed instructions: its name, scenes, and each scene's specs (by id);
+    ``parse_only`` for a corpus checked by the parser alone (its feasibility was not searched)."""
 
     name: str
     scenes: list[SuiteScene]
     specs: dict[str, list[InstructionSpec]]
+    parse_only: bool = False
 
     def cases(self) -> list[tuple[SuiteScene, InstructionSpec]]:
         """Every (scene, instruction), scenes in suite order."""
@@ -104,6 +107,9 @@ def load_heldout(path: str | Path) -> HeldoutSuite:
     folder = data.get("specs")
     if not isinstance(folder, str) or not folder.strip():
         raise InputError(f"'specs' is {folder!r}; expected the folder of the scenes' spec files", source=source)
+    parse_only = data.get("parse_only", False)
+    if not isinstance(parse_only, bool):
+        raise InputError(f"'parse_only' is {parse_only!r}; expected true or false", source=source)
     root = Path(path).parent / folder
     specs, seen = {}, {}
     for scene in scenes:
@@ -114,7 +120,7 @@ def load_heldout(path: str | Path) -> HeldoutSuite:
             if spec.id in seen:
                 raise InputError(f"instruction id {spec.id!r} is used twice ({seen[spec.id]} and {scene.id})", source=source)
             seen[spec.id] = scene.id
-    return HeldoutSuite(name, scenes, specs)
+    return HeldoutSuite(name, scenes, specs, parse_only)
 
 
 __all__ = ["HeldoutSuite", "has_committed_instructions", "load_heldout", "load_scene_specs"]
