@@ -216,6 +216,7 @@ from .vocabulary import (
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
+    FACING_PARTS,
     EYE_VIEW_NOUNS,
     EYE_VIEWS,
     FEW_DEGREES,
@@ -935,6 +936,8 @@ SIDE_AFTER_VIEW_CLAUSE = (
 # "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
 # it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
 # head-on").
+# A front part said to the lens is the front exactly ("nose-to-lens", "face to camera").
+FRONT_TO_LENS = ("nose", "face", "head", "snout", "muzzle", "grille")
 EXACT_ONLY = "exact"
 EXACT_PHRASES = [
     "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
@@ -1013,7 +1016,7 @@ VIEW_PHRASES = {
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
         # "face-forward to the camera").
-        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?"
+        "((" + "|".join(FRONT_TO_LENS) + ")( first| forward| forwards| foremost| on)?"
         "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
@@ -1073,6 +1076,32 @@ for _end, _parts in END_PARTS.items():
         "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) ("
         + "|".join(_parts)
         + ")( of {obj})?",
+    ]
+# A part turned to the camera: the end it sits at is seen (vocabulary.FACING_PARTS and END_PARTS:
+# "its back bumper square to the lens", "backrest to us", "slats to camera dead straight", "the
+# seat facing me straight on"); squared to it, or "dead on" after it, that end exactly. The camera
+# squared to a part sees its end exactly ("photographed square to its shelves").
+OWN_PARTS = frozenset(p for end in FACING_PARTS for p in (*FACING_PARTS[end], *END_PARTS[end]))
+VIEWER = "(us|me|you|the viewer|viewer|the camera|camera|the lens|lens|the cam|cam)"
+SQUARE = "(square|squarely|straight|directly|dead|flush|bang|smack|full|perpendicular|parallel)"
+SQUARE_AFTER = (
+    "( ,)? (?P<exact>(dead|straight|square|head|face|full|spot|bang|smack) on|dead straight|dead square|squarely"
+    "|square on|exactly|precisely|perfectly)"
+)
+for _end, _parts in FACING_PARTS.items():
+    _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
+    VIEW_PHRASES[_end] += [
+        "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
+        + _part
+        + "( (is|are))?( (?P<exact>"
+        + SQUARE[1:]
+        + "( on)?)?"
+        " (((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)|facing|faces|face) "
+        + VIEWER
+        + "("
+        + SQUARE_AFTER
+        + ")?(?! (side|height|level|edge|corner|bag|case|strap) )",
+        "(?P<exact>" + SQUARE[1:] + "( on)? (to|towards|with|onto|on to|facing|at) (the|{P}) " + _part + "( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -1588,6 +1617,16 @@ ELEVATION_PHRASES = {
         "(from )?(underneath|beneath|below|under) (the |a )?{SUPPORT}( (surface|level))?",
     ],
 }
+# A person's place beside or before the subject ("as if sitting beside it", "as though you were
+# standing in front of it", "from where a seated person's eyes would be"): the camera at their
+# eyes, level with it; a hint, as a height said otherwise tells more.
+AS_IF = "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer) (were|was|are|is|had been|would be))?"
+POSTURE = "(sitting|sat|seated|standing|stood)"
+PERSON = "(person|viewer|visitor|guest|adult|man|woman|someone|somebody|observer|onlooker|spectator|customer)"
+BESIDE_IT = (
+    "(beside|next to|by|alongside|in front of|opposite|across from|facing|near|on|at|in) "
+    "({obj}|(the |a |an )?({SURFACE}|chair|couch|bench|floor|ground|grass|lawn))"
+)
 ELEVATION_HINTS = {
     # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"): a hint, as
     # a camera held horizontal may also mean a landscape frame; a horizontal frame or horizon is a
@@ -1597,6 +1636,12 @@ ELEVATION_HINTS = {
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
+        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + ")?",
+        "(from |at )?(where |the height of )?(the |a |an |someone 's )?(eyes |eye line |head )?(of )?(a |an |the )?"
+        + POSTURE
+        + " "
+        + PERSON
+        + "( 's)? (eyes|eye|eye line|eyeline|eye level|eye height|head|head height)( (would be|would|are|is|were|sit|be))?",
     ],
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
@@ -1604,7 +1649,7 @@ ELEVATION_HINTS = {
         "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
         # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
         "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting|holding|staying|kept)"
-        " (((high|well|far|way) )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
+        " (((high|well|far|way)( up)? )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
@@ -3043,6 +3088,8 @@ class RuleParser:
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
             if n == 1 and _height_anchor(tokens, i):
                 n = 0
+            if n and out[-1:] in (["its"], ["his"], ["her"], ["their"], ["'s"]) and " ".join(tokens[i : i + n]) in OWN_PARTS:
+                n = 0  # a part of what was named ("the tv, its screen to us"), not a name of its own
             read = tokens[i : i + n]
             misspelt = self._misspelt(tokens, keys, i, n, longest + 1, vocabulary)
             if misspelt is not None:
@@ -3590,8 +3637,15 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
         found = [c for c in found if not _yields_to(c, degrees[0])]
     named = _narrowest({c.value for c in found if c.field == "elevation"})
-    if len(named) > 1 or len(degrees) > 1:
+    if len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
+    if len(named) > 1:
+        # Heights said together that overlap are one: where they meet, as degrees (an angle said
+        # too must lie there).
+        meet, tol = _meeting(named), EXPLICIT_ELEVATION_TOLERANCE_DEG
+        if meet is None or (degrees and not meet[0] - tol <= degrees[0] <= meet[1] + tol):
+            raise InputError(f"conflicting elevations: {[c.text for c in found]}")
+        degrees, named = degrees or [(meet[0] + meet[1]) / 2.0], []
     if degrees and not -90.0 <= degrees[0] <= 90.0:
         raise InputError(f"elevation {degrees[0]:g} degrees is out of range; expected -90 to 90")
     if named and degrees:
@@ -3638,6 +3692,17 @@ def _narrowest(named: set[str]) -> list[str]:
         return ELEVATIONS[b][0] <= ELEVATIONS[a][0] and ELEVATIONS[a][1] <= ELEVATIONS[b][1]
 
     return sorted(e for e in named if not any(o != e and inside(o, e) for o in named))
+
+
+def _meeting(named: list[str]) -> tuple[float, float] | None:
+    """Where named heights whose ranges overlap or touch meet, ``(lo, hi)`` degrees, or None when two
+    lie apart ("from below ... from above"). Said together they describe one camera: "from way up,
+    like from a drone" (high angle and bird's-eye, which meet at 60), "a low angle, worm's eye"
+    (-60 to -50), "slightly above, a high angle" (25 to 30). Every such meeting of the named ranges
+    is at most 10 degrees wide, so :func:`_elevation` reads it as its middle, in degrees."""
+    lo = max(ELEVATIONS[e][0] for e in named)
+    hi = min(ELEVATIONS[e][1] for e in named)
+    return (lo, hi) if lo <= hi else None
 
 
 def _roll(cues: list[_Cue]) -> float | None:

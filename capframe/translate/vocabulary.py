@@ -450,7 +450,7 @@ FILLER_WORDS = frozenset(
     want like love need have get take make see show give grab gimme try go going looking request
     fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again needs ought gotta
     include including
-    too well visible included until while when because""".split()
+    too well visible included until while when because if though""".split()
 )
 
 
@@ -692,6 +692,66 @@ END_PARTS = {
         # A screen is the front of what carries it ("aim straight at the TV's screen").
         "screen",
         "display",
+    ),
+}
+# Parts that name the end they sit at only when turned to the camera ("its seat to us", "the
+# bookcase square to its shelves", "back bumper square to the lens"): alone they may be a height
+# or a target ("at seat height", "focus on the shelves"). END_PARTS' parts and the ends' own words
+# count too. A part not here stays not understood ("its handle to camera"), never guessed.
+FACING_PARTS = {
+    "back": (
+        "back",
+        "rear",
+        "backside",
+        "back bumper",
+        "boot",
+        "trunk",
+        "tail",
+        "tail end",
+        "rear end",
+        "back end",
+        "hind end",
+        "bum",
+        "butt",
+        "behind",
+        "back legs",
+        "back wheels",
+        "rear wheels",
+        "exhaust",
+    ),
+    "front": (
+        "front",
+        "face",
+        "nose",
+        "bow",
+        "front end",
+        "bonnet",
+        "hood",
+        "front wheels",
+        "eyes",
+        "belly",
+        "tummy",
+        "chest",
+        "seat",
+        "seats",
+        "seat cushion",
+        "seat cushions",
+        "cushions",
+        "slats",
+        "seat slats",
+        "shelves",
+        "shelf",
+        "door",
+        "doors",
+        "drawer",
+        "drawers",
+        "keys",
+        "keyboard",
+        "controls",
+        "buttons",
+        "opening",
+        "mouth",
+        "front legs",
     ),
 }
 # "<creature>'s-eye view": whose eye the camera takes, by the elevation class it sits at ("a
