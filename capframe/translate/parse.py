@@ -216,9 +216,9 @@ from .vocabulary import (
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
-    FACING_PARTS,
     EYE_VIEW_NOUNS,
     EYE_VIEWS,
+    FACING_PARTS,
     FEW_DEGREES,
     FILLER_WORDS,
     FRAME_FRACTIONS,
@@ -1091,11 +1091,8 @@ SQUARE_AFTER = (
 for _end, _parts in FACING_PARTS.items():
     _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
     VIEW_PHRASES[_end] += [
-        "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
-        + _part
-        + "( (is|are))?( (?P<exact>"
-        + SQUARE[1:]
-        + "( on)?)?"
+        "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?"
+        "((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))" + _part + "( (is|are))?( (?P<exact>" + SQUARE[1:] + "( on)?)?"
         " (((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)|facing|faces|face) "
         + VIEWER
         + "("
