@@ -213,6 +213,9 @@ from .vocabulary import (
     ATTRIBUTES,
     CLASS_NOUNS,
     COURTESIES,
+    REQUESTERS,
+    SETTINGS,
+    WANTING,
     DEGREE_SCALE,
     DETERMINERS,
     END_PARTS,
@@ -424,6 +427,13 @@ SHOT_CLAUSES = {
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        # Pressing on every edge of the frame ("spines crowding every edge of the frame", "touching
+        # all four sides of the picture"): the subject fills it.
+        "(([a-z]+ )?(crowding|crowds|crowd|filling|fills|fill|touching|touches|touch|hitting|hits|hit|reaching|reaches"
+        "|reach|pressing against|presses against|meeting|meets|spilling over|spilling off|bleeding off|running off"
+        "|going off|cut off by|cropped by|cut by) )"
+        "((every|each|all|all four|all the|all 4) ({FRAME} )?(edge|edges|side|sides|border|borders)( of (the )?{FRAME})?"
+        "|the {FRAME} (edges|borders|sides)|the (edges|borders|sides) of (the )?{FRAME})",
         # Filling the frame from one edge to the other ("filling the frame edge to edge").
         "(filling|fills|fill|filling up|fills up|spanning|spans|covering|covers) (all of |the whole of )?"
         "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
@@ -446,6 +456,8 @@ SHOT_CLAUSES = {
         "( (and |but |or |, )?not (too |so |that |overly |very |super |too much )({NOT_TOO}))?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
+        # The whole subject, said alone as a clause ("front-left three-quarters, at seat level, complete").
+        ALONE.replace("{WORD}", "(complete|whole|entire|uncropped|in full|in its entirety|all in|all of it|in one piece)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
@@ -1914,6 +1926,21 @@ NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    # The setting the picture is taken in ("of the lounge", "the garden:", "kitchen scene").
+    # Not said as where the camera is ("from across the room": a distance, reported) nor before a
+    # name it describes ("garden sofa").
+    "(?<!across )(?<!around )(?<!through )((the|this|my|our|a|an|your) ((whole|entire) )?|(?<=^ )|{CLAUSE})"
+    + "("
+    + "|".join(sorted(SETTINGS, key=len, reverse=True))
+    + ")"
+    + "( (scene|shot|space|area|interior))?(?= ([,.;:!]|$|the |with |where |and ))",
+    # Who asks for the picture, or whom it is for ("my grandson would like", "for the client").
+    "((?<=^ )|{CLAUSE})((my|our|the|your|a|his|her) )?([a-z]+ )??("
+    + "|".join(sorted(REQUESTERS, key=len, reverse=True))
+    + ")( ("
+    + "|".join(WANTING)
+    + ")( (to have|to see|to get))?(?= )|(?= ([,.;:!]|$)))",
+    "(for|from) (my|our|the|your|his|her) ([a-z]+ )??(" + "|".join(REQUESTERS) + ")(?= ([,.;:!]|$))",
     # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
     "(make|making) sure( that)?",
     # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
@@ -3125,9 +3152,9 @@ class RuleParser:
         return None
 
     def _attribute(self, token: str) -> bool:
-        """Whether ``token`` may describe the subject named after it: a known attribute, or a word
-        the tables do not use ("fluffy")."""
-        return token in ATTRIBUTES or (token.isalpha() and token not in self.lexicon)
+        """Whether ``token`` may describe the subject named after it: a known attribute, a setting
+        ("garden sofa", "kitchen table"), or a word the tables do not use ("fluffy")."""
+        return token in ATTRIBUTES or token in SETTINGS or (token.isalpha() and token not in self.lexicon)
 
     def _cues(self, tokens: list[str]) -> list[_Cue]:
         """The phrases found in the placeholder text; of overlapping ones the longest (then the first)."""
