@@ -2890,6 +2890,14 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
         if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
             rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
+            # Seen across that corner ("seen over its back-left corner", "looking across the sofa's
+            # front-right corner").
+            corner = (
+                "(seen|viewed|looking|shot|photographed|taken|framed|angled)( in)? ((from )?(over|across|past|round|around|off)"
+            )
+            corner += "|from( (over|across|beyond|behind))?) (the|{P}) " + _alternatives(sides) + " (corner|edge|quarter|angle)"
+            rows.append(("view", view, corner + "( of {obj})?", False))
+            rows.append(("view", view, "(over|across) (the|{P}) " + _alternatives(sides) + " (corner|edge)( of {obj})?", False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
@@ -3052,6 +3060,10 @@ class RuleParser:
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
+        for run in unparsed:  # a thing joined to a subject is one too ("harmonica?? next to the mug")
+            thing = self._joined_thing(tokens, run)
+            if thing is not None:
+                mentions.append(_Mention(run.at, thing, vocabulary.match(thing)))
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
                 if not _never_a_name(run.text) and vocabulary.candidates(run.text):
@@ -3229,6 +3241,39 @@ class RuleParser:
                     runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
         return runs
 
+    def _joined_thing(self, tokens: list[str], run: _Run) -> str | None:
+        """The thing a run not understood names when it is joined to a named subject, so a second
+        subject (refused when the scene lacks it), else None: a noun of words the tables do not use,
+        right before a relation to the subject ("harmonica?? next to the mug", "a kazoo beside it")
+        or right after a joining word after it ("mug and harmonica", "mug plus a kazoo", "bench
+        with a bicycle, both visible"; after "with" only with an article: "the sofa with cushions"
+        is the sofa)."""
+        said = run.text.split()
+        start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
+        if start is None:
+            return None
+        # The joining word may open the run ("plus a kazoo"): the thing is what follows it.
+        lead = next((j for j in JOINS_AFTER if said[: len(j)] == j), [])
+        before = [t for t in tokens[:start] if t != ","] + said[: len(lead)]
+        rest = said[len(lead) :] if lead else tokens[start - 1 : start] + said
+        article = rest[:1] in (["a"], ["an"], ["some"], ["the"])
+        thing = said[len(lead) + article :] if lead else said
+        if article and not lead:
+            before = before[:-1]
+        if not thing or len(thing) > MAX_ATTRIBUTES or _never_a_name(" ".join(thing)):
+            return None
+        if not all(w.isalpha() and w not in self.lexicon and w not in ATTRIBUTES for w in thing[-1:]):
+            return None
+        after = tokens[start + len(said) :]
+        while after and after[0] in PUNCTUATION:
+            after = after[1:]
+        joined_after = not lead and any(after[: len(j)] == j and _names_subject(after[len(j) :]) for j in JOINS_BEFORE)
+        joined_before = any(
+            before[-len(j) :] == j and len(before) > len(j) and before[-len(j) - 1].startswith("@") and (article or j != ["with"])
+            for j in JOINS_AFTER
+        )
+        return " ".join(thing) if joined_after or joined_before else None
+
     def _related_subject(self, tokens: list[str], span: list[int]) -> str | None:
         """The noun phrase ``span`` opens with when a place relation (:data:`RELATION_WORDS`) ties
         it to the named object right after the span ("sunglasses lying next to | the teddy"): words
@@ -3354,6 +3399,22 @@ def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bo
 def _spottable(form: tuple[str, ...]) -> bool:
     """Whether a name or alias is spotted in running text: not one reserved photographic word."""
     return len(form) > 1 or form[0] not in RESERVED
+
+
+# Words joining a thing to a named subject after it ("harmonica next to the mug") and before it
+# ("the mug and a harmonica", "the bench with a bicycle").
+JOINS_BEFORE = tuple(
+    w.split() for w in ("next to", "beside", "by", "near", "alongside", "together with", "along with", "with", "and", "plus", "&")
+)
+JOINS_AFTER = tuple(
+    w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as", "next to", "beside", "alongside")
+)
+
+
+def _names_subject(tokens: list[str]) -> bool:
+    """Whether ``tokens`` open with a named subject, maybe after a determiner ("the @0", "@1")."""
+    rest = tokens[1:] if tokens[:1] and tokens[0] in MENTION_DETERMINERS else tokens
+    return bool(rest) and rest[0].startswith("@")
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
