@@ -1100,12 +1100,21 @@ SQUARE_AFTER = (
     "( ,)? (?P<exact>(dead|straight|square|head|face|full|spot|bang|smack) on|dead straight|dead square|squarely"
     "|square on|exactly|precisely|perfectly)"
 )
+TURNED_TO = (
+    "(((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)"
+    "|(facing|faces|face)( (to|towards|at))?)"
+)
 for _end, _parts in FACING_PARTS.items():
     _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
     VIEW_PHRASES[_end] += [
         "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?"
-        "((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))" + _part + "( (is|are))?( (?P<exact>" + SQUARE[1:] + "( on)?)?"
-        " (((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)|facing|faces|face) "
+        "((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
+        + _part
+        + "( (is|are))?( (?P<exact>"
+        + SQUARE[1:]
+        + "( on)?)? "
+        + TURNED_TO
+        + " "
         + VIEWER
         + "("
         + SQUARE_AFTER
@@ -1629,7 +1638,7 @@ ELEVATION_PHRASES = {
 # A person's place beside or before the subject ("as if sitting beside it", "as though you were
 # standing in front of it", "from where a seated person's eyes would be"): the camera at their
 # eyes, level with it; a hint, as a height said otherwise tells more.
-AS_IF = "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer) (were|was|are|is|had been|would be))?"
+AS_IF = "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer)( (were|was|are|is|had been|would be))?)?"
 POSTURE = "(sitting|sat|seated|standing|stood)"
 PERSON = "(person|viewer|visitor|guest|adult|man|woman|someone|somebody|observer|onlooker|spectator|customer)"
 BESIDE_IT = (
@@ -1645,7 +1654,7 @@ ELEVATION_HINTS = {
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
-        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + ")?",
+        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + ")?( would (see|view|have|look at) {obj})?",
         "(from |at )?(where |the height of )?(the |a |an |someone 's )?(eyes |eye line |head )?(of )?(a |an |the )?"
         + POSTURE
         + " "
@@ -1674,7 +1683,7 @@ ELEVATION_HINTS = {
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
-        "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
+        "(from )?{VERY} (high up|up high|high|up)(?! (in|on|at) )",
         "((from |off )?(up )?(on|up|standing on|stood on|atop|at the top of|on top of|up on|halfway up) )?(a |the )?"
         "(step ?ladder|ladder|step stool|balcony|stairs|staircase)",
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
@@ -3124,7 +3133,11 @@ class RuleParser:
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
             if n == 1 and _height_anchor(tokens, i):
                 n = 0
-            if n and out[-1:] in (["its"], ["his"], ["her"], ["their"], ["'s"]) and " ".join(tokens[i : i + n]) in OWN_PARTS:
+            if (
+                n
+                and " ".join(tokens[i : i + n]) in OWN_PARTS
+                and _owned(out, mentions, vocabulary.candidates(" ".join(tokens[i : i + n])))
+            ):
                 n = 0  # a part of what was named ("the tv, its screen to us"), not a name of its own
             read = tokens[i : i + n]
             misspelt = self._misspelt(tokens, keys, i, n, longest + 1, vocabulary)
@@ -3399,6 +3412,14 @@ def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bo
 def _spottable(form: tuple[str, ...]) -> bool:
     """Whether a name or alias is spotted in running text: not one reserved photographic word."""
     return len(form) > 1 or form[0] not in RESERVED
+
+
+def _owned(out: list[str], mentions: list[_Mention], names: list[str]) -> bool:
+    """Whether a part word that names ``names`` follows a possessive ("its screen") or, after a
+    comma, a mention of one of them ("bookcase, shelves to the camera"): a part, not a name."""
+    if out[-1:] in (["its"], ["his"], ["her"], ["their"], ["'s"]):
+        return True
+    return out[-1:] == [","] and len(out) > 1 and out[-2].startswith("@") and mentions[int(out[-2][1:])].name in names
 
 
 # Words joining a thing to a named subject after it ("harmonica next to the mug") and before it
