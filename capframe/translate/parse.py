@@ -1119,7 +1119,11 @@ for _end, _parts in FACING_PARTS.items():
         + "("
         + SQUARE_AFTER
         + ")?(?! (side|height|level|edge|corner|bag|case|strap) )",
-        "(?P<exact>" + SQUARE[1:] + "( on)? (to|towards|with|onto|on to|facing|at) (the|{P}) " + _part + "( of {obj})?",
+        "(?P<exact>((dead|perfectly|exactly) )?"
+        + SQUARE[1:]
+        + "( on)? (to|towards|with|onto|on to|facing|at) (the|{P}) "
+        + _part
+        + "( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -1638,7 +1642,10 @@ ELEVATION_PHRASES = {
 # A person's place beside or before the subject ("as if sitting beside it", "as though you were
 # standing in front of it", "from where a seated person's eyes would be"): the camera at their
 # eyes, level with it; a hint, as a height said otherwise tells more.
-AS_IF = "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer)( (were|was|are|is|had been|would be))?)?"
+AS_IF = (
+    "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer)"
+    "( (were|was|are|is|am|m|re|s|had been|would be))?)?"
+)
 POSTURE = "(sitting|sat|seated|standing|stood)"
 PERSON = "(person|viewer|visitor|guest|adult|man|woman|someone|somebody|observer|onlooker|spectator|customer)"
 BESIDE_IT = (
@@ -1654,12 +1661,12 @@ ELEVATION_HINTS = {
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
-        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + ")?( would (see|view|have|look at) {obj})?",
+        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + "){0,2}( would (see|view|have|look at) {obj})?",
         "(from |at )?(where |the height of )?(the |a |an |someone 's )?(eyes |eye line |head )?(of )?(a |an |the )?"
         + POSTURE
         + " "
         + PERSON
-        + "( 's)? (eyes|eye|eye line|eyeline|eye level|eye height|head|head height)( (would be|would|are|is|were|sit|be))?",
+        + "( 's)? (eye level|eye height|eye line|eyeline|eyes|eye|head height|head)( (would be|would|are|is|were|sit|be))?",
     ],
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
