@@ -1661,6 +1661,13 @@ ELEVATION_HINTS = {
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
+        "(at|from) (the )?(height|level|eye level|eye height|eye line|head height) of (a |an |the )?"
+        + PERSON
+        + " "
+        + POSTURE
+        + "( "
+        + BESIDE_IT
+        + "){0,2}",
         AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + "){0,2}( would (see|view|have|look at) {obj})?",
         "(from |at )?(where |the height of )?(the |a |an |someone 's )?(eyes |eye line |head )?(of )?(a |an |the )?"
         + POSTURE
@@ -3265,9 +3272,9 @@ class RuleParser:
         """The thing a run not understood names when it is joined to a named subject, so a second
         subject (refused when the scene lacks it), else None: a noun of words the tables do not use,
         right before a relation to the subject ("harmonica?? next to the mug", "a kazoo beside it")
-        or right after a joining word after it ("mug and harmonica", "mug plus a kazoo", "bench
-        with a bicycle, both visible"; after "with" only with an article: "the sofa with cushions"
-        is the sofa)."""
+        or right after a joining word after it (:data:`JOINS_AFTER`: "mug and harmonica", "mug
+        plus a kazoo", "bench with a bicycle, both visible"; after "with" only with an article:
+        "the sofa with cushions" is the sofa)."""
         said = run.text.split()
         start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
         if start is None:
@@ -3434,9 +3441,9 @@ def _owned(out: list[str], mentions: list[_Mention], names: list[str]) -> bool:
 JOINS_BEFORE = tuple(
     w.split() for w in ("next to", "beside", "by", "near", "alongside", "together with", "along with", "with", "and", "plus", "&")
 )
-JOINS_AFTER = tuple(
-    w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as", "next to", "beside", "alongside")
-)
+# After a subject a place relation names a landmark, which stays reported ("the mug next to a
+# hairbrush"); a joining word names a second subject.
+JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as"))
 
 
 def _names_subject(tokens: list[str]) -> bool:
