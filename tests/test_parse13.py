@@ -249,3 +249,15 @@ def test_a_thing_the_scene_lacks_joined_to_a_subject_is_refused(text, thing):
 )
 def test_known_things_parts_and_room_joined_to_a_subject_are_not_refused(text, names):
     assert read(text)["names"] == names
+
+
+@pytest.mark.parametrize(
+    "text, region",
+    [
+        ("the vase in the left-hand third of the plate", "left third"),
+        ("mug, bottom right of the canvas", "lower right"),
+        ("the ball at the top of the exposure", "top"),
+    ],
+)
+def test_older_words_for_the_picture_name_the_frame(text, region):
+    assert read(text)["region"] == region

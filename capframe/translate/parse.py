@@ -269,7 +269,8 @@ from .vocabulary import (
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
-FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
+# A photographer's older or painterly words for it too ("the right third of the plate", "the canvas").
+FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap|plate|canvas|exposure)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
 SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop|headshot)"
 HEAD_LINK = "(of|with|showing|featuring)"
