@@ -100,15 +100,27 @@ def test_meeting_of_named_heights():
     assert _meeting(["slightly below", "slightly above"]) is None
 
 
+@pytest.mark.parametrize(
+    "text",
+    [
+        "the mug from way up, as if from a drone",
+        "vase, seen from high up like a drone would",
+        "drone shot of the ball, hovering well above it",
+        "the bench from a high angle, a bird's-eye view",
+    ],
+)
+def test_heights_that_only_touch_read_as_the_one_farther_from_the_horizontal(text):
+    got = read(text)
+    assert (got["elevation"], got["elevation_deg"]) == ("bird's-eye", None), got
+
+
 MEETING = [
-    ("the mug from way up, as if from a drone", 60.0),
-    ("vase, seen from high up like a drone would", 60.0),
-    ("drone shot of the ball, hovering well above it", 60.0),
     ("tree: low angle, worm's-eye view", -55.0),
     ("the tree from a low angle, like a worms eye", -55.0),
     ("teddy bear a little from above, high angle", 27.5),
     ("the teddy from slightly above - a high-angle shot", 27.5),
     ("Bench, eye level, slightly above", 10.0),
+    ("ball: slightly below - eye level", -10.0),
 ]
 
 
@@ -120,7 +132,12 @@ def test_overlapping_heights_meet_in_degrees(text, degrees):
 
 @pytest.mark.parametrize(
     "text",
-    ["the mug from below, then from above", "bench, worm's-eye, slightly above", "tree from a high angle, at eye level"],
+    [
+        "the mug from below, then from above",
+        "bench, worm's-eye, slightly above",
+        "tree from a high angle, at eye level",
+        "the armchair a bit below, worm's eye",
+    ],
 )
 def test_heights_that_lie_apart_stay_a_conflict(text):
     with pytest.raises(InputError, match="conflicting elevations"):

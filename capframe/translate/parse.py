@@ -3761,12 +3761,16 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     if len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
     if len(named) > 1:
-        # Heights said together that overlap are one: where they meet, as degrees (an angle said
-        # too must lie there).
+        # Heights said together that overlap are one: where they overlap, as degrees at its middle
+        # (an angle said too must lie there). Two that only touch pile one image on the other
+        # ("from way up, like from a drone"): the one farther from the horizontal.
         meet, tol = _meeting(named), EXPLICIT_ELEVATION_TOLERANCE_DEG
         if meet is None or (degrees and not meet[0] - tol <= degrees[0] <= meet[1] + tol):
             raise InputError(f"conflicting elevations: {[c.text for c in found]}")
-        degrees, named = degrees or [(meet[0] + meet[1]) / 2.0], []
+        if meet[0] < meet[1]:
+            degrees, named = degrees or [(meet[0] + meet[1]) / 2.0], []
+        else:
+            named = [max(named, key=lambda e: abs(sum(ELEVATIONS[e])))]
     if degrees and not -90.0 <= degrees[0] <= 90.0:
         raise InputError(f"elevation {degrees[0]:g} degrees is out of range; expected -90 to 90")
     if named and degrees:
@@ -3817,10 +3821,10 @@ def _narrowest(named: set[str]) -> list[str]:
 
 def _meeting(named: list[str]) -> tuple[float, float] | None:
     """Where named heights whose ranges overlap or touch meet, ``(lo, hi)`` degrees, or None when two
-    lie apart ("from below ... from above"). Said together they describe one camera: "from way up,
-    like from a drone" (high angle and bird's-eye, which meet at 60), "a low angle, worm's eye"
-    (-60 to -50), "slightly above, a high angle" (25 to 30). Every such meeting of the named ranges
-    is at most 10 degrees wide, so :func:`_elevation` reads it as its middle, in degrees."""
+    lie apart ("from below ... from above"). Said together they describe one camera: "a low angle,
+    worm's eye" (-60 to -50), "slightly above, a high angle" (25 to 30); "from way up, like from a
+    drone" (high angle and bird's-eye) only touch, at 60. Every overlap of the named ranges is at
+    most 10 degrees wide, so :func:`_elevation` reads it as its middle, in degrees."""
     lo = max(ELEVATIONS[e][0] for e in named)
     hi = min(ELEVATIONS[e][1] for e in named)
     return (lo, hi) if lo <= hi else None
