@@ -262,6 +262,8 @@ def test_a_thing_the_scene_lacks_joined_to_a_subject_is_refused(text, thing):
         ("the sofa with cushions, from the front", ["sofa"]),
         ("the tree with its leaves in frame", ["tree"]),
         ("the bench with plenty of space around it", ["bench"]),
+        ("taken at dusk with the bench in the middle", ["bench"]),
+        ("the bench with a sunset behind it", ["bench"]),
     ],
 )
 def test_known_things_parts_and_room_joined_to_a_subject_are_not_refused(text, names):

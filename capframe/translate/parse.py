@@ -3290,13 +3290,23 @@ class RuleParser:
             before = before[:-1]
         if not thing or len(thing) > MAX_ATTRIBUTES or _never_a_name(" ".join(thing)):
             return None
-        if not all(w.isalpha() and w not in self.lexicon and w not in ATTRIBUTES for w in thing[-1:]):
+        head = thing[-1]
+        if not head.isalpha() or head in self.lexicon or head in ATTRIBUTES:
             return None
         after = tokens[start + len(said) :]
+        # Before a relation only as the sentence's opening ("a kazoo beside the mug"), not a time or
+        # a place said on the way ("taken at dusk with the bench ...").
+        opening = all(t in STOPWORDS or t in PUNCTUATION for t in tokens[:start])
         while after and after[0] in PUNCTUATION:
             after = after[1:]
-        joined_after = not lead and any(after[: len(j)] == j and _names_subject(after[len(j) :]) for j in JOINS_BEFORE)
-        joined_before = any(
+        joined_after = (
+            not lead and opening and any(after[: len(j)] == j and _names_subject(after[len(j) :]) for j in JOINS_BEFORE)
+        )
+        # After a joining word only where the clause ends on it ("mug plus a kazoo, both in frame"),
+        # not before what places it ("the bench with a sunset behind it").
+        following = tokens[start + len(said) : start + len(said) + 1]
+        ends = not following or following[0] in PUNCTUATION or following[0] in THING_ENDS
+        joined_before = ends and any(
             before[-len(j) :] == j and len(before) > len(j) and before[-len(j) - 1].startswith("@") and (article or j != ["with"])
             for j in JOINS_AFTER
         )
@@ -3445,6 +3455,10 @@ JOINS_BEFORE = tuple(
 # After a subject a place relation names a landmark, which stays reported ("the mug next to a
 # hairbrush"); a joining word names a second subject.
 JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as"))
+
+
+# Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
+THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
 
 
 def _names_subject(tokens: list[str]) -> bool:
