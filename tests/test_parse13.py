@@ -280,3 +280,20 @@ def test_known_things_parts_and_room_joined_to_a_subject_are_not_refused(text, n
 )
 def test_older_words_for_the_picture_name_the_frame(text, region):
     assert read(text)["region"] == region
+
+
+@pytest.mark.parametrize(
+    "text, shot, elevation",
+    [
+        ("the vase, tight and centred", "close-up", None),
+        ("the sofa, complete and from the front", "medium", None),
+        ("mug, small and on the left", "wide", None),
+        ("the bench, whole and at eye level", "medium", "eye level"),
+        ("vase, high and from the left", None, "high angle"),
+        ("The Teddy Bear, Close And Centered", "close-up", None),
+    ],
+)
+def test_a_word_alone_as_a_clause_may_end_before_and(text, shot, elevation):
+    got = read(text)
+    assert (got["shot"], got["elevation"]) == (shot, elevation), got
+    assert got["not_understood"] == [], got

@@ -347,11 +347,11 @@ SHOT_ADJECTIVES = {
 # attribute ("the wide sofa") is not read as a shot size.
 # A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
 # degree scale may grade it ("real close", "way wide").
-# The clause may be joined on by "and" ("far away and small") and end before "with", "so" or
-# "but" ("kept small with plenty of wall around it").
+# The clause may be joined on by "and" ("far away and small") and end before "with", "so", "but"
+# or "and" ("kept small with plenty of wall around it", "tight and centred").
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but |and ))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
