@@ -297,3 +297,17 @@ def test_a_word_alone_as_a_clause_may_end_before_and(text, shot, elevation):
     got = read(text)
     assert (got["shot"], got["elevation"]) == (shot, elevation), got
     assert got["not_understood"] == [], got
+
+
+@pytest.mark.parametrize(
+    "text, elevation",
+    [
+        ("tree, almost worm's eye", "worm's-eye"),
+        ("the tree from nearly a bird's eye view", "bird's-eye"),
+        ("bench from roughly a frog's-eye view", "low angle"),
+        ("the mug, kind of an ant's eye view", "worm's-eye"),
+    ],
+)
+def test_a_creatures_eye_view_said_as_roughly_that(text, elevation):
+    got = read(text)
+    assert got["elevation"] == elevation and got["not_understood"] == [], got

@@ -1775,8 +1775,12 @@ ELEVATION_HINTS = {
 for _elevation_class, _creatures in EYE_VIEWS.items():
     _creature = "(" + "|".join(sorted(_creatures, key=len, reverse=True)) + ")"
     ELEVATION_PHRASES[_elevation_class] += [
-        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? eyes?( ({EYENOUN}|level))?",
-        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
+        # Said as roughly that ("almost worm's eye", "nearly a bird's-eye view"): the class's
+        # own range allows for it.
+        "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?"
+        + _creature
+        + "( 's)? eyes?( ({EYENOUN}|level))?",
+        "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
         # As it sees things, said any way ("the way a bird sees it", "how birds see it", "as a bird
         # would look at it", "as seen by a frog"), or the creature alone ("from above, like a bird").
         "(as|like|the way|how|in the way) (a |an |the )?" + _creature + "s?"
