@@ -218,6 +218,7 @@ from .vocabulary import (
     END_PARTS,
     EYE_VIEW_NOUNS,
     EYE_VIEWS,
+    FACING_PARTS,
     FEW_DEGREES,
     FILLER_WORDS,
     FRAME_FRACTIONS,
@@ -233,9 +234,11 @@ from .vocabulary import (
     PLENTY_WORDS,
     PUNCTUATION,
     PURPOSES,
+    REQUESTERS,
     ROLL_ADJECTIVES,
     ROLL_VERBS,
     SCENE_HEADINGS,
+    SETTINGS,
     SIDE_PARTS,
     SIZE_IDIOMS,
     SIZE_WORDS,
@@ -244,6 +247,7 @@ from .vocabulary import (
     SUBJECT_PARTS,
     SUPPORT_SURFACES,
     TAIL_ON_WORDS,
+    WANTING,
     Vocabulary,
     one_edit,
     singular,
@@ -265,7 +269,8 @@ from .vocabulary import (
 #   {FRAME} frame / picture / image / ...
 # A template with a {P} or {obj} naming a subject gives its cue to that subject.
 
-FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap)"
+# A photographer's older or painterly words for it too ("the right third of the plate", "the canvas").
+FRAME = "(?:frame|picture|image|shot|photo|photograph|composition|viewfinder|pic|snap|plate|canvas|exposure)"
 # Nouns after a shot-size word ("a wide *view* of"), and the words that make it a head.
 SHOT_NOUN = "(shot|photo|photograph|picture|image|view|frame|framing|portrait|composition|capture|crop|headshot)"
 HEAD_LINK = "(of|with|showing|featuring)"
@@ -342,11 +347,11 @@ SHOT_ADJECTIVES = {
 # attribute ("the wide sofa") is not read as a shot size.
 # A verb of keeping or showing may lead it ("kept small", "staying low"), an intensifier of the
 # degree scale may grade it ("real close", "way wide").
-# The clause may be joined on by "and" ("far away and small") and end before "with", "so" or
-# "but" ("kept small with plenty of wall around it").
+# The clause may be joined on by "and" ("far away and small") and end before "with", "so", "but"
+# or "and" ("kept small with plenty of wall around it", "tight and centred").
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but |and ))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
@@ -423,6 +428,13 @@ SHOT_CLAUSES = {
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        # Pressing on every edge of the frame ("spines crowding every edge of the frame", "touching
+        # all four sides of the picture"): the subject fills it.
+        "(([a-z]+ )?(crowding|crowds|crowd|filling|fills|fill|touching|touches|touch|hitting|hits|hit|reaching|reaches"
+        "|reach|pressing against|presses against|meeting|meets|spilling over|spilling off|bleeding off|running off"
+        "|going off|cut off by|cropped by|cut by) )"
+        "((every|each|all|all four|all the|all 4) ({FRAME} )?(edge|edges|side|sides|border|borders)( of (the )?{FRAME})?"
+        "|the {FRAME} (edges|borders|sides)|the (edges|borders|sides) of (the )?{FRAME})",
         # Filling the frame from one edge to the other ("filling the frame edge to edge").
         "(filling|fills|fill|filling up|fills up|spanning|spans|covering|covers) (all of |the whole of )?"
         "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
@@ -445,6 +457,8 @@ SHOT_CLAUSES = {
         "( (and |but |or |, )?not (too |so |that |overly |very |super |too much )({NOT_TOO}))?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
+        # The whole subject, said alone as a clause ("front-left three-quarters, at seat level, complete").
+        ALONE.replace("{WORD}", "(complete|whole|entire|uncropped|in full|in its entirety|all in|all of it|in one piece)"),
         # The whole subject in the picture ("the whole bench in frame", "slats and all").
         "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
         "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
@@ -935,6 +949,8 @@ SIDE_AFTER_VIEW_CLAUSE = (
 # "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
 # it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
 # head-on").
+# A front part said to the lens is the front exactly ("nose-to-lens", "face to camera").
+FRONT_TO_LENS = ("nose", "face", "head", "snout", "muzzle", "grille")
 EXACT_ONLY = "exact"
 EXACT_PHRASES = [
     "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
@@ -1013,7 +1029,7 @@ VIEW_PHRASES = {
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
         # "face-forward to the camera").
-        "((nose|face|head|snout|muzzle|grille)( first| forward| forwards| foremost| on)?"
+        "((" + "|".join(FRONT_TO_LENS) + ")( first| forward| forwards| foremost| on)?"
         "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
     "back-exact": [
@@ -1073,6 +1089,42 @@ for _end, _parts in END_PARTS.items():
         "(looking|look|aim|aimed|aiming|pointing|pointed|point) ({STRONG} )?(straight )?at (the|{P}) ("
         + "|".join(_parts)
         + ")( of {obj})?",
+    ]
+# A part turned to the camera: the end it sits at is seen (vocabulary.FACING_PARTS and END_PARTS:
+# "its back bumper square to the lens", "backrest to us", "slats to camera dead straight", "the
+# seat facing me straight on"); squared to it, or "dead on" after it, that end exactly. The camera
+# squared to a part sees its end exactly ("photographed square to its shelves").
+OWN_PARTS = frozenset(p for end in FACING_PARTS for p in (*FACING_PARTS[end], *END_PARTS[end]))
+VIEWER = "(us|me|you|the viewer|viewer|the camera|camera|the lens|lens|the cam|cam)"
+SQUARE = "(square|squarely|straight|directly|dead|flush|bang|smack|full|perpendicular|parallel)"
+SQUARE_AFTER = (
+    "( ,)? (?P<exact>(dead|straight|square|head|face|full|spot|bang|smack) on|dead straight|dead square|squarely"
+    "|square on|exactly|precisely|perfectly)"
+)
+TURNED_TO = (
+    "(((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)"
+    "|(facing|faces|face)( (to|towards|at))?)"
+)
+for _end, _parts in FACING_PARTS.items():
+    _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
+    VIEW_PHRASES[_end] += [
+        "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?"
+        "((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
+        + _part
+        + "( (is|are))?( (?P<exact>"
+        + SQUARE[1:]
+        + "( on)?)? "
+        + TURNED_TO
+        + " "
+        + VIEWER
+        + "("
+        + SQUARE_AFTER
+        + ")?(?! (side|height|level|edge|corner|bag|case|strap) )",
+        "(?P<exact>((dead|perfectly|exactly) )?"
+        + SQUARE[1:]
+        + "( on)? (to|towards|with|onto|on to|facing|at) (the|{P}) "
+        + _part
+        + "( of {obj})?",
     ]
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
@@ -1588,6 +1640,19 @@ ELEVATION_PHRASES = {
         "(from )?(underneath|beneath|below|under) (the |a )?{SUPPORT}( (surface|level))?",
     ],
 }
+# A person's place beside or before the subject ("as if sitting beside it", "as though you were
+# standing in front of it", "from where a seated person's eyes would be"): the camera at their
+# eyes, level with it; a hint, as a height said otherwise tells more.
+AS_IF = (
+    "(as if|as though|like|as)( (you|i|we|one|someone|somebody|a person|the viewer)"
+    "( (were|was|are|is|am|m|re|s|had been|would be))?)?"
+)
+POSTURE = "(sitting|sat|seated|standing|stood)"
+PERSON = "(person|viewer|visitor|guest|adult|man|woman|someone|somebody|observer|onlooker|spectator|customer)"
+BESIDE_IT = (
+    "(beside|next to|by|alongside|in front of|opposite|across from|facing|near|on|at|in) "
+    "({obj}|(the |a |an )?({SURFACE}|chair|couch|bench|floor|ground|grass|lawn))"
+)
 ELEVATION_HINTS = {
     # The camera pointing level ("lens dead horizontal", "camera aimed horizontally"): a hint, as
     # a camera held horizontal may also mean a landscape frame; a horizontal frame or horizon is a
@@ -1597,6 +1662,19 @@ ELEVATION_HINTS = {
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
+        "(at|from) (the )?(height|level|eye level|eye height|eye line|head height) of (a |an |the )?"
+        + PERSON
+        + " "
+        + POSTURE
+        + "( "
+        + BESIDE_IT
+        + "){0,2}",
+        AS_IF + " " + POSTURE + "( (down|up|there))?( " + BESIDE_IT + "){0,2}( would (see|view|have|look at) {obj})?",
+        "(from |at )?(where |the height of )?(the |a |an |someone 's )?(eyes |eye line |head )?(of )?(a |an |the )?"
+        + POSTURE
+        + " "
+        + PERSON
+        + "( 's)? (eye level|eye height|eye line|eyeline|eyes|eye|head height|head)( (would be|would|are|is|were|sit|be))?",
     ],
     "high angle": [
         "(look|looks|looking) down( (at|on|onto) {obj})?",
@@ -1604,7 +1682,7 @@ ELEVATION_HINTS = {
         "(look|looks|looking) down (at|on|onto|into) (the |{P} )?{PARTS}",
         # The camera held up somewhere ("a drone hovering high", "perched up high", "mounted overhead").
         "(hovering|hanging|perched|floating|flying|mounted|suspended|poised|positioned|sitting|holding|staying|kept)"
-        " (((high|well|far|way) )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
+        " (((high|well|far|way)( up)? )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
@@ -1620,7 +1698,7 @@ ELEVATION_HINTS = {
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
         "(from )?(up high|high up|way above|up top)",
-        "(from )?{VERY} (high|high up|up high|up)(?! (in|on|at) )",
+        "(from )?{VERY} (high up|up high|high|up)(?! (in|on|at) )",
         "((from |off )?(up )?(on|up|standing on|stood on|atop|at the top of|on top of|up on|halfway up) )?(a |the )?"
         "(step ?ladder|ladder|step stool|balcony|stairs|staircase)",
         "(from )?(up on|standing on|stood on|on top of) (a |the )?(chair|stool|table|box|crate|bench)",
@@ -1697,8 +1775,12 @@ ELEVATION_HINTS = {
 for _elevation_class, _creatures in EYE_VIEWS.items():
     _creature = "(" + "|".join(sorted(_creatures, key=len, reverse=True)) + ")"
     ELEVATION_PHRASES[_elevation_class] += [
-        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? eyes?( ({EYENOUN}|level))?",
-        "(from |in |as |through )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
+        # Said as roughly that ("almost worm's eye", "nearly a bird's-eye view"): the class's
+        # own range allows for it.
+        "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?"
+        + _creature
+        + "( 's)? eyes?( ({EYENOUN}|level))?",
+        "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
         # As it sees things, said any way ("the way a bird sees it", "how birds see it", "as a bird
         # would look at it", "as seen by a frog"), or the creature alone ("from above, like a bird").
         "(as|like|the way|how|in the way) (a |an |the )?" + _creature + "s?"
@@ -1872,6 +1954,21 @@ NOTE_PHRASES = [
     "((?<=^ )|{CLAUSE})(" + "|".join(SCENE_HEADINGS) + ")( \\.)?(( (int|ext))( \\.)?)?( [a-z]+){1,4}"
     "( , (" + "|".join(HEADING_TIMES) + "))?(?= ([,.;:!]|$))",
     "(" + "|".join(sorted(COURTESIES, key=len, reverse=True)) + ")",
+    # The setting the picture is taken in ("of the lounge", "the garden:", "kitchen scene").
+    # Not said as where the camera is ("from across the room": a distance, reported) nor before a
+    # name it describes ("garden sofa").
+    "(?<!across )(?<!around )(?<!through )((the|this|my|our|a|an|your) ((whole|entire) )?|(?<=^ )|{CLAUSE})"
+    + "("
+    + "|".join(sorted(SETTINGS, key=len, reverse=True))
+    + ")"
+    + "( (scene|shot|space|area|interior))?(?= ([,.;:!]|$|the |with |where |and ))",
+    # Who asks for the picture, or whom it is for ("my grandson would like", "for the client").
+    "((?<=^ )|{CLAUSE})((my|our|the|your|a|his|her) )?([a-z]+ )??("
+    + "|".join(sorted(REQUESTERS, key=len, reverse=True))
+    + ")( ("
+    + "|".join(WANTING)
+    + ")( (to have|to see|to get))?(?= )|(?= ([,.;:!]|$)))",
+    "(for|from) (my|our|the|your|his|her) ([a-z]+ )??(" + "|".join(REQUESTERS) + ")(?= ([,.;:!]|$))",
     # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
     "(make|making) sure( that)?",
     # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
@@ -2821,6 +2918,14 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
         if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
             rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
+            # Seen across that corner ("seen over its back-left corner", "looking across the sofa's
+            # front-right corner").
+            corner = (
+                "(seen|viewed|looking|shot|photographed|taken|framed|angled)( in)? ((from )?(over|across|past|round|around|off)"
+            )
+            corner += "|from( (over|across|beyond|behind))?) (the|{P}) " + _alternatives(sides) + " (corner|edge|quarter|angle)"
+            rows.append(("view", view, corner + "( of {obj})?", False))
+            rows.append(("view", view, "(over|across) (the|{P}) " + _alternatives(sides) + " (corner|edge)( of {obj})?", False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
@@ -2983,6 +3088,10 @@ class RuleParser:
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
+        for run in unparsed:  # a thing joined to a subject is one too ("harmonica?? next to the mug")
+            thing = self._joined_thing(tokens, run)
+            if thing is not None:
+                mentions.append(_Mention(run.at, thing, vocabulary.match(thing)))
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
                 if not _never_a_name(run.text) and vocabulary.candidates(run.text):
@@ -3043,6 +3152,12 @@ class RuleParser:
             n = next((n for n in range(min(longest, len(tokens) - i), 0, -1) if tuple(keys[i : i + n]) in forms), 0)
             if n == 1 and _height_anchor(tokens, i):
                 n = 0
+            if (
+                n
+                and " ".join(tokens[i : i + n]) in OWN_PARTS
+                and _owned(out, mentions, vocabulary.candidates(" ".join(tokens[i : i + n])))
+            ):
+                n = 0  # a part of what was named ("the tv, its screen to us"), not a name of its own
             read = tokens[i : i + n]
             misspelt = self._misspelt(tokens, keys, i, n, longest + 1, vocabulary)
             if misspelt is not None:
@@ -3081,9 +3196,9 @@ class RuleParser:
         return None
 
     def _attribute(self, token: str) -> bool:
-        """Whether ``token`` may describe the subject named after it: a known attribute, or a word
-        the tables do not use ("fluffy")."""
-        return token in ATTRIBUTES or (token.isalpha() and token not in self.lexicon)
+        """Whether ``token`` may describe the subject named after it: a known attribute, a setting
+        ("garden sofa", "kitchen table"), or a word the tables do not use ("fluffy")."""
+        return token in ATTRIBUTES or token in SETTINGS or (token.isalpha() and token not in self.lexicon)
 
     def _cues(self, tokens: list[str]) -> list[_Cue]:
         """The phrases found in the placeholder text; of overlapping ones the longest (then the first)."""
@@ -3157,6 +3272,49 @@ class RuleParser:
                     determiner = lo > 0 and run[lo - 1] in MENTION_DETERMINERS
                     runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
         return runs
+
+    def _joined_thing(self, tokens: list[str], run: _Run) -> str | None:
+        """The thing a run not understood names when it is joined to a named subject, so a second
+        subject (refused when the scene lacks it), else None: a noun of words the tables do not use,
+        right before a relation to the subject ("harmonica?? next to the mug", "a kazoo beside it")
+        or right after a joining word after it (:data:`JOINS_AFTER`: "mug and harmonica", "mug
+        plus a kazoo", "bench with a bicycle, both visible"; after "with" only with an article:
+        "the sofa with cushions" is the sofa)."""
+        said = run.text.split()
+        start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
+        if start is None:
+            return None
+        # The joining word may open the run ("plus a kazoo"): the thing is what follows it.
+        lead = next((j for j in JOINS_AFTER if said[: len(j)] == j), [])
+        before = [t for t in tokens[:start] if t != ","] + said[: len(lead)]
+        rest = said[len(lead) :] if lead else tokens[start - 1 : start] + said
+        article = rest[:1] in (["a"], ["an"], ["some"], ["the"])
+        thing = said[len(lead) + article :] if lead else said
+        if article and not lead:
+            before = before[:-1]
+        if not thing or len(thing) > MAX_ATTRIBUTES or _never_a_name(" ".join(thing)):
+            return None
+        head = thing[-1]
+        if not head.isalpha() or head in self.lexicon or head in ATTRIBUTES:
+            return None
+        after = tokens[start + len(said) :]
+        # Before a relation only as the sentence's opening ("a kazoo beside the mug"), not a time or
+        # a place said on the way ("taken at dusk with the bench ...").
+        opening = all(t in STOPWORDS or t in PUNCTUATION for t in tokens[:start])
+        while after and after[0] in PUNCTUATION:
+            after = after[1:]
+        joined_after = (
+            not lead and opening and any(after[: len(j)] == j and _names_subject(after[len(j) :]) for j in JOINS_BEFORE)
+        )
+        # After a joining word only where the clause ends on it ("mug plus a kazoo, both in frame"),
+        # not before what places it ("the bench with a sunset behind it").
+        following = tokens[start + len(said) : start + len(said) + 1]
+        ends = not following or following[0] in PUNCTUATION or following[0] in THING_ENDS
+        joined_before = ends and any(
+            before[-len(j) :] == j and len(before) > len(j) and before[-len(j) - 1].startswith("@") and (article or j != ["with"])
+            for j in JOINS_AFTER
+        )
+        return " ".join(thing) if joined_after or joined_before else None
 
     def _related_subject(self, tokens: list[str], span: list[int]) -> str | None:
         """The noun phrase ``span`` opens with when a place relation (:data:`RELATION_WORDS`) ties
@@ -3283,6 +3441,34 @@ def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bo
 def _spottable(form: tuple[str, ...]) -> bool:
     """Whether a name or alias is spotted in running text: not one reserved photographic word."""
     return len(form) > 1 or form[0] not in RESERVED
+
+
+def _owned(out: list[str], mentions: list[_Mention], names: list[str]) -> bool:
+    """Whether a part word that names ``names`` follows a possessive ("its screen") or, after a
+    comma, a mention of one of them ("bookcase, shelves to the camera"): a part, not a name."""
+    if out[-1:] in (["its"], ["his"], ["her"], ["their"], ["'s"]):
+        return True
+    return out[-1:] == [","] and len(out) > 1 and out[-2].startswith("@") and mentions[int(out[-2][1:])].name in names
+
+
+# Words joining a thing to a named subject after it ("harmonica next to the mug") and before it
+# ("the mug and a harmonica", "the bench with a bicycle").
+JOINS_BEFORE = tuple(
+    w.split() for w in ("next to", "beside", "by", "near", "alongside", "together with", "along with", "with", "and", "plus", "&")
+)
+# After a subject a place relation names a landmark, which stays reported ("the mug next to a
+# hairbrush"); a joining word names a second subject.
+JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as"))
+
+
+# Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
+THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
+
+
+def _names_subject(tokens: list[str]) -> bool:
+    """Whether ``tokens`` open with a named subject, maybe after a determiner ("the @0", "@1")."""
+    rest = tokens[1:] if tokens[:1] and tokens[0] in MENTION_DETERMINERS else tokens
+    return bool(rest) and rest[0].startswith("@")
 
 
 def _coordinated(tokens: list[str], span: list[int]) -> bool:
@@ -3590,8 +3776,19 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
         found = [c for c in found if not _yields_to(c, degrees[0])]
     named = _narrowest({c.value for c in found if c.field == "elevation"})
-    if len(named) > 1 or len(degrees) > 1:
+    if len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
+    if len(named) > 1:
+        # Heights said together that overlap are one: where they overlap, as degrees at its middle
+        # (an angle said too must lie there). Two that only touch pile one image on the other
+        # ("from way up, like from a drone"): the one farther from the horizontal.
+        meet, tol = _meeting(named), EXPLICIT_ELEVATION_TOLERANCE_DEG
+        if meet is None or (degrees and not meet[0] - tol <= degrees[0] <= meet[1] + tol):
+            raise InputError(f"conflicting elevations: {[c.text for c in found]}")
+        if meet[0] < meet[1]:
+            degrees, named = degrees or [(meet[0] + meet[1]) / 2.0], []
+        else:
+            named = [max(named, key=lambda e: abs(sum(ELEVATIONS[e])))]
     if degrees and not -90.0 <= degrees[0] <= 90.0:
         raise InputError(f"elevation {degrees[0]:g} degrees is out of range; expected -90 to 90")
     if named and degrees:
@@ -3638,6 +3835,17 @@ def _narrowest(named: set[str]) -> list[str]:
         return ELEVATIONS[b][0] <= ELEVATIONS[a][0] and ELEVATIONS[a][1] <= ELEVATIONS[b][1]
 
     return sorted(e for e in named if not any(o != e and inside(o, e) for o in named))
+
+
+def _meeting(named: list[str]) -> tuple[float, float] | None:
+    """Where named heights whose ranges overlap or touch meet, ``(lo, hi)`` degrees, or None when two
+    lie apart ("from below ... from above"). Said together they describe one camera: "a low angle,
+    worm's eye" (-60 to -50), "slightly above, a high angle" (25 to 30); "from way up, like from a
+    drone" (high angle and bird's-eye) only touch, at 60. Every overlap of the named ranges is at
+    most 10 degrees wide, so :func:`_elevation` reads it as its middle, in degrees."""
+    lo = max(ELEVATIONS[e][0] for e in named)
+    hi = min(ELEVATIONS[e][1] for e in named)
+    return (lo, hi) if lo <= hi else None
 
 
 def _roll(cues: list[_Cue]) -> float | None:
