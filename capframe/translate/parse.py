@@ -202,6 +202,7 @@ from ..constraints import (
     ELEVATIONS,
     EXACT_ENDS,
     EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    REGIONS,
     SHOT_SIZES,
     VIEW_SIDES,
     arc_deg,
@@ -467,9 +468,6 @@ SHOT_CLAUSES = {
         # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
         "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
         "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
-        # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
-        "(from )?(the |{P} )?{END} {END_TO} (the |{P} )?{END}"
-        "(( ,)?( all| fully| completely| entirely| wholly)? ((in|inside|within) (the )?({FRAME}|view)|visible|showing))?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
         "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
@@ -538,6 +536,30 @@ SHOT_CLAUSES = {
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
+
+# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
+# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
+ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|empty|open|blank|clean|mostly|otherwise)"
+SHOT_CLAUSES["wide"] += [
+    "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
+    "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
+]
+
+# A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
+# of padding all round"): all of it with little room, a medium shot; a generous margin stays wide.
+SHOT_CLAUSES["medium"] += [
+    "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |some "
+    "|(a )?(small|slight|thin|narrow|tiny|minimal) )(margin|margins|border|padding)"
+    "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+]
+# From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it is
+# in, which alone is a medium shot (:func:`_said_shot`) but says no size beside a size word:
+# "filling the frame top to bottom" is a close-up (:func:`_combined_shot`).
+WHOLE_SPAN = "end to end"
+WHOLE_SPAN_PHRASES = [
+    "(from )?(the |{P} )?{END} {END_TO} (the |{P} )?{END}"
+    "(( ,)?( all| fully| completely| entirely| wholly)? ((in|inside|within) (the )?({FRAME}|view)|visible|showing))?",
+]
 
 # The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
 # the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
@@ -843,6 +865,16 @@ for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(
         f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
     )
+# "Behind" as the end of a diagonal ("from behind-left", "a behind-right three quarter",
+# "left-behind"): the back diagonal on that side, in either order, with or without "three
+# quarter(s)"; a lone "behind" stays the back view.
+for _lat in ("left", "right"):
+    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("behind",), _lat, False) + [f"behind {_lat}"]
+# "Left behind" too, but "right behind" is "directly behind".
+VIEW_SIDE_WORDS["back-left"].append("left behind")
+# A ship's broadside (and "broad side on"): its side turned full to the camera, which side said
+# apart ("broadside from its left") or not at all.
+VIEW_SIDE_WORDS["side"] += ["broadside", "broadside on", "broad side on"]
 # "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
 GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
@@ -1709,6 +1741,17 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
         "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
     ]
 
+# The camera aimed straight at what the subject stands on ("camera pointing straight at the
+# tabletop", "lens aimed squarely at the desk", "cam facing perpendicular to the floor"): looking
+# straight down. Without "straight" only the floor-like surfaces already above say so.
+ELEVATION_PHRASES["top-down"] += [
+    "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|{LOOK}|facing|turned)"
+    "( {DOWNRIGHT}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
+    "({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
+    "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|facing|turned)( down)?"
+    " ((at|towards|to|into|onto) )?(the |a )?({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
+]
+
 # Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
 # degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
 # specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
@@ -1822,6 +1865,12 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{LOWVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
+
+# Degrees "of" or "in" elevation, as a surveyor says it ("viewed from forty degrees of elevation",
+# "at -20 degrees in elevation", "twenty degrees of camera elevation"); its sign is the number's.
+EXPLICIT_ELEVATION_PHRASES[1.0] += [
+    "({SEEN_VERB} )?((at|from|with) )?(a |an )?{sd}(?<= degrees) (of|in) ((the )?camera )?(elevation angle|elevation)",
+]
 
 # An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
 # down on it from a drone, about 60 degrees"): an elevation only with a height said in the same
@@ -2515,6 +2564,7 @@ _MACROS = {
     "{THROUGH}": "(?: through (?:the |a |{P} )?(?:{SURFACE}|{SUPPORT}|top|surface|glass|floor)(?: (?:top|surface))?)?",
     "{HEIGHT_OF}": "(?:(?:the |a |{P} )?(?:own )?(?:eye|{ANCHOR_EYE})|{P}(?: own)?)",
     "{FRAME}": FRAME,
+    "{SEEN_VERB}": "(?:seen|viewed|shot|photographed|captured|taken|filmed)",
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
@@ -2645,7 +2695,8 @@ _MACROS = {
     + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
     # Not before a number, which would make the words before it a height ("elevation 20 degrees").
     "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
-    "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
+    # "Own" after a possessive only insists ("from its own left", "the bear's own back").
+    "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)(?: own)?",
     # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
     "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
 }
@@ -2766,6 +2817,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     """Every table row as (field, value, template, weak)."""
     rows: list[tuple[str, object, str, bool]] = [("head", None, t, False) for t in HEADS]
     link = f"( {HEAD_LINK})?"
+    # First of the shot rows: an end-to-end idiom ("top to bottom") is read as this, not as medium.
+    rows += [("shot", WHOLE_SPAN, t, False) for t in WHOLE_SPAN_PHRASES]
     for shot, terms in SHOT_TERMS.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
@@ -3371,7 +3424,9 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = {"view": _combined_view, "region": _combined_region}.get(cue.field, lambda *_: None)(held, cue.value)
+        combined = {"view": _combined_view, "region": _combined_region, "shot": _combined_shot}.get(
+            cue.field, lambda *_: None
+        )(held, cue.value)
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
@@ -3385,6 +3440,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
             )
     for subject in subjects.values():
         subject.view = _said_view(subject.view)
+        subject.shot = _said_shot(subject.shot)
     return list(subjects.values())
 
 
@@ -3438,6 +3494,20 @@ def _combined_view(held, said):
     return VIEW_COMBINATIONS.get(frozenset((held, said)))
 
 
+def _combined_shot(held, said) -> str | None:
+    """The size two shot cues of a subject say together: all of it from end to end
+    (:data:`WHOLE_SPAN`) with a size word is that size ("filling the frame, top to bottom" is a
+    close-up); else None (a conflict)."""
+    if WHOLE_SPAN in (held, said) and held != said:
+        return said if held == WHOLE_SPAN else held
+    return None
+
+
+def _said_shot(shot: str | None) -> str | None:
+    """A subject's shot as the constraints name it: all of it from end to end alone is medium."""
+    return "medium" if shot == WHOLE_SPAN else shot
+
+
 # A height and a side of the frame said apart are the corner between them ("at the bottom, on the
 # left"; "in the corner at the top, to the right").
 REGION_CORNERS = {
@@ -3454,7 +3524,21 @@ def _combined_region(held, said) -> str | None:
     for corner, halves in REGION_CORNERS.items():
         if {held, said} <= halves | {corner} and {held, said} != {corner} and len({held, said}) == 2:
             return corner
-    return None
+    return _nested_region(held, said)
+
+
+def _nested_region(held, said) -> str | None:
+    """Of two region cues whose boxes nest, the inner one ("on the right third" + "negative space
+    to the left", i.e. "right": the right third); else None (a conflict). Boxes are
+    ``constraints.REGIONS`` (x0, y0, x1, y1) in frame fractions."""
+
+    def inside(a: str, b: str) -> bool:
+        (ax0, ay0, ax1, ay1), (bx0, by0, bx1, by1) = REGIONS[a], REGIONS[b]
+        return bx0 <= ax0 and by0 <= ay0 and ax1 <= bx1 and ay1 <= by1
+
+    if held not in REGIONS or said not in REGIONS:
+        return None
+    return said if inside(said, held) else held if inside(held, said) else None
 
 
 def _turned(reference: str | None, degrees: float) -> str | None:
