@@ -233,3 +233,34 @@ BROADSIDES = [
 @pytest.mark.parametrize("text,view", BROADSIDES)
 def test_broadside_is_the_side_view(text, view):
     assert first(text)[1].view == view
+
+
+DETAILS_SEEN = [
+    ("the television from behind, I'd like to see its wires", "wires"),
+    ("TV from the back so the plugs show", "plugs"),
+    ("Could you get the teddy bear from behind, so we see the stitching down its back?", "stitching"),
+    ("the mug from its left so the logo on the side shows", "logo"),
+    ("vase, from its back, where the chip is", "chip"),
+    ("the lamp from behind so the switch and the cord show", "switch"),
+    ("the bench from the rear, screws and bolts visible", "screws"),
+    ("the toy car from behind, the sticker along its bottom", "sticker"),
+]
+
+
+@pytest.mark.parametrize("text,detail", DETAILS_SEEN)
+def test_a_detail_of_the_subject_is_no_subject_and_no_typo(text, detail):
+    """A small detail said to be seen is neither an object of its own nor a misspelt name
+    ("cables" one letter from "table"); it stays reported as not understood."""
+    scene = Vocabulary.from_semantics(
+        [SemanticObject(k, n, [], False) for k, n in enumerate(["television", "coffee table", "teddy bear", "mug", "vase"])]
+        + [SemanticObject(5 + k, n, [], False) for k, n in enumerate(["floor lamp", "bench", "toy car"])]
+    )
+    p = parse_instruction(text, scene)
+    assert len(p.subjects) == 1
+    assert p.subjects[0].view is not None
+    assert any(detail in run for run in p.not_understood())
+
+
+def test_an_unknown_object_is_still_refused():
+    with pytest.raises(InputError, match="not in this scene"):
+        parse_instruction("the harmonica lying by the mug, from the front", SCENE)

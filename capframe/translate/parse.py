@@ -2398,6 +2398,52 @@ PART_WORDS = frozenset(
         *(part for parts in SUBJECT_PARTS.values() for part in parts if " " not in part),
     }
 )
+# Small details any object may have, said to be seen ("so we see the seam down its back", "from
+# the back, where the cables are", "the stitching on its paw"): a part of the subject, never an
+# object of its own, nor a misspelt name ("cables" is no typo of "table").
+DETAIL_PARTS = frozenset(
+    f"{w}{s}"
+    for w in (
+        "seam",
+        "stitch",
+        "cable",
+        "wire",
+        "cord",
+        "lead",
+        "plug",
+        "socket",
+        "port",
+        "label",
+        "tag",
+        "logo",
+        "badge",
+        "sticker",
+        "zip",
+        "zipper",
+        "button",
+        "screw",
+        "bolt",
+        "hinge",
+        "switch",
+        "knob",
+        "dial",
+        "vent",
+        "strap",
+        "buckle",
+        "lace",
+        "tassel",
+        "crack",
+        "scratch",
+        "dent",
+        "chip",
+        "stain",
+        "mark",
+        "signature",
+    )
+    for s in ("", "s", "es")
+    if not (s == "es" and not w.endswith(("ch", "sh", "x", "z", "s"))) and not (s == "s" and w.endswith(("ch", "sh")))
+) | {"stitching", "stitches", "wiring", "paintwork", "brushwork", "grain", "glaze", "weave", "pattern", "print"}
+
 SURROUNDINGS = frozenset(
     {
         "room",
@@ -3011,7 +3057,8 @@ class RuleParser:
         for field, value, pattern, weak in compiled:
             tree = _pattern_tree(pattern.pattern)
             self.rules.append(_Rule(field, value, pattern, weak, _required(tree), _required_any(tree)))
-        self.lexicon = _lexicon(rows)
+        # Details are words too: never a misspelt name ("cables" is no "table").
+        self.lexicon = _lexicon(rows) | DETAIL_PARTS
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
         """``text`` as a :class:`ParsedInstruction` with subjects from ``vocabulary``;
@@ -3029,7 +3076,9 @@ class RuleParser:
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
-            if run.subject is not None:  # the sentence's subject: a scene object, or refused naming the closest
+            # The sentence's subject: a scene object, or refused naming the closest; a part or a
+            # position tied to the subject ("so we see the seam down its back") is neither.
+            if run.subject is not None and not _never_a_name(run.subject):
                 mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
             elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
@@ -3302,8 +3351,11 @@ def _never_a_name(text: str) -> bool:
     if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | DETAIL_PARTS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
     if bool(content) and all(w in never for w in content):
+        return True
+    # A detail of the subject, then where on it ("the seam down its back", "cables along the back").
+    if content and content[0] in DETAIL_PARTS:
         return True
     # A noun phrase whose head is a word of the picture or a position ("the best side", "an
     # interesting angle", "the angle should be low", "the light from the left"): its head is the
@@ -3424,9 +3476,9 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = {"view": _combined_view, "region": _combined_region, "shot": _combined_shot}.get(
-            cue.field, lambda *_: None
-        )(held, cue.value)
+        combined = {"view": _combined_view, "region": _combined_region, "shot": _combined_shot}.get(cue.field, lambda *_: None)(
+            held, cue.value
+        )
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
