@@ -103,6 +103,7 @@ AIMED_AT_THE_SUPPORT = [
     "the car, camera aimed perpendicularly at the floor",
     "mug, lens pointed straight at the table top surface",
     "the vase with your camera aimed directly at the carpet",
+    "the mug, camera pointing dead straight at the desk",
 ]
 
 
@@ -127,6 +128,7 @@ SMALL_IN_A_BIG_FRAME = [
     "the bench, quite small within a large open frame",
     "the vase, wee in a big blank image",
     "tree really tiny inside a spacious composition",
+    "the bear, tiny within an enormous empty frame",
 ]
 
 

@@ -539,7 +539,7 @@ SHOT_CLAUSES = {
 
 # Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
 # otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
-ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|empty|open|blank|clean|mostly|otherwise)"
+ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
 SHOT_CLAUSES["wide"] += [
     "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
     "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
@@ -1746,7 +1746,7 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
 # straight down. Without "straight" only the floor-like surfaces already above say so.
 ELEVATION_PHRASES["top-down"] += [
     "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|{LOOK}|facing|turned)"
-    "( {DOWNRIGHT}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
+    "(( {DOWNRIGHT}){1,2}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
     "({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
     "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|facing|turned)( down)?"
     " ((at|towards|to|into|onto) )?(the |a )?({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
