@@ -202,6 +202,7 @@ from ..constraints import (
     ELEVATIONS,
     EXACT_ENDS,
     EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    REGIONS,
     SHOT_SIZES,
     VIEW_SIDES,
     arc_deg,
@@ -481,9 +482,6 @@ SHOT_CLAUSES = {
         # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
         "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
         "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
-        # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it.
-        "(from )?(the |{P} )?{END} {END_TO} (the |{P} )?{END}"
-        "(( ,)?( all| fully| completely| entirely| wholly)? ((in|inside|within) (the )?({FRAME}|view)|visible|showing))?",
         "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
         # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
         "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
@@ -552,6 +550,30 @@ SHOT_CLAUSES = {
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
     ],
 }
+
+# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
+# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
+ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
+SHOT_CLAUSES["wide"] += [
+    "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
+    "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
+]
+
+# A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
+# of padding all round"): all of it with little room, a medium shot; a generous margin stays wide.
+SHOT_CLAUSES["medium"] += [
+    "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |some "
+    "|(a )?(small|slight|thin|narrow|tiny|minimal) )(margin|margins|border|padding)"
+    "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+]
+# From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it is
+# in, which alone is a medium shot (:func:`_said_shot`) but says no size beside a size word:
+# "filling the frame top to bottom" is a close-up (:func:`_combined_shot`).
+WHOLE_SPAN = "end to end"
+WHOLE_SPAN_PHRASES = [
+    "(from )?(the |{P} )?{END} {END_TO} (the |{P} )?{END}"
+    "(( ,)?( all| fully| completely| entirely| wholly)? ((in|inside|within) (the )?({FRAME}|view)|visible|showing))?",
+]
 
 # The subject's share of the frame said as a number ("filling about 70% of the frame", "a third of
 # the picture high"): the shot size whose range holds it (:func:`_shot_of_share`).
@@ -857,6 +879,16 @@ for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(
         f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
     )
+# "Behind" as the end of a diagonal ("from behind-left", "a behind-right three quarter",
+# "left-behind"): the back diagonal on that side, in either order, with or without "three
+# quarter(s)"; a lone "behind" stays the back view.
+for _lat in ("left", "right"):
+    VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("behind",), _lat, False) + [f"behind {_lat}"]
+# "Left behind" too, but "right behind" is "directly behind".
+VIEW_SIDE_WORDS["back-left"].append("left behind")
+# A ship's broadside (and "broad side on"): its side turned full to the camera, which side said
+# apart ("broadside from its left") or not at all.
+VIEW_SIDE_WORDS["side"] += ["broadside", "broadside on", "broad side on"]
 # "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
 GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
@@ -1791,6 +1823,17 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
         "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
     ]
 
+# The camera aimed straight at what the subject stands on ("camera pointing straight at the
+# tabletop", "lens aimed squarely at the desk", "cam facing perpendicular to the floor"): looking
+# straight down. Without "straight" only the floor-like surfaces already above say so.
+ELEVATION_PHRASES["top-down"] += [
+    "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|{LOOK}|facing|turned)"
+    "(( {DOWNRIGHT}){1,2}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
+    "({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
+    "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|facing|turned)( down)?"
+    " ((at|towards|to|into|onto) )?(the |a )?({SUPPORT}|table|desk|counter|countertop)( (top|surface))?",
+]
+
 # Straight up from below, the mirror of top-down: the camera vertically under the subject, -90
 # degrees (its explicit tolerance keeps -90 to -80, as top-down keeps 80 to 90). The held-out
 # specs read it so ("looking straight up": -90, or a worm's-eye range holding it).
@@ -1904,6 +1947,12 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{LOWVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
     ],
 }
+
+# Degrees "of" or "in" elevation, as a surveyor says it ("viewed from forty degrees of elevation",
+# "at -20 degrees in elevation", "twenty degrees of camera elevation"); its sign is the number's.
+EXPLICIT_ELEVATION_PHRASES[1.0] += [
+    "({SEEN_VERB} )?((at|from|with) )?(a |an )?{sd}(?<= degrees) (of|in) ((the )?camera )?(elevation angle|elevation)",
+]
 
 # An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
 # down on it from a drone, about 60 degrees"): an elevation only with a height said in the same
@@ -2446,6 +2495,52 @@ PART_WORDS = frozenset(
         *(part for parts in SUBJECT_PARTS.values() for part in parts if " " not in part),
     }
 )
+# Small details any object may have, said to be seen ("so we see the seam down its back", "from
+# the back, where the cables are", "the stitching on its paw"): a part of the subject, never an
+# object of its own, nor a misspelt name ("cables" is no typo of "table").
+DETAIL_PARTS = frozenset(
+    f"{w}{s}"
+    for w in (
+        "seam",
+        "stitch",
+        "cable",
+        "wire",
+        "cord",
+        "lead",
+        "plug",
+        "socket",
+        "port",
+        "label",
+        "tag",
+        "logo",
+        "badge",
+        "sticker",
+        "zip",
+        "zipper",
+        "button",
+        "screw",
+        "bolt",
+        "hinge",
+        "switch",
+        "knob",
+        "dial",
+        "vent",
+        "strap",
+        "buckle",
+        "lace",
+        "tassel",
+        "crack",
+        "scratch",
+        "dent",
+        "chip",
+        "stain",
+        "mark",
+        "signature",
+    )
+    for s in ("", "s", "es")
+    if not (s == "es" and not w.endswith(("ch", "sh", "x", "z", "s"))) and not (s == "s" and w.endswith(("ch", "sh")))
+) | {"stitching", "stitches", "wiring", "paintwork", "brushwork", "grain", "glaze", "weave", "pattern", "print"}
+
 SURROUNDINGS = frozenset(
     {
         "room",
@@ -2612,6 +2707,7 @@ _MACROS = {
     "{THROUGH}": "(?: through (?:the |a |{P} )?(?:{SURFACE}|{SUPPORT}|top|surface|glass|floor)(?: (?:top|surface))?)?",
     "{HEIGHT_OF}": "(?:(?:the |a |{P} )?(?:own )?(?:eye|{ANCHOR_EYE})|{P}(?: own)?)",
     "{FRAME}": FRAME,
+    "{SEEN_VERB}": "(?:seen|viewed|shot|photographed|captured|taken|filmed)",
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
@@ -2742,7 +2838,8 @@ _MACROS = {
     + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
     # Not before a number, which would make the words before it a height ("elevation 20 degrees").
     "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
-    "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)",
+    # "Own" after a possessive only insists ("from its own left", "the bear's own back").
+    "{P}": r"(?P<ref>its|it 's|his|her|their|@\d+ 's)(?: own)?",
     # Not a subject whose possessive follows: "zoom in on the bear's face" closes in on the face.
     "{obj}": r"(?P<ref>it|him|her|them|@\d+(?! 's))",
 }
@@ -2863,6 +2960,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     """Every table row as (field, value, template, weak)."""
     rows: list[tuple[str, object, str, bool]] = [("head", None, t, False) for t in HEADS]
     link = f"( {HEAD_LINK})?"
+    # First of the shot rows: an end-to-end idiom ("top to bottom") is read as this, not as medium.
+    rows += [("shot", WHOLE_SPAN, t, False) for t in WHOLE_SPAN_PHRASES]
     for shot, terms in SHOT_TERMS.items():
         rows.append(("shot", shot, f"(a |an )?{_alternatives(terms)}( {SHOT_NOUN})?{link}", False))
     for shot, adjectives in SHOT_ADJECTIVES.items():
@@ -3063,7 +3162,8 @@ class RuleParser:
         for field, value, pattern, weak in compiled:
             tree = _pattern_tree(pattern.pattern)
             self.rules.append(_Rule(field, value, pattern, weak, _required(tree), _required_any(tree)))
-        self.lexicon = _lexicon(rows)
+        # Details are words too: never a misspelt name ("cables" is no "table").
+        self.lexicon = _lexicon(rows) | DETAIL_PARTS
 
     def parse(self, text: str, vocabulary: Vocabulary) -> ParsedInstruction:
         """``text`` as a :class:`ParsedInstruction` with subjects from ``vocabulary``;
@@ -3081,7 +3181,9 @@ class RuleParser:
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
-            if run.subject is not None:  # the sentence's subject: a scene object, or refused naming the closest
+            # The sentence's subject: a scene object, or refused naming the closest; a part or a
+            # position tied to the subject ("so we see the seam down its back") is neither.
+            if run.subject is not None and not _never_a_name(run.subject):
                 mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
             elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
@@ -3407,8 +3509,11 @@ def _never_a_name(text: str) -> bool:
     if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | DETAIL_PARTS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
     if bool(content) and all(w in never for w in content):
+        return True
+    # A detail of the subject, then where on it ("the seam down its back", "cables along the back").
+    if content and content[0] in DETAIL_PARTS:
         return True
     # A noun phrase whose head is a word of the picture or a position ("the best side", "an
     # interesting angle", "the angle should be low", "the light from the left"): its head is the
@@ -3557,7 +3662,9 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
         names = _candidates(cue, [m for m in mentions if cue.ref is not None or m.at not in seen_only] or mentions)
         free = [n for n in names if getattr(subjects[n], cue.field) in (None, cue.value)]
         held = getattr(subjects[names[0]], cue.field)
-        combined = {"view": _combined_view, "region": _combined_region}.get(cue.field, lambda *_: None)(held, cue.value)
+        combined = {"view": _combined_view, "region": _combined_region, "shot": _combined_shot}.get(cue.field, lambda *_: None)(
+            held, cue.value
+        )
         # A second view cue completes the first one's side ("three-quarter" + "from its left"),
         # unless it leads straight into another subject ("from the front, the bear; from the
         # left, the chair"), which then takes it.
@@ -3571,6 +3678,7 @@ def _attach(cues: list[_Cue], mentions: list[_Mention], tokens: list[str], vocab
             )
     for subject in subjects.values():
         subject.view = _said_view(subject.view)
+        subject.shot = _said_shot(subject.shot)
     return list(subjects.values())
 
 
@@ -3624,6 +3732,20 @@ def _combined_view(held, said):
     return VIEW_COMBINATIONS.get(frozenset((held, said)))
 
 
+def _combined_shot(held, said) -> str | None:
+    """The size two shot cues of a subject say together: all of it from end to end
+    (:data:`WHOLE_SPAN`) with a size word is that size ("filling the frame, top to bottom" is a
+    close-up); else None (a conflict)."""
+    if WHOLE_SPAN in (held, said) and held != said:
+        return said if held == WHOLE_SPAN else held
+    return None
+
+
+def _said_shot(shot: str | None) -> str | None:
+    """A subject's shot as the constraints name it: all of it from end to end alone is medium."""
+    return "medium" if shot == WHOLE_SPAN else shot
+
+
 # A height and a side of the frame said apart are the corner between them ("at the bottom, on the
 # left"; "in the corner at the top, to the right").
 REGION_CORNERS = {
@@ -3640,7 +3762,21 @@ def _combined_region(held, said) -> str | None:
     for corner, halves in REGION_CORNERS.items():
         if {held, said} <= halves | {corner} and {held, said} != {corner} and len({held, said}) == 2:
             return corner
-    return None
+    return _nested_region(held, said)
+
+
+def _nested_region(held, said) -> str | None:
+    """Of two region cues whose boxes nest, the inner one ("on the right third" + "negative space
+    to the left", i.e. "right": the right third); else None (a conflict). Boxes are
+    ``constraints.REGIONS`` (x0, y0, x1, y1) in frame fractions."""
+
+    def inside(a: str, b: str) -> bool:
+        (ax0, ay0, ax1, ay1), (bx0, by0, bx1, by1) = REGIONS[a], REGIONS[b]
+        return bx0 <= ax0 and by0 <= ay0 and ax1 <= bx1 and ay1 <= by1
+
+    if held not in REGIONS or said not in REGIONS:
+        return None
+    return said if inside(said, held) else held if inside(held, said) else None
 
 
 def _turned(reference: str | None, degrees: float) -> str | None:
