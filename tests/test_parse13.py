@@ -256,9 +256,30 @@ def test_a_thing_the_scene_lacks_joined_to_a_subject_is_refused(text, thing):
 
 
 @pytest.mark.parametrize(
+    "text, thing",
+    [
+        ("Grandma's rocking horse next to the armchair", "rocking horse"),
+        ("dad's slippers under the sofa", "slippers"),
+        ("my daughter's doll beside the teddy bear, close up", "doll"),
+        ("Rubik's cube by the mug", "rubik 's cube"),
+        ("the guitar to the left of the sofa", "guitar"),
+        ("a floor cushion to the right of the armchair, from above", "floor cushion"),
+        ("Grandpa's walking stick leaning on the bench", "walking stick"),
+    ],
+)
+def test_a_thing_owned_or_placed_left_or_right_of_a_subject_is_refused(text, thing):
+    """A possessor that is a table word (a requester) is not part of the thing's name, another
+    one is; "to the left/right of" places a thing as "beside" does."""
+    with pytest.raises(InputError, match=f"subject {thing!r} is not in this scene"):
+        parse_instruction(text, SCENE)
+
+
+@pytest.mark.parametrize(
     "text, names",
     [
         ("the mug next to the vase, want both", ["mug", "vase"]),
+        ("the sofa to the left of the bench, both in frame", ["sofa", "bench"]),
+        ("slightly to the left of the sofa, eye level", ["sofa"]),
         ("the sofa with cushions, from the front", ["sofa"]),
         ("the tree with its leaves in frame", ["tree"]),
         ("the bench with plenty of space around it", ["bench"]),

@@ -3430,20 +3430,33 @@ class RuleParser:
         determined = lead in MENTION_DETERMINERS  # "(of) the candle in front of": a noun phrase
         relation = RELATION_WORDS | RELATION_OBJECT_WORDS if determined else RELATION_WORDS
         start = next(k for k, at in enumerate(span) if tokens[at] == lead) if lead else 0
-        cut = next((k for k, at in enumerate(span) if k > start and tokens[at] in relation), None)
+        # "to the left of" (or right) places it too, as "beside" does.
+        beside = [k for k, at in enumerate(span) if tokens[at] in ("left", "right") and tokens[at + 1 : at + 2] == ["of"]]
+        cut = next((k for k, at in enumerate(span) if k > start and (tokens[at] in relation or k in beside)), None)
         phrase = [tokens[at] for at in span[:cut]] if cut else []
         while phrase and phrase[0] in STOPWORDS:
             phrase.pop(0)
         while phrase and phrase[-1] in STOPWORDS:
             phrase.pop()
-        content = [w for w in phrase if w not in STOPWORDS]
+        # What a possessor owns is the thing, judged without the possessor ("Grandma's rocking
+        # horse", "Dad's slippers": a requester is a table word), which the name keeps unless it
+        # is such a word ("Rubik's cube", "my dog's bowl").
+        owner = next((k for k in range(len(phrase) - 1, -1, -1) if phrase[k] == "'s"), None)
+        owned = phrase if owner is None else phrase[owner + 1 :]
+        content = [w for w in owned if w not in STOPWORDS]
         if not content or all(w in ATTRIBUTES for w in content) or _never_a_name(" ".join(content)):
             return None
         if any(w in ("camera", "lens") for w in phrase):  # "a camera buried in the sand below the bench"
             return None
-        if not determined and any(w in self.lexicon and w not in ATTRIBUTES and w not in TABLE_NOUNS for w in content):
+        # A possessive determines the phrase as an article does ("Grandpa's walking stick").
+        if (
+            owner is None
+            and not determined
+            and any(w in self.lexicon and w not in ATTRIBUTES and w not in TABLE_NOUNS for w in content)
+        ):
             return None  # "focus on the mug": a verb of the tables, not a thing
-        return " ".join(phrase)
+        possessor = [w for w in phrase[: owner or 0] if w not in STOPWORDS]
+        return " ".join(owned if any(w in self.lexicon for w in possessor) or _never_a_name(" ".join(possessor)) else phrase)
 
 
 # Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
