@@ -263,13 +263,19 @@ def test_a_thing_the_scene_lacks_joined_to_a_subject_is_refused(text, thing):
         ("my daughter's doll beside the teddy bear, close up", "doll"),
         ("Rubik's cube by the mug", "rubik 's cube"),
         ("the guitar to the left of the sofa", "guitar"),
+        ("a snap of the television plus the speaker beside it", "speaker"),
+        ("the bench, with the bicycle leaning against it, both in frame", "bicycle"),
+        ("the sofa and a footstool in front of it", "footstool"),
+        ("mug & kettle, close-up", "kettle"),
         ("a floor cushion to the right of the armchair, from above", "floor cushion"),
         ("Grandpa's walking stick leaning on the bench", "walking stick"),
     ],
 )
 def test_a_thing_owned_or_placed_left_or_right_of_a_subject_is_refused(text, thing):
     """A possessor that is a table word (a requester) is not part of the thing's name, another
-    one is; "to the left/right of" places a thing as "beside" does."""
+    one is; "to the left/right of" places a thing as "beside" does; after "and" or "plus" a thing
+    tied back to the subject ("beside it") is a second one, after "with" only when both are asked
+    for; "&" is "and"."""
     with pytest.raises(InputError, match=f"subject {thing!r} is not in this scene"):
         parse_instruction(text, SCENE)
 

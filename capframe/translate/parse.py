@@ -3394,12 +3394,16 @@ class RuleParser:
         thing = said[len(lead) + article :] if lead else said
         if article and not lead:
             before = before[:-1]
+        # A relation back to the subject may end the run ("plus the speaker beside it"): the thing
+        # is what comes before it, and the rest of the clause follows it.
+        relation = next((k for k in range(1, len(thing)) if thing[k] in RELATION_WORDS), len(thing))
+        thing, tied = thing[:relation], thing[relation:]
         if not thing or len(thing) > MAX_ATTRIBUTES or _never_a_name(" ".join(thing)):
             return None
         head = thing[-1]
         if not head.isalpha() or head in self.lexicon or head in ATTRIBUTES:
             return None
-        after = tokens[start + len(said) :]
+        after = tied + tokens[start + len(said) :]
         # Before a relation only as the sentence's opening ("a kazoo beside the mug"), not a time or
         # a place said on the way ("taken at dusk with the bench ...").
         opening = all(t in STOPWORDS or t in PUNCTUATION for t in tokens[:start])
@@ -3411,9 +3415,20 @@ class RuleParser:
         # After a joining word only where the clause ends on it ("mug plus a kazoo, both in frame"),
         # not before what places it ("the bench with a sunset behind it").
         following = tokens[start + len(said) : start + len(said) + 1]
-        ends = not following or following[0] in PUNCTUATION or following[0] in THING_ENDS
-        joined_before = ends and any(
-            before[-len(j) :] == j and len(before) > len(j) and before[-len(j) - 1].startswith("@") and (article or j != ["with"])
+        ends = not tied and (not following or following[0] in PUNCTUATION or following[0] in THING_ENDS)
+        # Or it is tied back to the subject ("the speaker beside it", "the bicycle leaning against
+        # it"): after "and" or "plus" that is a second thing; after "with" only when both are asked
+        # for ("the bench with the bicycle leaning against it, both in frame"; "the bench with a
+        # sunset behind it" is the bench).
+        clause = tied + list(itertools.takewhile(lambda t: t not in PUNCTUATION, tokens[start + len(said) :]))
+        back = clause[-1:] in (["it"], ["them"]) and len(clause) <= MAX_ATTRIBUTES + 1
+        both = any(t in BOTH_WORDS for t in tokens)
+        joined_before = any(
+            before[-len(j) :] == j
+            and len(before) > len(j)
+            and before[-len(j) - 1].startswith("@")
+            and (article or j != ["with"])
+            and (ends or (back and (j != ["with"] or both)))
             for j in JOINS_AFTER
         )
         return " ".join(thing) if joined_after or joined_before else None
@@ -3581,6 +3596,8 @@ JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "&", "with", "together wi
 
 # Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
 THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
+# Words that ask for two things at once ("both in frame", "the two together").
+BOTH_WORDS = frozenset({"both", "together", "two"})
 
 
 def _names_subject(tokens: list[str]) -> bool:

@@ -204,6 +204,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
+    s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
