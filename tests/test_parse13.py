@@ -267,6 +267,8 @@ def test_a_thing_the_scene_lacks_joined_to_a_subject_is_refused(text, thing):
         ("the bench, with the bicycle leaning against it, both in frame", "bicycle"),
         ("the sofa and a footstool in front of it", "footstool"),
         ("mug & kettle, close-up", "kettle"),
+        ("photo: toy car + garage", "garage"),
+        ("the mug, the teapot next to it, both sharp", "teapot"),
         ("a floor cushion to the right of the armchair, from above", "floor cushion"),
         ("Grandpa's walking stick leaning on the bench", "walking stick"),
     ],
@@ -275,7 +277,7 @@ def test_a_thing_owned_or_placed_left_or_right_of_a_subject_is_refused(text, thi
     """A possessor that is a table word (a requester) is not part of the thing's name, another
     one is; "to the left/right of" places a thing as "beside" does; after "and" or "plus" a thing
     tied back to the subject ("beside it") is a second one, after "with" only when both are asked
-    for; "&" is "and"."""
+    for, or set off by a comma; "&" and "+" are "and"."""
     with pytest.raises(InputError, match=f"subject {thing!r} is not in this scene"):
         parse_instruction(text, SCENE)
 
@@ -286,6 +288,8 @@ def test_a_thing_owned_or_placed_left_or_right_of_a_subject_is_refused(text, thi
         ("the mug next to the vase, want both", ["mug", "vase"]),
         ("the sofa to the left of the bench, both in frame", ["sofa", "bench"]),
         ("slightly to the left of the sofa, eye level", ["sofa"]),
+        ("the mug, the vase next to it, both sharp", ["mug", "vase"]),
+        ("the bench, the shadow under it, both in frame", ["bench"]),
         ("the sofa with cushions, from the front", ["sofa"]),
         ("the tree with its leaves in frame", ["tree"]),
         ("the bench with plenty of space around it", ["bench"]),

@@ -3423,7 +3423,11 @@ class RuleParser:
         clause = tied + list(itertools.takewhile(lambda t: t not in PUNCTUATION, tokens[start + len(said) :]))
         back = clause[-1:] in (["it"], ["them"]) and len(clause) <= MAX_ATTRIBUTES + 1
         both = any(t in BOTH_WORDS for t in tokens)
-        joined_before = any(
+        # Set beside it after a comma, when both are asked for ("the mug, the teapot next to it,
+        # both sharp").
+        set_off = tokens[: start - 1] if article and not lead else tokens[:start]
+        apposed = len(set_off) > 1 and set_off[-2].startswith("@") and set_off[-1] == "," and back and both and not ends
+        joined_before = apposed or any(
             before[-len(j) :] == j
             and len(before) > len(j)
             and before[-len(j) - 1].startswith("@")

@@ -205,6 +205,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
+    s = re.sub(r"(?<=[a-z])\s*\+\s*(?=[a-z])", " and ", s)  # "toy car + garage"; "+10 degrees" keeps its sign
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
