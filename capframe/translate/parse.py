@@ -3381,7 +3381,8 @@ class RuleParser:
         right before a relation to the subject ("harmonica?? next to the mug", "a kazoo beside it")
         or right after a joining word after it (:data:`JOINS_AFTER`: "mug and harmonica", "mug
         plus a kazoo", "bench with a bicycle, both visible"; after "with" only with an article:
-        "the sofa with cushions" is the sofa)."""
+        "the sofa with cushions" is the sofa), or there tied back to the subject ("plus the speaker
+        beside it"; after "with" or a comma only when both are asked for)."""
         said = run.text.split()
         start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
         if start is None:
