@@ -2075,19 +2075,18 @@ GIVE = (
 )
 
 
-def _roll_family(thing: str, given: bool = True) -> list[str]:
+def _roll_family(thing: str) -> list[str]:
     """Roll templates about ``thing`` (what turns): a verb or noun of turning, a number and a
-    direction (clockwise, or a side) said once, in any order; a side needs the thing or the axis.
-    ``given``: also the thing given degrees or a share of a turn ("give the camera 30 degrees
-    clockwise")."""
+    direction (clockwise, or a side) said once, in any order; a side needs the thing or the axis;
+    also the thing given degrees or a share of a turn ("give the camera 30 degrees clockwise")."""
     verb = f"({thing} )?{ROLL_VERB_FORMS}"
-    given = f"({GIVE}( {thing}| it)? )?"  # "apply a 15 degree clockwise tilt (to the camera)"
+    giving = f"({GIVE}( {thing}| it)? )?"  # "apply a 15 degree clockwise tilt (to the camera)"
     to_thing = f"( (to|on|for) {thing})?"
     return [
         f"{verb}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?",
         f"{verb}( {thing}| it)?( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
-        f"{given}(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
-        f"{given}(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {ROLL_DIRECTION}( {ROLL_AXIS})?{to_thing}",
+        f"{giving}(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
+        f"{giving}(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {ROLL_DIRECTION}( {ROLL_AXIS})?{to_thing}",
         f"{thing} at (a |an )?{{d}} (angle|slant|tilt) {{dir}}",
         # A side as the direction, with the thing turned or the lens axis said.
         f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?",
@@ -2096,16 +2095,12 @@ def _roll_family(thing: str, given: bool = True) -> list[str]:
         f"{verb}( {thing}| it)? {ROLL_AXIS}( by| through)? {{d}} {ROLL_SIDE}",
         f"{verb}( {thing}| it)? {ROLL_AXIS} {ROLL_SIDE}( by| through)? {{d}}",
         # A side said as the roll's adjective ("a 10 degree right roll", "a right-hand cant of 12").
-        f"{given}(a |an )?{{d}}( of)? {ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
-        f"{given}(a |an )?{ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( of)? {{d}}{to_thing}",
-    ] + (
-        [  # given degrees or a share of a turn ("give the camera one twelfth of a turn clockwise")
-            f"{GIVE} {thing} (a |an )?{{d}}( turn| of (a )?turn)?( {ROLL_AXIS})? {ROLL_DIRECTION}( {ROLL_AXIS})?",
-            f"{GIVE} {thing} {ROLL_DIRECTION} (a |an )?{{d}}( turn| of (a )?turn)?",
-        ]
-        if given
-        else []
-    )
+        f"{giving}(a |an )?{{d}}( of)? {ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
+        f"{giving}(a |an )?{ROLL_SIDE_ADJECTIVE}( {thing})? {ROLL_NOUNS}( of)? {{d}}{to_thing}",
+        # Given degrees or a share of a turn ("give the camera one twelfth of a turn clockwise").
+        f"{GIVE} {thing} (a |an )?{{d}}( turn| of (a )?turn)?( {ROLL_AXIS})? {ROLL_DIRECTION}( {ROLL_AXIS})?",
+        f"{GIVE} {thing} {ROLL_DIRECTION} (a |an )?{{d}}( turn| of (a )?turn)?",
+    ]
 
 
 # Roll phrases, by how they relate to the camera's roll: +1 they describe the camera, -1 the
@@ -2178,7 +2173,7 @@ ROLL_PHRASES = {
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) (by )?{d} {dir}",
         "(a |an )?(tilted|rotated|slanted|canted|turned|sloping) (horizon|picture|image|frame) (of |by )?{d} {dir}",
         "(tilt|rotate|turn|cant|slant|twist|skew)( the)? (horizon|picture|image|scene|frame) {dir}( by {d})?",
-        *_roll_family(PICTURE_THING, given=False),
+        *_roll_family(PICTURE_THING),
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon ({HORIZON_LEVEL})",
@@ -3592,11 +3587,11 @@ def _owned(out: list[str], mentions: list[_Mention], names: list[str]) -> bool:
 # Words joining a thing to a named subject after it ("harmonica next to the mug") and before it
 # ("the mug and a harmonica", "the bench with a bicycle").
 JOINS_BEFORE = tuple(
-    w.split() for w in ("next to", "beside", "by", "near", "alongside", "together with", "along with", "with", "and", "plus", "&")
+    w.split() for w in ("next to", "beside", "by", "near", "alongside", "together with", "along with", "with", "and", "plus")
 )
 # After a subject a place relation names a landmark, which stays reported ("the mug next to a
 # hairbrush"); a joining word names a second subject.
-JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "&", "with", "together with", "along with", "as well as"))
+JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "with", "together with", "along with", "as well as"))
 
 
 # Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
