@@ -859,10 +859,11 @@ VIEW_SIDE_WORDS = {
 
 
 def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[str]:
-    """A diagonal's words in any order, with "three quarter(s)" before, between or after them
-    ("3/4 front-left", "three quarter rear right", "left-front three-quarters"); a front one
-    also as "three quarter left" (the three-quarter view is the front one unless told)."""
-    three_quarter = "three quarters?"
+    """A diagonal's words in any order, with "three quarter(s)" or "diagonal" before, between or
+    after them ("3/4 front-left", "three quarter rear right", "left-front three-quarters", "front
+    right diagonal"); a front one also as "three quarter left" (the three-quarter view is the
+    front one unless told)."""
+    three_quarter = "(three quarters?|diagonal)"
     out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
     # A quarter said without "three" after the end and side ("its rear-left quarter").
     out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
@@ -2063,6 +2064,8 @@ PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|scene|photo)"
 ROLL_SIDE = "((to |towards )?(the )?{side}( hand| side|wards?)?)(?! of )"
 ROLL_SIDE_ADJECTIVE = "({side}( hand|wards?)?)"
 ROLL_DIRECTION = "({dir}|" + ROLL_SIDE + ")"
+# How a dutch angle goes to its side ("a dutch angle leaning left").
+LEANING = "(leaning|leant|leaned|tilted|tilting|rolled|rolling|canted|canting|tipped|tipping|going|sloping)"
 # Verbs that turn the camera about its lens axis only: said with a side they roll it. "Turn",
 # "swing" and "angle" the camera to a side may aim it instead, and are a roll with a side only
 # about the lens axis.
@@ -2131,6 +2134,12 @@ ROLL_PHRASES = {
         # Degrees given to the camera, said after them ("apply 10 degrees anticlockwise to the camera").
         f"{GIVE} (a |an )?{{d}}( turn| of (a )?turn)? {ROLL_DIRECTION} (to|on) {CAMERA_THING}",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
+        # A dutch angle with degrees and a side, in either order, maybe leaning ("dutch angle 30
+        # degrees to the left", "dutch tilt, leaning right by 20 degrees").
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))?( of)? {d}( ,)? (" + LEANING + " )?(to |towards )?(the )?{side}"
+        "( side| hand)?(?! of )",
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))?( ,)? (" + LEANING + " )?(to |towards )?(the )?{side}"
+        "( side| hand)? (by |of )?{d}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?roll angle( of| at)? {sd}( {dir})?",
         "(camera )?rolled (by )?{sd}",
@@ -2992,8 +3001,9 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             rows.append(("region", region, template, False))
             template = f"(?<=@\\d )(the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
             rows.append(("region", region, template, False))
-            # ... or alone as a clause ("bench, left third, from low down").
-            rows.append(("region", region, f"{{CLAUSE}}(the )?{_alternatives(named)}(?= ([,.;!]|$))", False))
+            # ... or alone as a clause ("bench, left third, from low down"), also as a label
+            # opening the sentence before its subject ("Left third: the mug", "Lower left - ball").
+            rows.append(("region", region, f"((?<=^ )|{{CLAUSE}})(the )?{_alternatives(named)}(?= ([,.;:!?]|$))", False))
         if region in ("left", "right"):
             # A lone left or right straight after its subject, ending the clause, is where it
             # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
@@ -3010,8 +3020,10 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         rows += [("view", view, frame.replace("{SIDE}", _alternatives(sides)), False) for frame in VIEW_FRAMES]
         if view not in ("left", "right"):
             rows.append(("view", view, VIEW_CLAUSE.replace("{SIDE}", _alternatives(sides)), False))
-        if "-" in view:  # a diagonal is no region: said as a place it is the camera's ("at the front right")
-            rows.append(("view", view, "(at|on|to) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
+        # A diagonal is no region: said as a place it is the camera's ("at the front right",
+        # "along the left-rear diagonal").
+        if "-" in view:
+            rows.append(("view", view, "(at|on|to|along) (the|{P}) " + _alternatives(sides) + "( side| corner)?(?! of )", False))
             # Seen across that corner ("seen over its back-left corner", "looking across the sofa's
             # front-right corner").
             corner = (
@@ -3348,11 +3360,15 @@ class RuleParser:
             # a dramatic look at the mug", "photograph a close study of the teddy"), not a subject.
             following = tokens[span[-1] + 1] if span[-1] + 1 < len(tokens) else ""
             of_named = tokens[span[-1]] in ("of", "at") and following.startswith("@")
-            slot = not (of_named or (after is not None and after.forward)) and (
-                (before is not None and before.forward)
-                or (after is not None and after.field == "region")
-                or _coordinated(tokens, span)
-                or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
+            asked = self._asked_thing(tokens, span)
+            slot = asked or (
+                not (of_named or (after is not None and after.forward))
+                and (
+                    (before is not None and before.forward)
+                    or (after is not None and after.field == "region")
+                    or _coordinated(tokens, span)
+                    or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
+                )
             )
             opening = (before is not None and before.forward) or all(
                 t in STOPWORDS or t in PUNCTUATION for t in tokens[: span[0]]
@@ -3366,9 +3382,24 @@ class RuleParser:
                 while hi > lo and run[hi - 1] in STOPWORDS:
                     hi -= 1
                 if lo < hi:
-                    determiner = lo > 0 and run[lo - 1] in MENTION_DETERMINERS
+                    determiner = asked or (lo > 0 and run[lo - 1] in MENTION_DETERMINERS)
                     runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
         return runs
+
+    def _asked_thing(self, tokens: list[str], span: list[int]) -> bool:
+        """Whether ``span`` is a thing named alone as the instruction's first sentence, which the
+        next one opens by placing "it" at a named object ("Hourglass? It stands by the mug",
+        "Candle. It's next to the vase"): the subject, named without an article, whatever it
+        names. Words the tables use are never such a thing, and "it" said to be the named object
+        is no place ("Sorry. It is the mug I want")."""
+        end = span[-1] + 1
+        if span[0] != 0 or tokens[end : end + 1] not in (["?"], ["."]) or tokens[end + 1 : end + 2] != ["it"]:
+            return False
+        placing = list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, tokens[end + 2 :]))
+        if not any(t in RELATION_WORDS for t in placing) or len(placing) > MAX_ATTRIBUTES + 1:
+            return False
+        content = [tokens[k] for k in span if tokens[k] not in STOPWORDS]
+        return 0 < len(content) <= MAX_ATTRIBUTES and all(w.isalpha() and w not in self.lexicon for w in content)
 
     def _joined_thing(self, tokens: list[str], run: _Run) -> str | None:
         """The thing a run not understood names when it is joined to a named subject, so a second

@@ -96,6 +96,18 @@ SPELLINGS = {
     "approx": "approximately",
     "appr": "approximately",
     "ca": "circa",
+    # Direction words spelt by ear, as children and hurried writers spell them ("looking rite
+    # down", "strait above", "from the frunt"); a mistyping by a letter is read by slip_of.
+    "rite": "right",
+    "strait": "straight",
+    "strate": "straight",
+    "strayt": "straight",
+    "abuv": "above",
+    "abuve": "above",
+    "frunt": "front",
+    "behine": "behind",
+    "behing": "behind",
+    "ontop": "on top",
     # Chat spellings and abbreviations ("could u", "pls", "3/4 ccw").
     "u": "you",
     "n": "and",
@@ -150,6 +162,13 @@ SPELLINGS.update(SHOT_ABBREVIATIONS)
 SIDE_NAMES = {"starboard": "right", "portside": "left side"}
 SPELLINGS.update(SIDE_NAMES)
 PORT_SIDE_WORDS = ("side", "hand", "flank", "quarter", "end", "bow", "beam", "profile", "three", "rear", "back", "front")
+# A side written as its letter, as shot lists and storyboards write it ("L profile", "front 3/4 R",
+# "rear L"): read so only beside a word of a view (:data:`SIDE_LETTER_NEIGHBOURS`), since a lone
+# letter elsewhere is anything ("size L", "the R key").
+SIDE_LETTERS = {"l": "left", "r": "right"}
+SIDE_LETTER_NEIGHBOURS = frozenset(
+    {"profile", "side", "flank", "quarter", "quarters", "diagonal", "lateral", "view", "angle", "front", "rear", "back", "three"}
+)
 # Two-word spellings merged into one word, or read as other words.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
 COMPOUNDS |= {("port", word): f"left {word}" for word in PORT_SIDE_WORDS}
@@ -202,6 +221,7 @@ def words(text: str) -> list[str]:
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
     s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
+    s = re.sub(r"\s*(?:-+>|=+>|\u2192|=)\s*", " : ", s)  # an arrow or "=" after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
@@ -214,7 +234,7 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(tokens))))))
+    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(tokens)))))))
 
 
 # A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
@@ -369,6 +389,17 @@ def _comparatives(tokens: list[str]) -> list[str]:
             out[-1] = COMPARATIVES[token]
         else:
             out.append(token)
+    return out
+
+
+def _side_letters(tokens: list[str]) -> list[str]:
+    """``tokens`` with a lone "l" or "r" beside a view word read as the side it abbreviates
+    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"); elsewhere the letter is left as written."""
+    out = list(tokens)
+    for k, token in enumerate(tokens):
+        neighbours = tokens[max(k - 1, 0) : k] + tokens[k + 1 : k + 2]
+        if token in SIDE_LETTERS and any(n in SIDE_LETTER_NEIGHBOURS for n in neighbours):
+            out[k] = SIDE_LETTERS[token]
     return out
 
 
