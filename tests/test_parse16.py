@@ -161,3 +161,30 @@ def test_thing_asked_alone_then_placed_as_it_is_the_subject(text, thing):
 def test_word_before_it_said_to_be_the_named_object_is_no_thing(text, name):
     # "It" said to be the named object, or the named object asked about, is no unknown thing.
     assert parse(text).subjects[0].name == name
+
+
+NEGATED = [
+    # (text, view, elevation): the denied clause constrains nothing and conflicts with nothing.
+    ("the mug from the front, not from the side", "front", None),
+    ("sofa from its left, not from behind", "left", None),
+    ("the vase at eye level, not from above", None, "eye level"),
+    ("teddy bear, NOT from above, eye level", None, "eye level"),
+    ("the armchair not from the back, front view", "front", None),
+    ("mug, not top-down, a slight high angle", None, "slightly above"),
+    ("the cushion, front view rather than from the side", "front", None),
+    ("the sofa from the front instead of from the side", "front", None),
+    ("vase eye level, not a bird's eye view", None, "eye level"),
+    ("bench from the rear right, as opposed to the front", "back-right", None),
+]
+
+
+@pytest.mark.parametrize(("text", "view", "elevation"), NEGATED)
+def test_denied_clause_is_reported_not_read(text, view, elevation):
+    p = parse(text)
+    assert (p.subjects[0].view, p.elevation) == (view, elevation)
+    assert p.not_understood(), "a denial the checker cannot ask stays reported"
+
+
+def test_phrases_that_carry_their_own_denial_are_kept():
+    assert parse("the bench from the front and not too close").subjects[0].shot == "medium"
+    assert parse("the mug, no dutch angle").roll_deg == 0.0

@@ -3184,7 +3184,7 @@ class RuleParser:
         tokens = _unrepeated([t for t in tokens if t not in PLEASE])
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
-        cues = _bare_angles(self._cues(tokens), tokens)
+        cues = _unnegated(_bare_angles(self._cues(tokens), tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         for run in self._leftovers(tokens, cues, determined):
@@ -3936,6 +3936,24 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
         if sign and not _beyond_slight(nearest, sign * cue.value):
             out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
     return out
+
+
+# Words that deny the view, height, size or place said right after them ("not from the side",
+# "rather than from above", "instead of a close-up"); phrases with their own denial ("no dutch",
+# "not too close") start with it and are kept.
+NEGATIONS = tuple(w.split() for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not"))
+NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
+
+
+def _unnegated(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
+    """``cues`` without the ones a negation right before denies (:data:`NEGATIONS`: "the mug
+    from the front, not from the side"): what is not wanted constrains nothing the checker can
+    ask, so its words are reported as not understood, and it no longer conflicts with what is."""
+    return [
+        c
+        for c in cues
+        if c.field not in NEGATED_FIELDS or not any(tokens[max(c.start - len(n), 0) : c.start] == n for n in NEGATIONS)
+    ]
 
 
 # A slight height says a small angle: a bare angle farther than this past its range is another
