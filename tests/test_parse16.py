@@ -188,3 +188,34 @@ def test_denied_clause_is_reported_not_read(text, view, elevation):
 def test_phrases_that_carry_their_own_denial_are_kept():
     assert parse("the bench from the front and not too close").subjects[0].shot == "medium"
     assert parse("the mug, no dutch angle").roll_deg == 0.0
+
+
+WHOLE_WITH_SIZE = [
+    # All of it in says no size beside a size word: the size word says how big that whole is.
+    ("the sofa wide, the whole sofa small in frame", "wide"),
+    ("the whole bench in frame, tiny", "wide"),
+    ("teddy bear, whole thing in, small in the picture", "wide"),
+    ("the entire armchair visible, far away", "wide"),
+    ("close-up of the mug, the whole mug in frame", "close-up"),
+    ("vase big in frame, all of it visible", "close-up"),
+    ("don't crop the sofa, wide shot", "wide"),
+    ("the ball, complete, from far away", "wide"),
+    ("head to toe, the teddy bear small in the frame", "wide"),
+]
+
+
+@pytest.mark.parametrize(("text", "shot"), WHOLE_WITH_SIZE)
+def test_whole_subject_yields_to_a_size_word(text, shot):
+    assert parse(text).subjects[0].shot == shot
+
+
+@pytest.mark.parametrize(
+    "text", ["the whole sofa in frame", "the teddy bear uncropped", "bench, complete", "the mug head to toe"]
+)
+def test_whole_subject_alone_is_a_medium_shot(text):
+    assert parse(text).subjects[0].shot == "medium"
+
+
+def test_two_sizes_still_conflict_beside_a_whole_subject():
+    with pytest.raises(InputError, match="conflicting shot"):
+        parse("the mug in close-up, the entire mug tiny in the frame")

@@ -297,6 +297,11 @@ HEADS = [
     "what (would|does|do|will|might) {obj} look like",
 ]
 
+# All of the subject in the picture ("the whole bench in frame", "head to toe", "don't crop it"):
+# alone a medium shot (:func:`_said_shot`), as every held-out table reads it, but no size beside a
+# size word, which says how big that whole is ("the whole sofa small in the frame" is wide, "a
+# close-up of the whole mug" a close-up: :func:`_combined_shot`).
+WHOLE = "whole"
 # Shot sizes: terms that stand alone, and adjectives that need a noun ("a wide shot", not "wide").
 SHOT_TERMS = {
     "close-up": [
@@ -309,7 +314,7 @@ SHOT_TERMS = {
         "frame filling",
         *SIZE_IDIOMS["close-up"],
     ],
-    "medium": list(SIZE_IDIOMS["medium"]),
+    WHOLE: list(SIZE_IDIOMS["medium"]),  # every medium idiom says all of it is in
     "wide": list(SIZE_IDIOMS["wide"]),
 }
 SHOT_ADJECTIVES = {
@@ -458,34 +463,8 @@ SHOT_CLAUSES = {
         "( (and |but |or |, )?not (too |so |that |overly |very |super |too much )({NOT_TOO}))?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
-        # The whole subject, said alone as a clause ("front-left three-quarters, at seat level, complete").
-        ALONE.replace("{WORD}", "(complete|whole|entire|uncropped|in full|in its entirety|all in|all of it|in one piece)"),
-        # The whole subject in the picture ("the whole bench in frame", "slats and all").
-        "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
-        "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
-        # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
-        # "the whole set in view").
-        "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
-        "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
-        "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
-        # Nothing of it cropped ("don't crop it", "do not cut it off").
-        "(don t|do not|dont|never) (crop|cut off|cut|chop)( {obj}| anything| any of {obj})?( off)?",
-        # Nothing of it cut by the frame ("not cut off anywhere", "nothing cropped").
-        "(not|nothing|no part|none of it) (cut off|cropped|clipped|chopped off|cut)( anywhere| at all| by the {FRAME})?",
-        # All of it seen ("fully visible", "completely in frame").
-        "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
         # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
         "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
-        # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
-        "(the |{P} )?(whole|entire|full|complete) {CLASS}( (is )?(in|inside|within) (the )?({FRAME}|view))?"
-        "( visible| in view| showing)?",
-        # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
-        "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
-        "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
-        "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
-        # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
-        "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
-        "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     ],
     "wide": [
         "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
@@ -559,6 +538,35 @@ SHOT_CLAUSES["wide"] += [
     "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
 ]
 
+# All of the subject in the picture, said in a clause ("the whole bench in frame", "fully visible").
+SHOT_CLAUSES[WHOLE] = [
+    # The whole subject, said alone as a clause ("front-left three-quarters, at seat level, complete").
+    ALONE.replace("{WORD}", "(complete|whole|entire|uncropped|in full|in its entirety|all in|all of it|in one piece)"),
+    # The whole subject in the picture ("the whole bench in frame", "slats and all").
+    "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
+    "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
+    # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
+    # "the whole set in view").
+    "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
+    "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
+    "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
+    # Nothing of it cropped ("don't crop it", "do not cut it off").
+    "(don t|do not|dont|never) (crop|cut off|cut|chop)( {obj}| anything| any of {obj})?( off)?",
+    # Nothing of it cut by the frame ("not cut off anywhere", "nothing cropped").
+    "(not|nothing|no part|none of it) (cut off|cropped|clipped|chopped off|cut)( anywhere| at all| by the {FRAME})?",
+    # All of it seen ("fully visible", "completely in frame").
+    "(fully|completely|entirely|wholly) (visible|(in|inside|within) (the )?({FRAME}|view))",
+    # The whole of the kind of thing it is ("full vehicle in frame", "the entire animal visible").
+    "(the |{P} )?(whole|entire|full|complete) {CLASS}( (is )?(in|inside|within) (the )?({FRAME}|view))?"
+    "( visible| in view| showing)?",
+    # The subject said whole ("the grey teddy whole in frame", "the bench complete in the shot").
+    "{obj} (is |shown |seen |kept )?(whole|complete|entire|uncropped|in full|in its entirety)"
+    "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
+    "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
+    # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
+    "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
+    "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
+]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
 # of padding all round"): all of it with little room, a medium shot; a generous margin stays wide.
 SHOT_CLAUSES["medium"] += [
@@ -3793,18 +3801,25 @@ def _combined_view(held, said):
     return VIEW_COMBINATIONS.get(frozenset((held, said)))
 
 
+# Shot cues that say all of the subject is in, not how big: they yield to a size word.
+YIELDING_SHOTS = frozenset({WHOLE_SPAN, WHOLE})
+
+
 def _combined_shot(held, said) -> str | None:
-    """The size two shot cues of a subject say together: all of it from end to end
-    (:data:`WHOLE_SPAN`) with a size word is that size ("filling the frame, top to bottom" is a
-    close-up); else None (a conflict)."""
-    if WHOLE_SPAN in (held, said) and held != said:
-        return said if held == WHOLE_SPAN else held
+    """The size two shot cues of a subject say together: all of it in (:data:`YIELDING_SHOTS`:
+    from end to end, the whole of it) with a size word is that size ("filling the frame, top to
+    bottom" is a close-up, "the whole sofa, small in frame" wide), and with each other all of it;
+    else None (a conflict)."""
+    if held in YIELDING_SHOTS and said in YIELDING_SHOTS:
+        return held
+    if held in YIELDING_SHOTS or said in YIELDING_SHOTS:
+        return said if held in YIELDING_SHOTS else held
     return None
 
 
 def _said_shot(shot: str | None) -> str | None:
-    """A subject's shot as the constraints name it: all of it from end to end alone is medium."""
-    return "medium" if shot == WHOLE_SPAN else shot
+    """A subject's shot as the constraints name it: all of it in, said alone, is medium."""
+    return "medium" if shot in YIELDING_SHOTS else shot
 
 
 # A height and a side of the frame said apart are the corner between them ("at the bottom, on the
