@@ -10,7 +10,9 @@ heldout13, blind too, written before the changes tuned on heldout11 landed, read
 heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
 heldout15, blind too, written after heldout14 before the changes tuned on heldout12 land,
 read by its writer only; the parse-only corpus phrasing1, written blind before any parser ran on
-it, read by its writer only; and the parse-only development corpus phrasing2, written blind to the method):
+it, read by its writer only; the parse-only development corpus phrasing2, written blind to the method;
+and the parse-only corpus phrasing3, written blind to the method before any parser ran on it, read by
+its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -27,6 +29,7 @@ import pytest
 import torch
 from _synth_helpers import aim_camera, build_scene, obj
 
+from capframe.bench import resolve_suite
 from capframe.evaluate import GroundTruthChecker
 from capframe.evaluate.ground_truth import read_ground_truth
 from capframe.evaluate.spec import KINDS, arc_deviation, clearance, judge, parse_spec, support_level
@@ -57,7 +60,9 @@ COMMITTED = {
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
-PARSE_ONLY = {"phrasing1": [25] * 8, "phrasing2": [25] * 8}
+# phrasing3 (blind, 200 instructions) is validated like the others; being parse-only it is never
+# generated, so what needs a generated scene (ground truth, clearance) is skipped for it too.
+PARSE_ONLY = {"phrasing1": [25] * 8, "phrasing2": [25] * 8, "phrasing3": [25] * 8}
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
 
@@ -112,6 +117,7 @@ def test_the_parse_only_corpus_is_valid_and_shaped_as_asked(name):
         if other != name:
             assert not texts & {spec.text.lower() for _, spec in load_heldout(SUITES / f"{other}.yaml").cases()}, other
     assert has_committed_instructions(SUITES / f"{name}.yaml")
+    assert resolve_suite(name) == SUITES / f"{name}.yaml", "`bench ground --suite NAME --parse-only` resolves it"
 
 
 ORDER = list(COMMITTED)  # written order (sorted names would put heldout10 before heldout2)

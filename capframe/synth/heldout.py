@@ -1,8 +1,8 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
 sets ``heldout``, ``heldout2`` ... ``heldout12``, development sets now, and the blind ``heldout13``,
-``heldout14`` and ``heldout15``, issue #15; and the parse-only corpora ``phrasing1`` (blind) and
-``phrasing2`` (a development corpus), whose scenes are never generated: ``capframe bench ground
---suite phrasing2 --parse-only``).
+``heldout14`` and ``heldout15``, issue #15; and the parse-only corpora ``phrasing1`` (blind),
+``phrasing2`` (a development corpus) and ``phrasing3`` (blind, written before any parser ran on it),
+whose scenes are never generated: ``capframe bench ground --suite phrasing3 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
 folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene (and, for a
