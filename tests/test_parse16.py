@@ -60,6 +60,12 @@ def test_side_letter_beside_a_view_word_is_that_side(text, view):
     assert parse(text).subjects[0].view == view
 
 
+def test_equals_sign_keeps_its_key_and_value_together():
+    # "=" joins a setting to its value ("azimuth=45"): read as a space, not as a label's colon.
+    assert words("azimuth=45") == ["azimuth", "45"]
+    assert words("right third -> mug") == ["right", "third", ":", "mug"]
+
+
 def test_side_letter_elsewhere_is_left_as_written():
     # Only beside a view word: a size letter, or a letter alone, is no side.
     assert words("size L mug") == ["size", "l", "mug"]
@@ -94,7 +100,7 @@ REGION_LABELS = [
     ("Lower left - the ball", "lower left"),
     ("Right half: sofa, eye level", "right"),
     ("right third -> teddy bear", "right third"),
-    ("Upper right = the toy car", "upper right"),
+    ("Upper right => the toy car", "upper right"),
     ("bottom third: the bench. Low angle.", "bottom"),
     ("Middle of frame: armchair", "center"),
 ]
@@ -219,3 +225,17 @@ def test_whole_subject_alone_is_a_medium_shot(text):
 def test_two_sizes_still_conflict_beside_a_whole_subject():
     with pytest.raises(InputError, match="conflicting shot"):
         parse("the mug in close-up, the entire mug tiny in the frame")
+
+
+@pytest.mark.parametrize(
+    ("text", "roll", "view", "region"),
+    [
+        # A side after a comma, or before a part of the frame or a view noun, is no roll's side.
+        ("sofa, dutch 20 degrees, left profile", 20.0, "left", None),
+        ("the mug, dutch angle 15 degrees, left third", 15.0, None, "left third"),
+        ("bench with a dutch angle of 10 degrees, the right side facing us", 10.0, "right", None),
+    ],
+)
+def test_side_in_another_clause_is_not_the_dutch_angle_side(text, roll, view, region):
+    p = parse(text)
+    assert (p.roll_deg, p.subjects[0].view, p.subjects[0].region) == (roll, view, region)

@@ -2074,6 +2074,7 @@ ROLL_SIDE_ADJECTIVE = "({side}( hand|wards?)?)"
 ROLL_DIRECTION = "({dir}|" + ROLL_SIDE + ")"
 # How a dutch angle goes to its side ("a dutch angle leaning left").
 LEANING = "(leaning|leant|leaned|tilted|tilting|rolled|rolling|canted|canting|tipped|tipping|going|sloping)"
+NOT_A_ROLL_SIDE = "(?! (of|side|third|half|edge|corner|part|profile|flank|view|angle)( |$))"
 # Verbs that turn the camera about its lens axis only: said with a side they roll it. "Turn",
 # "swing" and "angle" the camera to a side may aim it instead, and are a roll with a side only
 # about the lens axis.
@@ -2143,11 +2144,12 @@ ROLL_PHRASES = {
         f"{GIVE} (a |an )?{{d}}( turn| of (a )?turn)? {ROLL_DIRECTION} (to|on) {CAMERA_THING}",
         "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (to|towards) the {side}",
         # A dutch angle with degrees and a side, in either order, maybe leaning ("dutch angle 30
-        # degrees to the left", "dutch tilt, leaning right by 20 degrees").
-        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))?( of)? {d}( ,)? (" + LEANING + " )?(to |towards )?(the )?{side}"
-        "( side| hand)?(?! of )",
-        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))?( ,)? (" + LEANING + " )?(to |towards )?(the )?{side}"
-        "( side| hand)? (by |of )?{d}",
+        # degrees to the left", "dutch tilt leaning right by 20 degrees"), in one clause: a side
+        # after a comma, or before a part of the frame or of the subject, is a place or a view.
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))?( of)? {d} (" + LEANING + " )?(to |towards )?(the )?{side}"
+        "( hand)?" + NOT_A_ROLL_SIDE,
+        "(with )?(a |an )?({mod} )?(dutch|canted)( (angle|tilt))? (" + LEANING + " )?(to |towards )?(the )?{side}"
+        "( hand)? (by |of )?{d}",
         "(with )?(a |an )?({dir} )?(camera )?roll( of)? {sd}",
         "(camera )?roll angle( of| at)? {sd}( {dir})?",
         "(camera )?rolled (by )?{sd}",

@@ -221,7 +221,7 @@ def words(text: str) -> list[str]:
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
     s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
-    s = re.sub(r"\s*(?:-+>|=+>|\u2192|=)\s*", " : ", s)  # an arrow or "=" after a label, as a colon ("centre -> mug")
+    s = re.sub(r"\s*(?:-+>|=+>|\u2192)\s*", " : ", s)  # an arrow after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
