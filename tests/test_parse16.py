@@ -239,3 +239,30 @@ def test_two_sizes_still_conflict_beside_a_whole_subject():
 def test_side_in_another_clause_is_not_the_dutch_angle_side(text, roll, view, region):
     p = parse(text)
     assert (p.roll_deg, p.subjects[0].view, p.subjects[0].region) == (roll, view, region)
+
+
+DIAGONAL_NOUNS = [
+    ("For the mug I'm after a front-right 3/4, eye level", "front-right"),
+    ("give me front left on the teddy bear", "front-left"),
+    ("the armchair, I'd like front-right please", "front-right"),
+    ("Teddy bear, go for front right, medium", "front-right"),
+    ("sofa - do a front left, low", "front-left"),
+    ("the vase, something like rear right", "back-right"),
+    ("a front-left three-quarter on the toy car", "front-left"),
+    ("BENCH: REAR LEFT ONE", "back-left"),
+]
+
+
+@pytest.mark.parametrize(("text", "view"), DIAGONAL_NOUNS)
+def test_diagonal_said_as_a_noun_phrase_is_the_view(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+@pytest.mark.parametrize(
+    "text", ["the front left wheel of the toy car, close-up", "the front right leg of the armchair in close-up"]
+)
+def test_diagonal_describing_a_part_is_no_view(text):
+    # A noun after the diagonal is what it describes ("the front left wheel"): no view is read.
+    p = parse(text)
+    assert p.subjects[0].view is None
+    assert any("front" in words_ for words_ in p.not_understood())

@@ -898,6 +898,12 @@ VIEW_SIDE_WORDS["back-left"].append("left behind")
 # A ship's broadside (and "broad side on"): its side turned full to the camera, which side said
 # apart ("broadside from its left") or not at all.
 VIEW_SIDE_WORDS["side"] += ["broadside", "broadside on", "broad side on"]
+# What may follow a diagonal said as a noun phrase (:func:`_templates`): a view noun, the clause's
+# end, or a word leading on to the subject or another clause; never a noun it describes.
+DIAGONAL_END = (
+    "( (view|angle|shot|perspective|position|vantage|one))?"
+    "(?= ([,.;:!?)]|$|and |with |at |from |on |of @\\d|for |to @\\d|please |low|high|eye|medium|close|wide|tight))"
+)
 # "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
 GENERIC_ON_WORDS = tuple(w for w in HEAD_ON_WORDS if w not in VIEW_SIDE_WORDS["front"])
 # A side word in a noun phrase ("the back of the chair", "its left side") is a view side, except
@@ -3042,6 +3048,10 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             corner += "|from( (over|across|beyond|behind))?) (the|{P}) " + _alternatives(sides) + " (corner|edge|quarter|angle)"
             rows.append(("view", view, corner + "( of {obj})?", False))
             rows.append(("view", view, "(over|across) (the|{P}) " + _alternatives(sides) + " (corner|edge)( of {obj})?", False))
+            # A diagonal names a view wherever it stands as a noun phrase, a region never being one
+            # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
+            # car"), unless a noun follows that it describes ("the front left leg").
+            rows.append(("view", view, "((a|an|the|some) )?" + _alternatives(sides) + DIAGONAL_END, False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
