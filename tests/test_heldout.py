@@ -9,7 +9,8 @@ tuned on heldout10 landed; heldout12, blind too, written before the changes tune
 heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only;
 heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
 heldout15, blind too, written after heldout14 before the changes tuned on heldout12 land,
-read by its writer only; the parse-only corpus phrasing1, written blind before any parser ran on
+read by its writer only; heldout16, blind too, written after heldout15 before the changes tuned on
+heldout13 land, read by its writer only; the parse-only corpus phrasing1, written blind before any parser ran on
 it, read by its writer only; and the parse-only development corpus phrasing2, written blind to the method):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
@@ -53,6 +54,7 @@ COMMITTED = {
     "heldout13": [15, 14, 15, 14, 15, 15],
     "heldout14": [15, 14, 15, 14, 15, 15],
     "heldout15": [15, 14, 15, 14, 15, 15],
+    "heldout16": [15, 14, 15, 14, 15, 15],
 }
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or

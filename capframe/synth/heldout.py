@@ -1,6 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
 sets ``heldout``, ``heldout2`` ... ``heldout12``, development sets now, and the blind ``heldout13``,
-``heldout14`` and ``heldout15``, issue #15; and the parse-only corpora ``phrasing1`` (blind) and
+``heldout14``, ``heldout15`` and ``heldout16``, issue #15; and the parse-only corpora ``phrasing1`` (blind) and
 ``phrasing2`` (a development corpus), whose scenes are never generated: ``capframe bench ground
 --suite phrasing2 --parse-only``).
 
