@@ -6,13 +6,14 @@ changes tuned on heldout6 landed; heldout8, blind too, before the changes tuned 
 heldout9, blind too, before the changes tuned on heldout7 and heldout8 landed; heldout10, blind too,
 before the changes tuned on heldout8 and heldout9 landed; heldout11, blind too, before the changes
 tuned on heldout10 landed; heldout12, blind too, written before the changes tuned on heldout11 landed;
-heldout13, blind too, written before the changes tuned on heldout11 landed, read by its writer only;
+heldout13, blind too, written before the changes tuned on heldout11 landed, a development set since heldout16 was written;
 heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
 heldout15, blind too, written after heldout14 before the changes tuned on heldout12 land,
-read by its writer only; the parse-only corpus phrasing1, written blind before any parser ran on
-it, read by its writer only; the parse-only development corpus phrasing2, written blind to the method;
-and the parse-only corpus phrasing3, written blind to the method before any parser ran on it, read by
-its writer only):
+read by its writer only; heldout16, blind too, written after heldout15 before the changes tuned on
+heldout13 land, read by its writer only; the parse-only corpus phrasing1, written blind before any
+parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
+development corpus phrasing2, written blind to the method; and the parse-only corpus phrasing3,
+written blind to the method before any parser ran on it, read by its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -56,6 +57,7 @@ COMMITTED = {
     "heldout13": [15, 14, 15, 14, 15, 15],
     "heldout14": [15, 14, 15, 14, 15, 15],
     "heldout15": [15, 14, 15, 14, 15, 15],
+    "heldout16": [15, 14, 15, 14, 15, 15],
 }
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or

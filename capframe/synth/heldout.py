@@ -1,7 +1,7 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout12``, development sets now, and the blind ``heldout13``,
-``heldout14`` and ``heldout15``, issue #15; and the parse-only corpora ``phrasing1`` (blind),
-``phrasing2`` (a development corpus) and ``phrasing3`` (blind, written before any parser ran on it),
+sets ``heldout``, ``heldout2`` ... ``heldout13``, development sets now, and the blind ``heldout14``,
+``heldout15`` and ``heldout16``, issue #15; and the parse-only corpora ``phrasing1`` and
+``phrasing2`` (development corpora) and ``phrasing3`` (blind, written before any parser ran on it),
 whose scenes are never generated: ``capframe bench ground --suite phrasing3 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
