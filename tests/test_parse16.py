@@ -266,3 +266,26 @@ def test_diagonal_describing_a_part_is_no_view(text):
     p = parse(text)
     assert p.subjects[0].view is None
     assert any("front" in words_ for words_ in p.not_understood())
+
+
+FACING_WAYS = [
+    # Facing one way in the frame shows the subject's own side on that hand (DESIGN §3).
+    ("toy car pointing to the right of the frame", "right"),
+    ("the bear gazing off to frame left", "left"),
+    ("the toy car driving towards the left side of the picture", "left"),
+    ("teddy bear, facing screen right", "right"),
+    ("the toy car with its nose aimed towards the left", "left"),
+    ("BEAR LOOKING OFF TO THE RIGHT IN THE FRAME", "right"),
+    ("the car heading to frame right, low", "right"),
+    ("the teddy bear staring left", "left"),
+]
+
+
+@pytest.mark.parametrize(("text", "view"), FACING_WAYS)
+def test_facing_one_way_in_the_frame_shows_that_side(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+@pytest.mark.parametrize("text", ["the camera looking right at the mug", "teddy bear, camera pointed right into its eyes"])
+def test_right_as_straight_at_is_no_side(text):
+    assert parse(text).subjects[0].view not in ("left", "right")

@@ -829,6 +829,23 @@ CAMERA = (
     "( (is|should be|must be|being))?"
     "( (placed|positioned|located|set|standing|put|kept|parked|sitting|stationed|mounted|perched|hovering))?"
 )
+# Facing one way in the frame ("facing left", "pointing to the right of the frame", "gazing off to
+# screen left", "nose aimed towards the left side of the picture"): the subject's own side on that
+# hand is the one seen (VIEW_PHRASES).
+FACING_VERBS = (
+    "(facing|faces|face|looking|looks|gazing|gazes|staring|stares|pointing|points|pointed|heading|headed|heads|driving"
+    "|drives)"
+)
+# Said of its front, or any of these verbs ("its nose aimed left"); "aimed" or "turned" alone may
+# be the camera's.
+PART_FACING_VERBS = "(pointing|pointed|facing|turned|aimed|aiming)"
+FACING_WAY = (
+    "(((with )?(the|{P}) (nose|front|face|head) " + PART_FACING_VERBS + ")|((turned|turning) (to )?)?" + FACING_VERBS + ") "
+    "((to the |towards the |toward the |off to the |off towards the )?{LAT}( hand)?( side)?( (in|of) (the )?{FRAME})?"
+    "|(off )?(to |towards )?(the )?(screen|{FRAME}) {LAT})"
+    # "Looking right at the mug": "right" says straight at, no side.
+    "(?! (at|into|down|up|over|through|onto|towards|toward)( |$))"
+)
 VIEW_SIDE_WORDS = {
     # A vehicle's or a boat's ends too ("the nose end", "the stern", "aft"); a bare nose or tail is
     # a part ("so its tail shows") but where the camera is seen from (VIEW_PHRASES).
@@ -1086,22 +1103,11 @@ VIEW_PHRASES = {
         # A bare "straight behind" as a clause of its own ("bench backrest side, straight behind").
         "{CLAUSE}({EXACT} |(?P<exact>right) )behind(?= ([,.;!]|$))",
     ],
-    "left": [
-        "facing (to the |towards the )?left( in (the )?{FRAME})?",
-        "facing (screen|{FRAME}) left",
-        # Turned, looking or pointing one way in the frame, or its front said so ("turned to face
-        # left", "gazing to the left", "its nose pointing left"): its front points that way.
-        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
-        "(to the |towards the |off to the )?left( in (the )?{FRAME})?",
-        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?left",
-    ],
-    "right": [
-        "facing (to the |towards the )?right( in (the )?{FRAME})?",
-        "facing (screen|{FRAME}) right",
-        "((turned|turning) (to )?)?(face|faces|looking|gazing|staring|pointing|pointed|heading) "
-        "(to the |towards the |off to the )?right( in (the )?{FRAME})?",
-        "(with )?((the|{P}) )?(nose|front|face|head) (pointing|pointed|facing|turned|aimed) (to the |towards the )?right",
-    ],
+    # Facing, looking or going one way in the frame, or its front said so ("turned to face left",
+    # "gazing off to frame left", "driving towards the right of the frame", "its nose pointing
+    # left"): its front points that way, so that side of it is seen (FACING_WAY).
+    "left": [FACING_WAY.replace("{LAT}", "left")],
+    "right": [FACING_WAY.replace("{LAT}", "right")],
     "side": [
         "in profile",
         # A profile said before the side it is seen from ("profile from its right-hand side").
