@@ -833,8 +833,7 @@ CAMERA = (
 # screen left", "nose aimed towards the left side of the picture"): the subject's own side on that
 # hand is the one seen (VIEW_PHRASES).
 FACING_VERBS = (
-    "(facing|faces|face|looking|looks|gazing|gazes|staring|stares|pointing|points|pointed|heading|headed|heads|driving"
-    "|drives)"
+    "(facing|faces|face|looking|looks|gazing|gazes|staring|stares|pointing|points|pointed|heading|headed|heads|driving|drives)"
 )
 # Said of its front, or any of these verbs ("its nose aimed left"); "aimed" or "turned" alone may
 # be the camera's.
