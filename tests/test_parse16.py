@@ -289,3 +289,38 @@ def test_facing_one_way_in_the_frame_shows_that_side(text, view):
 @pytest.mark.parametrize("text", ["the camera looking right at the mug", "teddy bear, camera pointed right into its eyes"])
 def test_right_as_straight_at_is_no_side(text):
     assert parse(text).subjects[0].view not in ("left", "right")
+
+
+@pytest.mark.parametrize(
+    ("text", "elevation", "degrees", "roll"),
+    [
+        # Level with a named object is a height, not a level horizon.
+        ("the vase on the left, ball in too, camera held level with the vase", "eye level", None, None),
+        ("the armchair, camera kept level with the armchair", "eye level", None, None),
+        ("the sofa, camera held level", None, None, 0.0),
+        # Pointed at the sky or the ceiling: straight up; a camera at the ceiling is up there.
+        ("the mug from beneath, lens pointing skyward", None, -90.0, None),
+        ("the toy car from under it, camera aimed at the sky", None, -90.0, None),
+        ("the bench, lens facing the ceiling", None, -90.0, None),
+        ("the sofa, camera at the ceiling", "bird's-eye", None, None),
+        # The camera raised by an angle is that elevation.
+        ("elevate the lens twenty degrees on the mug", None, 20.0, None),
+        ("the vase, raise the camera by 30 degrees", None, 30.0, None),
+    ],
+)
+def test_heights_said_of_the_camera(text, elevation, degrees, roll):
+    p = parse(text)
+    assert (p.elevation, p.elevation_deg, p.roll_deg) == (elevation, degrees, roll)
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [("the sofa rear right 45 degrees, wide", "back-right"), ("mug, front left 45, eye level", "front-left")],
+)
+def test_diagonal_with_its_own_45_degrees(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+def test_diagonal_with_another_angle_is_not_read_as_the_diagonal():
+    # 30 degrees off the front is not the 45-degree diagonal: left to the turn phrases, or reported.
+    assert parse("the mug, front left 30").subjects[0].view != "front-left"

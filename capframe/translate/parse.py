@@ -914,10 +914,11 @@ VIEW_SIDE_WORDS["back-left"].append("left behind")
 # A ship's broadside (and "broad side on"): its side turned full to the camera, which side said
 # apart ("broadside from its left") or not at all.
 VIEW_SIDE_WORDS["side"] += ["broadside", "broadside on", "broad side on"]
-# What may follow a diagonal said as a noun phrase (:func:`_templates`): a view noun, the clause's
-# end, or a word leading on to the subject or another clause; never a noun it describes.
+# What may follow a diagonal said as a noun phrase (:func:`_templates`): its own 45 degrees, a view
+# noun, the clause's end, or a word leading on to the subject or another clause; never a noun it
+# describes.
 DIAGONAL_END = (
-    "( (view|angle|shot|perspective|position|vantage|one))?"
+    "( 45( degrees)?)?( (view|angle|shot|perspective|position|vantage|one))?"
     "(?= ([,.;:!?)]|$|and |with |at |from |on |of @\\d|for |to @\\d|please |low|high|eye|medium|close|wide|tight))"
 )
 # "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
@@ -1486,7 +1487,7 @@ ELEVATION_PHRASES = {
         "({ANCHOR_EYE}|{SURFACE}|coffee table|side table)( of {obj})?",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
         "(at |from )?(its |their )?own (height|level)",
-        "({STRONG} )?{LEVEL} {obj}",
+        "((the )?(camera|lens) (is )?(held |kept |set |placed |put )?)?({STRONG} )?{LEVEL} {obj}",
         "((the )?(camera|lens|shot|view) )?(held )?({STRONG} |flat )level(?= ([,.;!]|$))",
         # A view noun, then "level" ("viewpoint level"); not "camera level": that keeps the horizon level.
         "({EYENOUN}|lens) (level|flat)(?= ([,.;!]|$))",
@@ -1875,6 +1876,11 @@ VERTICAL_UP_PHRASES = [
     "( (at|to|towards) {obj})?{THROUGH}",
     "{AIM}( the camera| the lens)? {FULLY} up( (at|to|towards) {obj})?{THROUGH}",
     "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? up (vertically|straight|fully){THROUGH}",
+    # Pointed at the sky or the ceiling ("lens pointing skyward", "camera facing the ceiling"); a
+    # camera "at the ceiling" is up there, looking down.
+    "((the )?(camera|lens|gimbal) )?(({AIM}|facing|turned|looking|staring|gazing) )?(skyward|skywards|heavenward|heavenwards)",
+    "((the )?(camera|lens|gimbal) )?({AIM}|facing|turned|looking|staring|gazing) ((at|to|towards|into) )?the "
+    "(sky|heavens|zenith|ceiling)",
 ]
 
 # A drone gimbal's pitch: the angle the camera looks down, written with either sign ("gimbal at 90",
@@ -1914,6 +1920,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
         "(at |from |with )?(an |a )?{sd} (elevation|elevation angle)",
         "(at |from |with )?(an |a )?{d} (high angle|down angle)",
+        # The camera raised by the angle ("elevate the lens twenty degrees", "raise the camera 30° up").
+        "(elevate|elevated|elevating|raise|raised|raising|lift|lifted|lifting) (the )?(camera|lens|cam|view|viewpoint|angle)"
+        "( by)? {d}(?<= degrees)( (up|higher|above))?",
         # Degrees and the way the camera points ("at a 45 degree angle looking down").
         "(at |from )?(a |an )?{d}(?<= degrees) angle( ,)? (looking|pointing|{AIM}) down( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from) (a |an )?{d}(?<= degrees) angle",
@@ -2217,7 +2226,8 @@ ROLL_PHRASES = {
         " (nice and |perfectly |dead )?(level|straight)",
         "(with )?no camera roll",
         "without (any )?((dutch|canted) (angle|tilt)|roll|camera roll|tilt)",
-        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?(dead |perfectly |nice and )?level",
+        # Not level with something: that is a height ("camera held level with the chair").
+        "((keep|keeping|hold|holding|with) )?(the )?camera (held )?(dead |perfectly |nice and )?level(?! (with|to) )",
         "(a )?level camera",
         # Said as an absence of any roll word ("no tilt at all", "no rolling", "not rotated") or
         # of a crooked frame ("horizon not crooked").
