@@ -241,6 +241,17 @@ def test_judge_adds_azimuth_and_elevation_range_rows(world):
     assert not aside.all_satisfied
 
 
+def test_judge_of_a_subject_the_scene_lacks_fails_without_raising(world):
+    # An unknown subject named alone: the spec has no known subject, so no camera satisfies it,
+    # and the bench must go on (it once stopped a whole run).
+    _, gt, checker = world
+    entry = {"id": "u", "text": "the lantern, close", "kind": "subject", "feasible": False, "reason": "unknown subject"}
+    spec = parse_spec(entry | {"subjects": [], "absent": ["lantern"]}, "tiny", "t.yaml", 0)
+    report = judge(checker, aim_camera(gt, obj(gt, "teddy bear"), azimuth=0.0, elevation=10.0, distance=5.0), spec)
+    assert not report.all_satisfied
+    assert [(r.constraint, r.satisfied, r.target) for r in report.rows] == [("subject", False, {"absent": ["lantern"]})]
+
+
 def test_clearance_below_the_support(world):
     root, gt, _ = world
     truth = read_ground_truth(root)

@@ -257,7 +257,12 @@ def _elevation_row(name: str, rng: tuple[float, float], obj, camera: Camera, up:
 def judge(checker: ConstraintChecker, camera: Camera, spec: InstructionSpec) -> CheckReport:
     """The check of ``camera`` against ``spec``: the vocabulary rows of ``checker`` (visibility,
     region, shot, view, elevation, roll), then an ``azimuth`` row per subject with an azimuth
-    range and an ``elevation`` row for an elevation range (around the primary subject)."""
+    range and an ``elevation`` row for an elevation range (around the primary subject). A spec
+    that names only subjects the scene lacks (``absent``, no known subject) has nothing to see:
+    one unsatisfied ``subject`` row says so, whatever the camera."""
+    if not spec.constraints.subjects:
+        row = CheckRow("subject", None, False, None, {"absent": list(spec.absent)}, None, note="the scene lacks the subject")
+        return CheckReport([row], spec.id, spec.text)
     report = checker.check(camera, spec.constraints)
     up = checker.up
     for name, arc in spec.azimuths.items():
