@@ -324,3 +324,36 @@ def test_diagonal_with_its_own_45_degrees(text, view):
 def test_diagonal_with_another_angle_is_not_read_as_the_diagonal():
     # 30 degrees off the front is not the 45-degree diagonal: left to the turn phrases, or reported.
     assert parse("the mug, front left 30").subjects[0].view != "front-left"
+
+
+TOPICS = [
+    # An opening noun phrase that goes on with a copula, a verb of saying or a colon, then names
+    # what is wanted, is the sentence's topic, not a thing the scene lacks.
+    ("my preference is rear-left for the bench", "bench"),
+    ("the plan: teddy bear, close-up, from the front", "teddy bear"),
+    ("my wish would be the vase from the left", "vase"),
+    ("the brief says the armchair at eye level", "armchair"),
+    ("our aim is to get the ball small in the corner", "ball"),
+    ("my idea: the cushion from directly above", "cushion"),
+    ("the story here is the toy car, low angle", "toy car"),
+    ("THE CONCEPT IS THE SOFA, WIDE", "sofa"),
+]
+
+
+@pytest.mark.parametrize(("text", "name"), TOPICS)
+def test_topic_opening_is_no_thing(text, name):
+    assert parse(text).subjects[0].name == name
+
+
+@pytest.mark.parametrize(
+    ("text", "thing"),
+    [
+        ("the lantern is next to the bench, close-up", "lantern"),
+        ("the teapot: it sits beside the mug", "teapot"),
+        ("a lamp is behind the sofa, wide", "lamp"),
+        ("my dog is on the armchair, shoot him from the left", "dog"),
+    ],
+)
+def test_opening_thing_placed_at_a_subject_is_still_refused(text, thing):
+    with pytest.raises(InputError, match=thing):
+        parse(text)

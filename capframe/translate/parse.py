@@ -3408,7 +3408,7 @@ class RuleParser:
             opening = (before is not None and before.forward) or all(
                 t in STOPWORDS or t in PUNCTUATION for t in tokens[: span[0]]
             )
-            subject = self._related_subject(tokens, span) if opening else None
+            subject = self._related_subject(tokens, span) if opening and not _topic_opening(tokens, span) else None
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
                 lo, hi = 0, len(run)
@@ -3623,8 +3623,9 @@ def _never_a_name(text: str) -> bool:
 def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bool]) -> bool:
     """Whether the run opens the sentence with a determiner and names something other than
     photographic words ("the horizon level" is not a subject), and is not just words describing
-    the subject named right after it ("the wide sofa")."""
-    if span[0] != 0 or tokens[0] not in MENTION_DETERMINERS:
+    the subject named right after it ("the wide sofa"), nor the topic of a sentence that names
+    what is wanted (:func:`_topic_opening`: "my preference is rear left for the bench")."""
+    if span[0] != 0 or tokens[0] not in MENTION_DETERMINERS or _topic_opening(tokens, span):
         return False
     words_ = [tokens[k] for k in span[1:]]
     content = [w for w in words_ if w not in STOPWORDS]
@@ -3635,6 +3636,25 @@ def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bo
     if describes_next and not any(w in STOPWORDS or w in POSITION_WORDS or w in PLACE_PREPOSITIONS for w in words_):
         return False
     return any(w not in RESERVED for w in content)
+
+
+# Words that make an opening noun phrase the topic of what follows ("my wish would be the vase",
+# "the brief says the armchair at eye level", "the plan: the bear, close-up").
+TOPIC_LINKS = frozenset({"is", "are", "was", "be", "says", "said", "reads", "means"})
+
+
+def _topic_opening(tokens: list[str], span: list[int]) -> bool:
+    """Whether the run opening the sentence is a topic, not a thing: it goes on with a copula or
+    a verb of saying (:data:`TOPIC_LINKS`), or a colon follows it, and then names what is wanted
+    (a subject or a clause), never a place ("the lantern is next to the bench" is a lantern)."""
+    words_ = [tokens[k] for k in span]
+    rest = tokens[span[-1] + 1 :]
+    colon = rest[:1] == [":"]
+    linked = any(w in TOPIC_LINKS for w in words_[1:]) or colon
+    # What it goes on to, up to the next subject or clause end ("is | behind the sofa", ": | it sits beside").
+    onward = list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, rest[colon:]))
+    placing = RELATION_WORDS | RELATION_OBJECT_WORDS | {"behind", "beyond"}
+    return linked and not any(w in placing for w in words_ + onward)
 
 
 def _spottable(form: tuple[str, ...]) -> bool:
