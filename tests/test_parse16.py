@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import pytest
 
+from capframe.bench.parse_only import _catalog_vocabulary
 from capframe.errors import InputError
 from capframe.scene.directory import SemanticObject
 from capframe.translate.parse import parse_instruction
@@ -357,3 +358,31 @@ def test_topic_opening_is_no_thing(text, name):
 def test_opening_thing_placed_at_a_subject_is_still_refused(text, thing):
     with pytest.raises(InputError, match=thing):
         parse(text)
+
+
+ROOM = Vocabulary.from_semantics(
+    [SemanticObject(k, n, [], False) for k, n in enumerate(["floor lamp", "armchair", "television", "bench", "coffee table"])]
+)
+
+
+@pytest.mark.parametrize(
+    ("text", "name"),
+    [
+        # A misspelt name read whole, though some of its words are words of the tables ("floor", "arm").
+        ("the floor lamb from the left", "floor lamp"),
+        ("arm chiar, rear", "armchair"),
+        ("the coffee tabel, top-down", "coffee table"),
+        # Letters written with dots.
+        ("the t.v. from the front", "television"),
+    ],
+)
+def test_misspelt_name_read_whole(text, name):
+    p = parse_instruction(text, ROOM)
+    assert p.subjects[0].name == name
+    assert p.not_understood() == []
+
+
+def test_attribute_before_a_name_is_not_read_as_a_misspelling():
+    # "green bench" is a green bench, not two letters off the catalog's alias "garden bench".
+    catalog = _catalog_vocabulary(["bench", "armchair"])
+    assert parse_instruction("the green bench from its left", catalog).to_dict()["corrected"] == []

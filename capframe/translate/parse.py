@@ -3329,14 +3329,20 @@ class RuleParser:
         alias (:meth:`Vocabulary.correction`), as (its length, the words read), judged on its
         singular words and, when they differ, on the words as written ("vaes" is "vase" with two
         letters swapped, its crude singular "vae" is not); words the phrase tables use are never
-        taken for a misspelling ("close" is not "closet")."""
+        taken for a misspelling ("close" is not "closet"), unless the name has them as written
+        ("floor lamb" is "floor lamp"), nor are attributes ("green bench" is no "garden bench")."""
         for n in range(min(longest, len(keys) - i), shorter, -1):
             window = tuple(keys[i : i + n])
-            if all(w.isalpha() and w not in self.lexicon for w in window):
-                for said in dict.fromkeys((window, tuple(tokens[i : i + n]))):
-                    form = vocabulary.correction(said)
-                    if form is not None and _spottable(form):
-                        return n, form
+            if not all(w.isalpha() for w in window):
+                continue
+            for said in dict.fromkeys((window, tuple(tokens[i : i + n]))):
+                form = vocabulary.correction(said)
+                if (
+                    form is not None
+                    and _spottable(form)
+                    and all(w in form or (w not in self.lexicon and w not in ATTRIBUTES) for w in window)
+                ):
+                    return n, form
         return None
 
     def _attribute(self, token: str) -> bool:

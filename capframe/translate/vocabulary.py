@@ -224,6 +224,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"\s*(?:-+>|=+>|\u2192)\s*", " : ", s)  # an arrow after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
+    s = re.sub(r"\b([a-z])\.(?=[a-z]\b)", r"\1", s)  # letters written with dots ("t.v.", "a.k.a.")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
     s = re.sub(r"(?<=[a-z])\s*\+\s*(?=[a-z])", " and ", s)  # "toy car + garage"; "+10 degrees" keeps its sign
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
