@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import pytest
 
-from capframe.bench.parse_only import _catalog_vocabulary
 from capframe.errors import InputError
 from capframe.scene.directory import SemanticObject
+from capframe.synth.objects import lookup
 from capframe.translate.parse import parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
 
@@ -384,5 +384,5 @@ def test_misspelt_name_read_whole(text, name):
 
 def test_attribute_before_a_name_is_not_read_as_a_misspelling():
     # "green bench" is a green bench, not two letters off the catalog's alias "garden bench".
-    catalog = _catalog_vocabulary(["bench", "armchair"])
+    catalog = Vocabulary.from_semantics([lookup("bench"), lookup("armchair")])
     assert parse_instruction("the green bench from its left", catalog).to_dict()["corrected"] == []
