@@ -386,3 +386,18 @@ def test_attribute_before_a_name_is_not_read_as_a_misspelling():
     # "green bench" is a green bench, not two letters off the catalog's alias "garden bench".
     catalog = Vocabulary.from_semantics([lookup("bench"), lookup("armchair")])
     assert parse_instruction("the green bench from its left", catalog).to_dict()["corrected"] == []
+
+
+OUTDOOR = Vocabulary.from_semantics([lookup("tree"), lookup("ball"), lookup("bench")])
+
+
+@pytest.mark.parametrize(
+    ("text", "name"),
+    [("the old oak tree, wide", "tree"), ("the sapling from low down", "tree"), ("the sphere on the lawn, close", "ball")],
+)
+def test_kinds_of_the_catalog_objects(text, name):
+    assert parse_instruction(text, OUTDOOR).subjects[0].name == name
+
+
+def test_a_bare_wood_name_is_a_material_not_a_tree():
+    assert parse_instruction("the pine bench from the left", OUTDOOR).subjects[0].name == "bench"

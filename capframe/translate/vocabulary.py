@@ -1387,6 +1387,10 @@ NAME_KINDS = (
     ("bench", "pew"),
     ("vase", "urn"),
     ("tree", "palm tree"),
+    # Kinds of tree said with "tree" ("the oak tree", "the young sapling"); a bare "oak" or "pine"
+    # is as often a material ("the oak bench").
+    ("tree", "oak tree", "pine tree", "birch tree", "maple tree", "fir tree", "apple tree", "cherry tree", "sapling"),
+    ("ball", "sphere"),
     ("television", "monitor"),
 )
 
