@@ -301,6 +301,30 @@ def test_bench_reads_refusals_and_parse_differences():
     assert parse_differences({"subjects": [{"name": "teddy bear", "view": "front-slight-left"}]}, plain) == ["view"]
 
 
+def test_bench_keeps_going_past_a_failing_method_or_judge(monkeypatch, tmp_path):
+    # A refusal, a bug in the method and a bug in the judge each become an outcome of their own;
+    # none stops the benchmark (one judge error once lost a whole run).
+    from capframe.bench import heldout as bench
+
+    spec = _spec()
+    results = iter(
+        [("refused", "subject 'cat' is not in this scene", 0.1), ("error", "ValueError: boom", 0.2), ("done", "", 0.3)]
+    )
+    monkeypatch.setattr(bench, "_ground_one", lambda *args: next(results))
+
+    def broken_judge(*args):
+        raise KeyError("no row")
+
+    monkeypatch.setattr(bench, "judge_result", broken_judge)
+    outcomes = [bench._run_one(tmp_path, spec, tmp_path, None, None, []) for _ in range(3)]
+    assert [(o.status, o.reasons) for o in outcomes] == [
+        ("refused", ["refused: unknown subject"]),
+        ("error", ["error: ValueError"]),
+        ("error", ["error: judge KeyError"]),
+    ]
+    assert not (tmp_path / "checks").exists()
+
+
 def test_bench_summary_counts_success_infeasible_kinds_reasons_and_clearance():
     from capframe.bench.heldout import Outcome, format_summary, summarise
 

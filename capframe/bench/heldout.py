@@ -212,15 +212,7 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None, blind: bool
         _warm_cache(ground_dir, cache)
         options = GroundOptions(cache_dir=cache, gravity=gravity)
         for spec in heldout.specs[scene.id]:
-            out = root / "ground" / spec.id
-            status, message, seconds = _ground_one(ground_dir, spec, out, options)
-            if status == "done":
-                outcome, report = judge_result(out, spec, checker, walls, seconds)
-                write_json(root / "checks" / f"{spec.id}.json", report.to_dict())
-            elif status == "refused":
-                outcome = Outcome(spec, "refused", [refusal_reason(message)], message, seconds=seconds)
-            else:
-                outcome = Outcome(spec, "error", [f"error: {message.split(':')[0]}"], message, seconds=seconds)
+            outcome = _run_one(ground_dir, spec, root, options, checker, walls)
             outcomes.append(outcome)
             print(_line(outcome, blind), file=sys.stderr, flush=True)
     figures = summarise(outcomes)
@@ -229,6 +221,28 @@ def bench_heldout(suite: str | Path, root: str | Path | None = None, blind: bool
     _write_rows(outcomes, root / "heldout.csv")
     write_json(root / "heldout.json", figures)
     return figures
+
+
+def _run_one(
+    ground_dir: Path, spec: InstructionSpec, root: Path, options: GroundOptions, checker: GroundTruthChecker, walls: list[str]
+) -> Outcome:
+    """Ground one instruction into ``root/ground/<id>`` and judge it (the report to
+    ``root/checks/<id>.json``). A bug in the method or in the judge is an ``error`` outcome, so
+    the instructions measured before it are kept."""
+    out = root / "ground" / spec.id
+    status, message, seconds = _ground_one(ground_dir, spec, out, options)
+    if status == "refused":
+        return Outcome(spec, "refused", [refusal_reason(message)], message, seconds=seconds)
+    if status != "done":
+        return Outcome(spec, "error", [f"error: {message.split(':')[0]}"], message, seconds=seconds)
+    try:
+        outcome, report = judge_result(out, spec, checker, walls, seconds)
+    except Exception as err:
+        traceback.print_exc(file=sys.stderr)
+        message = f"{type(err).__name__}: {' '.join(str(err).split())}"
+        return Outcome(spec, "error", [f"error: judge {type(err).__name__}"], message, seconds=seconds)
+    write_json(root / "checks" / f"{spec.id}.json", report.to_dict())
+    return outcome
 
 
 def _line(o: Outcome, blind: bool = False) -> str:
