@@ -401,3 +401,19 @@ def test_kinds_of_the_catalog_objects(text, name):
 
 def test_a_bare_wood_name_is_a_material_not_a_tree():
     assert parse_instruction("the pine bench from the left", OUTDOOR).subjects[0].name == "bench"
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # A slight side after a clause that faces the camera or turns away from it offsets that view.
+        ("the teddy bear facing away from us, slightly to the left", "back-slight-left"),
+        ("the bench facing the camera, a touch to the right", "front-slight-right"),
+        ("the armchair turned away from the lens, a little to the right", "back-slight-right"),
+        # Angled a little to a side off the named end.
+        ("the sofa from the rear, angled slightly left", "back-slight-left"),
+        ("the toy car from the front, angled a little to the right", "front-slight-right"),
+    ],
+)
+def test_slight_side_after_a_facing_clause_offsets_its_view(text, view):
+    assert parse(text).subjects[0].view == view

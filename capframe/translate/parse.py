@@ -1220,9 +1220,15 @@ COMBINED_VIEW_FRAMES = [
 # A slight side alone is off the front: "slightly from the left", "a bit to its left".
 # Said of the camera's offset ("offset slightly right") or as a clause right after a view ("rear
 # view, slightly left"), it combines with that view's end (:data:`VIEW_COMBINATIONS`).
-AFTER_VIEW = "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , ))"
+# The ends of view clauses, and of clauses facing the camera or away from it ("facing away from
+# us, slightly to the left").
+AFTER_VIEW = (
+    "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )"
+    "|(?<=us , )|(?<=me , )|(?<=camera , )|(?<=lens , )|(?<=viewer , )|(?<=away , ))"
+)
 SLIGHT_VIEW_FRAMES = [
-    "(offset|off set|shifted|moved|off) {WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
+    "(offset|off set|shifted|moved|off|angled|angling|swung|edging|edged|drifting|veering) {WEAK} (to (the|{P}) )?{LAT}"
+    "( hand)?( side)?(?= ([,.;!]|$))",
     AFTER_VIEW + "{WEAK} (to (the|{P}) )?{LAT}( hand)?( side)?(?= ([,.;!]|$))",
     SEEN + "{WEAK} from (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
     SEEN + "from {WEAK} ((to|towards|on) )?(the |{P} )?{LAT}( hand)?( side)?( of {obj})?",
