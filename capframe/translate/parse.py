@@ -48,7 +48,15 @@ Mappings that are choices (the phrase tables are the full list):
   "extreme wide", "establishing", "zoomed out", "step back", "from far away", "small in the
   frame", "(is) just a small thing", "as a tiny dot" -> wide. "Tight", "close" and "wide" alone
   are a size only as a clause of their own ("the bear, tight."), not as an attribute ("the wide
-  sofa");
+  sofa"). All of the subject in ("the whole bench in frame", "don't crop it") is medium alone and
+  yields to a size word said with it ("the whole sofa, small in frame" is wide);
+* what is denied right before it ("not from the side", "rather than from above") asks nothing the
+  checker can measure: it is reported as not understood and conflicts with nothing. A noun
+  phrase opening the sentence that goes on with a copula, a verb of saying or a colon and then
+  names what is wanted is its topic, not a thing ("my preference is rear left for the bench",
+  "the plan: the bear, close-up"); placed at a subject it stays a thing ("the lantern is next to
+  the bench"), as does one asked alone and then placed as "it" ("Hourglass? It stands by the
+  mug");
 * polite and chatty openings ("could you show me", "I'd like", "let's see", "how about") are heads:
   they introduce the subject and ask nothing; "please", "thanks", "maybe" are stopwords;
 * view sides are the subject's own (DESIGN §3): "from the left" is from the subject's left side.
