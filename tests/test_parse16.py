@@ -417,3 +417,20 @@ def test_a_bare_wood_name_is_a_material_not_a_tree():
 )
 def test_slight_side_after_a_facing_clause_offsets_its_view(text, view):
     assert parse(text).subjects[0].view == view
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # Where the light comes from is no view of the subject and no thing; it stays reported.
+        ("the light coming from the left, the mug close up", None),
+        ("the mug, soft light from the right, from the front", "front"),
+        ("the teddy bear backlit from behind, from the front", "front"),
+        ("the sofa, lit from the right, from the left side", "left"),
+        ("SUN FROM BEHIND, THE BENCH WIDE", None),
+    ],
+)
+def test_where_the_light_comes_from_is_reported_not_read(text, view):
+    p = parse(text)
+    assert p.subjects[0].view == view
+    assert any("from" in words_ for words_ in p.not_understood())

@@ -2076,6 +2076,15 @@ NOTE_PHRASES = [
     # Placing the camera, said before what it should achieve ("position the camera so the tv faces it").
     "(position|move|put|place|set|bring|get) (the )?(camera|lens)( so( that)?)?(?= @| the | it )",
 ]
+# Where the light comes from ("the light coming from the left", "sun from behind", "backlit from
+# the right"): no view of the subject and no thing in the scene, but a wish the camera alone does
+# not keep (the scene's light is baked in), so its words are reported as not understood.
+LIGHT_PHRASES = [
+    "((the|soft|hard|warm|cold|morning|evening|natural|window|key|main) )*(light|lighting|sun|sunlight|daylight|sunshine"
+    "|shadows?|glow)( is| are)?( (coming|falling|shining|streaming|pouring|entering|spilling|hitting|lighting it))?( in)?"
+    " from (the |{P} )?(left|right|above|below|behind|front|side|back|top|window|[a-z]+ side)( side)?",
+    "((back|side|top|front|rim) ?lit|lit) from (the |{P} )?(left|right|above|below|behind|front|side|back|top)( side)?",
+]
 # Where in depth a subject stands ("the tree behind it", "the plant in the back too", "in the
 # background"): it too is only asked to be seen as far as cues go, but the depth order is no
 # constraint the camera keeps, so these words stay reported as not understood.
@@ -3141,6 +3150,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("place", None, t, False) for t in PLACE_PHRASES]
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
+    rows += [("light", None, t, False) for t in LIGHT_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows
 
@@ -3255,7 +3265,7 @@ class RuleParser:
                 if not _never_a_name(run.text) and vocabulary.candidates(run.text):
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
-        unparsed_text = [run.text for run in unparsed]
+        unparsed_text = [run.text for run in unparsed] + [c.text for c in cues if c.field == "light"]
         group = any(c.field == "group" for c in cues)
         if not mentions and group:  # "a bird's eye of everything": the scene's objects, the first primary
             mentions = [_Mention(len(tokens), name, name) for name in vocabulary.names[:1]]
