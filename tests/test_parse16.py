@@ -434,3 +434,17 @@ def test_where_the_light_comes_from_is_reported_not_read(text, view):
     p = parse(text)
     assert p.subjects[0].view == view
     assert any("from" in words_ for words_ in p.not_understood())
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "the vase with the mug next to it, both in frame, from the left",
+        "the vase with the mug in front of it, both in frame, from the left",
+        "the vase, the mug beside it, both in shot, from the left",
+    ],
+)
+def test_a_thing_placed_at_the_subject_takes_no_cue_said_after_it(text):
+    # "The mug next to it" is asked only to be seen; the view said after it is the vase's.
+    p = parse(text)
+    assert [(s.name, s.view) for s in p.subjects] == [("vase", "left"), ("mug", None)]

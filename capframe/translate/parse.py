@@ -3959,7 +3959,9 @@ def _seen_only(cues: list[_Cue], mentions: list[_Mention], tokens: list[str]) ->
     out = set()
     for m in mentions[1:]:
         for k in range(m.at + 1, len(tokens)):
-            placed = tokens[k] in RELATION_WORDS and tokens[k + 1 : k + 2] in (["it"], ["them"], ["him"], ["her"])
+            # Placed at a pronoun, maybe through "to" or "of" ("beside it", "next to it", "in front of it").
+            tied = tokens[k + 2 : k + 3] if tokens[k + 1 : k + 2] in (["to"], ["of"]) else tokens[k + 1 : k + 2]
+            placed = tokens[k] in RELATION_WORDS | {"front"} and tied in (["it"], ["them"], ["him"], ["her"])
             if k in starts or placed or (tokens[k] in DEPTH_WORDS and k not in covered):
                 out.add(m.at)
             if k in starts or tokens[k] not in STOPWORDS:
