@@ -448,3 +448,27 @@ def test_a_thing_placed_at_the_subject_takes_no_cue_said_after_it(text):
     # "The mug next to it" is asked only to be seen; the view said after it is the vase's.
     p = parse(text)
     assert [(s.name, s.view) for s in p.subjects] == [("vase", "left"), ("mug", None)]
+
+
+@pytest.mark.parametrize(
+    ("text", "elevation"),
+    [
+        # Heights as other languages order them ("von oben", "von unten", "look to up").
+        ("make picture the mug, it must be big, from up", "high angle"),
+        ("please the cushion from over, straight to down", "top-down"),
+        ("the vase please from more low, look to up", "low angle"),
+        ("the mug from down", "low angle"),
+        ("foto of the armchair from the front side, level of eyes", "eye level"),
+    ],
+)
+def test_heights_said_as_other_languages_order_them(text, elevation):
+    assert parse(text).elevation == elevation
+
+
+def test_side_named_after_side_of():
+    assert parse("the mug from the side of left").subjects[0].view == "left"
+
+
+def test_from_above_and_from_below_still_conflict():
+    with pytest.raises(InputError, match="conflicting elevations"):
+        parse("the sofa from up and also from down")

@@ -1114,8 +1114,9 @@ VIEW_PHRASES = {
     # Facing, looking or going one way in the frame, or its front said so ("turned to face left",
     # "gazing off to frame left", "driving towards the right of the frame", "its nose pointing
     # left"): its front points that way, so that side of it is seen (FACING_WAY).
-    "left": [FACING_WAY.replace("{LAT}", "left")],
-    "right": [FACING_WAY.replace("{LAT}", "right")],
+    # The side named after it ("from the side of left", as other languages order it).
+    "left": [FACING_WAY.replace("{LAT}", "left"), "(from )?(the )?side of (the )?left"],
+    "right": [FACING_WAY.replace("{LAT}", "right"), "(from )?(the )?side of (the )?right"],
     "side": [
         "in profile",
         # A profile said before the side it is seen from ("profile from its right-hand side").
@@ -1481,6 +1482,8 @@ ELEVATION_PHRASES = {
         "(from )?halfway up( {obj})?(?! the )",
         # "eye level with it", "eye-level with the seat".
         "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
+        # The height of the eyes said the other way round ("at level of eyes", "on the height of the eyes").
+        "(at |on |from )?(the )?(level|height|line) of (the |{P} )?eyes",
         # At the height of a subject named ("ball and plant both in the frame, at ball height").
         "(at|from) (the )?{obj} (height|level)",
         # Down (or up) to a part's height ("crouched down to its roofline", "lowered to the bonnet").
@@ -1752,6 +1755,9 @@ ELEVATION_HINTS = {
         " (((high|well|far|way)( up)? )?(above|over)( {obj})?|high up|up high|way up|overhead|up above|high)(?! (in|on|at) )",
         "{GET} (up )?(high|higher)( up)?",
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
+        # From over or from up, as other languages say "from above" ("von oben", "d'en haut"), the
+        # clause ending there.
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(up|over|above)(?= ([,.;:!?]|$|and |with |but ))",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
@@ -1792,6 +1798,9 @@ ELEVATION_HINTS = {
         "( (hovering |high |right |straight )?(above|over) {obj})?",
     ],
     "low angle": [
+        # From down or from under, as other languages say "from below" ("von unten"), the clause
+        # ending there.
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(down|under)(?= ([,.;:!?]|$|and |with |but ))",
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the |{P} )?"
         "(floor|ground|grass|lawn|roots|root)(?! (level|height) )( up(?= ([,.;!]|$)))?",

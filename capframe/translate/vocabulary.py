@@ -98,6 +98,8 @@ SPELLINGS = {
     "ca": "circa",
     # Direction words spelt by ear, as children and hurried writers spell them ("looking rite
     # down", "strait above", "from the frunt"); a mistyping by a letter is read by slip_of.
+    "foto": "photo",
+    "fotos": "photos",
     "rite": "right",
     "strait": "straight",
     "strate": "straight",
@@ -235,7 +237,7 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(tokens)))))))
+    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_to_up_down(tokens))))))))
 
 
 # A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
@@ -391,6 +393,22 @@ def _comparatives(tokens: list[str]) -> list[str]:
         else:
             out.append(token)
     return out
+
+
+# Words after which "to up" / "to down" is the way the camera looks or points, as other languages
+# say it ("look to up", "straight to down"): the "to" is dropped.
+LOOK_WORDS = frozenset(
+    {"look", "looks", "looking", "straight", "directly", "point", "points", "pointing", "aim", "aiming", "tilt", "tilted"}
+)
+
+
+def _to_up_down(tokens: list[str]) -> list[str]:
+    """``tokens`` without a "to" between a word of looking (:data:`LOOK_WORDS`) and "up"/"down"."""
+    return [
+        t
+        for k, t in enumerate(tokens)
+        if not (t == "to" and 0 < k < len(tokens) - 1 and tokens[k - 1] in LOOK_WORDS and tokens[k + 1] in ("up", "down"))
+    ]
 
 
 def _side_letters(tokens: list[str]) -> list[str]:
