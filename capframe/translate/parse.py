@@ -3175,6 +3175,13 @@ class RuleParser:
         cues = _bare_angles(self._cues(tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
+        # A thing placed at a named object, or a setting holding it, is what the sentence is about.
+        placed = self._placed_thing(tokens, cues)
+        if placed is not None:
+            mentions.append(_Mention(placed[0], placed[1], vocabulary.match(placed[1])))
+        setting = self._setting_holding(tokens)
+        if setting is not None:  # a room or a garden is never one of the scene's objects ("garden" of "garden bench")
+            raise InputError(f"subject {setting[1]!r} is not in this scene; known: {vocabulary.names}")
         for run in self._leftovers(tokens, cues, determined):
             # The sentence's subject: a scene object, or refused naming the closest; a part or a
             # position tied to the subject ("so we see the seam down its back") is neither.
@@ -3453,6 +3460,7 @@ class RuleParser:
             phrase.pop(0)
         while phrase and phrase[-1] in STOPWORDS:
             phrase.pop()
+        phrase = _unplaced(phrase)  # "the light falling on the vase" is about light, no thing
         # What a possessor owns is the thing, judged without the possessor ("Grandma's rocking
         # horse", "Dad's slippers": a requester is a table word), which the name keeps unless it
         # is such a word ("Rubik's cube", "my dog's bowl").
@@ -3472,6 +3480,64 @@ class RuleParser:
             return None  # "focus on the mug": a verb of the tables, not a thing
         possessor = [w for w in phrase[: owner or 0] if w not in STOPWORDS]
         return " ".join(owned if any(w in self.lexicon for w in possessor) or _never_a_name(" ".join(possessor)) else phrase)
+
+    def _placed_thing(self, tokens: list[str], cues: list[_Cue]) -> tuple[int, str] | None:
+        """The thing placed at a named object, when the sentence is about it: ``(token, words)`` of
+        "<noun phrase> <placing words> <place preposition> @k" (:data:`PLACED_PREPOSITIONS`), the
+        placing words a verb of where it is (a participle, a relative clause: :func:`_placing`)
+        with adverbs ("fountain splashing away somewhere behind the bench", "the fireplace that's
+        behind our settee", "a close detail of the teaspoon resting in the mug"), the noun phrase in
+        the subject's place (:func:`_subject_place`); else None. Its head names no view,
+        position, size or state (:data:`RESERVED`, :func:`_never_a_name`), nor the camera or its
+        move (:data:`CAMERA_HOLDERS`), and no phrase explains it. A known subject before a landmark
+        ("the mug on the table") is no such phrase, nor is a simile ("like a toddler looking up at
+        the teddy")."""
+        covered = {k for c in cues for k in range(c.start, c.end)}
+        for at, token in enumerate(tokens):
+            if not token.startswith("@"):
+                continue
+            found = _placed_phrase(tokens[:at])
+            if found is None:
+                continue
+            start, end = found
+            thing = tokens[start:end]
+            head = thing[-1]
+            determined = start > 0 and tokens[start - 1] in MENTION_DETERMINERS
+            if (
+                head.isalpha()
+                and head not in ATTRIBUTES
+                and (end - 1) not in covered
+                and head not in RESERVED
+                and not any(w in CAMERA_HOLDERS for w in thing)
+                and not _never_a_name(" ".join(thing))
+                and _subject_place(tokens[: start - determined])
+            ):
+                return start, " ".join(thing)
+        return None
+
+    def _setting_holding(self, tokens: list[str]) -> tuple[int, str] | None:
+        """The setting a picture is of when it holds the named object ("a picture of the kitchen
+        with the plant in it", "the lounge, with the sofa inside it"): ``(token, words)`` of a
+        :data:`HOLDING_SETTINGS` word after a determiner, "of" or the opening, then "with" (or
+        "containing", "holding") the subject and "in it" / "inside" / "in there"; else None. A
+        setting with the subject in a part of the frame ("a wide view of the room with the plant
+        in the lower right") or said where the subject is ("the sofa in the living room") is the
+        setting, understood, as before."""
+        for at, token in enumerate(tokens):
+            if not token.startswith("@") or at < 2 or tokens[at - 1] not in HOLDING_WORDS:
+                continue
+            clause = list(itertools.takewhile(lambda t: t not in PUNCTUATION, tokens[at + 1 :]))
+            if tuple(clause) not in HELD_INSIDE:
+                continue
+            before = tokens[: at - 1]
+            if before[-1:] == [","]:
+                before = before[:-1]
+            for n in (2, 1):
+                said = " ".join(before[-n:])
+                lead = before[-n - 1 : -n] if len(before) > n else []
+                if len(before) >= n and said in HOLDING_SETTINGS and (not lead or lead[0] in MENTION_DETERMINERS | {"of"}):
+                    return len(before) - n, said
+        return None
 
 
 # Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
@@ -3550,7 +3616,7 @@ def _never_a_name(text: str) -> bool:
     while said and said[0] in STOPWORDS:
         said.pop(0)
     ends = STOPWORDS | RELATION_WORDS | {"behind", "beyond"}
-    phrase = list(itertools.takewhile(lambda w: w not in ends, said))
+    phrase = _unplaced(list(itertools.takewhile(lambda w: w not in ends, said)))  # "the light | falling on"
     return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
 
@@ -3614,6 +3680,139 @@ def _coordinated(tokens: list[str], span: list[int]) -> bool:
     return (tokens[first] in CONJUNCTIONS and before.startswith("@")) or (
         tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")
     )
+
+
+# --- a thing placed at a named object (parse15) -----------------------------------------------------
+# Place prepositions that end the words placing a thing at a named object, longest first ("the kite
+# stuck up in the tree", "the radiator which is behind the armchair").
+PLACED_PREPOSITIONS = tuple(
+    w.split()
+    for w in (
+        "in front of", "on top of", "out of", "next to", "close to", "up against", "right by",
+        "in", "on", "at", "by", "near", "under", "behind", "beyond", "beside", "below", "above", "over",
+        "beneath", "underneath", "against", "alongside", "between", "among", "amid", "inside", "outside",
+        "atop", "into", "onto", "upon", "across", "along", "around", "round", "within", "past",
+    )
+)  # fmt: skip
+# Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
+# under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
+PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "are", "was", "were", "being", "been"})
+# Verb forms of where a thing is that are neither a participle in -ing/-ed nor a verb of resting
+# (:data:`RELATION_WORDS`): "the kite stuck in the tree", "the cat that sleeps on the sofa"; not
+# those that are nouns too ("the umbrella stand by ...", "the rest of ...").
+PLACED_VERBS = frozenset(
+    {"kept", "stuck", "laid", "lain", "stood", "hangs", "sleeps", "naps", "dozes", "hides", "waits", "peeks", "peeps"}
+    | {"perches", "plays", "lives", "stays"}
+)
+# Adverbs said among the placing words ("splashing away somewhere behind", "curled up fast asleep
+# on", "parked right behind", "napping quietly under").
+PLACED_ADVERBS = frozenset(
+    {"away", "somewhere", "just", "right", "directly", "out", "up", "down", "off", "there", "here", "still", "now"}
+    | {"quietly", "peacefully", "happily", "slowly", "lazily", "comfortably", "fast", "sound", "soundly", "proudly"}
+    | {"neatly", "safely", "casually", "open", "upright", "sideways", "alone", "all", "currently", "half", "partly"}
+)
+# Participles of aiming or holding a camera, never of where a thing is ("a drone hovering above the
+# tree, looking down at the bench").
+AIMING_VERBS = frozenset(
+    {"looking", "facing", "pointing", "pointed", "aiming", "aimed", "shooting", "angled", "angling", "tilted", "tilting"}
+    | {"turned", "turning", "raised", "lowered", "peering", "gazing", "staring", "zoomed", "zooming", "framed", "focused"}
+    | {"focussed", "centered", "centred", "cropped", "positioned", "placed", "pushed", "nudged", "shifted"}
+)
+# Who holds or is the camera, or how it moves, never the subject ("the photographer crouching beside
+# the bench", "orbit paused over the vase").
+CAMERA_HOLDERS = frozenset(
+    {"camera", "lens", "cam", "drone", "phone", "tripod", "gimbal", "photographer", "cameraman", "viewer", "observer"}
+    | {"onlooker", "spectator", "orbit", "pan", "dolly", "crane", "jib", "track", "tracking", "sweep", "move", "rig"}
+    | {"slider", "flyover", "flythrough", "path", "pass"}
+)
+# Words before a noun phrase that keep it in the subject's place: asking for it ("could you
+# include the fireplace ..."), or a picture of it ("a close detail of the teaspoon ...").
+PLACED_LEADS = frozenset({"include", "including", "feature", "featuring", "find", "spot", "catch", "grab"})
+PLACED_PICTURES = frozenset(
+    {"shot", "photo", "photograph", "picture", "pic", "image", "snap", "snapshot", "view", "closeup", "detail", "macro"}
+    | {"study", "portrait", "crop", "capture", "still", "photos", "pictures", "pics", "shots", "images"}
+)
+# Words that make the noun phrase a comparison, not the subject ("like a toddler looking up at").
+SIMILE_WORDS = frozenset({"like", "as", "if"})
+# A setting holding the named object, then the subject (:meth:`RuleParser._setting_holding`): the
+# setting words of the tables but those naming the picture itself ("scene", "setting").
+HOLDING_SETTINGS = frozenset(SETTINGS) - {"scene", "setting", "interior", "outdoors"}
+HOLDING_WORDS = frozenset({"with", "containing", "holding"})
+HELD_INSIDE = frozenset(
+    tuple(w.split()) for w in ("in it", "inside it", "inside", "in there", "within it", "in here", "inside of it")
+)
+
+
+def _placing(word: str) -> bool:
+    """Whether ``word`` is a verb of where a thing is: a verb of resting (:data:`RELATION_WORDS`,
+    :data:`PLACED_VERBS`) or a participle in -ing / -ed ("splashing", "crawling", "dunked") but
+    one of aiming a camera (:data:`AIMING_VERBS`: "looking", "pointed")."""
+    if word in RELATION_WORDS or word in PLACED_VERBS:
+        return True
+    return (
+        word.isalpha()
+        and word not in AIMING_VERBS
+        and ((len(word) > 4 and word.endswith("ing")) or (len(word) > 3 and word.endswith("ed")))
+    )
+
+
+def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
+    """Where the noun phrase lies in ``before`` (the words before a named object) when they end on
+    "<noun phrase> <placing words> <place preposition>": ``(start, end)`` of its words (up to
+    :data:`MAX_ATTRIBUTES`, after a determiner, "of", another function word or the opening), the
+    placing words at most five, of them one a verb of being or of where it is
+    (:data:`PLACED_RELATIVES`, :func:`_placing`), the others adverbs (:data:`PLACED_ADVERBS`);
+    else None."""
+    preposition = next((p for p in PLACED_PREPOSITIONS if before[-len(p) :] == list(p)), None)
+    if preposition is None:
+        return None
+    end = len(before) - len(preposition)
+    verb = False
+    while end > 0 and len(before) - len(preposition) - end < 5:
+        word = before[end - 1]
+        if word in PLACED_RELATIVES or _placing(word):
+            verb = True
+        elif word not in PLACED_ADVERBS and not (word == "," and before[end] in PLACED_RELATIVES):
+            break  # a comma may set off the relative clause ("the heater, which is next to")
+        end -= 1
+    if not verb or end == len(before) - len(preposition):
+        return None
+    # A noun in -ing or -ed is the phrase's head when nothing else is ("the painting hanging above").
+    if (end == 0 or not _noun_word(before[end - 1])) and before[end] not in PLACED_RELATIVES | PLACED_ADVERBS:
+        if any(w in PLACED_RELATIVES or _placing(w) for w in before[end + 1 : len(before) - len(preposition)]):
+            end += 1
+    start = end
+    while start > 0 and end - start < MAX_ATTRIBUTES and _noun_word(before[start - 1]):
+        start -= 1
+    return (start, end) if start < end else None
+
+
+def _noun_word(word: str) -> bool:
+    """Whether ``word`` may belong to a noun phrase: a word, not a function word."""
+    return word.isalpha() and word not in STOPWORDS and word not in MENTION_DETERMINERS
+
+
+def _unplaced(phrase: list[str]) -> list[str]:
+    """``phrase`` less the placing words it ends with ("granddaughter cuddling" -> "granddaughter",
+    "light falling" -> "light"), its first word always kept."""
+    while len(phrase) > 1 and (phrase[-1] in PLACED_RELATIVES | PLACED_ADVERBS or _placing(phrase[-1])):
+        phrase = phrase[:-1]
+    return phrase
+
+
+def _subject_place(before: list[str]) -> bool:
+    """Whether a noun phrase after ``before`` stands in the subject's place: it opens the
+    sentence (after function words, punctuation and words asking for it, :data:`PLACED_LEADS`) or
+    follows "<a picture noun> of" ("a close detail of", "a close up of"); never in a comparison
+    (:data:`SIMILE_WORDS`)."""
+    if any(w in SIMILE_WORDS for w in before[-3:]):
+        return False
+    if all(w in STOPWORDS or w in PUNCTUATION or w in PLACED_LEADS for w in before):
+        return True
+    if before[-1:] != ["of"]:
+        return False
+    picture = before[-2:-1]
+    return bool(picture) and (picture[0] in PLACED_PICTURES or before[-3:-1] == ["close", "up"])
 
 
 def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:

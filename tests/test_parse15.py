@@ -1,0 +1,139 @@
+"""A thing not in the scene placed at a named object is what the sentence is about (parse15):
+"<noun phrase> <placing words> <place preposition> <named object>", the placing words a
+participle, a relative clause or a verb of resting with adverbs, refused naming the thing; a room
+or a garden holding the named object ("a photo of the lounge with the sofa in it") likewise. A
+named subject before a landmark or scenery stays the subject. None of these wordings is in a
+suite file."""
+
+from __future__ import annotations
+
+import pytest
+
+from capframe.errors import InputError
+from capframe.scene.directory import SemanticObject
+from capframe.translate.parse import _placed_phrase, _placing, _unplaced, parse_instruction
+from capframe.translate.vocabulary import Vocabulary, words
+
+NAMES = ["sofa", "armchair", "floor lamp", "coffee table", "cushion", "bookshelf", "mug", "teddy bear", "bench", "tree", "vase"]
+SCENE = Vocabulary.from_semantics([SemanticObject(k, n, [], False) for k, n in enumerate(NAMES)])
+
+
+def refused_for(text: str) -> str:
+    """The thing named by the refusal of ``text`` (it must be refused as not in the scene)."""
+    with pytest.raises(InputError, match="is not in this scene") as err:
+        parse_instruction(text, SCENE)
+    return str(err.value).split("'")[1]
+
+
+PLACED_UNKNOWN = [
+    ("a kitten curled up fast asleep on the sofa", "kitten"),
+    ("the goldfish bowl that's sitting on the bookshelf", "goldfish bowl"),
+    ("puppy napping quietly under the coffee table", "puppy"),
+    ("can you show the radiator which is behind the armchair", "radiator"),
+    ("our parrot perched happily on top of the floor lamp", "parrot"),
+    ("include the umbrella that is leaning against the bench", "umbrella"),
+    ("THE BICYCLE PARKED RIGHT BEHIND THE BENCH", "bicycle"),
+    ("a squirrel scampering somewhere near the tree", "squirrel"),
+    ("a macro shot of the ring resting inside the vase", "ring"),
+    ("photo of a candle burning beside the vase please", "candle"),
+    ("the hamster who is hiding behind the cushion", "hamster"),
+    ("a detail of the spoon sticking out of the mug", "spoon"),
+    ("snail crawling slowly along the bench", "snail"),
+    ("a close up of the biscuit dunked in the mug", "biscuit"),
+    ("pls frame the kite that's stuck up in the tree", "kite"),
+    ("the toaster what is sitting beside the sofa", "toaster"),  # non-native relative
+    ("the painting hanging above the sofa", "painting"),  # a noun in -ing is the head
+    ("Please could you feature the dehumidifier, which is currently next to the armchair?", "dehumidifier"),
+]
+
+
+@pytest.mark.parametrize("text,thing", PLACED_UNKNOWN)
+def test_unknown_thing_placed_at_a_named_object_is_refused_by_its_name(text, thing):
+    assert refused_for(text) == thing
+
+
+KNOWN_BEFORE_A_LANDMARK = [
+    ("the mug on the table", "mug"),
+    ("cushion on the sofa", "cushion"),
+    ("the bench with a sunset behind it", "bench"),
+    ("the vase sitting on the windowsill", "vase"),
+    ("teddy bear resting against a pillow on the sofa", "teddy bear"),
+    ("the tree with the clouds drifting behind it", "tree"),
+    ("the armchair standing next to the fireplace", "armchair"),
+    ("close-up of the mug resting on the coffee table", "mug"),
+    ("the bench with the sun setting behind the tree", "bench"),
+]
+
+
+@pytest.mark.parametrize("text,name", KNOWN_BEFORE_A_LANDMARK)
+def test_named_subject_before_a_landmark_or_scenery_stays_the_subject(text, name):
+    assert parse_instruction(text, SCENE).subjects[0].name == name
+
+
+NOT_A_THING = [
+    # A comparison, the camera or its move, light: never the subject.
+    ("like a toddler looking up at the teddy bear", "teddy bear"),
+    ("camera sitting low beside the bench", "bench"),
+    ("a drone hovering above the tree", "tree"),
+    ("the light falling on the vase", "vase"),
+    ("orbit paused over the vase, straight down", "vase"),
+    ("the sofa seen from behind the armchair", "sofa"),
+]
+
+
+@pytest.mark.parametrize("text,name", NOT_A_THING)
+def test_camera_light_or_simile_before_a_named_object_is_no_subject(text, name):
+    assert parse_instruction(text, SCENE).subjects[0].name == name
+
+
+SETTING_HOLDING = [
+    ("a photo of the living room with the sofa in it", "living room"),
+    ("the garden with the bench inside it", "garden"),
+    ("picture of my bedroom with the teddy bear in there", "bedroom"),
+    ("A SHOT OF THE LOUNGE WITH THE ARMCHAIR IN IT", "lounge"),
+    ("an image of our study, with the bookshelf in it", "study"),
+    ("the backyard with the tree in it please", "backyard"),
+    ("a snap of the patio containing the bench inside", "patio"),
+    ("photograph the hallway holding the floor lamp in it", "hallway"),
+]
+
+
+@pytest.mark.parametrize("text,setting", SETTING_HOLDING)
+def test_setting_holding_a_named_object_is_refused(text, setting):
+    # A room or a garden is never one of the scene's objects, even where a name holds its word
+    # ("garden" of a "garden bench" alias).
+    assert refused_for(text) == setting
+
+
+SETTING_AS_PLACE = [
+    ("a wide view of the lounge with the sofa in the lower left", "sofa", "lower left"),
+    ("the sofa in the living room", "sofa", None),
+    ("wide establishing of the garden: the bench small", "bench", None),
+    ("the armchair in the garden", "armchair", None),
+    ("kitchen scene: the mug close up", "mug", None),
+]
+
+
+@pytest.mark.parametrize("text,name,region", SETTING_AS_PLACE)
+def test_setting_said_as_where_the_subject_is_stays_understood(text, name, region):
+    s = parse_instruction(text, SCENE).subjects[0]
+    assert (s.name, s.region) == (name, region)
+
+
+def test_placed_phrase_finds_the_noun_phrase_before_placing_words():
+    # (start, end) of the noun phrase in the words before the named object.
+    assert _placed_phrase(words("fountain splashing away somewhere behind")) == (0, 1)
+    assert _placed_phrase(words("could you include the fireplace that's behind")) == (4, 5)
+    assert _placed_phrase(words("the painting hanging above")) == (1, 2)
+    # Adverbs alone, or no preposition before the object, place nothing.
+    assert _placed_phrase(words("the kite up in")) is None
+    assert _placed_phrase(words("the kite stuck")) is None
+    assert _placed_phrase(words("the mug in")) is None
+
+
+def test_placing_words_and_their_trimming():
+    assert _placing("splashing") and _placing("dunked") and _placing("resting") and _placing("stuck")
+    assert not _placing("looking") and not _placing("aimed") and not _placing("ring") and not _placing("bed")
+    assert _unplaced(["granddaughter", "cuddling"]) == ["granddaughter"]
+    assert _unplaced(["cottage", "peeking", "out"]) == ["cottage"]
+    assert _unplaced(["painting"]) == ["painting"]  # its first word is kept
