@@ -14,7 +14,20 @@ from capframe.scene.directory import SemanticObject
 from capframe.translate.parse import _placed_phrase, _placing, _unplaced, parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
 
-NAMES = ["sofa", "armchair", "floor lamp", "coffee table", "cushion", "bookshelf", "mug", "teddy bear", "bench", "tree", "vase"]
+NAMES = [
+    "sofa",
+    "armchair",
+    "floor lamp",
+    "coffee table",
+    "cushion",
+    "bookshelf",
+    "mug",
+    "teddy bear",
+    "bench",
+    "tree",
+    "vase",
+    "toy car",
+]
 SCENE = Vocabulary.from_semantics([SemanticObject(k, n, [], False) for k, n in enumerate(NAMES)])
 
 
@@ -137,3 +150,106 @@ def test_placing_words_and_their_trimming():
     assert _unplaced(["granddaughter", "cuddling"]) == ["granddaughter"]
     assert _unplaced(["cottage", "peeking", "out"]) == ["cottage"]
     assert _unplaced(["painting"]) == ["painting"]  # its first word is kept
+
+
+# --- view, size and height families (phrasing1's misreadings), over wordings of no suite file ----
+
+DIAGONAL_NOUNS = [
+    ("front-left three-quarter on the toy car", "front-left"),
+    ("I'd love a rear-right 3/4, nothing fancy, of the sofa", "back-right"),
+    ("mug: I want a front-right three quarter, eye level", "front-right"),
+    ("a back-left three-quarters view on the armchair", "back-left"),
+    ("FRONT LEFT THREE QUARTER ON THE BENCH", "front-left"),
+    ("the teddy, we need a left-front 3/4.", "front-left"),
+    ("rear left 3/4 for the sofa please", "back-left"),
+    ("just get a right front three-quarter, mug small", "front-right"),
+    ("give me a rear-right three-quarter of the toy car", "back-right"),
+]
+
+
+@pytest.mark.parametrize("text,view", DIAGONAL_NOUNS)
+def test_diagonal_said_as_a_noun_is_that_view(text, view):
+    p = parse_instruction(text, SCENE)
+    assert p.subjects[0].view == view
+
+
+NEGATED_VIEWS = [
+    ("the mug from the front, not from the side", "front"),
+    ("teddy bear facing us, not the back", "front"),
+    ("sofa from its left, not from the front", "left"),
+    ("the vase from behind rather than the front", "back"),
+    ("armchair from the back, instead of the front", "back"),
+    ("i want mug front, not from side", "front"),
+    ("TREE FROM THE LEFT, NOT FROM THE RIGHT", "left"),
+    ("teddy from the front, but not from the front-left", "front"),
+]
+
+
+@pytest.mark.parametrize("text,view", NEGATED_VIEWS)
+def test_side_said_not_to_be_wanted_asks_nothing(text, view):
+    # Not a second view that would conflict with the one asked.
+    assert parse_instruction(text, SCENE).subjects[0].view == view
+
+
+def test_negated_side_alone_leaves_the_view_free():
+    p = parse_instruction("the bench, just not from behind", SCENE)
+    assert p.subjects[0].view is None and not p.not_understood()
+
+
+SIZES = [
+    ("vase as big as it can possibly be in the frame", "close-up"),
+    ("the mug as large as it could possibly be", "close-up"),
+    ("teddy as huge as you can possibly get it", "close-up"),
+    ("the bench as small as it can be in the picture", "wide"),
+    ("sofa as small as possible", "wide"),
+    ("MUG AS BIG AS WE CAN POSSIBLY MAKE IT", "close-up"),
+    ("The mug rather small, from the front", "wide"),
+    ("vase fairly big, centred", "close-up"),
+    ("bench quite small and low", "wide"),
+    ("the armchair moderately small", "wide"),
+    ("The mug small, with plenty of tabletop visible round it", "wide"),
+    ("bench with lots of grass showing around it", "wide"),
+    ("teddy, loads of floor in view around him", "wide"),
+    ("TREE WITH LOTS OF SKY VISIBLE AROUND IT", "wide"),
+]
+
+
+@pytest.mark.parametrize("text,shot", SIZES)
+def test_size_pushed_moderated_or_room_seen_around(text, shot):
+    assert parse_instruction(text, SCENE).subjects[0].shot == shot
+
+
+EYE_PLACES = [
+    "camera roughly where his eyes are, teddy from the front",
+    "the teddy, lens just about where its face would be",
+    "bear, cam right where his nose is",
+    "toy car from the left, camera about where its headlights are",
+    "teddy: put the camera where his eyes would be",
+    "camera roughly where the teddy bear's eyes are",
+    "CAMERA WHERE ITS FACE IS, TEDDY",
+]
+
+
+@pytest.mark.parametrize("text", EYE_PLACES)
+def test_camera_where_the_subjects_eyes_are_is_eye_level(text):
+    assert parse_instruction(text, SCENE).elevation == "eye level"
+
+
+ABBREVIATED = [
+    ("Mug, elevation approx. 35°, tight", 35.0),
+    ("bench from approx. 40 deg. above", 40.0),
+    ("vase, ca. 30° from above", 30.0),
+    ("teddy at an elevation of approx. 20 degrees", 20.0),
+    ("the tree, camera approx. 30 deg. below it", -30.0),
+    ("ARMCHAIR, APPROX. 25° UP", 25.0),
+    ("toy car from appr. 50 degrees above", 50.0),
+]
+
+
+@pytest.mark.parametrize("text,degrees", ABBREVIATED)
+def test_abbreviation_full_stop_ends_no_clause(text, degrees):
+    assert parse_instruction(text, SCENE).elevation_deg == degrees
+
+
+def test_abbreviation_stop_is_dropped_but_a_sentence_stop_is_kept():
+    assert words("approx. 35°. Cat. no. 12") == ["approximately", "35", "degrees", ".", "cat", ".", "no", ".", "12"]

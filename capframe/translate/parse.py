@@ -3081,6 +3081,55 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
+    return rows + _family_rows()
+
+
+# --- families of phrasing1's misreadings (parse15), composed from the tables above ----------------
+# A diagonal said as a noun: with its article ("I'm after a front-right 3/4, ..."), or before the
+# subject it is of ("front-left three-quarter on the toy car", "a rear-left 3/4 of the bench").
+DIAGONAL_NOUN_FRAMES = [
+    "(a|an) {SIDE}( view| angle| shot)?(?= ([,.;!]|$))",
+    "((a|an|the|in|at|from) )?{SIDE}( view| angle| shot)? (on|of|for) {obj}",
+]
+# A side or end said not to be wanted ("not from side", "never from behind", "rather than the
+# back"): it asks nothing, and is no view that would conflict with the one asked.
+NOT_VIEW_FRAMES = [
+    "(not|never|no|rather than|instead of)( (from|at|on))?( the| a| {P})? {SIDE}( side| view| angle| on)?(?! of )",
+]
+# A size pushed as far as it goes ("as big as it can possibly be", "as small as you can make it"),
+# and a size said of the subject with a moderating word ("the mug rather small", "vase fairly big").
+SIZE_EXTREME_FRAMES = [
+    "(as )?{WORD} as ((it|you|we|one|they) (can|could|will|ll|would) (possibly |reasonably |conceivably )?"
+    "(be|get( it)?|make it|go|manage( it)?|fit( it)?)|possible|possibly can be|feasible)( in (the )?{FRAME})?",
+    "{obj} {FAIRLY} {WORD}(?= ([,.;:!]|$|and |in |at |on |with |so |but ))",
+]
+# Room around the subject said to be seen ("plenty of tabletop visible round it", "lots of sky
+# showing around it", "loads of floor in view about him").
+ROOM_SEEN = (
+    "(with )?{PLENTY} ([a-z]+ ){1,2}(visible|showing|in view|in shot|in frame|on show|to spare|left)"
+    " (all )?(around|round|about) {obj}"
+)
+
+# The camera put where the subject's eyes are ("camera roughly where his eyes are", "lens just
+# about where its face would be"): level with it.
+EYE_PLACE = (
+    "((the )?(camera|lens|cam) )?((({ABOUT}|just|right|roughly) )+)?((up|down|at|to) )?where {P}"
+    " (eyes|nose|gaze|headlights|headlamps|{ANCHOR_EYE}) (are|is|would be|sit|sits|would sit)"
+)
+
+
+def _family_rows() -> list[tuple[str, object, str, bool]]:
+    """Rows of the families above, each over every side or size word of the tables."""
+    rows = []
+    for view, sides in VIEW_SIDE_WORDS.items():
+        if "-" in view:
+            rows += [("view", view, t.replace("{SIDE}", _alternatives(sides)), False) for t in DIAGONAL_NOUN_FRAMES]
+        rows += [("note", None, t.replace("{SIDE}", _alternatives(sides)), False) for t in NOT_VIEW_FRAMES]
+    for shot in ("close-up", "wide"):
+        said = _alternatives(w for w in SIZE_WORDS[shot] if " " not in w)
+        rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
+    rows.append(("shot", "wide", ROOM_SEEN, False))
+    rows.append(("elevation", "eye level", EYE_PLACE, False))
     return rows
 
 
