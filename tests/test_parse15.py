@@ -253,3 +253,60 @@ def test_abbreviation_full_stop_ends_no_clause(text, degrees):
 
 def test_abbreviation_stop_is_dropped_but_a_sentence_stop_is_kept():
     assert words("approx. 35°. Cat. no. 12") == ["approximately", "35", "degrees", ".", "cat", ".", "no", ".", "12"]
+
+
+# Roll said with a particle, by the picture's line, or as a noun before its degrees. DESIGN §3:
+# roll > 0 = the camera clockwise; the picture (horizon) turns the other way.
+ROLLS = [
+    ("Anticlockwise camera twist of thirty degrees, vase as subject", -30.0),
+    ("vase, a clockwise twist of 20 degrees", 20.0),
+    ("the mug, a lens rotation of 20 degrees, counterclockwise", -20.0),
+    ("teddy bear, the frame leaned over 15 degrees clockwise", 15.0),
+    ("bench with the horizon line running 10 degrees anticlockwise off level", 10.0),
+    ("sofa, horizon sitting 12 degrees clockwise", -12.0),
+    ("CAMERA TIPPED OVER 20 DEGREES CLOCKWISE, TREE", 20.0),
+    ("the armchair, a counter-clockwise cant of fifteen degrees", -15.0),
+    ("mug, camera spin of 25 degrees anti-clockwise", -25.0),
+    ("the picture sloped 8 degrees clockwise, vase", -8.0),
+    ("a clockwise camera lean of 10°, toy car", 10.0),
+]
+
+
+@pytest.mark.parametrize("text,roll", ROLLS)
+def test_roll_with_a_particle_a_line_verb_or_as_a_noun(text, roll):
+    assert parse_instruction(text, SCENE).roll_deg == roll
+
+
+LOOKS = [
+    ("the vase, peering up at it", "elevation", "low angle"),
+    ("floor lamp, gazing upward along it", "elevation", "low angle"),
+    ("mug, staring down at it", "elevation", "high angle"),
+    ("bench, peering down on it a little", "elevation", "slightly above"),
+    ("TEDDY BEAR, GAZING UP AT HIM", "elevation", "low angle"),
+    ("the toy car, camera peeking up at it from the floor", "elevation", "low angle"),
+    ("armchair, staring straight down", "elevation", "top-down"),
+    ("vase, gazing up at it at 30 degrees", "elevation_deg", -30.0),
+    ("the tree, gazing straight up into it", "elevation_deg", -90.0),
+]
+
+
+@pytest.mark.parametrize("text,field,value", LOOKS)
+def test_other_verbs_of_looking_say_the_height_as_looking_does(text, field, value):
+    assert getattr(parse_instruction(text, SCENE), field) == value
+
+
+FLOOR_COVERS = [
+    "vase from rug level",
+    "the armchair at carpet height",
+    "teddy bear from carpet level, looking up",
+    "the bench from pavement level",
+    "floor lamp shot at rug height",
+    "tree, camera at gravel level",
+    "SOFA FROM RUG LEVEL",
+    "the mug from floorboards level",
+]
+
+
+@pytest.mark.parametrize("text", FLOOR_COVERS)
+def test_the_height_of_what_covers_the_floor_is_a_low_angle(text):
+    assert parse_instruction(text, SCENE).elevation == "low angle"

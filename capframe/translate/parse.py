@@ -3081,7 +3081,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
-    return rows + _family_rows()
+    return rows + _family_rows(rows)
 
 
 # --- families of phrasing1's misreadings (parse15), composed from the tables above ----------------
@@ -3117,9 +3117,30 @@ EYE_PLACE = (
     " (eyes|nose|gaze|headlights|headlamps|{ANCHOR_EYE}) (are|is|would be|sit|sits|would sit)"
 )
 
+# A roll said with a particle after its verb ("the frame leaned over 15 degrees clockwise"), by
+# what the picture's line does ("the horizon line running 10 degrees anticlockwise off level"), or
+# as a noun before its degrees ("anticlockwise camera twist of thirty degrees", "a lens rotation of
+# 20 degrees, counterclockwise"); {thing} the camera's or the picture's (:data:`CAMERA_THING`,
+# :data:`PICTURE_THING`), which turns the other way.
+ROLL_PARTICLE = "( over| round| around| across| off| away)?"
+ROLL_LINE_VERBS = "(running|runs|run|sitting|sits|lying|lies|sloped|slanting|slants|skewed|angled|set|going|dipping)"
+OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?"
+ROLL_FAMILY_FRAMES = [
+    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + "( by| through)? {d} {dir}" + OFF_LEVEL,
+    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + " {dir}( by| through)? {d}" + OFF_LEVEL,
+    "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
+    "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
+]
+# Verbs of looking other than "look", for every height said with it ("peering up", "gazing
+# upward along the pole", "staring down at it"): the height phrases of "look" said with them.
+LOOK_VERBS = "(peering|peer|peers|gazing|gaze|gazes|staring|stare|stares|glancing|glance|glances|peeking|peeping)"
+LOOK_WORD = re.compile(r"\blook(?:ing|s)?\b")
 
-def _family_rows() -> list[tuple[str, object, str, bool]]:
-    """Rows of the families above, each over every side or size word of the tables."""
+
+def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str, object, str, bool]]:
+    """Rows of the families above, each over every side, size or roll word of the tables; ``tables``:
+    the tables' own rows, whose height phrases of "look" are said again with the other verbs of
+    looking (:data:`LOOK_VERBS`)."""
     rows = []
     for view, sides in VIEW_SIDE_WORDS.items():
         if "-" in view:
@@ -3130,6 +3151,18 @@ def _family_rows() -> list[tuple[str, object, str, bool]]:
         rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
     rows.append(("shot", "wide", ROOM_SEEN, False))
     rows.append(("elevation", "eye level", EYE_PLACE, False))
+    for sign, thing in ((1.0, CAMERA_THING), (-1.0, PICTURE_THING)):
+        # The camera may go unsaid in a roll's noun ("a clockwise twist of 20 degrees"); the
+        # picture, which turns the other way, must be said.
+        after, before = (f"( {thing})?", f"({thing} )?") if sign > 0 else (f" {thing}", f"{thing} ")
+        for frame in ROLL_FAMILY_FRAMES:
+            t = frame.replace("{thing}", thing).replace("{said}", after).replace("{said_before}", before)
+            rows.append(("roll_deg", sign, t, False))
+    rows += [
+        (field, value, LOOK_WORD.sub(LOOK_VERBS, t), weak)
+        for field, value, t, weak in tables
+        if field in ("elevation", "elevation_deg") and LOOK_WORD.search(t)
+    ]
     return rows
 
 

@@ -972,6 +972,13 @@ HEIGHT_ANCHORS = {
         "skirting",
         "skirting board",
         "baseboard",
+        # What covers the floor or the ground ("from rug level", "at carpet height").
+        "rug",
+        "carpet",
+        "floorboards",
+        "pavement",
+        "gravel",
+        "soil",
     ),
 }
 # Words saying the camera is at a height, as "level with" does ("even with its head", "flush with
