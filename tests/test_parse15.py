@@ -310,3 +310,34 @@ FLOOR_COVERS = [
 @pytest.mark.parametrize("text", FLOOR_COVERS)
 def test_the_height_of_what_covers_the_floor_is_a_low_angle(text):
     assert parse_instruction(text, SCENE).elevation == "low angle"
+
+
+VIEW_FAMILIES = [
+    # A side reached "over to" after a view (DESIGN §3: +90 its own right).
+    ("sofa photographed from behind it, over to its right", "back-right"),
+    ("the bench from behind, over to its left", "back-left"),
+    ("ARMCHAIR FROM BEHIND, OVER TO ITS LEFT", "back-left"),
+    # "The <side> one" after a view that lacks its side.
+    ("sofa, back three-quarter, the right-hand one", "back-right"),
+    ("armchair, rear three quarter, the left one", "back-left"),
+    ("bench: three-quarter view, the left one", "front-left"),
+    ("TEDDY BEAR, REAR 3/4, THE RIGHT ONE", "back-right"),
+    # A side turned a little towards an end after a concession word.
+    ("bookshelf from its left-hand end, though edging a little round to the front", "left-slight-front"),
+    ("sofa from its right side, yet a bit towards the back", "right-slight-back"),
+    ("armchair from the left, although slightly toward the front", "left-slight-front"),
+    # Turned a little so as to show a side.
+    ("teddy bear facing camera, turned just a little to show his left side", "front-slight-left"),
+    ("the vase from the front, turned slightly to show its right side", "front-slight-right"),
+    ("sofa facing us, rotated a bit to reveal its left side", "front-slight-left"),
+    # The camera looking into its eyes: its front, exactly when said so ("right" is no side).
+    ("Teddy bear, perfectly frontal, looking right into his glass eyes", "front-exact"),
+    ("teddy bear, looking straight into his eyes", "front-exact"),
+    ("the teddy bear, camera staring directly into its face", "front-exact"),
+    ("teddy bear, gazing into his eyes", "front"),
+]
+
+
+@pytest.mark.parametrize("text,view", VIEW_FAMILIES)
+def test_view_families(text, view):
+    assert parse_instruction(text, SCENE).subjects[0].view == view

@@ -1177,8 +1177,8 @@ for _lat in ("left", "right"):
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
 # where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
 # names the subject, is a side.
-LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
-LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
+LATERAL = "((off|over) )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
+LATERAL_OWN = "((off|over) )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
     "front": SEEN + ALMOST + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
@@ -1268,7 +1268,7 @@ MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|acr
 # The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
 AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
 TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
-TOWARD = "((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)"
+TOWARD = "(((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)|(so as )?to (show|reveal))"
 # Nearer one way without an amount said ("more toward the back", "a hair closer to the front").
 NEARER = "(({HEDGE} )?(closer|nearer|more)( to| towards)?)"
 # The amount and its direction, one way or the other.
@@ -1316,8 +1316,13 @@ LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PA
 # An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
 LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
 SIDE_OFFSET_FRAMES = [
-    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + OFFSET_TOWARD + " " + LON_SIDE,
-    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then |though |yet |although )?" + OFFSET_TOWARD + " " + LON_SIDE,
+    SEEN
+    + "(from |off |at )?"
+    + LAT_REF
+    + "( ,)? (and |but |then |though |yet |although )?"
+    + AMOUNT
+    + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
     SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
     SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
@@ -1326,7 +1331,7 @@ SIDE_OFFSET_DEGREES_FRAMES = [
     SEEN
     + "(from |off |at )?"
     + LAT_REF
-    + "( ,)? (and |but |then )?"
+    + "( ,)? (and |but |then |though |yet |although )?"
     + MOVED
     + "(by )?{d}(?<= degrees)( more)? "
     + TOWARD
@@ -3131,6 +3136,17 @@ ROLL_FAMILY_FRAMES = [
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
+# The camera looking into the subject's eyes or face ("looking right into his button eyes"): its
+# front, exactly when said so ("right" there is no side).
+EYES_FRAME = (
+    "(looking|look|looks|staring|stare|gazing|gaze|peering|peer)( {STRONGLY})? (into|at) (the |{P} )([a-z]+ )?(eyes|face)"
+)
+# A side said as "the <side> one" right after a view that lacks it ("back three-quarter, the
+# right-hand one"): which side.
+SIDE_ONE_AFTER_VIEW = (
+    "(?:(?<=quarter , )|(?<=quarters , )|(?<=view , )|(?<=angle , )|(?<=diagonal , )|(?<=behind , )|(?<=rear , ))"
+    "(the )?{LAT}( hand)?( side)? one(?= ([,.;!]|$))"
+)
 # Verbs of looking other than "look", for every height said with it ("peering up", "gazing
 # upward along the pole", "staring down at it"): the height phrases of "look" said with them.
 LOOK_VERBS = "(peering|peer|peers|gazing|gaze|gazes|staring|stare|stares|glancing|glance|glances|peeking|peeping)"
@@ -3151,6 +3167,9 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
         rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
     rows.append(("shot", "wide", ROOM_SEEN, False))
     rows.append(("elevation", "eye level", EYE_PLACE, False))
+    rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
+    rows.append(("view", "front", EYES_FRAME.replace("( {STRONGLY})?", ""), False))
+    rows += [("view", lat, SIDE_ONE_AFTER_VIEW.replace("{LAT}", lat), False) for lat in ("left", "right")]
     for sign, thing in ((1.0, CAMERA_THING), (-1.0, PICTURE_THING)):
         # The camera may go unsaid in a roll's noun ("a clockwise twist of 20 degrees"); the
         # picture, which turns the other way, must be said.
