@@ -1177,7 +1177,10 @@ for _lat in ("left", "right"):
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
 # where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
 # names the subject, is a side.
-LATERAL = "((off|over) )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
+LATERAL = (
+    "((off|over) )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?"
+    "(?! (of|in|third|half|edge|corner|part|quarter) )"
+)
 LATERAL_OWN = "((off|over) )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
