@@ -341,3 +341,20 @@ VIEW_FAMILIES = [
 @pytest.mark.parametrize("text,view", VIEW_FAMILIES)
 def test_view_families(text, view):
     assert parse_instruction(text, SCENE).subjects[0].view == view
+
+
+DRAMATIC_UPS = [
+    "vase, heroic upward angle with the camera practically touching the table",
+    "vase, heroic upward angle",
+    "a dramatic up shot of the tree",
+    "the armchair, an imposing low angle",
+    "MAJESTIC UPWARD VIEW OF THE TREE",
+    "the bench, epic upward perspective",
+    "teddy bear, heroic upwards camera angle",
+    "a menacing upward shot of the teddy bear",
+]
+
+
+@pytest.mark.parametrize("text", DRAMATIC_UPS)
+def test_an_upward_angle_with_a_word_of_drama_is_low(text):
+    assert parse_instruction(text, SCENE).elevation == "low angle"

@@ -3139,6 +3139,12 @@ ROLL_FAMILY_FRAMES = [
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
+# An upward angle with a word of its drama before it ("heroic upward angle", "a dramatic up shot of
+# the tree", "an imposing low angle"): low.
+DRAMATIC_UP = (
+    "((a|an) )?(heroic|hero|dramatic|imposing|monumental|powerful|towering|epic|menacing|majestic)"
+    " (up|low) (angle|shot|view|perspective|camera angle)( (of|at|on) {obj})?"
+)
 # The camera looking into the subject's eyes or face ("looking right into his button eyes"): its
 # front, exactly when said so ("right" there is no side).
 EYES_FRAME = (
@@ -3170,6 +3176,7 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
         rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
     rows.append(("shot", "wide", ROOM_SEEN, False))
     rows.append(("elevation", "eye level", EYE_PLACE, False))
+    rows.append(("elevation", "low angle", DRAMATIC_UP, False))
     rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
     rows.append(("view", "front", EYES_FRAME.replace("( {STRONGLY})?", ""), False))
     rows += [("view", lat, SIDE_ONE_AFTER_VIEW.replace("{LAT}", lat), False) for lat in ("left", "right")]
