@@ -57,6 +57,13 @@ PLACED_UNKNOWN = [
     ("the toaster what is sitting beside the sofa", "toaster"),  # non-native relative
     ("the painting hanging above the sofa", "painting"),  # a noun in -ing is the head
     ("Please could you feature the dehumidifier, which is currently next to the armchair?", "dehumidifier"),
+    # Written after the rules: a relative clause with any verb, "from", a count before the thing.
+    ("i want photo of cat who sleep on sofa", "cat"),
+    ("a candle that's been lit beside the vase", "candle"),
+    ("a spider dangling from the floor lamp", "spider"),
+    ("two ducks swimming near the bench", "ducks"),
+    ("our tortoise, who is hiding under the armchair", "tortoise"),
+    ("SNAP THE SCARF DRAPED OVER THE ARMCHAIR", "scarf"),
 ]
 
 
@@ -75,6 +82,9 @@ KNOWN_BEFORE_A_LANDMARK = [
     ("the armchair standing next to the fireplace", "armchair"),
     ("close-up of the mug resting on the coffee table", "mug"),
     ("the bench with the sun setting behind the tree", "bench"),
+    ("the vase, flowers drooping over its rim", "vase"),
+    ("mug photographed from beside the vase", "mug"),
+    ("the armchair viewed from behind the sofa", "armchair"),
 ]
 
 

@@ -3802,9 +3802,11 @@ PLACED_PREPOSITIONS = tuple(
         "in front of", "on top of", "out of", "next to", "close to", "up against", "right by",
         "in", "on", "at", "by", "near", "under", "behind", "beyond", "beside", "below", "above", "over",
         "beneath", "underneath", "against", "alongside", "between", "among", "amid", "inside", "outside",
-        "atop", "into", "onto", "upon", "across", "along", "around", "round", "within", "past",
+        "atop", "into", "onto", "upon", "across", "along", "around", "round", "within", "past", "from",
     )
 )  # fmt: skip
+# Pronouns opening a relative clause after a thing ("the rug that ...", "the toaster what ...").
+RELATIVE_PRONOUNS = frozenset({"that", "which", "who", "whom", "what"})
 # Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
 # under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
 PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "are", "was", "were", "being", "been"})
@@ -3813,7 +3815,7 @@ PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "
 # those that are nouns too ("the umbrella stand by ...", "the rest of ...").
 PLACED_VERBS = frozenset(
     {"kept", "stuck", "laid", "lain", "stood", "hangs", "sleeps", "naps", "dozes", "hides", "waits", "peeks", "peeps"}
-    | {"perches", "plays", "lives", "stays"}
+    | {"perches", "plays", "lives", "stays", "leant", "strewn", "thrown", "flung", "slung", "spread", "lit", "grown"}
 )
 # Adverbs said among the placing words ("splashing away somewhere behind", "curled up fast asleep
 # on", "parked right behind", "napping quietly under").
@@ -3878,7 +3880,14 @@ def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
     if preposition is None:
         return None
     end = len(before) - len(preposition)
-    verb = False
+    # A relative clause places it whatever its verb ("the cat who sleep on", "a candle that's been
+    # lit beside"): from its pronoun on, at most five words.
+    relative = next((k for k in range(end - 1, max(end - 6, 0) - 1, -1) if before[k] in RELATIVE_PRONOUNS), None)
+    if relative is not None and all(w.isalpha() or w == "'s" for w in before[relative:end]):
+        end = relative - (relative > 0 and before[relative - 1] == ",")
+        verb = True
+    else:
+        verb = False
     while end > 0 and len(before) - len(preposition) - end < 5:
         word = before[end - 1]
         if word in PLACED_RELATIVES or _placing(word):
@@ -3918,8 +3927,8 @@ def _subject_place(before: list[str]) -> bool:
     (:data:`SIMILE_WORDS`)."""
     if any(w in SIMILE_WORDS for w in before[-3:]):
         return False
-    if all(w in STOPWORDS or w in PUNCTUATION or w in PLACED_LEADS for w in before):
-        return True
+    if all(w in STOPWORDS or w in PUNCTUATION or w in PLACED_LEADS or NUMBER.fullmatch(w) for w in before):
+        return True  # a count may open it ("two ducks swimming near the bench")
     if before[-1:] != ["of"]:
         return False
     picture = before[-2:-1]
