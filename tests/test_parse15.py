@@ -368,3 +368,28 @@ DRAMATIC_UPS = [
 @pytest.mark.parametrize("text", DRAMATIC_UPS)
 def test_an_upward_angle_with_a_word_of_drama_is_low(text):
     assert parse_instruction(text, SCENE).elevation == "low angle"
+
+
+def test_negated_height_asks_nothing():
+    assert parse_instruction("mug head on, not from above", SCENE).elevation is None
+    assert parse_instruction("the mug from above, not from below", SCENE).elevation == "high angle"
+    assert parse_instruction("vase, no eye level, from above", SCENE).elevation == "high angle"
+    # "not too high" is a degree, not a height refused: still reported as not understood.
+    assert parse_instruction("bench, not too high", SCENE).not_understood()
+
+
+@pytest.mark.parametrize(
+    "text,shot",
+    [
+        ("the bench as small as can be", "wide"),
+        ("the toy car as large as you possibly can", "close-up"),
+        ("vase as big as it'll possibly go", "close-up"),
+        ("sofa fairly tiny", "wide"),
+    ],
+)
+def test_size_pushed_in_other_word_orders(text, shot):
+    assert parse_instruction(text, SCENE).subjects[0].shot == shot
+
+
+def test_picture_line_sloping_turns_against_the_camera():
+    assert parse_instruction("sofa, horizon line sloping 5 degrees clockwise", SCENE).roll_deg == -5.0

@@ -3104,11 +3104,17 @@ DIAGONAL_NOUN_FRAMES = [
 NOT_VIEW_FRAMES = [
     "(not|never|no|rather than|instead of)( (from|at|on))?( the| a| {P})? {SIDE}( side| view| angle| on)?(?! of )",
 ]
+# The same of a height ("head on, not from above", "never a high angle", "rather than from below").
+NOT_HEIGHT = (
+    "(not|never|no|rather than|instead of)( (from|at))?( a| an| the)? (above|below|beneath|overhead|underneath|high up"
+    "|down low|high angle|low angle|bird 's eye|worm 's eye|top down|eye level)( (angle|view|shot))?(?! (of|the) )"
+)
 # A size pushed as far as it goes ("as big as it can possibly be", "as small as you can make it"),
 # and a size said of the subject with a moderating word ("the mug rather small", "vase fairly big").
 SIZE_EXTREME_FRAMES = [
-    "(as )?{WORD} as ((it|you|we|one|they) (can|could|will|ll|would) (possibly |reasonably |conceivably )?"
-    "(be|get( it)?|make it|go|manage( it)?|fit( it)?)|possible|possibly can be|feasible)( in (the )?{FRAME})?",
+    "(as )?{WORD} as (((it|you|we|one|they) )?((possibly|conceivably) )?(can|could|will|ll|would)"
+    "( (possibly|reasonably|conceivably))?( (be|get( it)?|make it|go|manage( it)?|fit( it)?))?"
+    "|possible|possibly can be|feasible)( in (the )?{FRAME})?",
     "{obj} {FAIRLY} {WORD}(?= ([,.;:!]|$|and |in |at |on |with |so |but ))",
 ]
 # Room around the subject said to be seen ("plenty of tabletop visible round it", "lots of sky
@@ -3131,7 +3137,9 @@ EYE_PLACE = (
 # 20 degrees, counterclockwise"); {thing} the camera's or the picture's (:data:`CAMERA_THING`,
 # :data:`PICTURE_THING`), which turns the other way.
 ROLL_PARTICLE = "( over| round| around| across| off| away)?"
-ROLL_LINE_VERBS = "(running|runs|run|sitting|sits|lying|lies|sloped|slanting|slants|skewed|angled|set|going|dipping)"
+ROLL_LINE_VERBS = (
+    "(running|runs|run|sitting|sits|lying|lies|sloped|sloping|slopes|slanted|slanting|slants|skewed|angled|set|going|dipping)"
+)
 OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?"
 ROLL_FAMILY_FRAMES = [
     "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + "( by| through)? {d} {dir}" + OFF_LEVEL,
@@ -3175,6 +3183,7 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
         said = _alternatives(w for w in SIZE_WORDS[shot] if " " not in w)
         rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
     rows.append(("shot", "wide", ROOM_SEEN, False))
+    rows.append(("note", None, NOT_HEIGHT, False))
     rows.append(("elevation", "eye level", EYE_PLACE, False))
     rows.append(("elevation", "low angle", DRAMATIC_UP, False))
     rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
