@@ -1207,8 +1207,11 @@ for _lat in ("left", "right"):
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
 # where a region reading is likely (after a comma, first in the phrase) only LATERAL_OWN, which
 # names the subject, is a side.
-LATERAL = "(off )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?(?! (of|in|third|half|edge|corner|part|quarter) )"
-LATERAL_OWN = "(off )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
+LATERAL = (
+    "((off|over) )?(to|on|towards|at) (the|{P}) {LAT}( hand)?( side)?( of {obj})?"
+    "(?! (of|in|third|half|edge|corner|part|quarter) )"
+)
+LATERAL_OWN = "((off|over) )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {LAT}( hand)?( side)? of {obj})"
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
     "front": SEEN + ALMOST + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
@@ -1304,7 +1307,7 @@ MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|acr
 # The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
 AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
 TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
-TOWARD = "((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)"
+TOWARD = "(((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)|(so as )?to (show|reveal))"
 # Nearer one way without an amount said ("more toward the back", "a hair closer to the front").
 NEARER = "(({HEDGE} )?(closer|nearer|more)( to| towards)?)"
 # The amount and its direction, one way or the other.
@@ -1352,8 +1355,13 @@ LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PA
 # An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
 LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
 SIDE_OFFSET_FRAMES = [
-    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + OFFSET_TOWARD + " " + LON_SIDE,
-    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then )?" + AMOUNT + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
+    SEEN + "(from |off |at )?" + LAT_REF + "( ,)? (and |but |then |though |yet |although )?" + OFFSET_TOWARD + " " + LON_SIDE,
+    SEEN
+    + "(from |off |at )?"
+    + LAT_REF
+    + "( ,)? (and |but |then |though |yet |although )?"
+    + AMOUNT
+    + " {LONWARD}(?= ([,.;!]|$|and |with |so |but ))",
     SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
     SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
@@ -1362,7 +1370,7 @@ SIDE_OFFSET_DEGREES_FRAMES = [
     SEEN
     + "(from |off |at )?"
     + LAT_REF
-    + "( ,)? (and |but |then )?"
+    + "( ,)? (and |but |then |though |yet |although )?"
     + MOVED
     + "(by )?{d}(?<= degrees)( more)? "
     + TOWARD
@@ -3161,6 +3169,118 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("light", None, t, False) for t in LIGHT_PHRASES]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
+    return rows + _family_rows(rows)
+
+
+# --- families of phrasing1's misreadings (parse15), composed from the tables above ----------------
+# A diagonal said as a noun: with its article ("I'm after a front-right 3/4, ..."), or before the
+# subject it is of ("front-left three-quarter on the toy car", "a rear-left 3/4 of the bench").
+DIAGONAL_NOUN_FRAMES = [
+    "(a|an) {SIDE}( view| angle| shot)?(?= ([,.;!]|$))",
+    "((a|an|the|in|at|from) )?{SIDE}( view| angle| shot)? (on|of|for) {obj}",
+]
+# A side or end said not to be wanted ("not from side", "never from behind", "rather than the
+# back"): it asks nothing, and is no view that would conflict with the one asked.
+NOT_VIEW_FRAMES = [
+    "(not|never|no|rather than|instead of)( (from|at|on))?( the| a| {P})? {SIDE}( side| view| angle| on)?(?! of )",
+]
+# The same of a height ("head on, not from above", "never a high angle", "rather than from below").
+NOT_HEIGHT = (
+    "(not|never|no|rather than|instead of)( (from|at))?( a| an| the)? (above|below|beneath|overhead|underneath|high up"
+    "|down low|high angle|low angle|bird 's eye|worm 's eye|top down|eye level)( (angle|view|shot))?(?! (of|the) )"
+)
+# A size pushed as far as it goes ("as big as it can possibly be", "as small as you can make it"),
+# and a size said of the subject with a moderating word ("the mug rather small", "vase fairly big").
+SIZE_EXTREME_FRAMES = [
+    "(as )?{WORD} as (((it|you|we|one|they) )?((possibly|conceivably) )?(can|could|will|ll|would)"
+    "( (possibly|reasonably|conceivably))?( (be|get( it)?|make it|go|manage( it)?|fit( it)?))?"
+    "|possible|possibly can be|feasible)( in (the )?{FRAME})?",
+    "{obj} {FAIRLY} {WORD}(?= ([,.;:!]|$|and |in |at |on |with |so |but ))",
+]
+# Room around the subject said to be seen ("plenty of tabletop visible round it", "lots of sky
+# showing around it", "loads of floor in view about him").
+ROOM_SEEN = (
+    "(with )?{PLENTY} ([a-z]+ ){1,2}(visible|showing|in view|in shot|in frame|on show|to spare|left)"
+    " (all )?(around|round|about) {obj}"
+)
+
+# The camera put where the subject's eyes are ("camera roughly where his eyes are", "lens just
+# about where its face would be"): level with it.
+EYE_PLACE = (
+    "((the )?(camera|lens|cam) )?((({ABOUT}|just|right|roughly) )+)?((up|down|at|to) )?where {P}"
+    " (eyes|nose|gaze|headlights|headlamps|{ANCHOR_EYE}) (are|is|would be|sit|sits|would sit)"
+)
+
+# A roll said with a particle after its verb ("the frame leaned over 15 degrees clockwise"), by
+# what the picture's line does ("the horizon line running 10 degrees anticlockwise off level"), or
+# as a noun before its degrees ("anticlockwise camera twist of thirty degrees", "a lens rotation of
+# 20 degrees, counterclockwise"); {thing} the camera's or the picture's (:data:`CAMERA_THING`,
+# :data:`PICTURE_THING`), which turns the other way.
+ROLL_PARTICLE = "( over| round| around| across| off| away)?"
+ROLL_LINE_VERBS = (
+    "(running|runs|run|sitting|sits|lying|lies|sloped|sloping|slopes|slanted|slanting|slants|skewed|angled|set|going|dipping)"
+)
+OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?"
+ROLL_FAMILY_FRAMES = [
+    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + "( by| through)? {d} {dir}" + OFF_LEVEL,
+    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + " {dir}( by| through)? {d}" + OFF_LEVEL,
+    "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
+    "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
+]
+# An upward angle with a word of its drama before it ("heroic upward angle", "a dramatic up shot of
+# the tree", "an imposing low angle"): low.
+DRAMATIC_UP = (
+    "((a|an) )?(heroic|hero|dramatic|imposing|monumental|powerful|towering|epic|menacing|majestic)"
+    " (up|low) (angle|shot|view|perspective|camera angle)( (of|at|on) {obj})?"
+)
+# The camera looking into the subject's eyes or face ("looking right into his button eyes"): its
+# front, exactly when said so ("right" there is no side).
+EYES_FRAME = (
+    "(looking|look|looks|staring|stare|gazing|gaze|peering|peer)( {STRONGLY})? (into|at) (the |{P} )([a-z]+ )?(eyes|face)"
+)
+# A side said as "the <side> one" right after a view that lacks it ("back three-quarter, the
+# right-hand one"): which side.
+SIDE_ONE_AFTER_VIEW = (
+    "(?:(?<=quarter , )|(?<=quarters , )|(?<=view , )|(?<=angle , )|(?<=diagonal , )|(?<=behind , )|(?<=rear , ))"
+    "(the )?{LAT}( hand)?( side)? one(?= ([,.;!]|$))"
+)
+# Verbs of looking other than "look", for every height said with it ("peering up", "gazing
+# upward along the pole", "staring down at it"): the height phrases of "look" said with them.
+LOOK_VERBS = "(peering|peer|peers|gazing|gaze|gazes|staring|stare|stares|glancing|glance|glances|peeking|peeping)"
+LOOK_WORD = re.compile(r"\blook(?:ing|s)?\b")
+
+
+def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str, object, str, bool]]:
+    """Rows of the families above, each over every side, size or roll word of the tables; ``tables``:
+    the tables' own rows, whose height phrases of "look" are said again with the other verbs of
+    looking (:data:`LOOK_VERBS`)."""
+    rows = []
+    for view, sides in VIEW_SIDE_WORDS.items():
+        if "-" in view:
+            rows += [("view", view, t.replace("{SIDE}", _alternatives(sides)), False) for t in DIAGONAL_NOUN_FRAMES]
+        rows += [("note", None, t.replace("{SIDE}", _alternatives(sides)), False) for t in NOT_VIEW_FRAMES]
+    for shot in ("close-up", "wide"):
+        said = _alternatives(w for w in SIZE_WORDS[shot] if " " not in w)
+        rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
+    rows.append(("shot", "wide", ROOM_SEEN, False))
+    rows.append(("note", None, NOT_HEIGHT, False))
+    rows.append(("elevation", "eye level", EYE_PLACE, False))
+    rows.append(("elevation", "low angle", DRAMATIC_UP, False))
+    rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
+    rows.append(("view", "front", EYES_FRAME.replace("( {STRONGLY})?", ""), False))
+    rows += [("view", lat, SIDE_ONE_AFTER_VIEW.replace("{LAT}", lat), False) for lat in ("left", "right")]
+    for sign, thing in ((1.0, CAMERA_THING), (-1.0, PICTURE_THING)):
+        # The camera may go unsaid in a roll's noun ("a clockwise twist of 20 degrees"); the
+        # picture, which turns the other way, must be said.
+        after, before = (f"( {thing})?", f"({thing} )?") if sign > 0 else (f" {thing}", f"{thing} ")
+        for frame in ROLL_FAMILY_FRAMES:
+            t = frame.replace("{thing}", thing).replace("{said}", after).replace("{said_before}", before)
+            rows.append(("roll_deg", sign, t, False))
+    rows += [
+        (field, value, LOOK_WORD.sub(LOOK_VERBS, t), weak)
+        for field, value, t, weak in tables
+        if field in ("elevation", "elevation_deg") and LOOK_WORD.search(t)
+    ]
     return rows
 
 
@@ -3255,6 +3375,13 @@ class RuleParser:
         cues = _unnegated(_bare_angles(self._cues(tokens), tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
+        # A thing placed at a named object, or a setting holding it, is what the sentence is about.
+        placed = self._placed_thing(tokens, cues)
+        if placed is not None:
+            mentions.append(_Mention(placed[0], placed[1], vocabulary.match(placed[1])))
+        setting = self._setting_holding(tokens)
+        if setting is not None:  # a room or a garden is never one of the scene's objects ("garden" of "garden bench")
+            raise InputError(f"subject {setting[1]!r} is not in this scene; known: {vocabulary.names}")
         for run in self._leftovers(tokens, cues, determined):
             # The sentence's subject: a scene object, or refused naming the closest; a part or a
             # position tied to the subject ("so we see the seam down its back") is neither.
@@ -3558,6 +3685,7 @@ class RuleParser:
             phrase.pop(0)
         while phrase and phrase[-1] in STOPWORDS:
             phrase.pop()
+        phrase = _unplaced(phrase)  # "the light falling on the vase" is about light, no thing
         # What a possessor owns is the thing, judged without the possessor ("Grandma's rocking
         # horse", "Dad's slippers": a requester is a table word), which the name keeps unless it
         # is such a word ("Rubik's cube", "my dog's bowl").
@@ -3577,6 +3705,64 @@ class RuleParser:
             return None  # "focus on the mug": a verb of the tables, not a thing
         possessor = [w for w in phrase[: owner or 0] if w not in STOPWORDS]
         return " ".join(owned if any(w in self.lexicon for w in possessor) or _never_a_name(" ".join(possessor)) else phrase)
+
+    def _placed_thing(self, tokens: list[str], cues: list[_Cue]) -> tuple[int, str] | None:
+        """The thing placed at a named object, when the sentence is about it: ``(token, words)`` of
+        "<noun phrase> <placing words> <place preposition> @k" (:data:`PLACED_PREPOSITIONS`), the
+        placing words a verb of where it is (a participle, a relative clause: :func:`_placing`)
+        with adverbs ("fountain splashing away somewhere behind the bench", "the fireplace that's
+        behind our settee", "a close detail of the teaspoon resting in the mug"), the noun phrase in
+        the subject's place (:func:`_subject_place`); else None. Its head names no view,
+        position, size or state (:data:`RESERVED`, :func:`_never_a_name`), nor the camera or its
+        move (:data:`CAMERA_HOLDERS`), and no phrase explains it. A known subject before a landmark
+        ("the mug on the table") is no such phrase, nor is a simile ("like a toddler looking up at
+        the teddy")."""
+        covered = {k for c in cues for k in range(c.start, c.end)}
+        for at, token in enumerate(tokens):
+            if not token.startswith("@"):
+                continue
+            found = _placed_phrase(tokens[:at])
+            if found is None:
+                continue
+            start, end = found
+            thing = tokens[start:end]
+            head = thing[-1]
+            determined = start > 0 and tokens[start - 1] in MENTION_DETERMINERS
+            if (
+                head.isalpha()
+                and head not in ATTRIBUTES
+                and (end - 1) not in covered
+                and head not in RESERVED
+                and not any(w in CAMERA_HOLDERS for w in thing)
+                and not _never_a_name(" ".join(thing))
+                and _subject_place(tokens[: start - determined])
+            ):
+                return start, " ".join(thing)
+        return None
+
+    def _setting_holding(self, tokens: list[str]) -> tuple[int, str] | None:
+        """The setting a picture is of when it holds the named object ("a picture of the kitchen
+        with the plant in it", "the lounge, with the sofa inside it"): ``(token, words)`` of a
+        :data:`HOLDING_SETTINGS` word after a determiner, "of" or the opening, then "with" (or
+        "containing", "holding") the subject and "in it" / "inside" / "in there"; else None. A
+        setting with the subject in a part of the frame ("a wide view of the room with the plant
+        in the lower right") or said where the subject is ("the sofa in the living room") is the
+        setting, understood, as before."""
+        for at, token in enumerate(tokens):
+            if not token.startswith("@") or at < 2 or tokens[at - 1] not in HOLDING_WORDS:
+                continue
+            clause = list(itertools.takewhile(lambda t: t not in PUNCTUATION, tokens[at + 1 :]))
+            if tuple(clause) not in HELD_INSIDE:
+                continue
+            before = tokens[: at - 1]
+            if before[-1:] == [","]:
+                before = before[:-1]
+            for n in (2, 1):
+                said = " ".join(before[-n:])
+                lead = before[-n - 1 : -n] if len(before) > n else []
+                if len(before) >= n and said in HOLDING_SETTINGS and (not lead or lead[0] in MENTION_DETERMINERS | {"of"}):
+                    return len(before) - n, said
+        return None
 
 
 # Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
@@ -3655,7 +3841,7 @@ def _never_a_name(text: str) -> bool:
     while said and said[0] in STOPWORDS:
         said.pop(0)
     ends = STOPWORDS | RELATION_WORDS | {"behind", "beyond"}
-    phrase = list(itertools.takewhile(lambda w: w not in ends, said))
+    phrase = _unplaced(list(itertools.takewhile(lambda w: w not in ends, said)))  # "the light | falling on"
     return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
 
@@ -3739,6 +3925,148 @@ def _coordinated(tokens: list[str], span: list[int]) -> bool:
     return (tokens[first] in CONJUNCTIONS and before.startswith("@")) or (
         tokens[last] in CONJUNCTIONS and last + 1 < len(tokens) and tokens[last + 1].startswith("@")
     )
+
+
+# --- a thing placed at a named object (parse15) -----------------------------------------------------
+# Place prepositions that end the words placing a thing at a named object, longest first ("the kite
+# stuck up in the tree", "the radiator which is behind the armchair").
+PLACED_PREPOSITIONS = tuple(
+    w.split()
+    for w in (
+        "in front of", "on top of", "out of", "next to", "close to", "up against", "right by",
+        "in", "on", "at", "by", "near", "under", "behind", "beyond", "beside", "below", "above", "over",
+        "beneath", "underneath", "against", "alongside", "between", "among", "amid", "inside", "outside",
+        "atop", "into", "onto", "upon", "across", "along", "around", "round", "within", "past", "from",
+    )
+)  # fmt: skip
+# Pronouns opening a relative clause after a thing ("the rug that ...", "the toaster what ...").
+RELATIVE_PRONOUNS = frozenset({"that", "which", "who", "whom", "what"})
+# Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
+# under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
+PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "are", "was", "were", "being", "been"})
+# Verb forms of where a thing is that are neither a participle in -ing/-ed nor a verb of resting
+# (:data:`RELATION_WORDS`): "the kite stuck in the tree", "the cat that sleeps on the sofa"; not
+# those that are nouns too ("the umbrella stand by ...", "the rest of ...").
+PLACED_VERBS = frozenset(
+    {"kept", "stuck", "laid", "lain", "stood", "hangs", "sleeps", "naps", "dozes", "hides", "waits", "peeks", "peeps"}
+    | {"perches", "plays", "lives", "stays", "leant", "strewn", "thrown", "flung", "slung", "spread", "lit", "grown"}
+)
+# Adverbs said among the placing words ("splashing away somewhere behind", "curled up fast asleep
+# on", "parked right behind", "napping quietly under").
+PLACED_ADVERBS = frozenset(
+    {"away", "somewhere", "just", "right", "directly", "out", "up", "down", "off", "there", "here", "still", "now"}
+    | {"quietly", "peacefully", "happily", "slowly", "lazily", "comfortably", "fast", "sound", "soundly", "proudly"}
+    | {"neatly", "safely", "casually", "open", "upright", "sideways", "alone", "all", "currently", "half", "partly"}
+)
+# Participles of aiming or holding a camera, never of where a thing is ("a drone hovering above the
+# tree, looking down at the bench").
+AIMING_VERBS = frozenset(
+    {"looking", "facing", "pointing", "pointed", "aiming", "aimed", "shooting", "angled", "angling", "tilted", "tilting"}
+    | {"turned", "turning", "raised", "lowered", "peering", "gazing", "staring", "zoomed", "zooming", "framed", "focused"}
+    | {"focussed", "centered", "centred", "cropped", "positioned", "placed", "pushed", "nudged", "shifted"}
+)
+# Who holds or is the camera, or how it moves, never the subject ("the photographer crouching beside
+# the bench", "orbit paused over the vase").
+CAMERA_HOLDERS = frozenset(
+    {"camera", "lens", "cam", "drone", "phone", "tripod", "gimbal", "photographer", "cameraman", "viewer", "observer"}
+    | {"onlooker", "spectator", "orbit", "pan", "dolly", "crane", "jib", "track", "tracking", "sweep", "move", "rig"}
+    | {"slider", "flyover", "flythrough", "path", "pass"}
+)
+# Words before a noun phrase that keep it in the subject's place: asking for it ("could you
+# include the fireplace ..."), or a picture of it ("a close detail of the teaspoon ...").
+PLACED_LEADS = frozenset({"include", "including", "feature", "featuring", "find", "spot", "catch", "grab"})
+PLACED_PICTURES = frozenset(
+    {"shot", "photo", "photograph", "picture", "pic", "image", "snap", "snapshot", "view", "closeup", "detail", "macro"}
+    | {"study", "portrait", "crop", "capture", "still", "photos", "pictures", "pics", "shots", "images"}
+)
+# Words that make the noun phrase a comparison, not the subject ("like a toddler looking up at").
+SIMILE_WORDS = frozenset({"like", "as", "if"})
+# A setting holding the named object, then the subject (:meth:`RuleParser._setting_holding`): the
+# setting words of the tables but those naming the picture itself ("scene", "setting").
+HOLDING_SETTINGS = frozenset(SETTINGS) - {"scene", "setting", "interior", "outdoors"}
+HOLDING_WORDS = frozenset({"with", "containing", "holding"})
+HELD_INSIDE = frozenset(
+    tuple(w.split()) for w in ("in it", "inside it", "inside", "in there", "within it", "in here", "inside of it")
+)
+
+
+def _placing(word: str) -> bool:
+    """Whether ``word`` is a verb of where a thing is: a verb of resting (:data:`RELATION_WORDS`,
+    :data:`PLACED_VERBS`) or a participle in -ing / -ed ("splashing", "crawling", "dunked") but
+    one of aiming a camera (:data:`AIMING_VERBS`: "looking", "pointed")."""
+    if word in RELATION_WORDS or word in PLACED_VERBS:
+        return True
+    return (
+        word.isalpha()
+        and word not in AIMING_VERBS
+        and ((len(word) > 4 and word.endswith("ing")) or (len(word) > 3 and word.endswith("ed")))
+    )
+
+
+def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
+    """Where the noun phrase lies in ``before`` (the words before a named object) when they end on
+    "<noun phrase> <placing words> <place preposition>": ``(start, end)`` of its words (up to
+    :data:`MAX_ATTRIBUTES`, after a determiner, "of", another function word or the opening), the
+    placing words at most five, of them one a verb of being or of where it is
+    (:data:`PLACED_RELATIVES`, :func:`_placing`), the others adverbs (:data:`PLACED_ADVERBS`);
+    else None."""
+    preposition = next((p for p in PLACED_PREPOSITIONS if before[-len(p) :] == list(p)), None)
+    if preposition is None:
+        return None
+    end = len(before) - len(preposition)
+    # A relative clause places it whatever its verb ("the cat who sleep on", "a candle that's been
+    # lit beside"): from its pronoun on, at most five words.
+    relative = next((k for k in range(end - 1, max(end - 6, 0) - 1, -1) if before[k] in RELATIVE_PRONOUNS), None)
+    if relative is not None and all(w.isalpha() or w == "'s" for w in before[relative:end]):
+        end = relative - (relative > 0 and before[relative - 1] == ",")
+        verb = True
+    else:
+        verb = False
+    while end > 0 and len(before) - len(preposition) - end < 5:
+        word = before[end - 1]
+        if word in PLACED_RELATIVES or _placing(word):
+            verb = True
+        elif word not in PLACED_ADVERBS and not (word == "," and before[end] in PLACED_RELATIVES):
+            break  # a comma may set off the relative clause ("the heater, which is next to")
+        end -= 1
+    if not verb or end == len(before) - len(preposition):
+        return None
+    # A noun in -ing or -ed is the phrase's head when nothing else is ("the painting hanging above").
+    if (end == 0 or not _noun_word(before[end - 1])) and before[end] not in PLACED_RELATIVES | PLACED_ADVERBS:
+        if any(w in PLACED_RELATIVES or _placing(w) for w in before[end + 1 : len(before) - len(preposition)]):
+            end += 1
+    start = end
+    while start > 0 and end - start < MAX_ATTRIBUTES and _noun_word(before[start - 1]):
+        start -= 1
+    return (start, end) if start < end else None
+
+
+def _noun_word(word: str) -> bool:
+    """Whether ``word`` may belong to a noun phrase: a word, not a function word."""
+    return word.isalpha() and word not in STOPWORDS and word not in MENTION_DETERMINERS
+
+
+def _unplaced(phrase: list[str]) -> list[str]:
+    """``phrase`` less the placing words it ends with ("granddaughter cuddling" -> "granddaughter",
+    "light falling" -> "light"), its first word always kept."""
+    while len(phrase) > 1 and (phrase[-1] in PLACED_RELATIVES | PLACED_ADVERBS or _placing(phrase[-1])):
+        phrase = phrase[:-1]
+    return phrase
+
+
+def _subject_place(before: list[str]) -> bool:
+    """Whether a noun phrase after ``before`` stands in the subject's place: it opens the
+    sentence (after function words, punctuation and words asking for it, :data:`PLACED_LEADS`) or
+    follows "<a picture noun> of" ("a close detail of", "a close up of"); never in a comparison
+    (:data:`SIMILE_WORDS`)."""
+    if any(w in SIMILE_WORDS for w in before[-3:]):
+        return False
+    if all(w in STOPWORDS or w in PUNCTUATION or w in PLACED_LEADS or NUMBER.fullmatch(w) for w in before):
+        return True  # a count may open it ("two ducks swimming near the bench")
+    if before[-1:] != ["of"]:
+        return False
+    picture = before[-2:-1]
+    return bool(picture) and (picture[0] in PLACED_PICTURES or before[-3:-1] == ["close", "up"])
 
 
 def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:

@@ -211,11 +211,15 @@ SIGN_WORDS = {"minus", "negative"}
 NUMBER = re.compile(r"\d+(?:\.\d+)?")
 _TOKEN = re.compile(r"-?\d+(?:\.\d+)?|'s|[a-z]+|[,;:.!?()]")
 PUNCTUATION = frozenset(",;:.!?()")
+# Abbreviations whose full stop ends no clause ("elevation approx. 35°", "ca. 40 deg. up").
+ABBREVIATED = frozenset(k for k, v in SPELLINGS.items() if v in ("approximately", "circa", "degrees"))
+_ABBREVIATION_STOP = re.compile(r"\b(" + "|".join(sorted(ABBREVIATED, key=len, reverse=True)) + r")\.")
 
 
 def words(text: str) -> list[str]:
     """The normalised tokens of ``text``: words, numbers, ``'s`` and punctuation (see module doc)."""
     s = text.lower()
+    s = _ABBREVIATION_STOP.sub(r"\1 ", s)
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = re.sub(r"%|\bper\s?cent\b", " percent ", s)  # "10%", "10 per cent", "10 percent"
@@ -1018,6 +1022,13 @@ HEIGHT_ANCHORS = {
         "skirting",
         "skirting board",
         "baseboard",
+        # What covers the floor or the ground ("from rug level", "at carpet height").
+        "rug",
+        "carpet",
+        "floorboards",
+        "pavement",
+        "gravel",
+        "soil",
     ),
 }
 # Words saying the camera is at a height, as "level with" does ("even with its head", "flush with
