@@ -926,7 +926,7 @@ VIEW_SIDE_WORDS["side"] += ["broadside", "broadside on", "broad side on"]
 # noun, the clause's end, or a word leading on to the subject or another clause; never a noun it
 # describes.
 DIAGONAL_END = (
-    "( 45( degrees)?)?( (view|angle|shot|perspective|position|vantage|one))?"
+    "( 45( degrees)?)?( (view|angle|shot|perspective|position|vantage|one))?( (on|of|for) {obj})?"
     "(?= ([,.;:!?)]|$|and |with |at |from |on |of @\\d|for |to @\\d|please |low|high|eye|medium|close|wide|tight))"
 )
 # "X on" words that name no end ("head on", "dead on"): they say only exactly (EXACT_ONLY).
@@ -3106,7 +3106,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # A diagonal names a view wherever it stands as a noun phrase, a region never being one
             # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
             # car"), unless a noun follows that it describes ("the front left leg").
-            rows.append(("view", view, "((a|an|the|some) )?" + _alternatives(sides) + DIAGONAL_END, False))
+            rows.append(("view", view, "((a|an|the|some|in|at|from) )?" + _alternatives(sides) + DIAGONAL_END, False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
@@ -3173,22 +3173,6 @@ def _templates() -> list[tuple[str, object, str, bool]]:
 
 
 # --- families of phrasing1's misreadings (parse15), composed from the tables above ----------------
-# A diagonal said as a noun: with its article ("I'm after a front-right 3/4, ..."), or before the
-# subject it is of ("front-left three-quarter on the toy car", "a rear-left 3/4 of the bench").
-DIAGONAL_NOUN_FRAMES = [
-    "(a|an) {SIDE}( view| angle| shot)?(?= ([,.;!]|$))",
-    "((a|an|the|in|at|from) )?{SIDE}( view| angle| shot)? (on|of|for) {obj}",
-]
-# A side or end said not to be wanted ("not from side", "never from behind", "rather than the
-# back"): it asks nothing, and is no view that would conflict with the one asked.
-NOT_VIEW_FRAMES = [
-    "(not|never|no|rather than|instead of)( (from|at|on))?( the| a| {P})? {SIDE}( side| view| angle| on)?(?! of )",
-]
-# The same of a height ("head on, not from above", "never a high angle", "rather than from below").
-NOT_HEIGHT = (
-    "(not|never|no|rather than|instead of)( (from|at))?( a| an| the)? (above|below|beneath|overhead|underneath|high up"
-    "|down low|high angle|low angle|bird 's eye|worm 's eye|top down|eye level)( (angle|view|shot))?(?! (of|the) )"
-)
 # A size pushed as far as it goes ("as big as it can possibly be", "as small as you can make it"),
 # and a size said of the subject with a moderating word ("the mug rather small", "vase fairly big").
 SIZE_EXTREME_FRAMES = [
@@ -3255,15 +3239,10 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
     the tables' own rows, whose height phrases of "look" are said again with the other verbs of
     looking (:data:`LOOK_VERBS`)."""
     rows = []
-    for view, sides in VIEW_SIDE_WORDS.items():
-        if "-" in view:
-            rows += [("view", view, t.replace("{SIDE}", _alternatives(sides)), False) for t in DIAGONAL_NOUN_FRAMES]
-        rows += [("note", None, t.replace("{SIDE}", _alternatives(sides)), False) for t in NOT_VIEW_FRAMES]
     for shot in ("close-up", "wide"):
         said = _alternatives(w for w in SIZE_WORDS[shot] if " " not in w)
         rows += [("shot", shot, t.replace("{WORD}", said), False) for t in SIZE_EXTREME_FRAMES]
     rows.append(("shot", "wide", ROOM_SEEN, False))
-    rows.append(("note", None, NOT_HEIGHT, False))
     rows.append(("elevation", "eye level", EYE_PLACE, False))
     rows.append(("elevation", "low angle", DRAMATIC_UP, False))
     rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
