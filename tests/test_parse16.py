@@ -472,3 +472,18 @@ def test_side_named_after_side_of():
 def test_from_above_and_from_below_still_conflict():
     with pytest.raises(InputError, match="conflicting elevations"):
         parse("the sofa from up and also from down")
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        # What a picture brings out names no thing, the placing words after it aside.
+        "a shadow cast across the sofa, wide",
+        "a soft glow sitting on the vase, close up",
+        "the emphasis placed on the ball, centred",
+        "my attention drawn to the teddy bear, from the right",
+        "the light streaming over the armchair, from the front",
+    ],
+)
+def test_words_of_the_picture_placed_at_a_subject_name_no_thing(text):
+    assert parse(text).subjects[0].name in ("sofa", "vase", "ball", "teddy bear", "armchair")

@@ -2720,6 +2720,10 @@ RELATION_OBJECT_WORDS = frozenset({"on", "in", "at", "top", "front", "inside", "
 PICTURE_NOUNS = frozenset(
     {"angle", "angles", "perspective", "viewpoint", "vantage", "light", "lighting", "composition", "framing", "focus"}
     | {"exposure", "look", "style", "mood", "crop", "lens", "horizon", "distance", "shadow", "shadows", "reflection"}
+    # What a picture brings out, never a thing in the scene ("a soft glow sitting on the vase", "the
+    # emphasis placed on the ball", "my attention drawn to the bear").
+    | {"glow", "emphasis", "attention", "interest", "highlight", "highlights", "atmosphere", "contrast", "silhouette"}
+    | {"reflections", "bokeh", "blur", "sunlight", "daylight", "sunshine", "grain", "texture"}
 )
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece", "pair"}) | {
@@ -3819,7 +3823,7 @@ def _never_a_name(text: str) -> bool:
     said = text.split()
     while said and said[0] in STOPWORDS:
         said.pop(0)
-    ends = STOPWORDS | RELATION_WORDS | {"behind", "beyond"}
+    ends = STOPWORDS | RELATION_WORDS | RELATION_OBJECT_WORDS | {"behind", "beyond"}
     phrase = _unplaced(list(itertools.takewhile(lambda w: w not in ends, said)))  # "the light | falling on"
     return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
@@ -3929,6 +3933,7 @@ PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "
 PLACED_VERBS = frozenset(
     {"kept", "stuck", "laid", "lain", "stood", "hangs", "sleeps", "naps", "dozes", "hides", "waits", "peeks", "peeps"}
     | {"perches", "plays", "lives", "stays", "leant", "strewn", "thrown", "flung", "slung", "spread", "lit", "grown"}
+    | {"cast", "drawn"}
 )
 # Adverbs said among the placing words ("splashing away somewhere behind", "curled up fast asleep
 # on", "parked right behind", "napping quietly under").
