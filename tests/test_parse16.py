@@ -487,3 +487,29 @@ def test_from_above_and_from_below_still_conflict():
 )
 def test_words_of_the_picture_placed_at_a_subject_name_no_thing(text):
     assert parse(text).subjects[0].name in ("sofa", "vase", "ball", "teddy bear", "armchair")
+
+
+@pytest.mark.parametrize(
+    ("text", "thing"),
+    [
+        # Placed at the subject right after it, and both asked for: a second thing, refused when absent.
+        ("the mug next to a laptop, both sharp", "laptop"),
+        ("the sofa under the painting, both in frame", "painting"),
+        ("the bench beside a lamppost, the two together", "lamppost"),
+    ],
+)
+def test_thing_placed_at_the_subject_with_both_asked_is_a_second_subject(text, thing):
+    with pytest.raises(InputError, match=f"'{thing}' is not in this scene"):
+        parse(text)
+
+
+@pytest.mark.parametrize(
+    ("text", "names"),
+    [
+        ("the mug next to a hairbrush", ["mug"]),  # a landmark, reported
+        ("the mug next to the vase, both sharp", ["mug", "vase"]),
+        ("the vase full of roses, close up", ["vase"]),  # what it holds; "full of" is no full shot
+    ],
+)
+def test_landmarks_and_known_second_subjects_are_kept(text, names):
+    assert [s.name for s in parse(text).subjects] == names

@@ -3048,7 +3048,9 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # Its noun may belong to a view after it ("a wide establishing | shot from the front").
         rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)}(?= {SHOT_NOUN} (from|at|in|with) )", False))
         if shot != "close-up":  # shot-list jargon drops the noun: "a medium wide of the sofa", "a wide of it"
-            rows.append(("shot", shot, f"(a |an )?{_alternatives(adjectives)} of", False))
+            # Not "full": "full of" is what a thing holds ("the vase full of roses"), no full shot.
+            jargon = [a for a in adjectives if a != "full"]
+            rows.append(("shot", shot, f"(a |an )?{_alternatives(jargon)} of", False))
     rows += [("shot", shot, t, False) for shot, ts in SHOT_CLAUSES.items() for t in ts]
     rows += [("shot", "share", t, False) for t in SHARE_PHRASES]
     for region, areas in REGION_AREAS.items():
@@ -3376,7 +3378,7 @@ class RuleParser:
             else:
                 unparsed.append(run)
         for run in unparsed:  # a thing joined to a subject is one too ("harmonica?? next to the mug")
-            thing = self._joined_thing(tokens, run)
+            thing = self._joined_thing(tokens, run) or self._placed_second(tokens, run)
             if thing is not None:
                 mentions.append(_Mention(run.at, thing, vocabulary.match(thing)))
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
@@ -3647,6 +3649,35 @@ class RuleParser:
             for j in JOINS_AFTER
         )
         return " ".join(thing) if joined_after or joined_before else None
+
+    def _placed_second(self, tokens: list[str], run: _Run) -> str | None:
+        """The thing a run names when it is placed at the subject named right before it and both
+        are asked for (:data:`BOTH_WORDS`: "the mug next to a laptop, both sharp", "the sofa under
+        the painting, both in frame"): a second subject, refused when the scene lacks it; without
+        "both" it is a landmark, reported ("the mug next to a hairbrush"). Its words are at most
+        :data:`MAX_ATTRIBUTES`, none a word of the tables; None otherwise."""
+        if not any(t in BOTH_WORDS for t in tokens):
+            return None
+        said = run.text.split()
+        start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
+        if start is None:
+            return None
+        # The run may hold the preposition and an article ("next to a laptop"): the thing follows them.
+        opening = next((p for p in PLACED_PREPOSITIONS if said[: len(p)] == list(p) and len(said) > len(p)), ())
+        article = said[len(opening) : len(opening) + 1] in (["a"], ["an"], ["the"], ["some"])
+        skip = len(opening) + (article if opening else 0)
+        said, start = said[skip:], start + skip
+        # Back from the thing over an article and the place preposition to the named subject.
+        k = start - (tokens[start - 1 : start] in (["a"], ["an"], ["the"], ["some"]))
+        relation = next((p for p in PLACED_PREPOSITIONS if k >= len(p) and tokens[k - len(p) : k] == list(p)), None)
+        if relation is None or k - len(relation) < 1 or not tokens[k - len(relation) - 1].startswith("@"):
+            return None
+        end = start + len(said)
+        if end < len(tokens) and tokens[end] not in PUNCTUATION and tokens[end] not in THING_ENDS:
+            return None
+        if len(said) > MAX_ATTRIBUTES or not all(w.isalpha() and w not in self.lexicon for w in said):
+            return None
+        return " ".join(said) if said and not _never_a_name(" ".join(said)) else None
 
     def _related_subject(self, tokens: list[str], span: list[int]) -> str | None:
         """The noun phrase ``span`` opens with when a place relation (:data:`RELATION_WORDS`) ties
