@@ -513,3 +513,20 @@ def test_thing_placed_at_the_subject_with_both_asked_is_a_second_subject(text, t
 )
 def test_landmarks_and_known_second_subjects_are_kept(text, names):
     assert [s.name for s in parse(text).subjects] == names
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # Articles dropped, as non-native writers drop them.
+        ("teddy bear from right, little bit to front", "right-slight-front"),
+        ("toy car from left side, slightly to back", "left-slight-back"),
+    ],
+)
+def test_side_towards_an_end_without_articles(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+def test_lampshade_names_the_floor_lamp():
+    lamps = Vocabulary.from_semantics([lookup("floor lamp"), lookup("armchair")])
+    assert parse_instruction("the lampshade, close up", lamps).subjects[0].name == "floor lamp"

@@ -1265,8 +1265,9 @@ BACK_SLIGHT_VIEW = (
 # Off a side towards an end, short of the diagonal ("from its right side, a little towards the
 # front": ``right-slight-front``).
 SIDE_SLIGHT_VIEW_FRAMES = [
-    SEEN + "from (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?( ,)? (and |but )?{WEAK} (towards|to|toward) (the|{P}) {LON}"
-    "( side| end)?",
+    # The articles may go unsaid, as non-native writers drop them ("from right, little bit to front").
+    SEEN + "from ((the|{P}) )?{LAT}( hand)?( side| end)?( of {obj})?( ,)? (and |but )?{WEAK} (towards|to|toward) "
+    "((the|{P}) )?{LON}( side| end)?",
     SEEN + "{WEAK} (towards|to|toward) (the|{P}) {LON}( side| end)? (from|of) (the|{P}) {LAT}( hand)?( side| end)?( of {obj})?",
 ]
 # An explicit azimuth from the front towards a side ("45 degrees round to its right", "turned 30

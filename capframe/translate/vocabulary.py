@@ -1416,6 +1416,8 @@ NAME_KINDS = (
     ("bench", "pew"),
     ("vase", "urn"),
     ("tree", "palm tree"),
+    # The shade on top of the lamp names it ("the lampshade, close up").
+    ("floor lamp", "lampshade", "lamp shade"),
     # Kinds of tree said with "tree" ("the oak tree", "the young sapling"); a bare "oak" or "pine"
     # is as often a material ("the oak bench").
     ("tree", "oak tree", "pine tree", "birch tree", "maple tree", "fir tree", "apple tree", "cherry tree", "sapling"),
