@@ -149,8 +149,13 @@ def _ground_one(scene_dir: Path, spec: InstructionSpec, out: Path, options: Grou
         return "refused", " ".join(str(err).split()), time.perf_counter() - start
     except Exception as err:  # a bug in the method: counted and reported, the benchmark goes on
         traceback.print_exc(file=sys.stderr)
-        return "error", f"{type(err).__name__}: {' '.join(str(err).split())}", time.perf_counter() - start
+        return "error", _error_message(err), time.perf_counter() - start
     return "done", "", time.perf_counter() - start
+
+
+def _error_message(err: Exception) -> str:
+    """An exception as one line: its type and its message."""
+    return f"{type(err).__name__}: {' '.join(str(err).split())}"
 
 
 def judge_result(
@@ -239,8 +244,7 @@ def _run_one(
         outcome, report = judge_result(out, spec, checker, walls, seconds)
     except Exception as err:
         traceback.print_exc(file=sys.stderr)
-        message = f"{type(err).__name__}: {' '.join(str(err).split())}"
-        return Outcome(spec, "error", [f"error: judge {type(err).__name__}"], message, seconds=seconds)
+        return Outcome(spec, "error", [f"error: judge {type(err).__name__}"], _error_message(err), seconds=seconds)
     write_json(root / "checks" / f"{spec.id}.json", report.to_dict())
     return outcome
 

@@ -2717,6 +2717,9 @@ RELATION_WORDS = PLACE_PREPOSITIONS | frozenset(
 # on top of | the bench"): too common after verbs ("focus on") to mark a subject without a
 # determiner.
 RELATION_OBJECT_WORDS = frozenset({"on", "in", "at", "top", "front", "inside", "across", "along", "against", "upon", "onto"})
+# Words that place a thing, in a noun phrase's place or after it ("the light | falling on",
+# "is | behind the sofa").
+PLACE_WORDS = RELATION_WORDS | RELATION_OBJECT_WORDS | {"behind", "beyond"}
 # Nouns of the picture itself, not of what is in it ("an interesting angle on the mug").
 PICTURE_NOUNS = frozenset(
     {"angle", "angles", "perspective", "viewpoint", "vantage", "light", "lighting", "composition", "framing", "focus"}
@@ -2749,6 +2752,8 @@ TABLE_NOUNS = frozenset(
     for w in phrase.split()
 ) | {"mat", "ceiling", "canopy", "border", "headshot"}
 MENTION_DETERMINERS = DETERMINERS - {"its", "their"}
+# An article before a thing, as a one-word slice of the tokens ("a kazoo", "the teapot", "some books").
+ARTICLE_WORDS = (["a"], ["an"], ["the"], ["some"])
 # Words leading to a height named by a thing with a determiner ("at the | table height", "from the |
 # seat level"): :func:`_height_anchor`.
 HEIGHT_LEADS = frozenset(
@@ -3582,7 +3587,7 @@ class RuleParser:
         end = span[-1] + 1
         if span[0] != 0 or tokens[end : end + 1] not in (["?"], ["."]) or tokens[end + 1 : end + 2] != ["it"]:
             return False
-        placing = list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, tokens[end + 2 :]))
+        placing = _up_to_subject(tokens[end + 2 :])
         if not any(t in RELATION_WORDS for t in placing) or len(placing) > MAX_ATTRIBUTES + 1:
             return False
         content = [tokens[k] for k in span if tokens[k] not in STOPWORDS]
@@ -3604,7 +3609,7 @@ class RuleParser:
         lead = next((j for j in JOINS_AFTER if said[: len(j)] == j), [])
         before = [t for t in tokens[:start] if t != ","] + said[: len(lead)]
         rest = said[len(lead) :] if lead else tokens[start - 1 : start] + said
-        article = rest[:1] in (["a"], ["an"], ["some"], ["the"])
+        article = rest[:1] in ARTICLE_WORDS
         thing = said[len(lead) + article :] if lead else said
         if article and not lead:
             before = before[:-1]
@@ -3665,11 +3670,11 @@ class RuleParser:
             return None
         # The run may hold the preposition and an article ("next to a laptop"): the thing follows them.
         opening = next((p for p in PLACED_PREPOSITIONS if said[: len(p)] == list(p) and len(said) > len(p)), ())
-        article = said[len(opening) : len(opening) + 1] in (["a"], ["an"], ["the"], ["some"])
+        article = said[len(opening) : len(opening) + 1] in ARTICLE_WORDS
         skip = len(opening) + (article if opening else 0)
         said, start = said[skip:], start + skip
         # Back from the thing over an article and the place preposition to the named subject.
-        k = start - (tokens[start - 1 : start] in (["a"], ["an"], ["the"], ["some"]))
+        k = start - (tokens[start - 1 : start] in ARTICLE_WORDS)
         relation = next((p for p in PLACED_PREPOSITIONS if k >= len(p) and tokens[k - len(p) : k] == list(p)), None)
         if relation is None or k - len(relation) < 1 or not tokens[k - len(relation) - 1].startswith("@"):
             return None
@@ -3855,7 +3860,7 @@ def _never_a_name(text: str) -> bool:
     said = text.split()
     while said and said[0] in STOPWORDS:
         said.pop(0)
-    ends = STOPWORDS | RELATION_WORDS | RELATION_OBJECT_WORDS | {"behind", "beyond"}
+    ends = STOPWORDS | PLACE_WORDS
     phrase = _unplaced(list(itertools.takewhile(lambda w: w not in ends, said)))  # "the light | falling on"
     return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
@@ -3883,6 +3888,11 @@ def _opening_noun_phrase(tokens: list[str], span: list[int], determined: list[bo
 TOPIC_LINKS = frozenset({"is", "are", "was", "be", "says", "said", "reads", "means"})
 
 
+def _up_to_subject(tokens: list[str]) -> list[str]:
+    """The first words of ``tokens`` up to a named subject (``@k``) or punctuation."""
+    return list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, tokens))
+
+
 def _topic_opening(tokens: list[str], span: list[int]) -> bool:
     """Whether the run opening the sentence is a topic, not a thing: it goes on with a copula or
     a verb of saying (:data:`TOPIC_LINKS`), or a colon follows it, and then names what is wanted
@@ -3892,9 +3902,8 @@ def _topic_opening(tokens: list[str], span: list[int]) -> bool:
     colon = rest[:1] == [":"]
     linked = any(w in TOPIC_LINKS for w in words_[1:]) or colon
     # What it goes on to, up to the next subject or clause end ("is | behind the sofa", ": | it sits beside").
-    onward = list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, rest[colon:]))
-    placing = RELATION_WORDS | RELATION_OBJECT_WORDS | {"behind", "beyond"}
-    return linked and not any(w in placing for w in words_ + onward)
+    onward = _up_to_subject(rest[colon:])
+    return linked and not any(w in PLACE_WORDS for w in words_ + onward)
 
 
 def _spottable(form: tuple[str, ...]) -> bool:
