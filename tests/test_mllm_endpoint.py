@@ -111,7 +111,18 @@ class Server:
         server = self
 
         class Handler(BaseHTTPRequestHandler):
+            counted = False  # this request is counted in flight
+
+            def done(self):
+                # Out of flight before its answer leaves: a client that gets it may send its next
+                # request before this thread would otherwise get back to the count.
+                if self.counted:
+                    with server.lock:
+                        server.in_flight -= 1
+                    self.counted = False
+
             def reply(self, code: int, body: bytes, headers: dict | None = None):
+                self.done()
                 self.send_response(code)
                 self.send_header("Content-Type", "application/json")
                 self.send_header("Content-Length", str(len(body)))
@@ -128,11 +139,11 @@ class Server:
                     answer = server.script.pop(0) if len(server.script) > 1 else server.script[0]
                     server.in_flight += 1
                     server.most_in_flight = max(server.most_in_flight, server.in_flight)
+                    self.counted = True
                 try:
                     answer(self)
                 finally:
-                    with server.lock:
-                        server.in_flight -= 1
+                    self.done()
 
             def do_POST(self):
                 self._serve(json.loads(self.rfile.read(int(self.headers["Content-Length"]))))
