@@ -12,8 +12,10 @@ heldout15, blind too, written after heldout14 before the changes tuned on heldou
 read by its writer only; heldout16, blind too, written after heldout15 before the changes tuned on
 heldout13 land, read by its writer only; the parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
-development corpus phrasing2, written blind to the method; and the parse-only corpus phrasing3,
-written blind to the method before any parser ran on it, read by its writer only):
+development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
+written blind to the method before any parser ran on it, read by its writer only; and the parse-only
+corpus phrasing4, blind too, written blind to the method before any parser ran on it, read by its
+writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -62,9 +64,10 @@ COMMITTED = {
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
-# phrasing3 (blind, 200 instructions) is validated like the others; being parse-only it is never
-# generated, so what needs a generated scene (ground truth, clearance) is skipped for it too.
-PARSE_ONLY = {"phrasing1": [25] * 8, "phrasing2": [25] * 8, "phrasing3": [25] * 8}
+# phrasing3 and phrasing4 (blind, 200 instructions each) are validated like the others; being
+# parse-only they are never generated, so what needs a generated scene (ground truth, clearance) is
+# skipped for them too.
+PARSE_ONLY = {"phrasing1": [25] * 8, "phrasing2": [25] * 8, "phrasing3": [25] * 8, "phrasing4": [25] * 8}
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
 

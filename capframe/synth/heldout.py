@@ -1,8 +1,9 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
 sets ``heldout``, ``heldout2`` ... ``heldout13``, development sets now, and the blind ``heldout14``,
 ``heldout15`` and ``heldout16``, issue #15; and the parse-only corpora ``phrasing1`` and
-``phrasing2`` (development corpora) and ``phrasing3`` (blind, written before any parser ran on it),
-whose scenes are never generated: ``capframe bench ground --suite phrasing3 --parse-only``).
+``phrasing2`` (development corpora), ``phrasing3`` and ``phrasing4`` (blind, each written before any
+parser ran on it), whose scenes are never generated: ``capframe bench ground --suite phrasing4
+--parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
 folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene (and, for a
