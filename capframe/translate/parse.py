@@ -3359,7 +3359,55 @@ class RuleParser:
             raise InputError(f"the instruction is empty; expected e.g. 'a close-up of the {_example(vocabulary)} on the left'")
         if not len(vocabulary):
             raise InputError("the scene names no objects (no semantic labels), so no subject can be matched")
-        tokens, slips = self._unslip(words(text), vocabulary)
+        said = words(text)
+        parsed = self._read(text, said, vocabulary)
+        return self._skipping_a_word(parsed, said, vocabulary) if parsed.not_understood() else parsed
+
+    def _skipping_a_word(self, parsed: ParsedInstruction, said: list[str], vocabulary: Vocabulary) -> ParsedInstruction:
+        """``parsed`` read again with one word of a clause it did not understand left out, when
+        that reads the rest of the clause: a table word in an unusual place breaks a phrase the
+        tables know ("Left end view": "left view"; "right-arm side toward the lens": "right side
+        toward the lens"; "nose pointed right at us": "pointed at us"), and so does a word the tables do not know ("loads of
+        empty tablecloth around it"). The reading is kept only
+        when it keeps every field of ``parsed`` and adds one; of several, the one adding most
+        (the earliest word on a tie). The word left out is reported in ``unparsed``.
+
+        Only a word between two others is left out, and the rest of its clause and the words on
+        both sides of it must be read once it is: the word broke a phrase ("Mug up front" is no
+        front view: "mug" is a name; "the far side of the room" is no side view: "room" stays
+        unread). Never a stopword, a negation, a number or a word of a scene name, nor a word of a
+        noun phrase's own: the one after its determiner ("the middle ground" is not "the ground")
+        or the noun an "of" follows ("the front left wheel of the car" is no front-left view):
+        leaving those out changes what is asked ("off to his left" without "his" is a region)."""
+        readings = _readings(parsed)
+        runs = [set(words(run)) for run in parsed.not_understood()]
+        names = {w for form in vocabulary.forms() for w in form}
+        best, best_gain = parsed, 0
+        for i, word in enumerate(said[1:-1], start=1):
+            neighbours = {said[i - 1], said[i + 1]}
+            clause = next((run for run in runs if word in run), None)
+            if clause is None or not _skippable(word, names) or neighbours & (names | PUNCTUATION):
+                continue
+            if said[i - 1] in DETERMINERS or said[i + 1] == "of":  # a noun phrase's own words
+                continue
+            try:
+                again = self._read(parsed.text, said[:i] + said[i + 1 :], vocabulary)
+            except InputError:
+                continue
+            # The word must have broken a phrase: its clause and the words beside it are read now.
+            if (clause | neighbours) - {word} & {w for run in again.not_understood() for w in words(run)}:
+                continue
+            # A value changes only for an unknown word ("back xyz right diagonal"): one the
+            # tables use may say something ("almost on the tabletop" is no eye level).
+            read = _unread(parsed) - _unread(again) - 1 if word not in self.lexicon else 0
+            gain = _extension(readings, _readings(again), read)
+            if gain > best_gain:
+                best, best_gain = replace(again, unparsed=[*again.unparsed, word]), gain
+        return best
+
+    def _read(self, text: str, said: list[str], vocabulary: Vocabulary) -> ParsedInstruction:
+        """The reading of ``text`` from its normalised words ``said`` (see :meth:`parse`)."""
+        tokens, slips = self._unslip(said, vocabulary)
         tokens = _unrepeated([t for t in tokens if t not in PLEASE])
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
@@ -4529,6 +4577,38 @@ def _roll(cues: list[_Cue]) -> float | None:
     if values and abs(values[0]) > 90.0:
         raise InputError(f"roll {values[0]:g} degrees is out of range; expected -90 to 90")
     return values[0] if values else None
+
+
+def _readings(parsed: ParsedInstruction) -> dict[str, object]:
+    """What ``parsed`` asks of the camera, one entry per field: per subject (by its order) its
+    name, role, view, shot and region; the elevation, its degrees and the roll."""
+    out: dict[str, object] = {"elevation": parsed.elevation, "elevation_deg": parsed.elevation_deg, "roll_deg": parsed.roll_deg}
+    for k, s in enumerate(parsed.subjects):
+        out |= {f"{k}.name": s.name, f"{k}.role": s.role, f"{k}.view": s.view, f"{k}.shot": s.shot, f"{k}.region": s.region}
+    return {key: value for key, value in out.items() if value is not None}
+
+
+def _unread(parsed: ParsedInstruction) -> int:
+    """How many words of ``parsed`` are not understood."""
+    return sum(len([w for w in words(run) if w not in PUNCTUATION]) for run in parsed.not_understood())
+
+
+def _extension(before: dict[str, object], after: dict[str, object], read: int) -> int:
+    """How far ``after`` improves on ``before`` having read ``read`` more words: the fields it adds
+    when it keeps every one of ``before``; when it keeps each field but changes a value (a view
+    read in full, "back" -> "back-right"), only if it read more words; else 0."""
+    if any(key not in after for key in before):
+        return 0
+    if any(after[key] != value for key, value in before.items()):
+        return 1 + len(after) - len(before) if read > 0 else 0
+    return len(after) - len(before)
+
+
+def _skippable(word: str, names: set[str]) -> bool:
+    """Whether :meth:`RuleParser._skipping_a_word` may leave ``word`` out: no stopword, no
+    negation, no number and no word of a scene name (``names``)."""
+    negations = {w for n in NEGATIONS for w in n}
+    return word not in STOPWORDS and word not in negations and word not in names and not NUMBER.fullmatch(word)
 
 
 def _example(vocabulary: Vocabulary) -> str:
