@@ -1508,7 +1508,8 @@ ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE}( 's)? "
         "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of "
+        "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) ({ROUGHLY} )?(the |a )?"
+        "(height|level) of "
         "(the |a |{P} )?"
         "({ANCHOR_EYE}|{SURFACE}|coffee table|side table)( of {obj})?",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
@@ -1531,12 +1532,17 @@ ELEVATION_PHRASES = {
         "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|overhead)( {obj}| than {obj})?",
+        # Not "kind of overhead": a hedge on where the camera is, roughly overhead (bird's-eye).
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|(?<!kind of )(?<!sort of )overhead)( {obj}| than {obj})?",
         # A hedge before a place on top ("the camera is a bit on top of him", "slightly on top").
         "(from |with the camera )?({WEAK}|just) (on|over|above) (the )?top( of {obj})?",
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(down|high) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (down {WEAK}|{WEAK} down)",
         "{WEAK} from above",
+        # Said with "upper", as non-native writers say "from above" ("little bit from upper", "look
+        # from a little bit upper").
+        "((look|looks|looking) )?({WEAK} from (the )?upper|from {WEAK} upper)( side)?"
+        "(?= ([,.;:!?]|$|and |with |but |to |at |on ))",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         # A little elevation or height ("slight elevation", "a touch of height"), looking down gently.
@@ -1556,7 +1562,9 @@ ELEVATION_PHRASES = {
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
         # The degree said after ("elevated slightly", "raised a touch").
-        "(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        # Said of the camera, or the camera up by a little ("camera raised slightly", "cam up a bit").
+        "((the )?(camera|lens) (is |was )?)?(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "(the )?camera (is )?(up|higher) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -1566,6 +1574,10 @@ ELEVATION_PHRASES = {
         "(from |with the camera |camera )?{FEW} (above|up|higher|over|high|overhead|down)"
         "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (from|to|the|its|his|her|their|left|right) )",
         "(looking|look|looks|{AIM}) down {FEW}( (at|on|onto) {obj})?",
+        # A few degrees over a part of it or its own height ("lens a few degrees above the roofline",
+        # "a couple of degrees over the mug's rim").
+        "((with )?(the )?(camera|lens) )?((at|from) )?{FEW} (above|over|higher than) (the |{P} )(own )?({ANCHOR_EYE}|top)"
+        "( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
         # A weak word before any high place ("bit from up top", "a touch from up high").
         "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
@@ -1592,6 +1604,8 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
+        # Roughly overhead ("from kinda overhead", "sort of overhead"): "kind of" hedges the place.
+        "((seen|shot|viewed) )?(from )?(kind of|sort of|more or less|roughly|pretty much) overhead",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
@@ -1609,6 +1623,11 @@ ELEVATION_PHRASES = {
     "top-down": [
         "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
+        # Vertically from the ceiling or from overhead ("shot vertically from the ceiling down",
+        # "from the ceiling straight down").
+        "((seen|shot|viewed|looking|taken) )?(directly|straight|vertically|squarely) (down )?from (the ceiling|overhead|up top)"
+        "( (straight |vertically |directly )?down)?",
+        "from the ceiling (straight|vertically|directly) down",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
@@ -1632,7 +1651,11 @@ ELEVATION_PHRASES = {
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
         # The lens turned to the floor ("right above it, lens facing the floor").
         "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
-        "the (floor|ground|grass|table)",
+        "the (floor|ground|grass|lawn|table)",
+        # ... the ground said to lie straight below ("lens aimed at the grass directly beneath"):
+        # below the camera, not the camera below the subject.
+        "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
+        "the (floor|ground|grass|lawn|table) ({STRONG}|right|just) (below|beneath|under|underneath)( (it|us|me|{obj}))?",
         # The camera or a drone's gimbal turned as far down as it goes ("gimbal straight down",
         # "camera tilted all the way down", "lens pointed completely downward", "aimed down vertically").
         "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} down"
@@ -1676,13 +1699,16 @@ ELEVATION_PHRASES = {
         "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
-        "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "((the )?(camera|lens) (is |was )?)?(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "(the )?camera (is )?(down|lower) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
         "(from |with the camera |camera )?{FEW} (below|beneath|under|underneath|lower|low)"
         "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (at|on|onto) )",
         "(looking|look|looks|{AIM}) up {FEW}( (at|to|towards) {obj})?",
+        "((with )?(the )?(camera|lens) )?((at|from) )?{FEW} (below|beneath|under|underneath|lower than) (the |{P} )(own )?"
+        "({ANCHOR_EYE}|top)( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} up( (at|to|towards) {obj})?",
         "{WEAK} from (down low|low down|lower down|down below)",
         "(from )?(below|beneath|under|underneath)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
@@ -1767,6 +1793,9 @@ ELEVATION_HINTS = {
         # From over or from up, as other languages say "from above" ("von oben", "d'en haut"), the
         # clause ending there.
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(up|over|above)(?= ([,.;:!?]|$|and |with |but ))",
+        # "From upper", a non-native "from above" ("von oben", "d'en haut"), the camera looking so too.
+        "((shot|seen|shooting|taken|viewed|photographed|look|looks|looking) )?from (the )?(upper|more upper)( side)?"
+        "(?= ([,.;:!?]|$|and |with |but |to |at |on |onto ))",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
@@ -2014,6 +2043,24 @@ EXPLICIT_ELEVATION_PHRASES = {
 EXPLICIT_ELEVATION_PHRASES[1.0] += [
     "({SEEN_VERB} )?((at|from|with) )?(a |an )?{sd}(?<= degrees) (of|in) ((the )?camera )?(elevation angle|elevation)",
 ]
+
+# A pitch in degrees, as a drone's or a gimbal's is given ("pitch 60 degrees down onto it", "at
+# about 60 degrees pitch down", "camera pitched 45 degrees down"): the angle itself, which wins over
+# the drone or the orbit said with it. Tilting or angling by degrees stays a hint (it may be counted
+# from where the camera was).
+PITCH = "(pitch|pitched|pitching)"
+for _sign, _way in ((1.0, "down"), (-1.0, "up")):
+    EXPLICIT_ELEVATION_PHRASES[_sign] += [
+        "((the )?(camera|lens|gimbal|drone) )?"
+        + PITCH
+        + "( (the|its) (camera|lens|gimbal))? {d}(?<= degrees) "
+        + _way
+        + "( (at|on|onto|towards|to) {obj})?",
+        "((the )?(camera|lens|gimbal|drone) )?" + PITCH + "( (the|its) (camera|lens|gimbal))? " + _way + " {d}(?<= degrees)"
+        "( (at|on|onto|towards|to) {obj})?",
+        "((at|with) )?(a )?{d}(?<= degrees)( of)? pitch " + _way + "( (at|on|onto|towards|to) {obj})?",
+        "(a )?pitch (of )?{d}(?<= degrees) " + _way + "( (at|on|onto|towards|to) {obj})?",
+    ]
 
 # An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
 # down on it from a drone, about 60 degrees"): an elevation only with a height said in the same

@@ -136,6 +136,13 @@ SPELLINGS = {
     "upwards": "up",
     "downward": "down",
     "downwards": "down",
+    # The camera's flying vehicle by its other names: a drone, never a thing of the scene
+    # ("UAV hovering over the tree").
+    "uav": "drone",
+    "uavs": "drones",
+    "quadcopter": "drone",
+    "quadrocopter": "drone",
+    "multicopter": "drone",
 }
 # Shot-size abbreviations of shot lists and storyboards ("ECU of the bear", "MS, eye level"),
 # spelt out so the shot-size tables read them. Two letters are enough: none of these is an
