@@ -119,3 +119,73 @@ def test_roughly_overhead_still_conflicts_with_a_low_angle():
     with pytest.raises(InputError, match="conflicting elevations"):
         parse("the mug from kind of overhead, a low angle")
 
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # "Behind it" as a clause of its own right after its subject.
+        ("armchair, behind it, cam up a bit", "back"),
+        ("the sofa, behind it", "back"),
+        ("the teddy bear, right behind him, low", "back-exact"),
+    ],
+)
+def test_behind_it_as_a_clause_is_the_view(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+def test_behind_a_named_object_stays_a_relation():
+    p = parse("the mug, behind the vase")
+    assert p.subjects[0].view is None
+
+
+VIEWS = [
+    # Pointed right at us: straight at, the front.
+    ("the toy car, nose pointed right at us", "front"),
+    ("teddy bear with its face turned directly towards the camera", "front"),
+    # View words as adverbs.
+    ("the teddy bear shown frontally", "front"),
+    ("the armchair photographed frontally, eye level", "front"),
+    ("the sofa seen laterally", "side"),
+    # Over the shoulder with a side (OTS).
+    ("SHOT 3. TEDDY. OTS RIGHT. MED.", "back-right"),
+    ("teddy bear over the shoulder, left", "back-left"),
+    ("the armchair, left over the shoulder", "back-left"),
+    ("bench, OTS on the right", "back-right"),
+    # A three-quarter off to a side.
+    ("Bear, frontal 3/4 off to his left", "front-left"),
+    ("the mug three quarter, off to its right", "front-right"),
+    ("the vase, rear three quarter off to its left", "back-left"),
+    # An arm side or an end named with a view word.
+    ("Red chair, right-arm side toward the lens", "right"),
+    ("the sofa, its left arm side facing us", "left"),
+    ("the sofa, left end view", "left"),
+    ("the bench right-hand end shot, eye level", "right"),
+    # A corner turned to us, its end and side said apart.
+    ("Green bench, its rear corner on the right nearest to us", "back-right"),
+    ("the armchair, its front corner on the left closest to the camera", "front-left"),
+    ("the sofa with the back corner on the left facing the lens", "back-left"),
+    # Steps walked round off a view.
+    ("the armchair, front view but walk a few steps round to its right", "front-slight-right"),
+    ("the bench from the front, then a couple of steps round to its left", "front-slight-left"),
+]
+
+
+@pytest.mark.parametrize(("text", "view"), VIEWS)
+def test_views(text, view):
+    p = parse(text)
+    assert p.subjects[0].view == view
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # Keep-probes.
+        ("the toy car pointing to the right of the frame", "right"),
+        ("the armchair over its right shoulder", "back-right"),
+        ("the sofa with its left arm facing the camera", "left"),
+        ("the bench, left end", "left"),
+        ("the mug in three quarter view from the left", "front-left"),
+    ],
+)
+def test_view_keep_probes(text, view):
+    assert parse(text).subjects[0].view == view

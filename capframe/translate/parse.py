@@ -960,7 +960,9 @@ VIEW_FRAMES = [
     # The article may be dropped at a clause's start ("teddy, left side facing us").
     "(with )?((the|{P}) |{CLAUSE}){SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to)"
     " (the (camera|viewer|lens)|us|me)",
-    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
+    # An end said with it ("left end view", "the right-hand end shot").
+    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( hand)?( side| end)?"
+    " (view|profile|angle|shot)",
     # An architect's elevation: the side drawn square on, so an end is exact ("front elevation",
     # "the rear elevation of the sofa", "a left side elevation"); never a height, and not before a
     # number ("from the front, elevation 20 degrees" says a height).
@@ -1006,7 +1008,9 @@ SIDE_AFTER_HEIGHT = (
 # A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
 # side"): it completes that view (:data:`VIEW_COMBINATIONS`).
 SIDE_AFTER_VIEW = (
-    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
+    # Also off to it ("frontal 3/4 off to his left").
+    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters )|(?<=quarter , )|(?<=quarters , ))((off|over) )?"
+    "(on|to|towards|from|at) "
     "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
 )
 SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
@@ -1041,11 +1045,14 @@ VIEW_PHRASES = {
         "(?P<exact>face to face|nose to nose|head to head)( with {obj})?",
         "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
+        # The view word as an adverb ("shown frontally", "photographed head-on frontally").
+        "({SEEN_VERB} |shown |presented |displayed )?({EXACT} )?frontally",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
         # The subject moving or pointing at the camera ("the car driving towards us").
         # Its front pointed at the camera ("with its nose pointing at the camera").
-        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) (straight )?"
-        "(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
+        # "Right at us" is straight at: no side ("nose pointed right at us").
+        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) "
+        "((straight|right|directly|dead) )?(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
@@ -1058,6 +1065,9 @@ VIEW_PHRASES = {
         "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
+        # Behind it as a clause of its own right after its subject ("armchair, behind it, low"):
+        # the camera's place; a named object after "behind" stays a relation ("the mug, behind the vase").
+        "(?<=@\\d , )({EXACT} |(?P<exact>right) )?behind (it|him|her|them)(?= ([,.;!]|$))",
         SEEN + ALMOST + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(rear|back|backward|backwards) facing",
         "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
@@ -1124,6 +1134,8 @@ VIEW_PHRASES = {
         "(seen )?({STRONG} )?(side|end) on",
         "from (either|one|a) side",
         "(a |the )?(side )?profile( view| shot)? of {obj}",
+        # The view word as an adverb ("shown laterally", "photographed in profile, laterally").
+        "({SEEN_VERB} |shown |presented |displayed )?laterally(?! (from|on) )",
     ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
@@ -1202,6 +1214,12 @@ for _lon, _lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
     VIEW_PHRASES.setdefault(f"back-{_lat}", []).append(SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?")
+    # An over-the-shoulder shot with its side said after or before it ("OTS right", "left over the
+    # shoulder"), as shot lists write it.
+    VIEW_PHRASES[f"back-{_lat}"] += [
+        f"(an )?over (the|{{P}}) shoulder( (view|angle|shot))?( ,)? (on the |to the |from the )?{_lat}( hand)?( side)?",
+        f"(a |an |the )?{_lat}( hand)? over (the|{{P}}) shoulder( (view|angle|shot))?",
+    ]
 
 # A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
@@ -2941,7 +2959,7 @@ _MACROS = {
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
-    "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
+    "|rotating|rotated|walking|walked|walk|turning|turned|sweeping|swept|wandering)",
     # The front said as the camera's straight-on line ("a touch to his right of dead front").
     "{FRONT_ON}": "(?:(?:dead|straight|square|head|full) (?:front|on)|dead ahead|straight ahead|(?:the )?center)",
     # Close to: "almost straight up", "nearly vertically down".
@@ -3162,6 +3180,19 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             corner += "|from( (over|across|beyond|behind))?) (the|{P}) " + _alternatives(sides) + " (corner|edge|quarter|angle)"
             rows.append(("view", view, corner + "( of {obj})?", False))
             rows.append(("view", view, "(over|across) (the|{P}) " + _alternatives(sides) + " (corner|edge)( of {obj})?", False))
+            # A corner turned to the camera, its end and its side said apart ("its rear corner on
+            # the right nearest to us", "the front corner on the left facing the camera").
+            lon, lat = view.split("-")
+            lon_words = "(front|nose)" if lon == "front" else "(rear|back|tail)"
+            rows.append(
+                (
+                    "view",
+                    view,
+                    "(the|{P}) " + lon_words + " corner (on|to|at) (the|{P}) " + lat + "( hand)?( side)?( ,)? "
+                    "((is |being )?(nearest|closest|facing|pointing at|pointed at|turned to|turned towards)( to)?) " + VIEWER,
+                    False,
+                )
+            )
             # A diagonal names a view wherever it stands as a noun phrase, a region never being one
             # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
             # car"), unless a noun follows that it describes ("the front left leg").
