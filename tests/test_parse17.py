@@ -189,3 +189,60 @@ def test_views(text, view):
 )
 def test_view_keep_probes(text, view):
     assert parse(text).subjects[0].view == view
+
+
+SHOTS = [
+    # Room of any kind around it, said with one or two words.
+    ("Tiny mug, loads of empty tablecloth around it", "wide"),
+    ("the ball, plenty of bare lawn round it", "wide"),
+    # Every part, or one's whole self, in.
+    ("bookshelf face-on, every shelf in shot", "medium"),
+    ("take the teddy bear from the back, showing his whole self", "medium"),
+    ("the sofa showing its entire self", "medium"),
+    # The article dropped: "all sofa inside".
+    ("Please make foto of the sofa from his left end, with all sofa inside", "medium"),
+    ("the bench from the front, all bench in picture", "medium"),
+    ("make photo of the mug with all mug visible", "medium"),
+    # On the small or the big side.
+    ("the vase in the upper-left corner, kept on the small side", "wide"),
+    ("the ball on the small side in the frame", "wide"),
+    ("the mug, a bit on the big side", "close-up"),
+    # A small shape in a big room.
+    ("The cushion as a small shape in a big empty room", "wide"),
+    ("the bench as a tiny figure in a vast space", "wide"),
+    # A size after a label's colon.
+    ("Tree: massive in frame, crop it however", "close-up"),
+    ("Vase: tiny in the picture", "wide"),
+]
+
+
+@pytest.mark.parametrize(("text", "shot"), SHOTS)
+def test_shots(text, shot):
+    assert parse(text).subjects[0].shot == shot
+
+
+@pytest.mark.parametrize(
+    ("text", "view", "shot"),
+    [
+        # Keep-probes: a side of the subject is no size; "all of them" is a group, not a size.
+        ("the sofa from the left side", "left", None),
+        ("the mug huge in the frame", None, "close-up"),
+        ("the vase with lots of empty floor around it", None, "wide"),
+    ],
+)
+def test_shot_keep_probes(text, view, shot):
+    s = parse(text).subjects[0]
+    assert (s.view, s.shot) == (view, shot)
+
+
+@pytest.mark.parametrize(
+    ("text", "region"),
+    [
+        ("Photo of the sofa where sofa is on right side third, and the bear also is inside the photo", "right third"),
+        ("the mug on the left side third", "left third"),
+        ("the vase in the right-hand third", "right third"),
+        ("the ball on the right side", "right"),
+    ],
+)
+def test_side_third(text, region):
+    assert parse(text).subjects[0].region == region

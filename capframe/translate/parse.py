@@ -377,9 +377,14 @@ COPULA_SIZE = (
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
+    # Also after the colon of a label opening the sentence ("Tree: massive in frame").
+    "((?<=^ ){obj} :|{obj}) (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
     "(?= ([,.;:!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
 )
+
+# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
+# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
+ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
 
 SHOT_CLAUSES = {
     "close-up": [
@@ -502,13 +507,16 @@ SHOT_CLAUSES = {
         "(with |leave |leaving |give it |giving it )?{PLENTY} ([a-z]+ )?"
         "(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
         "( (around|round|about) {obj})?",
-        "(with )?{PLENTY} [a-z]+ (around|round|about) {obj}",
+        "(with )?{PLENTY} ([a-z]+ ){1,2}(around|round|about) {obj}",
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         # One small element of a larger picture ("as a small element in the landscape", "a minor
         # part of the scene"): said with "as" or with the whole it is part of.
+        # Also a small shape or figure in a big, empty room ("as a small shape in a big empty room").
         "(as |is |be |becomes |looks like )(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
-        " (element|part|feature|presence|component)( (in|of|within) (the |a |an )?{WHOLE})?",
+        " (element|part|feature|presence|component|shape|figure|blob)( (in|of|within) (the |a |an )?({WHOLE}|("
+        + ROOMY_FRAME
+        + " ){0,3}(room|space|expanse)))?",
         "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
         " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
         # Wide on the subject, as a shot list says it ("WIDE on the cone").
@@ -538,9 +546,9 @@ SHOT_CLAUSES = {
     ],
 }
 
-# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
-# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
-ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
+# A size said as leaning one way ("kept on the small side", "a bit on the big side").
+SHOT_CLAUSES["wide"].append("((kept|keep it|keeping it|{WEAK}) )?on the (small|smaller|little|tiny|wee) side(?! of )")
+SHOT_CLAUSES["close-up"].append("((kept|keep it|keeping it|{WEAK}) )?on the (big|bigger|large|larger) side(?! of )")
 SHOT_CLAUSES["wide"] += [
     "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
     "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
@@ -572,7 +580,11 @@ SHOT_CLAUSES[WHOLE] = [
     "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
     "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
-    "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
+    "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)([a-z]+|@\\d) (in view|visible|showing|in (the )?{FRAME})",
+    # All of one's self ("showing his whole self", "all of himself in the picture").
+    "(the |{P} )?(whole|entire|full|complete) self",
+    # "All sofa inside", the article dropped as non-native writers drop it.
+    "(with )?all {obj} (inside|visible|in view|showing|in (the )?{FRAME})(?= ([,.;!]|$|and |with |from ))",
     "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
 ]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
@@ -680,9 +692,9 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    "left third": ["(left|leftmost|first|left hand)( vertical)? (thirds?( line)?|line of thirds)"],
+    "left third": ["(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
     "center third": ["(middle|central|center)( vertical)? third"],
-    "right third": ["(right|rightmost|last|right hand)( vertical)? (thirds?( line)?|line of thirds)"],
+    "right third": ["(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
