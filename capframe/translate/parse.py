@@ -377,9 +377,14 @@ COPULA_SIZE = (
 # upper half", "the toy car tiny, up in the top half"); never before a noun ("the car small
 # wheels" stays unparsed).
 AFTER_SUBJECT = (
-    "{obj} (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
+    # Also after the colon of a label opening the sentence ("Tree: massive in frame").
+    "((?<=^ ){obj} :|{obj}) (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
     "(?= ([,.;:!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
 )
+
+# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
+# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
+ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
 
 SHOT_CLAUSES = {
     "close-up": [
@@ -502,13 +507,16 @@ SHOT_CLAUSES = {
         "(with |leave |leaving |give it |giving it )?{PLENTY} ([a-z]+ )?"
         "(space|room|air|context|background|table|floor|grass|sky|ground|wall|scenery)"
         "( (around|round|about) {obj})?",
-        "(with )?{PLENTY} [a-z]+ (around|round|about) {obj}",
+        "(with )?{PLENTY} ([a-z]+ ){1,2}(around|round|about) {obj}",
         # The subject said to be "just a small thing" ("so the vase is just a small thing").
         "(is|as|be|looks like) (just |only )?(a |an )?(small|tiny|little|distant) (thing|speck|dot|spot)",
         # One small element of a larger picture ("as a small element in the landscape", "a minor
         # part of the scene"): said with "as" or with the whole it is part of.
+        # Also a small shape or figure in a big, empty room ("as a small shape in a big empty room").
         "(as |is |be |becomes |looks like )(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
-        " (element|part|feature|presence|component)( (in|of|within) (the |a |an )?{WHOLE})?",
+        " (element|part|feature|presence|component|shape|figure|blob)( (in|of|within) (the |a |an )?({WHOLE}|("
+        + ROOMY_FRAME
+        + " ){0,3}(room|space|expanse)))?",
         "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
         " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
         # Wide on the subject, as a shot list says it ("WIDE on the cone").
@@ -538,9 +546,9 @@ SHOT_CLAUSES = {
     ],
 }
 
-# Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
-# otherwise empty picture", "small within a large open shot"): room all round it, a wide shot.
-ROOMY_FRAME = "(big|huge|vast|large|wide|giant|massive|great|spacious|enormous|immense|empty|open|blank|clean|mostly|otherwise)"
+# A size said as leaning one way ("kept on the small side", "a bit on the big side").
+SHOT_CLAUSES["wide"].append("((kept|keep it|keeping it|{WEAK}) )?on the (small|smaller|little|tiny|wee) side(?! of )")
+SHOT_CLAUSES["close-up"].append("((kept|keep it|keeping it|{WEAK}) )?on the (big|bigger|large|larger) side(?! of )")
 SHOT_CLAUSES["wide"] += [
     "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
     "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
@@ -572,7 +580,11 @@ SHOT_CLAUSES[WHOLE] = [
     "( (in|inside|within) (the )?({FRAME}|view))?(?= ([,.;!]|$|and |with |from |at ))",
     "(?<=, )[a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
     # Every part of it seen ("every slat in view", "each leg visible", "all four wheels in shot").
-    "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)[a-z]+ (in view|visible|showing|in (the )?{FRAME})",
+    "((every|each) |all (of )?({P} |the )?([a-z0-9]+ )?)([a-z]+|@\\d) (in view|visible|showing|in (the )?{FRAME})",
+    # All of one's self ("showing his whole self", "all of himself in the picture").
+    "(the |{P} )?(whole|entire|full|complete) self",
+    # "All sofa inside", the article dropped as non-native writers drop it.
+    "(with )?all {obj} (inside|visible|in view|showing|in (the )?{FRAME})(?= ([,.;!]|$|and |with |from ))",
     "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
 ]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
@@ -680,9 +692,9 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    "left third": ["(left|leftmost|first|left hand)( vertical)? (thirds?( line)?|line of thirds)"],
+    "left third": ["(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
     "center third": ["(middle|central|center)( vertical)? third"],
-    "right third": ["(right|rightmost|last|right hand)( vertical)? (thirds?( line)?|line of thirds)"],
+    "right third": ["(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
@@ -960,7 +972,9 @@ VIEW_FRAMES = [
     # The article may be dropped at a clause's start ("teddy, left side facing us").
     "(with )?((the|{P}) |{CLAUSE}){SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to)"
     " (the (camera|viewer|lens)|us|me)",
-    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( side)? (view|profile|angle|shot)",
+    # An end said with it ("left end view", "the right-hand end shot").
+    "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( hand)?( side| end)?"
+    " (view|profile|angle|shot)",
     # An architect's elevation: the side drawn square on, so an end is exact ("front elevation",
     # "the rear elevation of the sofa", "a left side elevation"); never a height, and not before a
     # number ("from the front, elevation 20 degrees" says a height).
@@ -1006,7 +1020,9 @@ SIDE_AFTER_HEIGHT = (
 # A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
 # side"): it completes that view (:data:`VIEW_COMBINATIONS`).
 SIDE_AFTER_VIEW = (
-    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters ))(on|to|from|at) "
+    # Also off to it ("frontal 3/4 off to his left").
+    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters )|(?<=quarter , )|(?<=quarters , ))((off|over) )?"
+    "(on|to|towards|from|at) "
     "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
 )
 SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
@@ -1041,11 +1057,14 @@ VIEW_PHRASES = {
         "(?P<exact>face to face|nose to nose|head to head)( with {obj})?",
         "(front|forward|forwards) facing",
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
+        # The view word as an adverb ("shown frontally", "photographed head-on frontally").
+        "({SEEN_VERB} |shown |presented |displayed )?({EXACT} )?frontally",
         "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
         # The subject moving or pointing at the camera ("the car driving towards us").
         # Its front pointed at the camera ("with its nose pointing at the camera").
-        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) (straight )?"
-        "(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
+        # "Right at us" is straight at: no side ("nose pointed right at us").
+        "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) "
+        "((straight|right|directly|dead) )?(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
         "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
         "(the (camera|lens|viewer)|us|me)",
         CAMERA + " in front of {obj}",
@@ -1058,6 +1077,9 @@ VIEW_PHRASES = {
         "(?<=^ )({EXACT} |(?P<exact>right) )?in front of {obj}",
     ],
     "back": [
+        # Behind it as a clause of its own right after its subject ("armchair, behind it, low"):
+        # the camera's place; a named object after "behind" stays a relation ("the mug, behind the vase").
+        "(?<=@\\d , )({EXACT} |(?P<exact>right) )?behind (it|him|her|them)(?= ([,.;!]|$))",
         SEEN + ALMOST + "({EXACT} )?from ({EXACT} |(?P<exact>right) )?behind( {obj})?",
         "(rear|back|backward|backwards) facing",
         "(facing|turned|looking|driving|heading|moving|walking|rolling|going|pointing|pointed) away"
@@ -1124,6 +1146,8 @@ VIEW_PHRASES = {
         "(seen )?({STRONG} )?(side|end) on",
         "from (either|one|a) side",
         "(a |the )?(side )?profile( view| shot)? of {obj}",
+        # The view word as an adverb ("shown laterally", "photographed in profile, laterally").
+        "({SEEN_VERB} |shown |presented |displayed )?laterally(?! (from|on) )",
     ],
     "three-quarter": [
         "(in |at |from |as )?(a |an )?(front )?three quarters?( front)?( (view|angle|profile|shot|position))?",
@@ -1202,6 +1226,12 @@ for _lon, _lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
     VIEW_PHRASES.setdefault(f"back-{_lat}", []).append(SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?")
+    # An over-the-shoulder shot with its side said after or before it ("OTS right", "left over the
+    # shoulder"), as shot lists write it.
+    VIEW_PHRASES[f"back-{_lat}"] += [
+        f"(an )?over (the|{{P}}) shoulder( (view|angle|shot))?( ,)? (on the |to the |from the )?{_lat}( hand)?( side)?",
+        f"(a |an |the )?{_lat}( hand)? over (the|{{P}}) shoulder( (view|angle|shot))?",
+    ]
 
 # A camera beside the subject ("to its left", "on the left of it"). "On the left" is also a region
 # of the frame: LATERAL is never followed by the frame's words ("on the right of the frame"), and
@@ -1508,7 +1538,8 @@ ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?((down |up |right |low )?(at|from|on) )?(the |a |{P} )?{ANCHOR_EYE}( 's)? "
         "(height|level|high|position|line)",
         # The height of a surface or part named ("from the height of the coffee table").
-        "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) (the |a )?(height|level) of "
+        "((put |with |set |hold |keep )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) ({ROUGHLY} )?(the |a )?"
+        "(height|level) of "
         "(the |a |{P} )?"
         "({ANCHOR_EYE}|{SURFACE}|coffee table|side table)( of {obj})?",
         "((with )?(the )?(camera|lens) )?({ROUGHLY} )?(at|from|on) {P} (own )?(height|level)",
@@ -1531,12 +1562,17 @@ ELEVATION_PHRASES = {
         "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
     ],
     "slightly above": [
-        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|overhead)( {obj}| than {obj})?",
+        # Not "kind of overhead": a hedge on where the camera is, roughly overhead (bird's-eye).
+        "(from |with the camera )?({WEAK}|just) (above|higher( up)?|(?<!kind of )(?<!sort of )overhead)( {obj}| than {obj})?",
         # A hedge before a place on top ("the camera is a bit on top of him", "slightly on top").
         "(from |with the camera )?({WEAK}|just) (on|over|above) (the )?top( of {obj})?",
         "(a |an )?({WEAK} |slight |gentle |mild |shallow )(down|high) (angle|tilt)",
         "(with )?(the )?(camera|lens) {AIM} (down {WEAK}|{WEAK} down)",
         "{WEAK} from above",
+        # Said with "upper", as non-native writers say "from above" ("little bit from upper", "look
+        # from a little bit upper").
+        "((look|looks|looking) )?({WEAK} from (the )?upper|from {WEAK} upper)( side)?"
+        "(?= ([,.;:!?]|$|and |with |but |to |at |on ))",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         # A little elevation or height ("slight elevation", "a touch of height"), looking down gently.
@@ -1556,7 +1592,9 @@ ELEVATION_PHRASES = {
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
         # The degree said after ("elevated slightly", "raised a touch").
-        "(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        # Said of the camera, or the camera up by a little ("camera raised slightly", "cam up a bit").
+        "((the )?(camera|lens) (is |was )?)?(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "(the )?camera (is )?(up|higher) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
         "{WEAK} (of )?a high angle",
@@ -1566,6 +1604,10 @@ ELEVATION_PHRASES = {
         "(from |with the camera |camera )?{FEW} (above|up|higher|over|high|overhead|down)"
         "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (from|to|the|its|his|her|their|left|right) )",
         "(looking|look|looks|{AIM}) down {FEW}( (at|on|onto) {obj})?",
+        # A few degrees over a part of it or its own height ("lens a few degrees above the roofline",
+        # "a couple of degrees over the mug's rim").
+        "((with )?(the )?(camera|lens) )?((at|from) )?{FEW} (above|over|higher than) (the |{P} )(own )?({ANCHOR_EYE}|top)"
+        "( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
         # A weak word before any high place ("bit from up top", "a touch from up high").
         "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
@@ -1592,6 +1634,8 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
+        # Roughly overhead ("from kinda overhead", "sort of overhead"): "kind of" hedges the place.
+        "((seen|shot|viewed) )?(from )?(kind of|sort of|more or less|roughly|pretty much) overhead",
         "((seen|shot|viewed) )?from the top",
         # The camera up by the ceiling ("from the ceiling looking down", "from up near the ceiling").
         "(from |at )?(up )?(near |by |at |against |under |just under )?the ceiling",
@@ -1609,6 +1653,11 @@ ELEVATION_PHRASES = {
     "top-down": [
         "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
+        # Vertically from the ceiling or from overhead ("shot vertically from the ceiling down",
+        # "from the ceiling straight down").
+        "((seen|shot|viewed|looking|taken) )?(directly|straight|vertically|squarely) (down )?from (the ceiling|overhead|up top)"
+        "( (straight |vertically |directly )?down)?",
+        "from the ceiling (straight|vertically|directly) down",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
@@ -1632,7 +1681,11 @@ ELEVATION_PHRASES = {
         "(with )?(the )?(camera|lens) {AIM} (straight|directly|vertically) (down|at the (floor|ground|grass|table))",
         # The lens turned to the floor ("right above it, lens facing the floor").
         "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
-        "the (floor|ground|grass|table)",
+        "the (floor|ground|grass|lawn|table)",
+        # ... the ground said to lie straight below ("lens aimed at the grass directly beneath"):
+        # below the camera, not the camera below the subject.
+        "(with )?(the )?(camera|lens) (facing|{AIM}) (straight |directly )?(down )?((at|towards|to) )?"
+        "the (floor|ground|grass|lawn|table) ({STRONG}|right|just) (below|beneath|under|underneath)( (it|us|me|{obj}))?",
         # The camera or a drone's gimbal turned as far down as it goes ("gimbal straight down",
         # "camera tilted all the way down", "lens pointed completely downward", "aimed down vertically").
         "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} down"
@@ -1676,13 +1729,16 @@ ELEVATION_PHRASES = {
         "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
-        "(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "((the )?(camera|lens) (is |was )?)?(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "(the )?camera (is )?(down|lower) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
         "{WEAK} (of )?a low angle",
         "(from |with the camera |camera )?{FEW} (below|beneath|under|underneath|lower|low)"
         "( {obj}| than {obj}| (the )?(horizon|horizontal))?(?! (at|on|onto) )",
         "(looking|look|looks|{AIM}) up {FEW}( (at|to|towards) {obj})?",
+        "((with )?(the )?(camera|lens) )?((at|from) )?{FEW} (below|beneath|under|underneath|lower than) (the |{P} )(own )?"
+        "({ANCHOR_EYE}|top)( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} up( (at|to|towards) {obj})?",
         "{WEAK} from (down low|low down|lower down|down below)",
         "(from )?(below|beneath|under|underneath)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
@@ -1767,6 +1823,9 @@ ELEVATION_HINTS = {
         # From over or from up, as other languages say "from above" ("von oben", "d'en haut"), the
         # clause ending there.
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(up|over|above)(?= ([,.;:!?]|$|and |with |but ))",
+        # "From upper", a non-native "from above" ("von oben", "d'en haut"), the camera looking so too.
+        "((shot|seen|shooting|taken|viewed|photographed|look|looks|looking) )?from (the )?(upper|more upper)( side)?"
+        "(?= ([,.;:!?]|$|and |with |but |to |at |on |onto ))",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
@@ -2014,6 +2073,24 @@ EXPLICIT_ELEVATION_PHRASES = {
 EXPLICIT_ELEVATION_PHRASES[1.0] += [
     "({SEEN_VERB} )?((at|from|with) )?(a |an )?{sd}(?<= degrees) (of|in) ((the )?camera )?(elevation angle|elevation)",
 ]
+
+# A pitch in degrees, as a drone's or a gimbal's is given ("pitch 60 degrees down onto it", "at
+# about 60 degrees pitch down", "camera pitched 45 degrees down"): the angle itself, which wins over
+# the drone or the orbit said with it. Tilting or angling by degrees stays a hint (it may be counted
+# from where the camera was).
+PITCH = "(pitch|pitched|pitching)"
+for _sign, _way in ((1.0, "down"), (-1.0, "up")):
+    EXPLICIT_ELEVATION_PHRASES[_sign] += [
+        "((the )?(camera|lens|gimbal|drone) )?"
+        + PITCH
+        + "( (the|its) (camera|lens|gimbal))? {d}(?<= degrees) "
+        + _way
+        + "( (at|on|onto|towards|to) {obj})?",
+        "((the )?(camera|lens|gimbal|drone) )?" + PITCH + "( (the|its) (camera|lens|gimbal))? " + _way + " {d}(?<= degrees)"
+        "( (at|on|onto|towards|to) {obj})?",
+        "((at|with) )?(a )?{d}(?<= degrees)( of)? pitch " + _way + "( (at|on|onto|towards|to) {obj})?",
+        "(a )?pitch (of )?{d}(?<= degrees) " + _way + "( (at|on|onto|towards|to) {obj})?",
+    ]
 
 # An angle said alone ("from way up, like 70 deg", "a fair height, about sixty degrees", "looking
 # down on it from a drone, about 60 degrees"): an elevation only with a height said in the same
@@ -2894,7 +2971,7 @@ _MACROS = {
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
-    "|rotating|rotated|walking|walked|turning|turned|sweeping|swept|wandering)",
+    "|rotating|rotated|walking|walked|walk|turning|turned|sweeping|swept|wandering)",
     # The front said as the camera's straight-on line ("a touch to his right of dead front").
     "{FRONT_ON}": "(?:(?:dead|straight|square|head|full) (?:front|on)|dead ahead|straight ahead|(?:the )?center)",
     # Close to: "almost straight up", "nearly vertically down".
@@ -3115,6 +3192,19 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             corner += "|from( (over|across|beyond|behind))?) (the|{P}) " + _alternatives(sides) + " (corner|edge|quarter|angle)"
             rows.append(("view", view, corner + "( of {obj})?", False))
             rows.append(("view", view, "(over|across) (the|{P}) " + _alternatives(sides) + " (corner|edge)( of {obj})?", False))
+            # A corner turned to the camera, its end and its side said apart ("its rear corner on
+            # the right nearest to us", "the front corner on the left facing the camera").
+            lon, lat = view.split("-")
+            lon_words = "(front|nose)" if lon == "front" else "(rear|back|tail)"
+            rows.append(
+                (
+                    "view",
+                    view,
+                    "(the|{P}) " + lon_words + " corner (on|to|at) (the|{P}) " + lat + "( hand)?( side)?( ,)? "
+                    "((is |being )?(nearest|closest|facing|pointing at|pointed at|turned to|turned towards)( to)?) " + VIEWER,
+                    False,
+                )
+            )
             # A diagonal names a view wherever it stands as a noun phrase, a region never being one
             # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
             # car"), unless a noun follows that it describes ("the front left leg").

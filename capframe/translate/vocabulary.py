@@ -136,6 +136,13 @@ SPELLINGS = {
     "upwards": "up",
     "downward": "down",
     "downwards": "down",
+    # The camera's flying vehicle by its other names: a drone, never a thing of the scene
+    # ("UAV hovering over the tree").
+    "uav": "drone",
+    "uavs": "drones",
+    "quadcopter": "drone",
+    "quadrocopter": "drone",
+    "multicopter": "drone",
 }
 # Shot-size abbreviations of shot lists and storyboards ("ECU of the bear", "MS, eye level"),
 # spelt out so the shot-size tables read them. Two letters are enough: none of these is an
@@ -156,6 +163,8 @@ SHOT_ABBREVIATIONS = {
     "xls": "extreme long shot",
     "ews": "extreme wide shot",
     "xws": "extreme wide shot",
+    # Over the shoulder ("OTS right": behind the subject, on that side).
+    "ots": "over the shoulder",
 }
 SPELLINGS.update(SHOT_ABBREVIATIONS)
 # A vehicle's sides said as a sailor says them: starboard is its own right, port its own left.
@@ -656,6 +665,14 @@ OFFSET_HEDGES = (
     "a little angle",
     "a few degrees more",
     "a wee way",
+    # Steps round, as one walks it ("walk a few steps round to its right").
+    "a few steps",
+    "few steps",
+    "a couple of steps",
+    "a couple steps",
+    "a step or two",
+    "a step",
+    "one step",
     # The slight words said bare ("from the rear, little to the right", "just left of the front").
     "little",
     "tad",
@@ -695,6 +712,7 @@ SIDE_PARTS = (
     "hand side",
     "arm",
     "arm end",
+    "arm side",
     "side panel",
     "panel",
     "corner",
