@@ -10,7 +10,8 @@ heldout13, blind too, written before the changes tuned on heldout11 landed, a de
 heldout14, blind too, written before the changes tuned on heldout12 land, read by its writer only;
 heldout15, blind too, written after heldout14 before the changes tuned on heldout12 land,
 read by its writer only; heldout16, blind too, written after heldout15 before the changes tuned on
-heldout13 land, read by its writer only; the parse-only corpus phrasing1, written blind before any
+heldout13 land, read by its writer only; heldout17, blind too, written after heldout16, read by its
+writer only; the parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
 written blind to the method before any parser ran on it, read by its writer only; and the parse-only
@@ -60,6 +61,7 @@ COMMITTED = {
     "heldout14": [15, 14, 15, 14, 15, 15],
     "heldout15": [15, 14, 15, 14, 15, 15],
     "heldout16": [15, 14, 15, 14, 15, 15],
+    "heldout17": [15, 14, 15, 14, 15, 15],
 }
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or

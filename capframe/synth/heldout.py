@@ -1,6 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout13``, development sets now, and the blind ``heldout14``,
-``heldout15`` and ``heldout16``, issue #15; and the parse-only corpora ``phrasing1`` and
+sets ``heldout``, ``heldout2`` ... ``heldout15``, development sets now, and the blind ``heldout16``
+and ``heldout17``, issue #15; and the parse-only corpora ``phrasing1`` and
 ``phrasing2`` (development corpora), ``phrasing3`` and ``phrasing4`` (blind, each written before any
 parser ran on it), whose scenes are never generated: ``capframe bench ground --suite phrasing4
 --parse-only``).
