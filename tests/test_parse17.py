@@ -246,3 +246,24 @@ def test_shot_keep_probes(text, view, shot):
 )
 def test_side_third(text, region):
     assert parse(text).subjects[0].region == region
+
+
+@pytest.mark.parametrize(
+    ("text", "thing"),
+    [
+        ("the white car parked beside a kite, both visible", "kite"),
+        ("the bench standing next to a lantern, both in frame", "lantern"),
+        ("the vase resting beside a trumpet, both sharp", "trumpet"),
+        ("the mug lying next to a spoon, the two together", "spoon"),
+    ],
+)
+def test_a_thing_placed_after_a_verb_of_placing_when_both_are_asked_is_refused(text, thing):
+    """A verb of placing between the subject and the place ("the car parked beside a kite, both
+    visible") keeps the thing a second subject, refused when the scene lacks it."""
+    with pytest.raises(InputError, match=f"subject '{thing}' is not in this scene"):
+        parse(text)
+
+
+def test_a_thing_placed_after_a_verb_of_placing_without_both_stays_a_landmark():
+    p = parse("the white car parked beside a kite")
+    assert [s.name for s in p.subjects] == ["toy car"] and p.understood == "partly"

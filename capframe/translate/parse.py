@@ -3455,12 +3455,13 @@ class RuleParser:
 
     def _skipping_a_word(self, parsed: ParsedInstruction, said: list[str], vocabulary: Vocabulary) -> ParsedInstruction:
         """``parsed`` read again with one word of a clause it did not understand left out, when
-        that reads the rest of the clause: a table word in an unusual place breaks a phrase the
-        tables know ("Left end view": "left view"; "right-arm side toward the lens": "right side
-        toward the lens"; "nose pointed right at us": "pointed at us"), and so does a word the tables do not know ("loads of
-        empty tablecloth around it"). The reading is kept only
-        when it keeps every field of ``parsed`` and adds one; of several, the one adding most
-        (the earliest word on a tie). The word left out is reported in ``unparsed``.
+        that reads the rest of the clause: a word the tables use in an unusual place breaks a
+        phrase they know ("seen from its left flank side": "from its left flank"), and so does one
+        they do not know ("pointed straight glossy at the lens", "back xyz right diagonal"). The
+        reading is kept only when it keeps every field of ``parsed`` and adds one, or, leaving out
+        a word the tables do not know, reads more words and changes a value ("back" ->
+        "back-right"); of several, the one gaining most (the earliest word on a tie). The word
+        left out is reported in ``unparsed``.
 
         Only a word between two others is left out, and the rest of its clause and the words on
         both sides of it must be read once it is: the word broke a phrase ("Mug up front" is no
@@ -3795,9 +3796,10 @@ class RuleParser:
         return " ".join(thing) if joined_after or joined_before else None
 
     def _placed_second(self, tokens: list[str], run: _Run) -> str | None:
-        """The thing a run names when it is placed at the subject named right before it and both
-        are asked for (:data:`BOTH_WORDS`: "the mug next to a laptop, both sharp", "the sofa under
-        the painting, both in frame"): a second subject, refused when the scene lacks it; without
+        """The thing a run names when it is placed at the subject named right before it, or before
+        one verb of placing, and both are asked for (:data:`BOTH_WORDS`: "the mug next to a laptop,
+        both sharp", "the sofa under the painting, both in frame", "the car parked beside a kite,
+        both visible"): a second subject, refused when the scene lacks it; without
         "both" it is a landmark, reported ("the mug next to a hairbrush"). Its words are at most
         :data:`MAX_ATTRIBUTES`, none a word of the tables; None otherwise."""
         if not any(t in BOTH_WORDS for t in tokens):
@@ -3806,15 +3808,23 @@ class RuleParser:
         start = next((k for k in range(run.at, len(tokens)) if tokens[k : k + len(said)] == said), None)
         if start is None:
             return None
-        # The run may hold the preposition and an article ("next to a laptop"): the thing follows them.
-        opening = next((p for p in PLACED_PREPOSITIONS if said[: len(p)] == list(p) and len(said) > len(p)), ())
+        # The run may hold a verb of placing, the preposition and an article ("parked next to a
+        # laptop"): the thing follows them.
+        if len(said) > 1 and not _opening_preposition(said) and _placing(said[0]) and _opening_preposition(said[1:]):
+            said, start = said[1:], start + 1
+        opening = _opening_preposition(said)
         article = said[len(opening) : len(opening) + 1] in ARTICLE_WORDS
         skip = len(opening) + (article if opening else 0)
         said, start = said[skip:], start + skip
         # Back from the thing over an article and the place preposition to the named subject.
         k = start - (tokens[start - 1 : start] in ARTICLE_WORDS)
         relation = next((p for p in PLACED_PREPOSITIONS if k >= len(p) and tokens[k - len(p) : k] == list(p)), None)
-        if relation is None or k - len(relation) < 1 or not tokens[k - len(relation) - 1].startswith("@"):
+        if relation is None:
+            return None
+        # The subject right before the relation, or before one verb of placing ("the car parked beside").
+        k -= len(relation)
+        k -= k >= 2 and _placing(tokens[k - 1]) and tokens[k - 2].startswith("@")
+        if k < 1 or not tokens[k - 1].startswith("@"):
             return None
         end = start + len(said)
         if end < len(tokens) and tokens[end] not in PUNCTUATION and tokens[end] not in THING_ENDS:
@@ -4070,7 +4080,7 @@ JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "with", "together with", 
 # Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
 THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
 # Words that ask for two things at once ("both in frame", "the two together").
-BOTH_WORDS = frozenset({"both", "together", "two"})
+BOTH_WORDS = frozenset({"both", "together"})  # "two" is read as "2": "the two together" has "together"
 
 
 def _names_subject(tokens: list[str]) -> bool:
@@ -4151,6 +4161,12 @@ HOLDING_WORDS = frozenset({"with", "containing", "holding"})
 HELD_INSIDE = frozenset(
     tuple(w.split()) for w in ("in it", "inside it", "inside", "in there", "within it", "in here", "inside of it")
 )
+
+
+def _opening_preposition(said: list[str]) -> tuple[str, ...] | list[str]:
+    """The place preposition (:data:`PLACED_PREPOSITIONS`) ``said`` opens with, words following
+    it; () otherwise."""
+    return next((p for p in PLACED_PREPOSITIONS if said[: len(p)] == list(p) and len(said) > len(p)), ())
 
 
 def _placing(word: str) -> bool:
