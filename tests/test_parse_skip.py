@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pytest
 
+from capframe.errors import InputError
 from capframe.scene.directory import SemanticObject
 from capframe.translate.parse import parse_instruction, shared_parser
 from capframe.translate.vocabulary import DETERMINERS, Vocabulary, words
@@ -90,3 +91,24 @@ def test_an_unknown_word_anywhere_inside_a_clause_changes_no_reading(text):
             continue
         broken = parser.parse(" ".join([*said[:i], "glorp", *said[i:]]), SCENE)
         assert broken.constraints() == whole.constraints(), " ".join([*said[:i], "glorp", *said[i:]])
+
+
+def test_the_parse_only_bench_counts_readings_kept_with_an_unknown_word_inside():
+    """:func:`~capframe.bench.parse_only.interruption_kept`: a fully read instruction keeps its
+    reading with the word put inside it; one not fully read, or refused, is not counted."""
+    import random
+
+    from capframe.bench.parse_only import ParseOutcome, interruption_kept
+    from capframe.evaluate.spec import InstructionSpec
+
+    def outcome(text: str) -> ParseOutcome:
+        spec = InstructionSpec("x", "s", text, "view", True, None, None)
+        try:
+            return ParseOutcome(spec, partly=parse(text).not_understood())
+        except InputError as err:
+            return ParseOutcome(spec, refused=str(err))
+
+    rng = random.Random(0)
+    assert all(interruption_kept(shared_parser(), SCENE, outcome(t), rng) for t in FULLY_READ)
+    assert interruption_kept(shared_parser(), SCENE, outcome("the mug, not from above"), rng) is None
+    assert interruption_kept(shared_parser(), SCENE, outcome("the giraffe from the left"), rng) is None

@@ -3,8 +3,9 @@
 Every instruction of the suite goes through the rule parser alone (no scene is generated, no
 camera is placed) and its parse is compared with what the instruction means
 (:func:`capframe.bench.heldout.parse_differences`). It prints, in seconds, one line per
-instruction whose parse differs, was refused or is only partly understood, then the counts and
-the median parse time. It is the guard that a parser change keeps every correct parse correct.
+instruction whose parse differs, was refused or is only partly understood, then the counts, the
+median parse time, and how many fully read instructions keep their reading with one unknown
+word put inside them (:func:`interruption_kept`). It is the guard that a parser change keeps every correct parse correct.
 
 * A suite with committed instructions (the held-out sets): the vocabulary of a scene is built
   from the suite file's ``objects`` and their catalog names and aliases (the generator also adds
@@ -19,6 +20,7 @@ the median parse time. It is the guard that a parser change keeps every correct 
 from __future__ import annotations
 
 import contextlib
+import random
 import statistics
 import sys
 import time
@@ -30,7 +32,7 @@ from ..errors import InputError
 from ..evaluate.spec import InstructionSpec
 from ..scene._io import read_json
 from ..translate.parse import RuleParser
-from ..translate.vocabulary import Vocabulary
+from ..translate.vocabulary import DETERMINERS, PUNCTUATION, Vocabulary, words
 from .heldout import parse_differences
 
 
@@ -120,6 +122,8 @@ def bench_parse_only(suite: str | Path, root: str | Path = "results/bench/suite"
         if o.wrong or o.refused or o.partly:
             print(_line(o), file=sys.stderr)
     feasible = [o for o in outcomes if o.spec.feasible]
+    rng = random.Random(INTERRUPTION_SEED)
+    kept = [interruption_kept(parser, vocabulary, o, rng) for (vocabulary, _), o in zip(cases, outcomes, strict=True)]
     return {
         "suite": path.stem,
         "instructions": len(outcomes),
@@ -132,7 +136,35 @@ def bench_parse_only(suite: str | Path, root: str | Path = "results/bench/suite"
         "partly_understood": sum(bool(o.partly) for o in outcomes),
         "median_parse_ms": statistics.median(o.ms for o in outcomes) if outcomes else 0.0,
         "max_parse_ms": max((o.ms for o in outcomes), default=0.0),
+        "interrupted": sum(k is not None for k in kept),
+        "interrupted_kept": sum(bool(k) for k in kept),
     }
+
+
+# One word no table knows, put inside every fully read instruction at a place drawn with this seed.
+INTERRUPTION_WORD = "glorp"
+INTERRUPTION_SEED = 7
+
+
+def interruption_kept(parser: RuleParser, vocabulary: Vocabulary, outcome: ParseOutcome, rng: random.Random) -> bool | None:
+    """Whether ``outcome``'s instruction, fully read, keeps its constraints with
+    :data:`INTERRUPTION_WORD` put between two of its words (a place drawn from ``rng``, never
+    beside a name, a punctuation mark or after a determiner, where a new word would name a
+    thing): robustness to a word the tables do not know. None when it was not fully read or has
+    no such place."""
+    if outcome.refused or outcome.partly:
+        return None
+    said = words(outcome.spec.text)
+    names = {w for form in vocabulary.forms() for w in form} | PUNCTUATION
+    places = [k for k in range(1, len(said)) if not {said[k - 1], said[k]} & names and said[k - 1] not in DETERMINERS]
+    if not places:
+        return None
+    k = rng.choice(places)
+    try:
+        interrupted = parser.parse(" ".join([*said[:k], INTERRUPTION_WORD, *said[k:]]), vocabulary)
+    except InputError:
+        return False
+    return interrupted.constraints() == parser.parse(outcome.spec.text, vocabulary).constraints()
 
 
 def _line(o: ParseOutcome) -> str:
@@ -159,8 +191,9 @@ def format_parse_summary(f: dict) -> str:
             f"unknown subjects refused: {f['unknown_subject_refused']}/{f['unknown_subject']}",
             f"partly understood: {f['partly_understood']}",
             f"parse time: median {f['median_parse_ms']:.3f} ms, max {f['max_parse_ms']:.3f} ms",
+            f"one unknown word put inside a fully read instruction: reading kept {f['interrupted_kept']}/{f['interrupted']}",
         ]
     )
 
 
-__all__ = ["ParseOutcome", "bench_parse_only", "format_parse_summary", "parse_case"]
+__all__ = ["ParseOutcome", "bench_parse_only", "format_parse_summary", "interruption_kept", "parse_case"]
