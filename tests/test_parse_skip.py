@@ -104,7 +104,8 @@ def test_the_parse_only_bench_counts_readings_kept_with_an_unknown_word_inside()
     def outcome(text: str) -> ParseOutcome:
         spec = InstructionSpec("x", "s", text, "view", True, None, None)
         try:
-            return ParseOutcome(spec, partly=parse(text).not_understood())
+            read = parse(text)
+            return ParseOutcome(spec, partly=read.not_understood(), constraints=read.constraints())
         except InputError as err:
             return ParseOutcome(spec, refused=str(err))
 

@@ -5,7 +5,8 @@ camera is placed) and its parse is compared with what the instruction means
 (:func:`capframe.bench.heldout.parse_differences`). It prints, in seconds, one line per
 instruction whose parse differs, was refused or is only partly understood, then the counts, the
 median parse time, and how many fully read instructions keep their reading with one unknown
-word put inside them (:func:`interruption_kept`). It is the guard that a parser change keeps every correct parse correct.
+word put inside them (:func:`interruption_kept`). It is the guard that a parser change keeps
+every correct parse correct.
 
 * A suite with committed instructions (the held-out sets): the vocabulary of a scene is built
   from the suite file's ``objects`` and their catalog names and aliases (the generator also adds
@@ -28,6 +29,7 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..constraints import Constraints
 from ..errors import InputError
 from ..evaluate.spec import InstructionSpec
 from ..scene._io import read_json
@@ -39,13 +41,15 @@ from .heldout import parse_differences
 @dataclass
 class ParseOutcome:
     """One instruction's parse: ``refused`` (the parser's one-line error), ``diffs`` (fields
-    differing from the spec), ``partly`` (constraint-like words not understood) and ``ms``."""
+    differing from the spec), ``partly`` (constraint-like words not understood), ``ms`` and the
+    ``constraints`` read (None when refused)."""
 
     spec: InstructionSpec
     refused: str = ""
     diffs: list[str] = field(default_factory=list)
     partly: list[str] = field(default_factory=list)
     ms: float = 0.0
+    constraints: Constraints | None = None
 
     @property
     def expected_refusal(self) -> bool:
@@ -107,7 +111,8 @@ def parse_case(parser: RuleParser, vocabulary: Vocabulary, spec: InstructionSpec
     except InputError as err:
         return ParseOutcome(spec, refused=" ".join(str(err).split()), ms=1e3 * (time.perf_counter() - start))
     ms = 1e3 * (time.perf_counter() - start)
-    return ParseOutcome(spec, diffs=parse_differences(parsed.to_dict(), spec), partly=parsed.not_understood(), ms=ms)
+    diffs = parse_differences(parsed.to_dict(), spec)
+    return ParseOutcome(spec, diffs=diffs, partly=parsed.not_understood(), ms=ms, constraints=parsed.constraints())
 
 
 def bench_parse_only(suite: str | Path, root: str | Path = "results/bench/suite") -> dict:
@@ -155,7 +160,7 @@ def interruption_kept(parser: RuleParser, vocabulary: Vocabulary, outcome: Parse
     if outcome.refused or outcome.partly:
         return None
     said = words(outcome.spec.text)
-    names = {w for form in vocabulary.forms() for w in form} | PUNCTUATION
+    names = vocabulary.name_words() | PUNCTUATION
     places = [k for k in range(1, len(said)) if not {said[k - 1], said[k]} & names and said[k - 1] not in DETERMINERS]
     if not places:
         return None
@@ -164,7 +169,7 @@ def interruption_kept(parser: RuleParser, vocabulary: Vocabulary, outcome: Parse
         interrupted = parser.parse(" ".join([*said[:k], INTERRUPTION_WORD, *said[k:]]), vocabulary)
     except InputError:
         return False
-    return interrupted.constraints() == parser.parse(outcome.spec.text, vocabulary).constraints()
+    return interrupted.constraints() == outcome.constraints
 
 
 def _line(o: ParseOutcome) -> str:

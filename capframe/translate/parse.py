@@ -3472,7 +3472,7 @@ class RuleParser:
         leaving those out changes what is asked ("off to his left" without "his" is a region)."""
         readings = _readings(parsed)
         runs = [set(words(run)) for run in parsed.not_understood()]
-        names = {w for form in vocabulary.forms() for w in form}
+        names = vocabulary.name_words()
         best, best_gain = parsed, 0
         for i, word in enumerate(said[1:-1], start=1):
             neighbours = {said[i - 1], said[i + 1]}
@@ -3550,7 +3550,7 @@ class RuleParser:
         """``tokens`` with each mistyped table word read as it (:func:`~capframe.translate.vocabulary.slip_of`:
         "hight" -> "height"; :func:`_view_slip`: "from the font"), and those readings; a word the
         tables or the scene's names use is never one."""
-        names = {w for form in vocabulary.forms() for w in form}
+        names = vocabulary.name_words()
         out, read = [], []
         for token in tokens:
             known = token in self.lexicon or token in STOPWORDS or singular(token) in names
@@ -4552,6 +4552,7 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
 # "rather than from above", "instead of a close-up"); phrases with their own denial ("no dutch",
 # "not too close") start with it and are kept.
 NEGATIONS = tuple(w.split() for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not"))
+NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
 
 
@@ -4710,11 +4711,10 @@ def _extension(before: dict[str, object], after: dict[str, object], read: int) -
     return len(after) - len(before)
 
 
-def _skippable(word: str, names: set[str]) -> bool:
+def _skippable(word: str, names: frozenset[str]) -> bool:
     """Whether :meth:`RuleParser._skipping_a_word` may leave ``word`` out: no stopword, no
     negation, no number and no word of a scene name (``names``)."""
-    negations = {w for n in NEGATIONS for w in n}
-    return word not in STOPWORDS and word not in negations and word not in names and not NUMBER.fullmatch(word)
+    return word not in STOPWORDS and word not in NEGATION_WORDS and word not in names and not NUMBER.fullmatch(word)
 
 
 def _example(vocabulary: Vocabulary) -> str:

@@ -1828,6 +1828,10 @@ class Vocabulary:
         """Every name and alias as normalised singular words (the parser spots these in a sentence)."""
         return frozenset(form for e in self.entries for form in e.forms)
 
+    def name_words(self) -> frozenset[str]:
+        """Every word of :meth:`forms` ("teddy", "bear", "arm", "chair", ...)."""
+        return frozenset(w for e in self.entries for w in e.words)
+
     def correction(self, words: tuple[str, ...]) -> tuple[str, ...] | None:
         """The one name or alias, or head noun of one ("armchair" of "red armchair", which
         :meth:`match` accepts alone), that ``words`` (normalised, singular) misspell
