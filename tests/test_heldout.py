@@ -10,12 +10,12 @@ heldout13, blind too, written before the changes tuned on heldout11 landed, a de
 heldout14, blind too, written before the changes tuned on heldout12 land, and heldout15, blind
 too, written after heldout14 before the changes tuned on heldout12 land, both development sets
 since heldout17 and phrasing4 were written; heldout16, blind too, written after heldout15 before
-the changes tuned on heldout13 land, read by its writer only; heldout17, blind too, written after
+the changes tuned on heldout13 land, a development set since 2026-11-28; heldout17, blind too, written after
 heldout16 before the changes tuned on heldout14 and heldout15 land, read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
-written blind to the method before any parser ran on it, read by its writer only; and the parse-only
+written blind to the method before any parser ran on it, a development corpus since 2026-11-28; and the parse-only
 corpus phrasing4, blind too, written blind to the method before any parser ran on it, read by its
 writer only):
 their files are valid and

@@ -1,9 +1,8 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout15``, development sets now, and the blind ``heldout16``
-and ``heldout17``, issue #15; and the parse-only corpora ``phrasing1`` and
-``phrasing2`` (development corpora), ``phrasing3`` and ``phrasing4`` (blind, each written before any
-parser ran on it), whose scenes are never generated: ``capframe bench ground --suite phrasing4
---parse-only``).
+sets ``heldout``, ``heldout2`` ... ``heldout16``, development sets now, and the blind ``heldout17``,
+issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing3`` (development corpora) and
+``phrasing4`` (blind, written before any parser ran on it), whose scenes are never generated:
+``capframe bench ground --suite phrasing4 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
 folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene (and, for a
