@@ -35,8 +35,9 @@ import torch
 from PIL import Image, ImageDraw
 
 from ..handoff import Retrieved
-from ..measure import CheckReport, format_report
+from ..measure import CheckReport, ConstraintChecker, format_report
 from ..refine.candidates import Candidate
+from ..refine.nudge import DISTANCE_SHARES, angle_misses, orbited
 from ..refine.optimize import RefineConfig, RefineResult
 from ..render import render
 from ..render.image import save_png
@@ -162,6 +163,7 @@ def write_ground_result(
                 "loss": float(r.losses.min()),
                 "T_cw": r.T_cw.tolist(),
                 "own_all_satisfied": rep.all_satisfied,
+                **({"nudge_deg": list(r.nudge_deg)} if r.nudge_deg is not None else {}),
             }
             for k, ((start, r), rep) in enumerate(zip(refined.runs, reports))
         ],
@@ -188,7 +190,9 @@ def closest_answer(
     scene: SceneDir, labels: PseudoLabels, parsed: ParsedInstruction, refined: Refined, occupancy: Occupancy | None = None
 ) -> tuple[Refined, list[CheckReport]]:
     """Refine's poses and their own reports, the answer first (:func:`report_order`). When no
-    refined pose satisfies every clause, the views Refine started from join them unrefined
+    refined pose satisfies every clause, those that miss only an asked angle by a few degrees
+    join them moved into it (:func:`nudged_runs`); when still none does, the views Refine started
+    from join them unrefined
     (:func:`unrefined`): Refine's loss does not see a subject hidden by other objects (an asked
     height may lie under a table top), and it trades an asked angle against the layout where
     free space bounds the distance (a ceiling over a top-down view), so a start chosen for
@@ -198,11 +202,46 @@ def closest_answer(
     checker = own_checker(scene, labels, occupancy)
     reports = [own_report(checker, parsed, c) for c in refined.cameras]
     if not any(r.all_satisfied for r in reports):
+        nudged = nudged_runs(refined, reports, checker, labels, occupancy)
+        reports += [own_report(checker, parsed, start.with_pose(result.T_cw)) for start, result in nudged]
+        refined = Refined(refined.runs + nudged, refined.solved)
+    if not any(r.all_satisfied for r in reports):
         starts = [(start, unrefined(start, result)) for start, result in refined.runs]
         reports += [own_report(checker, parsed, start) for start, _ in starts]
         refined = Refined(refined.runs + starts, refined.solved)
     order = report_order(reports)
     return Refined([refined.runs[k] for k in order], refined.solved), [reports[k] for k in order]
+
+
+def nudged_runs(
+    refined: Refined,
+    reports: list[CheckReport],
+    checker: ConstraintChecker,
+    labels: PseudoLabels,
+    occupancy: Occupancy | None = None,
+) -> list[tuple[Camera, RefineResult]]:
+    """Refine's poses that miss only an asked angle of the primary subject, and by a few degrees,
+    moved into it on the subject's view sphere (:mod:`capframe.refine.nudge`), with the turn in
+    ``nudge_deg``: Refine's hinge terms settle against its layout terms just outside an interval.
+    With ``occupancy`` the moved camera comes nearer (:data:`DISTANCE_SHARES`) until it is in
+    free space, and is dropped when it never is. The caller reports on them like any pose; a
+    turn that breaks another clause ranks below."""
+    primary = labels.subjects[0]
+    subject = checker.resolve(primary.name)
+    shares = DISTANCE_SHARES if occupancy is not None else (1.0,)
+    runs = []
+    for (start, result), report in zip(refined.runs, reports):
+        turn = angle_misses(report, primary.name)
+        if turn is None:
+            continue
+        for share in shares:
+            camera = orbited(
+                start.with_pose(result.T_cw), subject.center, np.asarray(primary.centroid), subject.front, labels.up, turn, share
+            )
+            if camera is not None and (occupancy is None or float(occupancy.clearance(torch.as_tensor(camera.center))) > 0):
+                runs.append((start, dataclasses.replace(result, T_cw=camera.T_cw, stop_reason="nudged", nudge_deg=turn)))
+                break
+    return runs
 
 
 def shows_subjects(report: CheckReport) -> bool:

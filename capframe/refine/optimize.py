@@ -139,6 +139,9 @@ class RefineResult:
         start_loss, start_terms: the total loss and its terms at the pose Refine was given, before
             its yaw scan (the trajectory starts after the scan, which may turn the start away);
             None when unmeasured.
+        nudge_deg: the turn (azimuth, elevation) in degrees that moved ``T_cw`` on the subject's
+            view sphere after Refine (:mod:`capframe.refine.nudge`; ``trajectory`` ends before
+            it); None when none did.
     """
 
     T_cw: np.ndarray
@@ -152,6 +155,7 @@ class RefineResult:
     occlusion_seconds: float = 0.0
     start_loss: float | None = None
     start_terms: dict[str, float] | None = None
+    nudge_deg: tuple[float, float] | None = None
 
 
 CULL_CHUNK = 1 << 20  # Gaussians per chunk of the occluder cull: bounds its float64 temporaries
