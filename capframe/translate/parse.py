@@ -249,6 +249,7 @@ from .vocabulary import (
     SCENE_HEADINGS,
     SETTINGS,
     SIDE_PARTS,
+    SIDED_PARTS,
     SIZE_IDIOMS,
     SIZE_WORDS,
     SLATE_LABELS,
@@ -920,9 +921,11 @@ for _lat in ("left", "right"):
     VIEW_SIDE_WORDS[f"back-{_lat}"] += _diagonal_words(("back", "rear", "tail end"), _lat, False)
     # Turned three-quarters to a side ("the teddy turned three-quarters to the left").
     VIEW_SIDE_WORDS[f"front-{_lat}"].append(f"(turned )?three quarters? (to|towards) the {_lat}")
-    # The side said as a place after the diagonal's end ("rear three-quarter on the right").
+    # The side said as a place after the diagonal's end, either side of "three-quarter" ("rear
+    # three-quarter on the right", "3/4 rear on the left").
     VIEW_SIDE_WORDS[f"back-{_lat}"].append(
-        f"(back|rear) three quarters?( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}( hand)?( side)?"
+        f"((back|rear) three quarters?|three quarters? (back|rear))( (view|angle|shot))? (on|to|from|at) (the|{{P}}) {_lat}"
+        "( hand)?( side)?"
     )
 # "Behind" as the end of a diagonal ("from behind-left", "a behind-right three quarter",
 # "left-behind"): the back diagonal on that side, in either order, with or without "three
@@ -955,6 +958,11 @@ NOT_A_RELATION = (
     "(?<!over )(?<!past )(?<!beyond )(?<!across )(?<!under )(?<!below )(?<!beneath ))"
 )
 NOT_TURNED_AWAY = "(?! (to|towards|against|facing|turned|pressed|up against) )"
+# A front part said to the lens is the front exactly ("nose-to-lens", "face to camera").
+FRONT_TO_LENS = ("nose", "face", "head", "snout", "muzzle", "grille")
+# The camera looked or pointed at, its article dropped as captions and second-language writers drop
+# it ("looking to camera", "nose pointed at lens").
+AT_CAMERA = "(the (camera|lens|viewer)|camera|lens|us|me)"
 # {PART}: a part on that side ("from its right arm end", "its left flank", "the left-hand side
 # panel": vocabulary.SIDE_PARTS) names that side.
 VIEW_FRAMES = [
@@ -964,6 +972,10 @@ VIEW_FRAMES = [
     # Square on to a side named ("head on to its back", "straight on to the left side").
     "(?P<exact>" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
+    # The camera square to a side, maybe a part's ("perpendicular to its flank", "shot square to
+    # the left side", "perpendicular to the shelves' face"): that side, exactly.
+    "(?P<exact>perpendicular|perpendicularly|square|squarely|at right angles|normal) (on )?(to|with|onto|on to|facing) "
+    "(the|{P}) ([a-z]+ 's )?{SIDE}{PART}( of {obj})?(?! of )",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
     CAMERA + " {MOVE} (a?round |over )?(to|towards) (the|{P}) {SIDE}{PART}( of {obj})?",
@@ -972,6 +984,13 @@ VIEW_FRAMES = [
     # The article may be dropped at a clause's start ("teddy, left side facing us").
     "(with )?((the|{P}) |{CLAUSE}){SIDE}{PART} ({EXACT} )?(towards|to|facing|turned towards|turned to)"
     " (the (camera|viewer|lens)|us|me)",
+    # Any part named by its side and turned to the camera names that side ("the right armrest end
+    # pointed dead at the lens", "its right-hand doors square to camera", "left armrest of the
+    # bench pointing at me"); a front part said to the camera is FRONT_TO_LENS's ("his face to
+    # camera": straight on).
+    "(with )?(((the|{P}) |{CLAUSE})(?!(" + "|".join(FRONT_TO_LENS) + ") ){SIDE}( {SIDED})?|(?<=^ ){SIDE} {SIDED}){PART}"
+    "( of {obj})?( (is|are))?( (pointing|pointed|aimed|aiming|turned|squared|set))? ({EXACT} ({STRONG} )?)?"
+    "(towards|to|at|into|facing|turned towards|turned to) " + AT_CAMERA,
     # An end said with it ("left end view", "the right-hand end shot").
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( hand)?( side| end)?"
     " (view|profile|angle|shot)",
@@ -1037,8 +1056,6 @@ SIDE_AFTER_VIEW_CLAUSE = (
 # "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
 # it goes with exact (:data:`VIEW_COMBINATIONS`); said alone it is the front exactly ("the car
 # head-on").
-# A front part said to the lens is the front exactly ("nose-to-lens", "face to camera").
-FRONT_TO_LENS = ("nose", "face", "head", "snout", "muzzle", "grille")
 EXACT_ONLY = "exact"
 EXACT_PHRASES = [
     "(a |in )?(" + "|".join(GENERIC_ON_WORDS) + "|spot) on( (view|shot|angle))?",
@@ -1059,14 +1076,13 @@ VIEW_PHRASES = {
         "({EXACT} |(?P<exact>full) )?frontal( view| shot| angle)?",
         # The view word as an adverb ("shown frontally", "photographed head-on frontally").
         "({SEEN_VERB} |shown |presented |displayed )?({EXACT} )?frontally",
-        "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards) (the (camera|lens|viewer)|us|me)",
+        "(looking|staring|gazing|peering) ({EXACT} )?(at|into|towards|to) " + AT_CAMERA,
         # The subject moving or pointing at the camera ("the car driving towards us").
         # Its front pointed at the camera ("with its nose pointing at the camera").
         # "Right at us" is straight at: no side ("nose pointed right at us").
         "(with )?((the|{P}) )?(nose|front|face|head|headlights|grille) (pointing|pointed|facing|turned|aimed) "
-        "((straight|right|directly|dead) )?(at|to|towards|into) (the (camera|lens|viewer)|us|me)",
-        "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) "
-        "(the (camera|lens|viewer)|us|me)",
+        "((straight|right|directly|dead) )?(at|to|towards|into) " + AT_CAMERA,
+        "(pointing|pointed|driving|heading|coming|moving|rolling|walking|turned) (straight )?(towards|at|to) " + AT_CAMERA,
         CAMERA + " in front of {obj}",
         SEEN + "({EXACT} )?from (a?round )?(the|{P}) nose( of {obj})?",
         SEEN + "from ({EXACT} |(?P<exact>right) )?in front( of {obj})?",
@@ -1141,6 +1157,9 @@ VIEW_PHRASES = {
     "right": [FACING_WAY.replace("{LAT}", "right"), "(from )?(the )?side of (the )?right"],
     "side": [
         "in profile",
+        # Square to its flank (VIEW_FRAMES' square frame; "straight on to its flank" says only exactly).
+        "(perpendicular|perpendicularly|square|squarely|at right angles|normal) (to|with|onto|facing) "
+        "(the|{P}) ([a-z]+ 's )?flank( of {obj})?",
         # A profile said before the side it is seen from ("profile from its right-hand side").
         "(a |the )?(side )?profile( (view|shot))?(?= (from|on|of) (the|{P}) (left|right) )",
         "(seen )?({STRONG} )?(side|end) on",
@@ -1195,7 +1214,8 @@ for _end, _parts in FACING_PARTS.items():
     _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
     VIEW_PHRASES[_end] += [
         "((with|pointing|points|pointed|turning|turns|turned|aiming|aims|aimed|having|showing|keeping) )?"
-        "((the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
+        # Or the side it is on ("the side with the door handle toward us", "the end with the tail lights to camera").
+        "((the|{P}) (side|end|face) with (the|{P}) |(the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
         + _part
         + "( (is|are))?( (?P<exact>"
         + SQUARE[1:]
@@ -1223,6 +1243,33 @@ for _lon, _lon_words in (("front", "(front|face)"), ("back", "(back|rear)")):
     VIEW_PHRASES["three-quarter" if _lon == "front" else "back-three-quarter"].extend(
         BETWEEN.replace("{A}", a).replace("{B}", b) for a, b in ((_lon_words, "side"), ("side", _lon_words))
     )
+# The view someone standing there would get ("the view a walker behind it would get", "what a
+# visitor in front of it sees", "the angle someone to its left would have"): that side; the one who
+# stands there may be any noun.
+SOMEONE_THERE = (
+    "(the (view|angle|shot|picture|sight)|what) (that )?((a|an|the|some|any) )?([a-z]+ )?"
+    "((standing|sitting|walking|stood|sat|passing|waiting|strolling) )?{PLACE}"
+    "( (would|might|could|will|does|did|can))?( (get|gets|have|has|see|sees|had|saw|got|catch|catches))"
+)
+for _view, _place in (
+    ("back", "((right|directly|just|straight) )?behind {obj}"),
+    ("front", "((right|directly|just|straight) )?in front of {obj}"),
+    ("left", "(to|on|at) {P} left( hand)?( side)?"),
+    ("right", "(to|on|at) {P} right( hand)?( side)?"),
+):
+    VIEW_PHRASES[_view].append(SOMEONE_THERE.replace("{PLACE}", _place))
+# Looking over its back or a part at its back ("from over its backrest", "peering over the back of
+# the sofa"): from behind; with a side said after it, that back diagonal ("from over its backrest on
+# the left": LONGITUDINAL). Only with a verb of looking or "from" ("a throw over the back of the
+# sofa" says where the throw is).
+OVER_BACK = (
+    "(from|looking|peering|peeking|gazing|seen|shot) over (the|{P}) "
+    + "("
+    + "|".join(sorted(("back", "rear", "backside", *END_PARTS["back"]), key=len, reverse=True))
+    + ")"
+    + "( of {obj})?"
+)
+VIEW_PHRASES["back"].append(OVER_BACK)
 # Over one shoulder of the subject: behind it, on that side ("over its left shoulder").
 for _lat in ("left", "right"):
     VIEW_PHRASES.setdefault(f"back-{_lat}", []).append(SEEN + f"(from |looking )?over (the|{{P}}) {_lat} shoulder( of {{obj}})?")
@@ -1245,7 +1292,13 @@ LATERAL_OWN = "((off|over) )?(to|on|towards|at) ({P} {LAT}( hand)?( side)?|the {
 # Where the camera is along the subject's front-back axis, in phrases that combine with a side.
 LONGITUDINAL = {
     "front": SEEN + ALMOST + "(from (the|{P}) front|(" + CAMERA + " )?(from )?({STRONG} |right )?in front( of {obj})?)",
-    "back": SEEN + ALMOST + "(from (the|{P}) (back|rear)|(" + CAMERA + " )?(from )?({STRONG} |right )?behind( {obj})?)",
+    "back": SEEN
+    + ALMOST
+    + "(from (the|{P}) (back|rear)|("
+    + CAMERA
+    + " )?(from )?({STRONG} |right )?behind( {obj})?|"
+    + OVER_BACK
+    + ")",
 }
 # "behind and to the left", "from behind on the left", "to its left, from behind": the diagonal;
 # with a slight degree word ("in front and slightly to the right") the slight side of that end.
@@ -1330,9 +1383,10 @@ AZIMUTH_PHRASES = [
 # sideways offset said without its reference is a cue of its own that the reference said elsewhere
 # completes (:func:`_combined_view`; none is the front); one towards an end names its side.
 # {MOVED}: how the camera gets there ("swung", "nudged", "angled", "round", "over"), optional.
+# A cheat is film language for a small move of the camera ("cheat it a little toward the front").
 TURN_VERBS = (
     "({MOVE}|turn|rotate|angle|angled|angling|lean|leaning|leaned|leant|offset|pan|panned|panning|pivot|pivoted|pivoting"
-    "|swivel|swivelled|swiveled)"
+    "|swivel|swivelled|swiveled|(cheat|cheated|cheating)( it)?)"
 )
 MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|across) )?"
 # The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
@@ -1382,7 +1436,7 @@ OFFSET_BACK_VIEW_FRAMES = [
 # Off a side towards an end ("from its left flank, a few degrees toward the front", "a tad towards
 # the back from its right side", "slightly off its left side towards the rear").
 # Without an article it is no diagonal's side ("rear-right corner" is no right side).
-LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PART}( of {obj})?"
+LAT_REF = "((the|{P}) |(?<!rear )(?<!back )(?<!front )(?<!end )){LAT}( hand)?{PART}( (view|angle|shot))?( of {obj})?"
 # An end said as a direction, or an adverb of it ("towards the front", "a bit forward").
 LON_SIDE = "((the|{P}) {LON}( side| end)?|{LONWARD})"
 SIDE_OFFSET_FRAMES = [
@@ -1482,6 +1536,8 @@ VIEW_COMBINATIONS |= {
     for end in EXACT_ENDS
     if end in pair
 } | {frozenset((end, f"{end}-exact")): f"{end}-exact" for end in EXACT_ENDS}
+# A side view said with an exact side keeps it exact ("pure left profile, perpendicular to its flank").
+VIEW_COMBINATIONS |= {frozenset(("side", f"{lat}-exact")): f"{lat}-exact" for lat in ("left", "right")}
 # Exactness said apart makes an end exact and leaves any other side as it is.
 VIEW_COMBINATIONS |= {
     frozenset((EXACT_ONLY, side)): f"{side}-exact" if side in EXACT_ENDS else side for side in VIEW_SIDES if side != EXACT_ONLY
@@ -2963,6 +3019,8 @@ _MACROS = {
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
+    # A part that one of its sides has ("the right armrest", "its left-hand doors").
+    "{SIDED}": _alternatives(SIDED_PARTS, "(?:"),
     # Moving the camera round ("drifting a little round to its left").
     "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
     # What a roll verb turns, said after it ("dutch it 25 degrees", "cant the frame 10 degrees left").
@@ -3371,7 +3429,12 @@ LON_WORDS = {
     "front": _alternatives(("front", "face", "nose", "bow", *END_PARTS["front"])),
     "back": _alternatives(("back", "rear", "tail", "stern", *END_PARTS["back"])),
 }
-LONWARD_WORDS = {"front": "(forward|forwards|frontward|frontwards)", "back": "(backward|backwards|rearward|rearwards)"}
+# Also the place itself ("from the right side, drifting a bit behind him", "a touch in front of
+# it"); not before a named object, where it relates the two ("a bit behind the vase").
+LONWARD_WORDS = {
+    "front": "(forward|forwards|frontward|frontwards|in front( of (it|him|her|them))?)",
+    "back": "(backward|backwards|rearward|rearwards|behind( (it|him|her|them))?)",
+}
 
 
 def _lon_frame(template: str, lat: str, lon: str) -> str:
@@ -3558,6 +3621,9 @@ class RuleParser:
             out.extend(target or (token,))
             if target:
                 read.append({"said": token, "read": " ".join(target)})
+        # A number word before a fraction mistyped was read as a digit ("three-qarter" -> "3
+        # quarter"): "three quarter" as :func:`~capframe.translate.vocabulary.words` writes it.
+        out = ["three" if t == "3" and out[k + 1 : k + 2] in (["quarter"], ["quarters"]) else t for k, t in enumerate(out)]
         return out, read
 
     def _unknown_word(self, before: list[str], token: str, names: set[str], vocabulary: Vocabulary) -> tuple[str, ...] | None:
@@ -3996,7 +4062,9 @@ def _never_a_name(text: str) -> bool:
     if any(NUMBER.fullmatch(w) or w == "degrees" for w in text.split()):  # "10 degrees roll" names no object
         return True
     content = [w for w in text.split() if w not in STOPWORDS and w not in ATTRIBUTES]
-    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | DETAIL_PARTS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS
+    # "End" too ("shoot it from that end": a side said again, never a thing); not a position word,
+    # which would split "the far end of the table" where it is reported.
+    never = POSITION_WORDS | DEGREE_WORDS | PART_WORDS | DETAIL_PARTS | SURROUNDINGS | GENERIC_NOUNS | ROLL_STATE_WORDS | {"end"}
     if bool(content) and all(w in never for w in content):
         return True
     # A detail of the subject, then where on it ("the seam down its back", "cables along the back").

@@ -107,6 +107,7 @@ SPELLINGS = {
     "abuv": "above",
     "abuve": "above",
     "frunt": "front",
+    "reer": "rear",
     "behine": "behind",
     "behing": "behind",
     "ontop": "on top",
@@ -186,6 +187,8 @@ COMPOUNDS |= {("port", word): f"left {word}" for word in PORT_SIDE_WORDS}
 
 # Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
 # word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
+# The ends a diagonal is said with ("front-right-ish"): a "-ish" after its side hedges the diagonal.
+DIAGONAL_ENDS = frozenset({"front", "back", "rear", "behind"})
 HEDGED_WORDS = frozenset({"high", "low", "close", "tight", "wide", "small", "big", "large", "far", "near", "left", "right"})
 
 UNITS = {
@@ -236,6 +239,7 @@ def words(text: str) -> list[str]:
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
     s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
+    s = re.sub(r"\b3(?=[\s-]+quarters?\b)", " three ", s)  # "a rear 3-quarter angle": as "three quarter"
     s = re.sub(r"\s*(?:-+>|=+>|\u2192)\s*", " : ", s)  # an arrow after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
@@ -250,7 +254,7 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_to_up_down(tokens))))))))
+    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
 
 
 # A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
@@ -343,9 +347,12 @@ NUMBER_HEDGES = ("odd", "ish", "or so", "or thereabouts")
 def _hedges(tokens: list[str]) -> list[str]:
     """A "-ish" suffix on a word of :data:`HEDGED_WORDS` as "a bit" before it ("high ish",
     "highish" -> "a bit high"); after any other word it is dropped ("macro-ish": a shot word's
-    own range allows for it)."""
+    own range allows for it), and so it is after a diagonal's side ("front-right-ish", "rear
+    left-ish": the diagonal's own tolerance allows for it, it is no slight side)."""
     out: list[str] = []
     for token in tokens:
+        if token == "ish" and out[-2:-1] and out[-2] in DIAGONAL_ENDS and out[-1] in ("left", "right"):
+            continue
         if token == "ish" and out and out[-1] in HEDGED_WORDS:
             out[-1:] = ["a", "bit", out[-1]]
         elif token == "ish" and out and out[-1].isalpha():
@@ -422,6 +429,30 @@ def _to_up_down(tokens: list[str]) -> list[str]:
         for k, t in enumerate(tokens)
         if not (t == "to" and 0 < k < len(tokens) - 1 and tokens[k - 1] in LOOK_WORDS and tokens[k + 1] in ("up", "down"))
     ]
+
+
+# "Proper right" / "proper left", as museums and heralds say the object's own side ("View: proper
+# right side", "the statue's proper left"): after a possessive "own", else "its own" (the article
+# before it goes: "from the proper left"); not "a proper right angle".
+PROPER_SIDE_AFTER = frozenset({"'s", "its", "his", "her", "their"})
+
+
+def _proper_sides(tokens: list[str]) -> list[str]:
+    """``tokens`` with "proper" before "left"/"right" read as the subject's own (:data:`PROPER_SIDE_AFTER`)."""
+    out: list[str] = []
+    for k, token in enumerate(tokens):
+        after = tokens[k + 1 : k + 3]
+        if token != "proper" or after[:1] not in (["left"], ["right"]) or after[1:] in (["angle"], ["angles"]):
+            out.append(token)
+        elif out and out[-1] in PROPER_SIDE_AFTER:
+            out.append("own")
+        elif out and out[-1] in ("a", "an"):
+            out.append(token)
+        else:
+            if out and out[-1] == "the":
+                out.pop()
+            out += ["its", "own"]
+    return out
 
 
 def _side_letters(tokens: list[str]) -> list[str]:
@@ -538,6 +569,10 @@ SLIP_TARGETS = (
     "right",
     "center",
     "middle",
+    # The ends and the side too ("raer", "bakc", "sdie"; "reer" is spelt by ear: SPELLINGS).
+    "rear",
+    "back",
+    "side",
     "close",
     "angle",
     "frame",
@@ -719,6 +754,27 @@ SIDE_PARTS = (
     "shoulder",
     "quarter",
 )
+# Parts a subject has on each side: named by its side and turned to the camera, that side is seen
+# ("the right armrest end pointed at the lens", "its left-hand doors square to camera"); alone they
+# name no side ("a fridge's left door" is on its front).
+SIDED_PARTS = (
+    "arm",
+    "arms",
+    "armrest",
+    "armrests",
+    "arm rest",
+    "arm rests",
+    "door",
+    "doors",
+    "wheel",
+    "wheels",
+    "window",
+    "windows",
+    "leg",
+    "legs",
+    "ear",
+    "ears",
+)
 # Parts found only at one end of a subject: naming one names that end ("the bench's backrest
 # side", "its tail lights", "the grille of the car").
 END_PARTS = {
@@ -818,6 +874,8 @@ FACING_PARTS = {
         "shelf",
         "door",
         "doors",
+        "door handle",
+        "door handles",
         "drawer",
         "drawers",
         "keys",
