@@ -11,7 +11,8 @@ heldout14, blind too, written before the changes tuned on heldout12 land, and he
 too, written after heldout14 before the changes tuned on heldout12 land, both development sets
 since heldout17 and phrasing4 were written; heldout16, blind too, written after heldout15 before
 the changes tuned on heldout13 land, a development set since 2026-11-28; heldout17, blind too, written after
-heldout16 before the changes tuned on heldout14 and heldout15 land, read by its writer only; the
+heldout16 before the changes tuned on heldout14 and heldout15 land, read by its writer only; heldout18,
+blind too, written after heldout17 on 2026-11-28, read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
@@ -65,6 +66,7 @@ COMMITTED = {
     "heldout15": [15, 14, 15, 14, 15, 15],
     "heldout16": [15, 14, 15, 14, 15, 15],
     "heldout17": [15, 14, 15, 14, 15, 15],
+    "heldout18": [15, 14, 15, 14, 15, 15],
 }
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
