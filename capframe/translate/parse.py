@@ -363,9 +363,13 @@ SHOT_ADJECTIVES = {
 # degree scale may grade it ("real close", "way wide").
 # The clause may be joined on by "and" ("far away and small") and end before "with", "so", "but"
 # or "and" ("kept small with plenty of wall around it", "tight and centred").
+# ... or before what it rests on ("kept tiny on the gravel"); not before a part of the frame, where
+# "far on the left" is how far out it sits.
+NOT_ON_A_THING = "((the|its|his|her|their) )?(left|right|top|bottom|side|edge|corner|center|middle|far|other|{FRAME})( |$)"
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but |and ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}"
+    "(?= ([,.;:!]|$|with |so |but |and |against |on (?!" + NOT_ON_A_THING + ")))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
@@ -399,6 +403,12 @@ SHOT_CLAUSES = {
         "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so |to )?(it |{obj} )?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up|fill up) "
         "(most of |all of |all |nearly all of )?the (whole |entire )?{FRAME}",
+        # ... or so close a part of it does, or touches the frame ("so close its edges touch the
+        # frame", "so near that the seat cushions take up the whole picture").
+        "(so |such |{VERY} )(big|large|huge|close|near|tight|massive) (that )?(its |the |{P} )([a-z]+ |@\\d+ ){1,2}"
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|fill up|fills up|takes up|take up|taking up|touch|touches"
+        "|touching|reach|reaches|reaching) (most of |all of |all |nearly all of )?the (whole |entire |edges of the )?{FRAME}"
+        "( (edges|sides|borders))?",
         # Pressed into the frame edge to edge ("crammed into the frame", "pack the sofa into the shot").
         "({CRAM}) (in|into|inside) the (whole |entire )?{FRAME}",
         "({CRAM_VERB}) {obj} (in|into|inside) the (whole |entire )?{FRAME}",
@@ -427,6 +437,12 @@ SHOT_CLAUSES = {
         "{obj} (dominates|dominating|dominant)(?= ([,.;!]|$))",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?( (a lot|lots|loads))?",
         "zoom(ed|ing)? (way |all the way |right |well )?into {obj}",
+        # Zoomed until nothing else is left ("zoom until there's nothing but the cup", "push in
+        # till you see nothing except the mug").
+        "(zoom(ed|ing)?( in)?|(push|pushed|pushing|crop|cropped|cropping|move|moving|get|getting|go|going|come|coming"
+        "|punch|punching) in)( close| tight| closer| tighter)? (until|till|so|so that|to where) (there 's |there is "
+        "|you see |we see |you can see |it 's |it is |all you see is |all we see is )?(nothing )?(but|except|other than"
+        "|besides|apart from|else than)? {obj}( (in|inside|within|filling) (the )?{FRAME})?",
         # The idiom ("up close and personal").
         "(up )?close and personal",
         # Right up to it ("get right up to the mug").
@@ -445,7 +461,7 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
         # Pressing on every edge of the frame ("spines crowding every edge of the frame", "touching
         # all four sides of the picture"): the subject fills it.
@@ -584,7 +600,7 @@ SHOT_CLAUSES[WHOLE] = [
     # All of one's self ("showing his whole self", "all of himself in the picture").
     "(the |{P} )?(whole|entire|full|complete) self",
     # "All sofa inside", the article dropped as non-native writers drop it.
-    "(with )?all {obj} (inside|visible|in view|showing|in (the )?{FRAME})(?= ([,.;!]|$|and |with |from ))",
+    "(with )?all {obj} ((inside|within|in)( the)? {FRAME}|inside|visible|in view|showing)(?= ([,.;!]|$|and |with |from ))",
     "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
 ]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
@@ -623,8 +639,15 @@ REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
     "|nudged|moved|slid|pulled|set) )?"
-    "((up|down|over|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
+    "((up|down|over|across|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
 )
+# Verbs of a subject taking up an area, maybe said as a purpose ("pushed across to occupy the right
+# third", "hugging the frame's right-hand edge").
+OCCUPYING = (
+    "((so as |in order )?to |so it )?(taking up|takes up|take up|occupying|occupies|occupy|filling|fills|fill|covering"
+    "|covers|cover|spanning|spans|span|hugging|hugs|hug|touching|touches|touch)"
+)
+THIRDS_COLUMN = "(column|band) (of|in|on) (a |the )?(rule of )?thirds grid"
 REGION_AREAS = {
     "left": [
         "left",
@@ -634,6 +657,7 @@ REGION_AREAS = {
         "left part",
         "left edge",
         "left hand part",
+        "left hand edge",
         "center left",
         "middle left",
     ],
@@ -645,6 +669,7 @@ REGION_AREAS = {
         "right part",
         "right edge",
         "right hand part",
+        "right hand edge",
         "center right",
         "middle right",
     ],
@@ -692,9 +717,16 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    "left third": ["(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
-    "center third": ["(middle|central|center)( vertical)? third"],
-    "right third": ["(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
+    # ... or a column of the thirds grid ("the centre column of a thirds grid").
+    "left third": [
+        "(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
+        "(left|leftmost|first|left hand) " + THIRDS_COLUMN,
+    ],
+    "center third": ["(middle|central|center)( vertical)? third", "(middle|central|center) " + THIRDS_COLUMN],
+    "right third": [
+        "(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
+        "(right|rightmost|last|right hand) " + THIRDS_COLUMN,
+    ],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
@@ -829,6 +861,15 @@ for _vertical, _height in (("upper", "(top|upper|up|high|higher)"), ("lower", "(
         REGION_PHRASES[f"{_vertical} {_lat}"].append(
             f"({REGION_PREPOSITIONS} )?(the )?((corner|quadrant){CORNER_AFTER}{_both}|{_both} (corner|quadrant))"
             "( (of|in) (the )?{FRAME})?(?! of )"
+        )
+
+# Up (down) and to a side of the picture, maybe in its corner ("up and to the right of the frame, in
+# the corner"); without the picture it may move the camera or say where a thing is.
+for _vertical, _height in (("upper", "(up|high|higher)"), ("lower", "(down|low|lower)")):
+    for _lat in ("left", "right"):
+        REGION_PHRASES[f"{_vertical} {_lat}"].append(
+            f"{_height} (and|&) (to|towards) the {_lat}( hand)?( side)? (of|in) (the )?{{FRAME}}"
+            "(( ,)? (in|into|at|towards) the corner)?"
         )
 
 # A corner said with a height ("low in the right corner of the picture", "up in the left corner").
@@ -1610,7 +1651,7 @@ ELEVATION_PHRASES = {
         "( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
         # A weak word before any high place ("bit from up top", "a touch from up high").
-        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
+        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above|high|higher)(?! (angle|up|above) )",
         # A shallow angle said with its direction ("from above at a shallow angle").
         "(from )?(above|over)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
         "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(above|over)",
@@ -1623,8 +1664,8 @@ ELEVATION_PHRASES = {
         # An article or a clause's start before it: "top down shot" is a plan view, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )down (shot|angle|view|perspective|camera angle)( (of|on|onto) {obj})?",
         "with the camera (well|high|far) above {obj}",
-        "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
-        "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
+        "(from )?(a |an )?(high|elevated|raised|lofty|towering) (vantage( point)?|viewpoint|position|perspective|perch)",
+        "(from |in |with )?(a |an )?(elevated|raised|lofty) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
         "(from )?(well|far|way|much) (above|over|higher than) {HEIGHT_OF} (level|height|line)",
@@ -1651,13 +1692,20 @@ ELEVATION_PHRASES = {
         "(from|out of) (up in )?the (sky|air)",
     ],
     "top-down": [
-        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
+        # Held exactly overhead, maybe said of the camera hanging there ("camera hanging dead
+        # overhead", "perched bang over it"); a bare "hanging overhead" stays a high angle.
+        "((hovering|hanging|perched|floating|suspended|mounted|poised|positioned|held) )?(from )?({NEARLY} )?"
+        "(directly|straight|right|vertically|squarely|exactly|dead|bang|smack|plumb|precisely) (up )?(above|overhead|over)"
+        "( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         # Vertically from the ceiling or from overhead ("shot vertically from the ceiling down",
         # "from the ceiling straight down").
         "((seen|shot|viewed|looking|taken) )?(directly|straight|vertically|squarely) (down )?from (the ceiling|overhead|up top)"
         "( (straight |vertically |directly )?down)?",
         "from the ceiling (straight|vertically|directly) down",
+        # The camera exactly on top of it ("camera directly on top", "lens right on top of the mug").
+        "(with )?(the )?(camera|lens|cam) (is |sits |sitting |held |placed |positioned |mounted )?"
+        "(directly|straight|right|dead|squarely|exactly|bang|smack|plumb|precisely) on top( of {obj})?",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
@@ -1965,7 +2013,7 @@ VERTICAL_UP_PHRASES = [
     # STRAIGHT UP THROUGH THE TOP", "camera tilted all the way up", "lens facing straight up").
     "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} up"
     "( (at|to|towards) {obj})?{THROUGH}",
-    "{AIM}( the camera| the lens)? {FULLY} up( (at|to|towards) {obj})?{THROUGH}",
+    "{AIM}( the camera| the lens| it)? {FULLY} up( (at|to|towards|into) ({obj}|(the |{P} ){PARTS}))?{THROUGH}",
     "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? up (vertically|straight|fully){THROUGH}",
     # Pointed at the sky or the ceiling ("lens pointing skyward", "camera facing the ceiling"); a
     # camera "at the ceiling" is up there, looking down.
@@ -2158,6 +2206,8 @@ NOTE_PHRASES = [
     "(for|from) (my|our|the|your|his|her) ([a-z]+ )??(" + "|".join(REQUESTERS) + ")(?= ([,.;:!]|$))",
     # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
     "(make|making) sure( that)?",
+    # The picture as the result ("in the final image the horizon slopes ..."): what it shows is read apart.
+    "(in |on )?(the )?(final|finished|resulting|eventual|end) {FRAME}",
     # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
     # shot:"): no constraint on the camera.
     "{PURPOSE}( {PURPOSE})? (shot|shots|photo|photos|pic|pics|picture|pictures|image|images|photograph|snap|snaps)"
@@ -2201,7 +2251,7 @@ ROLL_AXIS = (
 # The frame is the camera's rectangle: it turns with the camera ("frame rotated ten degrees
 # clockwise"); the picture's content turns the other way.
 CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
-PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|scene|photo)"
+PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|skyline|scene|photo)"
 
 
 # A roll's direction as a side: the camera's top going to that side ("rolled to the left",
@@ -2223,6 +2273,9 @@ GIVE = (
     "(give|giving|gave|put|putting|apply|applying|applied|add|adding|added|dial in|dialling in|dialing in|set"
     "|hold|holding|keep|keeping)"
 )
+
+
+NEGATIVE_AGAIN = "( \\x28 counterclockwise \\x29)?"  # brackets as escapes: a bare "(" is a group
 
 
 def _roll_family(thing: str) -> list[str]:
@@ -2250,6 +2303,11 @@ def _roll_family(thing: str) -> list[str]:
         # Given degrees or a share of a turn ("give the camera one twelfth of a turn clockwise").
         f"{GIVE} {thing} (a |an )?{{d}}( turn| of (a )?turn)?( {ROLL_AXIS})? {ROLL_DIRECTION}( {ROLL_AXIS})?",
         f"{GIVE} {thing} {ROLL_DIRECTION} (a |an )?{{d}}( turn| of (a )?turn)?",
+        # A negative number about the lens axis is counter-clockwise, maybe said again in brackets
+        # ("camera turned -15 degrees about its axis (counterclockwise)"); an unsigned one without
+        # a direction says no way to turn.
+        f"{verb}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{negd}} {ROLL_AXIS}{NEGATIVE_AGAIN}",
+        f"{verb}( {thing}| it)? {ROLL_AXIS}( by| through)? {{negd}}{NEGATIVE_AGAIN}",
     ]
 
 
@@ -2873,6 +2931,7 @@ _MACROS = {
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    "{negd}": NUMBER_HEDGE + r"(?P<d>-\d+(?:\.\d+)?)(?: degrees)?",
     # A bare number of at most two digits (no "degrees"), only where a height word leads it.
     "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
@@ -2997,7 +3056,7 @@ _MACROS = {
     # The whole picture a small element is part of ("a small element in the landscape").
     "{WHOLE}": "(?:(?:bigger|wider|larger|whole|overall|entire|big) )?(?:"
     + FRAME
-    + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
+    + "|scene|landscape|composition|view|background|setting|surroundings|scenery|room|interior|garden|park)",
     # Not before a number, which would make the words before it a height ("elevation 20 degrees").
     "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
     # "Own" after a possessive only insists ("from its own left", "the bear's own back").
@@ -3143,10 +3202,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             "( (of|in) (the )?{FRAME})?(?! of )(?! ground )"
         )
         rows.append(("region", region, template, False))
-        template = (
-            f"(taking up|occupying|filling|covering|spanning|hugging|touching) the {_alternatives(areas)}"
-            "( (of|in) (the )?{FRAME})?(?! of )"
-        )
+        template = f"{REGION_LEAD}{OCCUPYING} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
         # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
         rows.append(("region", region, f"{REGION_LEAD}(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
@@ -3154,7 +3210,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
         # An area of the frame's, said with its possessive ("in the image's top-left").
-        rows.append(("region", region, f"{REGION_PREPOSITIONS} the {{FRAME}} 's {_alternatives(areas)}", False))
+        rows.append(("region", region, f"({REGION_PREPOSITIONS}|{OCCUPYING}) the {{FRAME}} 's {_alternatives(areas)}", False))
         if named:
             # After a verb of placing, a named area needs no preposition ("tucked bottom-left").
             template = f"{PLACING} (the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
@@ -3168,6 +3224,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # A lone left or right straight after its subject, ending the clause, is where it
             # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
             rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
+            # So too pushed to its edge ("frame the fridge hard left", "the lamp placed far right").
+            rows.append(("region", region, f"((?<=@\\d )|{PLACING} )(hard|far|extreme) {region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for room, region in ROOM_SIDES.items():
         side = {"top": "(top|above)", "bottom": "(bottom|below)"}.get(room, room)
@@ -3304,12 +3362,17 @@ EYE_PLACE = (
 # :data:`PICTURE_THING`), which turns the other way.
 ROLL_PARTICLE = "( over| round| around| across| off| away)?"
 ROLL_LINE_VERBS = (
-    "(running|runs|run|sitting|sits|lying|lies|sloped|sloping|slopes|slanted|slanting|slants|skewed|angled|set|going|dipping)"
+    "(running|runs|run|sitting|sits|lying|lies|slope|sloped|sloping|slopes|slant|slanted|slanting|slants|skewed|angled|set"
+    "|going|dipping|dip)"
 )
-OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?"
+OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?( (across|in) (the )?{FRAME})?"
+# What the line is asked to do ("the horizon should slope 10 degrees anticlockwise", "have the
+# skyline slope 8 degrees", "the horizon must spin 12 degrees clockwise").
+ROLL_MODAL = "( (should|must|will|shall|would|can|could|needs to|has to|ought to|is to|to))?"
+ROLL_LINE = "{thing}( line)?" + ROLL_MODAL + " (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE
 ROLL_FAMILY_FRAMES = [
-    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + "( by| through)? {d} {dir}" + OFF_LEVEL,
-    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + " {dir}( by| through)? {d}" + OFF_LEVEL,
+    ROLL_LINE + "( by| through)? {d} {dir}" + OFF_LEVEL,
+    ROLL_LINE + " {dir}( by| through)? {d}" + OFF_LEVEL,
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
@@ -3620,7 +3683,10 @@ class RuleParser:
         singular words and, when they differ, on the words as written ("vaes" is "vase" with two
         letters swapped, its crude singular "vae" is not); words the phrase tables use are never
         taken for a misspelling ("close" is not "closet"), unless the name has them as written
-        ("floor lamb" is "floor lamp"), nor are attributes ("green bench" is no "garden bench")."""
+        ("floor lamb" is "floor lamp"), nor are attributes ("green bench" is no "garden bench"),
+        nor a word of a name said as written ("little bear" is no "little car": "bear" names the
+        teddy bear)."""
+        named = vocabulary.name_words()
         for n in range(min(longest, len(keys) - i), shorter, -1):
             window = tuple(keys[i : i + n])
             if not all(w.isalpha() for w in window):
@@ -3630,7 +3696,7 @@ class RuleParser:
                 if (
                     form is not None
                     and _spottable(form)
-                    and all(w in form or (w not in self.lexicon and w not in ATTRIBUTES) for w in window)
+                    and all(w in form or (w not in self.lexicon and w not in ATTRIBUTES and w not in named) for w in window)
                 ):
                     return n, form
         return None
