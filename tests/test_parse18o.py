@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import pytest
 
+from capframe.errors import InputError
 from capframe.scene.directory import SemanticObject
 from capframe.translate.parse import parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
@@ -266,3 +267,41 @@ def test_a_hole_elsewhere_stays_a_hole():
 def test_a_name_word_misspells_no_other_name(names, text, name):
     scene = Vocabulary.from_semantics([SemanticObject(k, n, [], False) for k, n in enumerate(names)])
     assert [s.name for s in parse_instruction(text, scene).subjects] == [name]
+
+
+UNKNOWN = [
+    # A thing set at its side after "with" is to be seen with it.
+    ("the vase, with the pepper grinder beside it", "pepper grinder"),
+    ("the bench with a bicycle next to it, from the front", "bicycle"),
+    ("teddy bear with the rag doll alongside it", "rag doll"),
+    # Family said as names in a subject's place.
+    ("Photograph Grandma in the armchair", "grandma"),
+    ("a photo of dad on the sofa, from the front", "dad"),
+    ("shoot Nana beside the tree", "nana"),
+    # A thing introduced by "there is", which the sentence then asks for.
+    ("Next to the mug there's a sugar bowl, take it from the front", "sugar bowl"),
+    ("behind the bench there is a lawnmower; get it from the left", "lawnmower"),
+    ("On the sofa there's a laptop - shoot it close", "laptop"),
+]
+
+
+@pytest.mark.parametrize(("text", "thing"), UNKNOWN)
+def test_an_unknown_subject_is_refused(text, thing):
+    with pytest.raises(InputError, match=f"subject '{thing}' is not in this scene"):
+        parse(text)
+
+
+@pytest.mark.parametrize(
+    ("text", "names"),
+    [
+        # Keep-probes: behind it is a background, a glow or an amount is no thing, a known thing
+        # introduced by "there is" is read.
+        ("the bench with a sunset behind it", ["bench"]),
+        ("there's a nice glow on the vase, from the front", ["vase"]),
+        ("the vase, and there's a bit of space above it", ["vase"]),
+        ("there is a bench in the park, get it from behind", ["bench"]),
+        ("the mug with the ball beside it", ["mug", "ball"]),
+    ],
+)
+def test_unknown_subject_keep_probes(text, names):
+    assert [s.name for s in parse(text).subjects] == names

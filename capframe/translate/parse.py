@@ -3581,7 +3581,11 @@ class RuleParser:
             if run.subject is not None and not _never_a_name(run.subject):
                 mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
+            elif (
+                run.slot
+                and not _never_a_name(run.text)
+                and (run.determiner or vocabulary.candidates(run.text) or _before_relation(run.text) in KIN_NAMES)
+            ):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
@@ -3780,8 +3784,29 @@ class RuleParser:
                     hi -= 1
                 if lo < hi:
                     determiner = asked or (lo > 0 and run[lo - 1] in MENTION_DETERMINERS)
-                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
+                    introduced = determiner and self._introduced(
+                        run[: lo - 1], run[lo:hi], tokens[part[0] + hi : part[0] + hi + 1]
+                    )
+                    runs.append(
+                        _Run(
+                            part[0], " ".join(run[lo:hi]), slot or introduced, determiner, subject if part[0] == span[0] else None
+                        )
+                    )
         return runs
+
+    def _introduced(self, before: list[str], thing: list[str], after: list[str]) -> bool:
+        """Whether ``thing`` (after its article) is introduced by "there is" ("Next to the vase
+        there's a sugar bowl, take it from the front"): a thing the sentence is about, in a
+        subject's place, when its words are at most :data:`MAX_ATTRIBUTES`, its head no word of
+        the tables and no amount ("there's a lot of room", "a bit of space" name nothing)."""
+        return (
+            before[-2:] in EXISTENTIALS
+            and after != ["of"]
+            and len(thing) <= MAX_ATTRIBUTES
+            and all(w.isalpha() for w in thing)
+            and thing[-1] not in self.lexicon
+            and thing[-1] not in ATTRIBUTES
+        )
 
     def _asked_thing(self, tokens: list[str], span: list[int]) -> bool:
         """Whether ``span`` is a thing named alone as the instruction's first sentence, which the
@@ -3856,7 +3881,7 @@ class RuleParser:
             and len(before) > len(j)
             and before[-len(j) - 1].startswith("@")
             and (article or j != ["with"])
-            and (ends or (back and (j != ["with"] or both)))
+            and (ends or (back and (j != ["with"] or both or tied[:1] in SIDE_BY)))
             for j in JOINS_AFTER
         )
         return " ".join(thing) if joined_after or joined_before else None
@@ -4003,6 +4028,16 @@ class RuleParser:
 EMPHATIC_WORDS = frozenset(DEGREE_SCALE["strong"]) | {"so"} | {w for ws in SIZE_WORDS.values() for w in ws}
 
 
+EXISTENTIALS = (["there", "'s"], ["there", "is"], ["there", "are"], ["there", "was"], ["there", "s"])
+
+
+# Family said as names, without an article ("Photograph Grandma in the armchair"): a person, in a
+# subject's place a subject (refused when the scene lacks it), as "my sister" is.
+KIN_NAMES = frozenset(
+    {"grandma", "grandpa", "gran", "granny", "nan", "nana", "mum", "mom", "mummy", "mommy", "dad", "daddy", "auntie"}
+)
+
+
 def _unrepeated(tokens: list[str]) -> list[str]:
     """``tokens`` with a word said again straight after itself (an emphatic word also after a
     comma) said once: emphasis by repetition grades as the word once ("tiny tiny", "really,
@@ -4146,6 +4181,9 @@ JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "with", "together with", 
 # Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
 THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
 # Words that ask for two things at once ("both in frame", "the two together").
+# Set at its side ("the cone, with the rubber duck beside it"): a thing to see with it, as "both"
+# says; "the bench with a sunset behind it" is the bench.
+SIDE_BY = (["beside"], ["next"], ["alongside"], ["by"])
 BOTH_WORDS = frozenset({"both", "together"})  # "two" is read as "2": "the two together" has "together"
 
 
