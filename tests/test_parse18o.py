@@ -305,3 +305,18 @@ def test_an_unknown_subject_is_refused(text, thing):
 )
 def test_unknown_subject_keep_probes(text, names):
     assert [s.name for s in parse(text).subjects] == names
+
+
+@pytest.mark.parametrize(
+    ("text", "shot"),
+    [
+        # A size said with "don't" is not asked ("don't zoom in" beside "small" is no conflict).
+        ("the mug small in the picture, don't zoom in", "wide"),
+        ("the bench, dont go close, from the left", None),
+        ("teddy bear far away - do not zoom in on him", "wide"),
+        # Keep-probe: "don't crop it" says all of it is in, as before.
+        ("the sofa, don't crop it", "medium"),
+    ],
+)
+def test_a_size_said_with_dont_is_not_asked(text, shot):
+    assert parse(text).subjects[0].shot == shot

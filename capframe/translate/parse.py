@@ -4655,7 +4655,11 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
 # Words that deny the view, height, size or place said right after them ("not from the side",
 # "rather than from above", "instead of a close-up"); phrases with their own denial ("no dutch",
 # "not too close") start with it and are kept.
-NEGATIONS = tuple(w.split() for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not"))
+# "Don't" is "don t" once its apostrophe splits it ("TV small, don't zoom in": no close-up).
+NEGATIONS = tuple(
+    w.split()
+    for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not", "don t", "dont", "do not")
+)
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
 
