@@ -364,9 +364,13 @@ SHOT_ADJECTIVES = {
 # degree scale may grade it ("real close", "way wide").
 # The clause may be joined on by "and" ("far away and small") and end before "with", "so", "but"
 # or "and" ("kept small with plenty of wall around it", "tight and centred").
+# ... or before what it rests on ("kept tiny on the gravel"); not before a part of the frame, where
+# "far on the left" is how far out it sits.
+NOT_ON_A_THING = "((the|its|his|her|their) )?(left|right|top|bottom|side|edge|corner|center|middle|far|other|{FRAME})( |$)"
 ALONE = (
     "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}(?= ([,.;:!]|$|with |so |but |and ))"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}"
+    "(?= ([,.;:!]|$|with |so |but |and |against |on (?!" + NOT_ON_A_THING + ")))"
 )
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
@@ -400,6 +404,12 @@ SHOT_CLAUSES = {
         "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so |to )?(it |{obj} )?"
         "(nearly |almost |completely |entirely )?(filling|fills|fill|filling up|fills up|fill up) "
         "(most of |all of |all |nearly all of )?the (whole |entire )?{FRAME}",
+        # ... or so close a part of it does, or touches the frame ("so close its edges touch the
+        # frame", "so near that the seat cushions take up the whole picture").
+        "(so |such |{VERY} )(big|large|huge|close|near|tight|massive) (that )?(its |the |{P} )([a-z]+ |@\\d+ ){1,2}"
+        "(nearly |almost |completely |entirely )?(filling|fills|fill|fill up|fills up|takes up|take up|taking up|touch|touches"
+        "|touching|reach|reaches|reaching) (most of |all of |all |nearly all of )?the (whole |entire |edges of the )?{FRAME}"
+        "( (edges|sides|borders))?",
         # Pressed into the frame edge to edge ("crammed into the frame", "pack the sofa into the shot").
         "({CRAM}) (in|into|inside) the (whole |entire )?{FRAME}",
         "({CRAM_VERB}) {obj} (in|into|inside) the (whole |entire )?{FRAME}",
@@ -428,6 +438,12 @@ SHOT_CLAUSES = {
         "{obj} (dominates|dominating|dominant)(?= ([,.;!]|$))",
         "zoom(ed|ing)? (way |all the way |right |well )?in( close| tight)?( (on|to|at) {obj})?( (a lot|lots|loads))?",
         "zoom(ed|ing)? (way |all the way |right |well )?into {obj}",
+        # Zoomed until nothing else is left ("zoom until there's nothing but the cup", "push in
+        # till you see nothing except the mug").
+        "(zoom(ed|ing)?( in)?|(push|pushed|pushing|crop|cropped|cropping|move|moving|get|getting|go|going|come|coming"
+        "|punch|punching) in)( close| tight| closer| tighter)? (until|till|so|so that|to where) (there 's |there is "
+        "|you see |we see |you can see |it 's |it is |all you see is |all we see is )?(nothing )?(but|except|other than"
+        "|besides|apart from|else than)? {obj}( (in|inside|within|filling) (the )?{FRAME})?",
         # The idiom ("up close and personal").
         "(up )?close and personal",
         # Right up to it ("get right up to the mug").
@@ -446,7 +462,7 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
         # Pressing on every edge of the frame ("spines crowding every edge of the frame", "touching
         # all four sides of the picture"): the subject fills it.
@@ -585,7 +601,7 @@ SHOT_CLAUSES[WHOLE] = [
     # All of one's self ("showing his whole self", "all of himself in the picture").
     "(the |{P} )?(whole|entire|full|complete) self",
     # "All sofa inside", the article dropped as non-native writers drop it.
-    "(with )?all {obj} (inside|visible|in view|showing|in (the )?{FRAME})(?= ([,.;!]|$|and |with |from ))",
+    "(with )?all {obj} ((inside|within|in)( the)? {FRAME}|inside|visible|in view|showing)(?= ([,.;!]|$|and |with |from ))",
     "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
 ]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
@@ -624,8 +640,15 @@ REGION_LEAD = (
     "((tucked|tuck|pushed|squeezed|nestled|placed|put|sitting|sits|sit|sat|stuck|parked|positioned|kept|shoved|offset|shifted"
     "|lies|lying|stands|resting|rests|appears|appearing|ends up|ending up|stay|stays|staying|remain|remains|remaining|be"
     "|nudged|moved|slid|pulled|set) )?"
-    "((up|down|over|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
+    "((up|down|over|across|out|way|right|off|low|high|plumb|slap bang|smack bang|{STRONG}) ){0,2}"
 )
+# Verbs of a subject taking up an area, maybe said as a purpose ("pushed across to occupy the right
+# third", "hugging the frame's right-hand edge").
+OCCUPYING = (
+    "((so as |in order )?to |so it )?(taking up|takes up|take up|occupying|occupies|occupy|filling|fills|fill|covering"
+    "|covers|cover|spanning|spans|span|hugging|hugs|hug|touching|touches|touch)"
+)
+THIRDS_COLUMN = "(column|band) (of|in|on) (a |the )?(rule of )?thirds grid"
 REGION_AREAS = {
     "left": [
         "left",
@@ -635,6 +658,7 @@ REGION_AREAS = {
         "left part",
         "left edge",
         "left hand part",
+        "left hand edge",
         "center left",
         "middle left",
     ],
@@ -646,6 +670,7 @@ REGION_AREAS = {
         "right part",
         "right edge",
         "right hand part",
+        "right hand edge",
         "center right",
         "middle right",
     ],
@@ -693,9 +718,16 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    "left third": ["(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
-    "center third": ["(middle|central|center)( vertical)? third"],
-    "right third": ["(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)"],
+    # ... or a column of the thirds grid ("the centre column of a thirds grid").
+    "left third": [
+        "(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
+        "(left|leftmost|first|left hand) " + THIRDS_COLUMN,
+    ],
+    "center third": ["(middle|central|center)( vertical)? third", "(middle|central|center) " + THIRDS_COLUMN],
+    "right third": [
+        "(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
+        "(right|rightmost|last|right hand) " + THIRDS_COLUMN,
+    ],
     "upper left": [
         "corner (top|upper) left",
         "upper left( hand)?( corner| quadrant| quarter| area| region| part| section| zone)?",
@@ -830,6 +862,15 @@ for _vertical, _height in (("upper", "(top|upper|up|high|higher)"), ("lower", "(
         REGION_PHRASES[f"{_vertical} {_lat}"].append(
             f"({REGION_PREPOSITIONS} )?(the )?((corner|quadrant){CORNER_AFTER}{_both}|{_both} (corner|quadrant))"
             "( (of|in) (the )?{FRAME})?(?! of )"
+        )
+
+# Up (down) and to a side of the picture, maybe in its corner ("up and to the right of the frame, in
+# the corner"); without the picture it may move the camera or say where a thing is.
+for _vertical, _height in (("upper", "(up|high|higher)"), ("lower", "(down|low|lower)")):
+    for _lat in ("left", "right"):
+        REGION_PHRASES[f"{_vertical} {_lat}"].append(
+            f"{_height} (and|&) (to|towards) the {_lat}( hand)?( side)? (of|in) (the )?{{FRAME}}"
+            "(( ,)? (in|into|at|towards) the corner)?"
         )
 
 # A corner said with a height ("low in the right corner of the picture", "up in the left corner").
@@ -1666,7 +1707,7 @@ ELEVATION_PHRASES = {
         "( (level|height|line))?",
         "(looking|look|looks|{AIM}) {FEW} down( (at|on|onto) {obj})?",
         # A weak word before any high place ("bit from up top", "a touch from up high").
-        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above)",
+        "{WEAK} from (up top|up high|high up|higher up|on high|overhead|up above|high|higher)(?! (angle|up|above) )",
         # A shallow angle said with its direction ("from above at a shallow angle").
         "(from )?(above|over)( ,)? (at )?(a |an )?(shallow|slight|gentle|mild|small) angle",
         "(at |from )?(a |an )?(shallow|slight|gentle|mild|small) angle (from )?(above|over)",
@@ -1679,8 +1720,8 @@ ELEVATION_PHRASES = {
         # An article or a clause's start before it: "top down shot" is a plan view, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )down (shot|angle|view|perspective|camera angle)( (of|on|onto) {obj})?",
         "with the camera (well|high|far) above {obj}",
-        "(from )?(a |an )?(high|elevated|raised) (vantage( point)?|viewpoint|position|perspective)",
-        "(from |in |with )?(a |an )?(elevated|raised) (view|angle|shot|camera)",
+        "(from )?(a |an )?(high|elevated|raised|lofty|towering) (vantage( point)?|viewpoint|position|perspective|perch)",
+        "(from |in |with )?(a |an )?(elevated|raised|lofty) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
         "(from )?(well|far|way|much) (above|over|higher than) {HEIGHT_OF} (level|height|line)",
@@ -1707,13 +1748,20 @@ ELEVATION_PHRASES = {
         "(from|out of) (up in )?the (sky|air)",
     ],
     "top-down": [
-        "(from )?({NEARLY} )?(directly|straight|right|vertically|squarely|exactly) (up )?(above|overhead|over)( {obj})?",
+        # Held exactly overhead, maybe said of the camera hanging there ("camera hanging dead
+        # overhead", "perched bang over it"); a bare "hanging overhead" stays a high angle.
+        "((hovering|hanging|perched|floating|suspended|mounted|poised|positioned|held) )?(from )?({NEARLY} )?"
+        "(directly|straight|right|vertically|squarely|exactly|dead|bang|smack|plumb|precisely) (up )?(above|overhead|over)"
+        "( {obj})?",
         "((seen|shot|viewed) )?(directly|straight|vertically|squarely) from above",
         # Vertically from the ceiling or from overhead ("shot vertically from the ceiling down",
         # "from the ceiling straight down").
         "((seen|shot|viewed|looking|taken) )?(directly|straight|vertically|squarely) (down )?from (the ceiling|overhead|up top)"
         "( (straight |vertically |directly )?down)?",
         "from the ceiling (straight|vertically|directly) down",
+        # The camera exactly on top of it ("camera directly on top", "lens right on top of the mug").
+        "(with )?(the )?(camera|lens|cam) (is |sits |sitting |held |placed |positioned |mounted )?"
+        "(directly|straight|right|dead|squarely|exactly|bang|smack|plumb|precisely) on top( of {obj})?",
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
@@ -2021,7 +2069,7 @@ VERTICAL_UP_PHRASES = [
     # STRAIGHT UP THROUGH THE TOP", "camera tilted all the way up", "lens facing straight up").
     "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))?( the (camera|lens))? ({NEARLY} )?{FULLY} up"
     "( (at|to|towards) {obj})?{THROUGH}",
-    "{AIM}( the camera| the lens)? {FULLY} up( (at|to|towards) {obj})?{THROUGH}",
+    "{AIM}( the camera| the lens| it)? {FULLY} up( (at|to|towards|into) ({obj}|(the |{P} ){PARTS}))?{THROUGH}",
     "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? up (vertically|straight|fully){THROUGH}",
     # Pointed at the sky or the ceiling ("lens pointing skyward", "camera facing the ceiling"); a
     # camera "at the ceiling" is up there, looking down.
@@ -2214,6 +2262,8 @@ NOTE_PHRASES = [
     "(for|from) (my|our|the|your|his|her) ([a-z]+ )??(" + "|".join(REQUESTERS) + ")(?= ([,.;:!]|$))",
     # Asking that something holds ("make sure the teddy shows up too"): what holds is read apart.
     "(make|making) sure( that)?",
+    # The picture as the result ("in the final image the horizon slopes ..."): what it shows is read apart.
+    "(in |on )?(the )?(final|finished|resulting|eventual|end) {FRAME}",
     # What the picture is for ("Shop product pic:", "Listing photo for the model car", "real-estate
     # shot:"): no constraint on the camera.
     "{PURPOSE}( {PURPOSE})? (shot|shots|photo|photos|pic|pics|picture|pictures|image|images|photograph|snap|snaps)"
@@ -2257,7 +2307,7 @@ ROLL_AXIS = (
 # The frame is the camera's rectangle: it turns with the camera ("frame rotated ten degrees
 # clockwise"); the picture's content turns the other way.
 CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
-PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|scene|photo)"
+PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|skyline|scene|photo)"
 
 
 # A roll's direction as a side: the camera's top going to that side ("rolled to the left",
@@ -2279,6 +2329,9 @@ GIVE = (
     "(give|giving|gave|put|putting|apply|applying|applied|add|adding|added|dial in|dialling in|dialing in|set"
     "|hold|holding|keep|keeping)"
 )
+
+
+NEGATIVE_AGAIN = "( \\x28 counterclockwise \\x29)?"  # brackets as escapes: a bare "(" is a group
 
 
 def _roll_family(thing: str) -> list[str]:
@@ -2306,6 +2359,11 @@ def _roll_family(thing: str) -> list[str]:
         # Given degrees or a share of a turn ("give the camera one twelfth of a turn clockwise").
         f"{GIVE} {thing} (a |an )?{{d}}( turn| of (a )?turn)?( {ROLL_AXIS})? {ROLL_DIRECTION}( {ROLL_AXIS})?",
         f"{GIVE} {thing} {ROLL_DIRECTION} (a |an )?{{d}}( turn| of (a )?turn)?",
+        # A negative number about the lens axis is counter-clockwise, maybe said again in brackets
+        # ("camera turned -15 degrees about its axis (counterclockwise)"); an unsigned one without
+        # a direction says no way to turn.
+        f"{verb}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{negd}} {ROLL_AXIS}{NEGATIVE_AGAIN}",
+        f"{verb}( {thing}| it)? {ROLL_AXIS}( by| through)? {{negd}}{NEGATIVE_AGAIN}",
     ]
 
 
@@ -2929,6 +2987,7 @@ _MACROS = {
     # A number may be hedged before it ("about 30 degrees", "roughly 20"): the number it hedges.
     "{d}": NUMBER_HEDGE + r"(?P<d>\d+(?:\.\d+)?)(?: degrees)?",
     "{sd}": NUMBER_HEDGE + r"(?P<d>-?\d+(?:\.\d+)?)(?: degrees)?",
+    "{negd}": NUMBER_HEDGE + r"(?P<d>-\d+(?:\.\d+)?)(?: degrees)?",
     # A bare number of at most two digits (no "degrees"), only where a height word leads it.
     "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
     "{dir}": "(?P<dir>clockwise|counterclockwise)",
@@ -3055,7 +3114,7 @@ _MACROS = {
     # The whole picture a small element is part of ("a small element in the landscape").
     "{WHOLE}": "(?:(?:bigger|wider|larger|whole|overall|entire|big) )?(?:"
     + FRAME
-    + "|scene|landscape|composition|view|background|setting|surroundings|scenery)",
+    + "|scene|landscape|composition|view|background|setting|surroundings|scenery|room|interior|garden|park)",
     # Not before a number, which would make the words before it a height ("elevation 20 degrees").
     "{NOT_A_NUMBER}": "(?! (?:of |at |about |around |roughly |approximately |approx |some |~ )?-?\\d)",
     # "Own" after a possessive only insists ("from its own left", "the bear's own back").
@@ -3201,10 +3260,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             "( (of|in) (the )?{FRAME})?(?! of )(?! ground )"
         )
         rows.append(("region", region, template, False))
-        template = (
-            f"(taking up|occupying|filling|covering|spanning|hugging|touching) the {_alternatives(areas)}"
-            "( (of|in) (the )?{FRAME})?(?! of )"
-        )
+        template = f"{REGION_LEAD}{OCCUPYING} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
         rows.append(("region", region, template, False))
         # An area of the frame needs no preposition ("bottom right of the frame", "at bottom of picture").
         rows.append(("region", region, f"{REGION_LEAD}(the )?{_alternatives(areas)} (of|in) (the )?{{FRAME}}", False))
@@ -3212,7 +3268,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # right third", "cone lower left").
         named = [a for a in areas if (" " in a or region == "center") and a.split()[-1] not in ("side", "hand", "edge", "part")]
         # An area of the frame's, said with its possessive ("in the image's top-left").
-        rows.append(("region", region, f"{REGION_PREPOSITIONS} the {{FRAME}} 's {_alternatives(areas)}", False))
+        rows.append(("region", region, f"({REGION_PREPOSITIONS}|{OCCUPYING}) the {{FRAME}} 's {_alternatives(areas)}", False))
         if named:
             # After a verb of placing, a named area needs no preposition ("tucked bottom-left").
             template = f"{PLACING} (the )?{_alternatives(named)}( (of|in) (the )?{{FRAME}})?(?! of )"
@@ -3226,6 +3282,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # A lone left or right straight after its subject, ending the clause, is where it
             # sits in the frame ("lamp left, bookcase right of frame"): a side would say "its".
             rows.append(("region", region, f"(?<=@\\d ){region}(?= ([,.;!]|$))", False))
+            # So too pushed to its edge ("frame the fridge hard left", "the lamp placed far right").
+            rows.append(("region", region, f"((?<=@\\d )|{PLACING} )(hard|far|extreme) {region}(?= ([,.;!]|$))", False))
     rows += [("region", region, t, False) for region, ts in REGION_PHRASES.items() for t in ts]
     for room, region in ROOM_SIDES.items():
         side = {"top": "(top|above)", "bottom": "(bottom|below)"}.get(room, room)
@@ -3362,12 +3420,17 @@ EYE_PLACE = (
 # :data:`PICTURE_THING`), which turns the other way.
 ROLL_PARTICLE = "( over| round| around| across| off| away)?"
 ROLL_LINE_VERBS = (
-    "(running|runs|run|sitting|sits|lying|lies|sloped|sloping|slopes|slanted|slanting|slants|skewed|angled|set|going|dipping)"
+    "(running|runs|run|sitting|sits|lying|lies|slope|sloped|sloping|slopes|slant|slanted|slanting|slants|skewed|angled|set"
+    "|going|dipping|dip)"
 )
-OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?"
+OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?( (across|in) (the )?{FRAME})?"
+# What the line is asked to do ("the horizon should slope 10 degrees anticlockwise", "have the
+# skyline slope 8 degrees", "the horizon must spin 12 degrees clockwise").
+ROLL_MODAL = "( (should|must|will|shall|would|can|could|needs to|has to|ought to|is to|to))?"
+ROLL_LINE = "{thing}( line)?" + ROLL_MODAL + " (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE
 ROLL_FAMILY_FRAMES = [
-    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + "( by| through)? {d} {dir}" + OFF_LEVEL,
-    "{thing}( line)? (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE + " {dir}( by| through)? {d}" + OFF_LEVEL,
+    ROLL_LINE + "( by| through)? {d} {dir}" + OFF_LEVEL,
+    ROLL_LINE + " {dir}( by| through)? {d}" + OFF_LEVEL,
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
@@ -3581,7 +3644,11 @@ class RuleParser:
             if run.subject is not None and not _never_a_name(run.subject):
                 mentions.append(_Mention(run.at, run.subject, vocabulary.match(run.subject)))
             # In a subject's place a run names an object if it can; led by a determiner it must.
-            elif run.slot and not _never_a_name(run.text) and (run.determiner or vocabulary.candidates(run.text)):
+            elif (
+                run.slot
+                and not _never_a_name(run.text)
+                and (run.determiner or vocabulary.candidates(run.text) or _before_relation(run.text) in KIN_NAMES)
+            ):
                 mentions.append(_Mention(run.at, run.text, vocabulary.match(_before_relation(run.text))))
             else:
                 unparsed.append(run)
@@ -3686,7 +3753,10 @@ class RuleParser:
         singular words and, when they differ, on the words as written ("vaes" is "vase" with two
         letters swapped, its crude singular "vae" is not); words the phrase tables use are never
         taken for a misspelling ("close" is not "closet"), unless the name has them as written
-        ("floor lamb" is "floor lamp"), nor are attributes ("green bench" is no "garden bench")."""
+        ("floor lamb" is "floor lamp"), nor are attributes ("green bench" is no "garden bench"),
+        nor a word of a name said as written ("little bear" is no "little car": "bear" names the
+        teddy bear)."""
+        named = vocabulary.name_words()
         for n in range(min(longest, len(keys) - i), shorter, -1):
             window = tuple(keys[i : i + n])
             if not all(w.isalpha() for w in window):
@@ -3696,7 +3766,7 @@ class RuleParser:
                 if (
                     form is not None
                     and _spottable(form)
-                    and all(w in form or (w not in self.lexicon and w not in ATTRIBUTES) for w in window)
+                    and all(w in form or (w not in self.lexicon and w not in ATTRIBUTES and w not in named) for w in window)
                 ):
                     return n, form
         return None
@@ -3780,8 +3850,29 @@ class RuleParser:
                     hi -= 1
                 if lo < hi:
                     determiner = asked or (lo > 0 and run[lo - 1] in MENTION_DETERMINERS)
-                    runs.append(_Run(part[0], " ".join(run[lo:hi]), slot, determiner, subject if part[0] == span[0] else None))
+                    introduced = determiner and self._introduced(
+                        run[: lo - 1], run[lo:hi], tokens[part[0] + hi : part[0] + hi + 1]
+                    )
+                    runs.append(
+                        _Run(
+                            part[0], " ".join(run[lo:hi]), slot or introduced, determiner, subject if part[0] == span[0] else None
+                        )
+                    )
         return runs
+
+    def _introduced(self, before: list[str], thing: list[str], after: list[str]) -> bool:
+        """Whether ``thing`` (after its article) is introduced by "there is" ("Next to the vase
+        there's a sugar bowl, take it from the front"): a thing the sentence is about, in a
+        subject's place, when its words are at most :data:`MAX_ATTRIBUTES`, its head no word of
+        the tables and no amount ("there's a lot of room", "a bit of space" name nothing)."""
+        return (
+            before[-2:] in EXISTENTIALS
+            and after != ["of"]
+            and len(thing) <= MAX_ATTRIBUTES
+            and all(w.isalpha() for w in thing)
+            and thing[-1] not in self.lexicon
+            and thing[-1] not in ATTRIBUTES
+        )
 
     def _asked_thing(self, tokens: list[str], span: list[int]) -> bool:
         """Whether ``span`` is a thing named alone as the instruction's first sentence, which the
@@ -3856,7 +3947,7 @@ class RuleParser:
             and len(before) > len(j)
             and before[-len(j) - 1].startswith("@")
             and (article or j != ["with"])
-            and (ends or (back and (j != ["with"] or both)))
+            and (ends or (back and (j != ["with"] or both or tied[:1] in SIDE_BY)))
             for j in JOINS_AFTER
         )
         return " ".join(thing) if joined_after or joined_before else None
@@ -4001,6 +4092,16 @@ class RuleParser:
 
 # Words said twice for emphasis, maybe with a comma between ("really, really small", "tiny, tiny").
 EMPHATIC_WORDS = frozenset(DEGREE_SCALE["strong"]) | {"so"} | {w for ws in SIZE_WORDS.values() for w in ws}
+
+
+EXISTENTIALS = (["there", "'s"], ["there", "is"], ["there", "are"], ["there", "was"], ["there", "s"])
+
+
+# Family said as names, without an article ("Photograph Grandma in the armchair"): a person, in a
+# subject's place a subject (refused when the scene lacks it), as "my sister" is.
+KIN_NAMES = frozenset(
+    {"grandma", "grandpa", "gran", "granny", "nan", "nana", "mum", "mom", "mummy", "mommy", "dad", "daddy", "auntie"}
+)
 
 
 def _unrepeated(tokens: list[str]) -> list[str]:
@@ -4148,6 +4249,9 @@ JOINS_AFTER = tuple(w.split() for w in ("and", "plus", "with", "together with", 
 # Words after a joined thing that end its clause ("mug and a kazoo both in frame", "... too").
 THING_ENDS = frozenset({"both", "too", "also", "as", "visible", "please", "in", "together", "showing"})
 # Words that ask for two things at once ("both in frame", "the two together").
+# Set at its side ("the cone, with the rubber duck beside it"): a thing to see with it, as "both"
+# says; "the bench with a sunset behind it" is the bench.
+SIDE_BY = (["beside"], ["next"], ["alongside"], ["by"])
 BOTH_WORDS = frozenset({"both", "together"})  # "two" is read as "2": "the two together" has "together"
 
 
@@ -4619,7 +4723,11 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
 # Words that deny the view, height, size or place said right after them ("not from the side",
 # "rather than from above", "instead of a close-up"); phrases with their own denial ("no dutch",
 # "not too close") start with it and are kept.
-NEGATIONS = tuple(w.split() for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not"))
+# "Don't" is "don t" once its apostrophe splits it ("TV small, don't zoom in": no close-up).
+NEGATIONS = tuple(
+    w.split()
+    for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not", "don t", "dont", "do not")
+)
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
 

@@ -245,6 +245,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
     s = re.sub(r"\b([a-z])\.(?=[a-z]\b)", r"\1", s)  # letters written with dots ("t.v.", "a.k.a.")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
+    s = _WHOLE_BY_EAR.sub("whole", s)  # "the hole picture"
     s = re.sub(r"(?<=[a-z])\s*\+\s*(?=[a-z])", " and ", s)  # "toy car + garage"; "+10 degrees" keeps its sign
     s = re.sub(r"(?<=[a-z0-9])-+(?=[a-z0-9])", " ", s)  # hyphenated words; "-20" keeps its sign
     s = re.sub(r"(?<=[a-z])'s\b", " 's", s)
@@ -255,6 +256,13 @@ def words(text: str) -> list[str]:
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
     return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
+
+
+# "Whole" spelt by ear before the picture or a word of all of it ("take up the hole picture", "the
+# hole thing in frame"); a hole elsewhere stays one.
+_WHOLE_BY_EAR = re.compile(
+    r"\bhole(?=\s+(?:frame|picture|image|photo|photograph|shot|pic|thing|scene|view|composition|screen)\b)"
+)
 
 
 # A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
@@ -598,6 +606,8 @@ SLIP_TARGETS = (
     "really",
     "little",
     "large",
+    # The middle shot size ("medum shot", "meduim").
+    "medium",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
