@@ -237,6 +237,8 @@ from .vocabulary import (
     HEIGHT_ANCHORS,
     HIGH_PLACE_OPENINGS,
     HIGH_PLACES,
+    HORIZON_LINES,
+    HORIZON_SURFACES,
     LEVEL_WITH,
     NUMBER,
     OFFSET_HEDGES,
@@ -464,13 +466,21 @@ SHOT_CLAUSES = {
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
         ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
+        # Too big to fit ("so big it doesn't even fit", "too large to fit in the frame"): parse18p6.
+        "(so |such |{VERY} )?(big|large|huge|close|near|massive|enormous|giant) (that )?(it |{obj} )?(doesn t|doesnt|does not"
+        "|won t|wont|will not|can t|cant|cannot|can not|would not|wouldn t|wouldnt) (even |quite |all )?fit"
+        "( (in|into|inside) (the )?{FRAME})?",
+        "too (big|large|huge|close|near|massive|enormous) (for (the )?{FRAME}|to fit( (in|into|inside) (the )?{FRAME})?)",
         # Pressing on every edge of the frame ("spines crowding every edge of the frame", "touching
         # all four sides of the picture"): the subject fills it.
         "(([a-z]+ )?(crowding|crowds|crowd|filling|fills|fill|touching|touches|touch|hitting|hits|hit|reaching|reaches"
         "|reach|pressing against|presses against|meeting|meets|spilling over|spilling off|bleeding off|running off"
-        "|going off|cut off by|cropped by|cut by) )"
-        "((every|each|all|all four|all the|all 4) ({FRAME} )?(edge|edges|side|sides|border|borders)( of (the )?{FRAME})?"
-        "|the {FRAME} (edges|borders|sides)|the (edges|borders|sides) of (the )?{FRAME})",
+        "|going off|cut off by|cropped by|cut by"
+        # Spilling or running past every edge ("his fur spills past all four edges"): parse18p6.
+        "|(spills|spill|spilling|spilt|spilled|runs|run|running|goes|go|going|extends|extend|extending|bleeds|bleed"
+        "|bleeding|pokes|poke|poking|sticks|stick|sticking) (past|over|off|beyond|out of|out past|out over)) )"
+        "((every|each|all|all four|all the|all 4|both) ({FRAME} )?(edge|edges|side|sides|border|borders)( of (the )?{FRAME})?"
+        "|the {FRAME} (edges|borders|sides)|the (edges|borders|sides) of (the )?{FRAME}|the (edges|borders))",
         # Filling the frame from one edge to the other ("filling the frame edge to edge").
         "(filling|fills|fill|filling up|fills up|spanning|spans|covering|covers) (all of |the whole of )?"
         "the (whole |entire )?{FRAME} (from )?(edge to edge|side to side|corner to corner|border to border)",
@@ -479,8 +489,14 @@ SHOT_CLAUSES = {
         # Not a place near an edge ("the mug close to the left edge of the frame").
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")")
         + "(?! to (the )?(left|right|top|bottom|edge|edges|corner|side|center|middle|border|@\\d)( |$))",
+        # A size as a noun, "one" standing for the shot ("a tight one of the mug"): parse18p6.
+        "(a |an )?(tight|tighter|close|closer) one( (of|on) {obj})?",
     ],
     "medium": [
+        # The size word as the shot's noun ("Medium on the armchair", "a medium, from the left",
+        # "in a medium"): parse18p6.
+        "((?<=^ )|{CLAUSE}|(?<=in )|(?<=as ))(a |an )?medium( (of|on) {obj})?(?= ([,.;:!]|$|from |at |with |and ))",
+        "(a |an )?medium (of|on) {obj}",
         "(at )?(a )?(medium|moderate) size( in (the )?{FRAME})?",
         "((framed|shot|seen|taken) )?(at|from) (a )?(mid|medium|moderate) (distance|range)",
         "(taking up|occupying|filling) (a )?(moderate|medium) (part|portion|amount|share) of the {FRAME}",
@@ -648,7 +664,19 @@ OCCUPYING = (
     "((so as |in order )?to |so it )?(taking up|takes up|take up|occupying|occupies|occupy|filling|fills|fill|covering"
     "|covers|cover|spanning|spans|span|hugging|hugs|hug|touching|touches|touch)"
 )
-THIRDS_COLUMN = "(column|band) (of|in|on) (a |the )?(rule of )?thirds grid"
+# A third of the frame said as a column, a strip or a band of it (parse18p6): by a side, only with
+# the frame said split in three ("the right-hand column if you split the frame into three", "the
+# middle strip when you divide the picture into 3 vertical bands", "left band of the thirds grid");
+# by its place in a row ("the first column on the left", "the last column") as it is.
+THIRD_COLUMN = "(column|strip|band|slice|section|panel)"
+SPLIT_IN_THREE = (
+    " ((if|when|once|after|with) ((you |we |i |one )?(split|divide|cut|break|chop|slice|separate)( up)?"
+    " (the |this |your )?(frame|picture|image|photo|shot|composition|view)|(the |this |your )?"
+    "(frame|picture|image|photo|shot|composition|view) (is |gets |being )?(split|divided|cut|broken|chopped|sliced"
+    "|separated)( up)?) (into|in) (3|thirds|3 parts)"
+    "( (vertical|upright|equal|even|tall) (bands|strips|columns|parts|sections|slices|pieces))?"
+    "|(of|in|on) (the |a )?(rule of )?thirds?( grid)?|(of|in|on) (the |a )?3 (column|by 3) grid)"
+)
 REGION_AREAS = {
     "left": [
         "left",
@@ -693,6 +721,7 @@ REGION_AREAS = {
         "upper part",
         "top part",
         "top edge",
+        "upper edge",
         "upper side",
         "top side",
         "top third",
@@ -708,6 +737,7 @@ REGION_AREAS = {
         "lower part",
         "bottom part",
         "bottom edge",
+        "lower edge",
         "lower side",
         "bottom side",
         "bottom third",
@@ -718,15 +748,19 @@ REGION_AREAS = {
         "foot",
     ],
     # A third may be called vertical, or its line ("the left vertical third", "the right-hand third line").
-    # ... or a column of the thirds grid ("the centre column of a thirds grid").
     "left third": [
         "(left|leftmost|first|left hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
-        "(left|leftmost|first|left hand) " + THIRDS_COLUMN,
+        "(left|leftmost|left hand)( vertical)? " + THIRD_COLUMN + SPLIT_IN_THREE,
+        "first( vertical)? " + THIRD_COLUMN + "( (on|from) the left)?(" + SPLIT_IN_THREE + ")?",
     ],
-    "center third": ["(middle|central|center)( vertical)? third", "(middle|central|center) " + THIRDS_COLUMN],
+    "center third": [
+        "(middle|central|center)( vertical)? third",
+        "(middle|central|center)( vertical)? " + THIRD_COLUMN + SPLIT_IN_THREE,
+    ],
     "right third": [
         "(right|rightmost|last|right hand)( side)?( vertical)? (thirds?( line)?|line of thirds)",
-        "(right|rightmost|last|right hand) " + THIRDS_COLUMN,
+        "(right|rightmost|right hand)( vertical)? " + THIRD_COLUMN + SPLIT_IN_THREE,
+        "(last|third)( vertical)? " + THIRD_COLUMN + "( (on|from) the right)?(" + SPLIT_IN_THREE + ")?",
     ],
     "upper left": [
         "corner (top|upper) left",
@@ -1653,7 +1687,9 @@ ELEVATION_PHRASES = {
         "(own )?{MIDDLE}",
         "flat on",
         # The camera brought to the subject's height ("camera lowered to the car's level").
-        "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put)( down| up)? to "
+        # Also oneself ("get down to the bear's level", "come down to its height"): parse18p6.
+        "((the )?(camera|lens) )?(lowered|raised|brought|dropped|lifted|moved|set|held|put|{GET}|come|coming|came)"
+        "( yourself| the camera| the lens)?( down| up)? to "
         "(the |a |{P} )?(own )?({ANCHOR_EYE} )?(level|height)( of {obj})?",
         # "Level" alone as a clause, of the camera ("bench from behind, level").
         "{CLAUSE}(nice and )?level(?= ([,.;!]|$))",
@@ -1716,6 +1752,10 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?high angle( (shot|view|position|camera))?",
         "(from |in |with )?(a |an )?{VERY} high angle( (shot|view|position|camera))?",
         "(a |an )?high (shot|view)",
+        # Clipped and abbreviated (parse18p6): "hi angle", "hi-angle shot"; "HA" as a shot list's
+        # clause of its own after another ("VASE / HA / MS"; not laughter: "ha ha, ...").
+        "(from |in |with )?(a |an )?hi (angle|shot|view|perspective)( (shot|view|position|camera))?",
+        "(?<!ha [,;:.!?] )(?<!la [,;:.!?] ){CLAUSE}ha(?= ([,.;:!]|$))",
         # A shot named by its direction ("a downward shot": "downward" reads as "down").
         # An article or a clause's start before it: "top down shot" is a plan view, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )down (shot|angle|view|perspective|camera angle)( (of|on|onto) {obj})?",
@@ -1730,6 +1770,8 @@ ELEVATION_PHRASES = {
         "(from |in |as )?(a |an )?birds?( 's)? eye( (view|shot|angle|perspective))?",
         "(from |in |as )?(a |an )?overhead( (shot|view|angle|perspective))?",
         "(from |in |as )?(a |an )?aerial( (shot|view|angle|perspective))?",
+        # High up in the air (parse18p6: "a view from way up in the air").
+        "(from )?({VERY} |high |far )?up (high )?in the (air|sky)",
         "((seen|shot|viewed) )?from ({VERY} |high )?overhead",
         # Roughly overhead ("from kinda overhead", "sort of overhead"): "kind of" hedges the place.
         "((seen|shot|viewed) )?(from )?(kind of|sort of|more or less|roughly|pretty much) overhead",
@@ -1804,6 +1846,8 @@ ELEVATION_PHRASES = {
         "(from |in |with )?(a |an )?low angle( (shot|view|position|camera))?",
         "(from |in |with )?(a |an )?{VERY} low angle( (shot|view|position|camera))?",
         "(a |an )?low (shot|view)",
+        "(from |in |with )?(a |an )?lo (angle|shot|view|perspective)( (shot|view|position|camera))?",
+        "(?<!ha [,;:.!?] )(?<!la [,;:.!?] ){CLAUSE}la(?= ([,.;:!]|$))",
         # An article or a clause's start before it: "a close up shot" is a size, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )up (shot|angle|view|perspective|camera angle)( (of|at|on) {obj})?",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
@@ -2097,6 +2141,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "((with )?(the )?(camera|lens) )?{d}(?<= degrees) down( (at|on|onto|towards) {obj})?"
         "(?! (from|to|the|its|his|her|their|left|right) )",
         "(from |at )?{d} above( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        # Pointing N degrees below the horizontal: looking down, so above (parse18p6).
+        "((the )?(camera|lens|cam) )?((so )?(it |that it )?)?{AIM}( down)? {d}(?<= degrees) (below|under|beneath) (the )?"
+        "(horizontal|horizon|level)",
         # The angle, then where from ("approx. 30 degrees from above", "25 degrees over it",
         # "10 degrees above its centre").
         "(from |at )?({ABOUT} )?{d}(?<= degrees) from (up )?(above|overhead|on high|up high|high up|up above|the top)",
@@ -2147,6 +2194,9 @@ EXPLICIT_ELEVATION_PHRASES = {
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
+        # Pointing N degrees above the horizontal: looking up, so below (parse18p6).
+        "((the )?(camera|lens|cam) )?((so )?(it |that it )?)?{AIM}( up)? {d}(?<= degrees) (above|over) (the )?"
+        "(horizontal|horizon|level)",
         "(from |at )?({ABOUT} )?{d}(?<= degrees) from (down )?(below|beneath|underneath|down low|low down|down below)",
         "(from |at )?({ABOUT} )?{d}(?<= degrees) (below|under|beneath|underneath|lower than)( {ELEVREF})?",
         "(from |at )?{d}(?<= degrees) (under|beneath|underneath)( {obj})?",
@@ -2307,7 +2357,7 @@ ROLL_AXIS = (
 # The frame is the camera's rectangle: it turns with the camera ("frame rotated ten degrees
 # clockwise"); the picture's content turns the other way.
 CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
-PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|skyline|scene|photo)"
+PICTURE_THING = "(the )?(whole |entire )?(picture|image|scene|photo|{HORIZON})"
 
 
 # A roll's direction as a side: the camera's top going to that side ("rolled to the left",
@@ -2316,6 +2366,11 @@ PICTURE_THING = "(the )?(whole |entire )?(picture|image|horizon|skyline|scene|ph
 ROLL_SIDE = "((to |towards )?(the )?{side}( hand| side|wards?)?)(?! of )"
 ROLL_SIDE_ADJECTIVE = "({side}( hand|wards?)?)"
 ROLL_DIRECTION = "({dir}|" + ROLL_SIDE + ")"
+# What a line does that is not level ("the horizon doesn't slope", "leaning neither way").
+LEVEL_BREAKING = (
+    "slope|sloping|slant|slanting|tilt|tilting|tilted|lean|leaning|leaned|leant|tip|tipping|tipped|dip|dipping"
+    "|roll|rolling|rolled|cant|canting|canted|go crooked|run crooked|sit crooked"
+)
 # How a dutch angle goes to its side ("a dutch angle leaning left").
 LEANING = "(leaning|leant|leaned|tilted|tilting|rolled|rolling|canted|canting|tipped|tipping|going|sloping)"
 NOT_A_ROLL_SIDE = "(?! (of|side|third|half|edge|corner|part|profile|flank|view|angle)( |$))"
@@ -2332,6 +2387,27 @@ GIVE = (
 
 
 NEGATIVE_AGAIN = "( \\x28 counterclockwise \\x29)?"  # brackets as escapes: a bare "(" is a group
+DUTCH_DEFAULT_DEG = 15.0  # a dutch angle without degrees: clockwise, inside the generator's 10..30
+DUTCH_SIZE_DEG = {
+    "slight": 10.0,
+    "subtle": 10.0,
+    "gentle": 10.0,
+    "small": 10.0,
+    "mild": 10.0,
+    "strong": 30.0,
+    "heavy": 30.0,
+    "extreme": 30.0,
+    "dramatic": 30.0,
+    "steep": 30.0,
+}
+
+# Said between a roll's parts (parse18p6): a particle after its verb ("lean the camera over by
+# 20 degrees"), a slight word or a comma before its degrees ("roll the camera to the left, 18
+# degrees"; "tip it sideways a little, 10 degrees clockwise"), a size word before them ("a slight
+# 8 degree cant ..."); the direction's own periphrases are in {dir}.
+ROLL_OVER = "( over| round| across)?"
+ROLL_PAUSE = "( {WEAK})?( ,)?"
+ROLL_MILD = "(" + "|".join(DUTCH_SIZE_DEG) + ")"
 
 
 def _roll_family(thing: str) -> list[str]:
@@ -2343,13 +2419,15 @@ def _roll_family(thing: str) -> list[str]:
     to_thing = f"( (to|on|for) {thing})?"
     return [
         f"{verb}( {thing}| it)?( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?",
+        f"{verb} ({thing}|it){ROLL_OVER}( {ROLL_AXIS})?{ROLL_PAUSE}( by| through)? {{d}}( {ROLL_AXIS})?( ,)? {{dir}}"
+        f"( {ROLL_AXIS})?",
         f"{verb}( {thing}| it)?( {ROLL_AXIS})? {{dir}}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
         f"{giving}(a |an )?{{d}}( of)? {{dir}}( {thing})? {ROLL_NOUNS}( {ROLL_AXIS})?{to_thing}",
-        f"{giving}(a |an )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {ROLL_DIRECTION}( {ROLL_AXIS})?{to_thing}",
+        f"{giving}(a |an )?({ROLL_MILD} )?{{d}}( of)?( {thing})? {ROLL_NOUNS}( ,)? {ROLL_DIRECTION}( {ROLL_AXIS})?{to_thing}",
         f"{thing} at (a |an )?{{d}} (angle|slant|tilt) {{dir}}",
         # A side as the direction, with the thing turned or the lens axis said.
         f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?",
-        f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?( by| through)? {{d}}( {ROLL_AXIS})?",
+        f"{ROLL_SIDE_VERBS} {thing}( {ROLL_AXIS})? {ROLL_SIDE}( {ROLL_AXIS})?{ROLL_PAUSE}( by| through)? {{d}}( {ROLL_AXIS})?",
         f"{verb}( {thing}| it)?( by| through)? {{d}} {ROLL_SIDE} {ROLL_AXIS}",
         f"{verb}( {thing}| it)? {ROLL_AXIS}( by| through)? {{d}} {ROLL_SIDE}",
         f"{verb}( {thing}| it)? {ROLL_AXIS} {ROLL_SIDE}( by| through)? {{d}}",
@@ -2435,6 +2513,8 @@ ROLL_PHRASES = {
         "(by )?{d} (to|towards) the {side}",
         # A dutch angle as a verb ("dutched 15 degrees"): clockwise unless a direction is said.
         "dutched (by )?{d}( {dir})?",
+        # Degrees said of the camera's roll ("10 degrees anticlockwise on the camera's roll").
+        "{d} {dir} (on|of|in|to|for) (the )?((camera|lens|cam) 's )?(roll|rotation|cant|dutch)( axis)?",
     ],
     -1.0: [
         "(with )?(the )?(horizon|picture|image|scene) (tilted|rotated|slanted|sloping|turned|canted) (by )?{d} {dir}",
@@ -2448,9 +2528,21 @@ ROLL_PHRASES = {
     ],
     0.0: [
         "(keeping|keep|with|hold|holding) (the )?horizon ({HORIZON_LEVEL})",
+        # A line that stands for the horizon kept, got or said to run level ("keep the table line
+        # level", "the skyline must stay dead flat", "the edge of the desk running straight across
+        # the photo"), or said not to slope ("the horizon mustn't tilt at all"): parse18p6.
+        "((keeping|keep|with|hold|holding|get|getting|make|making|have|having) )?(the )?{HORIZON}{MUST}"
+        "( (is|stays|stay|remains|remain|being|kept|runs|run|running|sits|sit|lies|lie|goes|go|reads|read))?"
+        " ({STRONG} |perfectly |nice and |completely |totally )?{HORIZON_LEVEL}( across( (the|this) {FRAME})?)?",
+        "(the )?{HORIZON} (doesn t|does not|don t|do not|must not|mustn t|should not|shouldn t|won t|will not|never"
+        "|can t|cannot|may not) (" + LEVEL_BREAKING + ")( at all| whatsoever| either way| to either side| in the least)?",
+        # Leaning neither way ("the camera upright, tilted to neither side").
+        "(" + LEVEL_BREAKING + ") (neither way|to neither side|neither left nor right)",
+        "(not|never) (" + LEVEL_BREAKING + ") (either way|to either side|at all|left or right|to the left or (to the )?right)",
         "(with )?(a |the )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL}) horizon",
         # Said as an absence ("no dutch", "not tilted"; "not tilted up" is a pitch).
-        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant)( (angle|tilt))?"
+        "(no|not|without|never) (any )?(dutch|cant|canted|tilted|rolled|tilt|roll|slant|slanting|sloping|leaning|tipping)"
+        "( (angle|tilt))?"
         "( at all| whatsoever)?(?! (up|down) )",
         "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL})",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
@@ -2469,19 +2561,6 @@ ROLL_PHRASES = {
         # Square to the horizon ("the frame square to the horizon").
         "((the )?(frame|shot|picture|image|camera) )?(square|squared|parallel) (to|with) the horizon",
     ],
-}
-DUTCH_DEFAULT_DEG = 15.0  # a dutch angle without degrees: clockwise, inside the generator's 10..30
-DUTCH_SIZE_DEG = {
-    "slight": 10.0,
-    "subtle": 10.0,
-    "gentle": 10.0,
-    "small": 10.0,
-    "mild": 10.0,
-    "strong": 30.0,
-    "heavy": 30.0,
-    "extreme": 30.0,
-    "dramatic": 30.0,
-    "steep": 30.0,
 }
 
 # "Please" is dropped before the tables are read: said anywhere ("the mug really big please",
@@ -2919,6 +2998,9 @@ PICTURE_NOUNS = frozenset(
     # emphasis placed on the ball", "my attention drawn to the bear").
     | {"glow", "emphasis", "attention", "interest", "highlight", "highlights", "atmosphere", "contrast", "silhouette"}
     | {"reflections", "bokeh", "blur", "sunlight", "daylight", "sunshine", "grain", "texture"}
+    # The picture as made, and how it is held or feels ("look at the result", "a handheld, wonky
+    # feel"): parse18p6.
+    | {"result", "results", "print", "printout", "handheld", "feel", "vibe"}
 )
 # Nouns that name nothing in particular ("that thing", "a small object"): never a subject.
 GENERIC_NOUNS = frozenset({"thing", "things", "stuff", "object", "objects", "item", "items", "something", "piece", "pair"}) | {
@@ -2990,7 +3072,10 @@ _MACROS = {
     "{negd}": NUMBER_HEDGE + r"(?P<d>-\d+(?:\.\d+)?)(?: degrees)?",
     # A bare number of at most two digits (no "degrees"), only where a height word leads it.
     "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
-    "{dir}": "(?P<dir>clockwise|counterclockwise)",
+    # A direction of turning, said plainly or round about ("in the clockwise sense", "the
+    # anticlockwise way", "to the clockwise side", ", going counter-clockwise"): parse18p6.
+    "{dir}": "(?:(?:, )?(?:going|turning|heading) |(?:in|to|towards|toward) (?:the |a )?|the )?"
+    "(?P<dir>clockwise|counterclockwise)(?: (?:way|sense|direction|side|fashion|manner))?",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
@@ -3010,6 +3095,18 @@ _MACROS = {
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     # A level horizon, as a builder or a carpenter says it too ("horizon true", "spirit-level").
     "{HORIZON_LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
+    # A line standing for the horizon (vocabulary.HORIZON_LINES, a support's line or edge, the line
+    # where one thing meets another), maybe placed behind the subject; and what it should do.
+    "{HORIZON}": "(?:(?:"
+    + "|".join(sorted(HORIZON_LINES, key=len, reverse=True))
+    + "|(?:"
+    + "|".join(HORIZON_SURFACES)
+    + ") (?:line|edge)|(?:line|edge) of the (?:"
+    + "|".join(HORIZON_SURFACES)
+    + ")|line where (?:the )?[a-z]+ meets (?:the )?[a-z]+)(?: behind (?:it|him|her|them|@\\d+))?"
+    + "(?: in the (?:background|distance|back))?)",
+    "{MUST}": "(?: (?:should|must|has to|needs to|need to|ought to|will|shall|has got to|got to|is to))?"
+    "(?: (?:appear|look|seem)(?: to)?)?(?: be)?",
     # A moderate grade of a size word ("fairly tight", "pretty small").
     "{FAIRLY}": "(?:fairly|pretty|quite|rather|reasonably|moderately)",
     # Pressed into the frame: the subject fills it ("crammed into the frame", "pack it into the shot").
@@ -3421,13 +3518,21 @@ EYE_PLACE = (
 ROLL_PARTICLE = "( over| round| around| across| off| away)?"
 ROLL_LINE_VERBS = (
     "(running|runs|run|sitting|sits|lying|lies|slope|sloped|sloping|slopes|slant|slanted|slanting|slants|skewed|angled|set"
-    "|going|dipping|dip)"
+    "|going|dipping|dip|dips)"
 )
 OFF_LEVEL = "( (off|out of|from) (level|true|plumb|horizontal|the horizontal))?( (across|in) (the )?{FRAME})?"
-# What the line is asked to do ("the horizon should slope 10 degrees anticlockwise", "have the
-# skyline slope 8 degrees", "the horizon must spin 12 degrees clockwise").
-ROLL_MODAL = "( (should|must|will|shall|would|can|could|needs to|has to|ought to|is to|to))?"
-ROLL_LINE = "{thing}( line)?" + ROLL_MODAL + " (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_PARTICLE
+# What the line is asked to do, maybe how it should look ("the horizon should slope 10 degrees
+# anticlockwise", "have the skyline slope 8 degrees", "the horizon must spin 12 degrees clockwise",
+# "should appear to tip").
+ROLL_MODAL = (
+    "( (should|must|will|shall|would|can|could|needs to|need to|has to|has got to|got to|ought to|is to|to))?"
+    "( (appear|look|seem)( to)?)?( be)?"
+)
+# The line said to run or sit turned ("the floor line should run tilted 15 degrees ..."): parse18p6.
+ROLL_LINE_TURNED = "( (tilted|tipped|sloped|slanted|canted|rotated|turned|skewed|angled))?"
+ROLL_LINE = (
+    "{thing}( line)?" + ROLL_MODAL + " (" + ROLL_VERB_FORMS + "|" + ROLL_LINE_VERBS + ")" + ROLL_LINE_TURNED + ROLL_PARTICLE
+)
 ROLL_FAMILY_FRAMES = [
     ROLL_LINE + "( by| through)? {d} {dir}" + OFF_LEVEL,
     ROLL_LINE + " {dir}( by| through)? {d}" + OFF_LEVEL,

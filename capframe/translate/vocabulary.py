@@ -485,12 +485,19 @@ def _compounds(tokens: list[str]) -> list[str]:
 
 
 def _numbers(tokens: list[str]) -> list[str]:
-    """Number words as digits: "thirty" -> "30", "twenty five" -> "25", "minus 20" -> "-20"."""
+    """Number words as digits: "thirty" -> "30", "twenty five" -> "25", "minus 20" -> "-20", "a dozen" -> "12"."""
     out: list[str] = []
     i = 0
     while i < len(tokens):
         token, after = tokens[i], tokens[i + 1] if i + 1 < len(tokens) else ""
-        if token in TENS:
+        if token == "dozen" and out and out[-1] in ("a", "one"):
+            # "a dozen degrees" (parse18p6), "half a dozen": 12 and 6
+            out.pop()
+            value, i = 12, i + 1
+            if out and out[-1] == "half":
+                out.pop()
+                value = 6
+        elif token in TENS:
             value, i = TENS[token], i + 1
             if after in UNITS and 0 < UNITS[after] < 10:
                 value, i = value + UNITS[after], i + 1
@@ -657,6 +664,10 @@ DEGREE_SCALE = {
         "one notch",
         "a nudge",
         "a skosh",
+        # A hair's width (parse18p6: "from a whisker above it").
+        "a whisker",
+        "a hair 's breadth",
+        "a whisker 's breadth",
         "a teeny bit",
         "a little tiny bit",
         "ever so slightly",
@@ -1158,6 +1169,17 @@ FEW_DEGREES = (
     "a handful of degrees",
     "several degrees",
     "a few degrees or so",
+    # A short way, said as a distance (parse18p6: "a few centimetres under its middle").
+    "a few centimeters",
+    "a few centimetres",
+    "a couple of centimetres",
+    "a centimetre or two",
+    "a few cm",
+    "a few inches",
+    "a couple of inches",
+    "a couple of centimeters",
+    "an inch or two",
+    "a centimeter or two",
 )
 # Places a camera looks down from, higher than anything a scene's subject stands on ("from a
 # first-floor window", "from upstairs", "off the rooftop", "from a crane"): a high angle. Plain
@@ -1344,6 +1366,30 @@ ROLL_VERBS = (
     "dutching",
 )
 ROLL_ADJECTIVES = ("askew", "crooked", "wonky", "skewed", "off kilter", "lopsided", "slanted", "canted")
+# Lines in the picture that stand for the horizon (parse18p6): the sky line, or where a support
+# meets what is behind it ("the table line", "the edge of the table", "the floor line", "the line
+# where grass meets sky"). Said level they ask for no roll; said turned, the camera turned the
+# other way, as the horizon.
+HORIZON_LINES = (
+    "horizon",
+    "horizon line",
+    "line of the horizon",
+    "skyline",
+    "sky line",
+)
+HORIZON_SURFACES = (
+    "table",
+    "tabletop",
+    "desk",
+    "counter",
+    "countertop",
+    "worktop",
+    "floor",
+    "ground",
+    "shelf",
+    "sea",
+    "water",
+)
 # What a subject seen very small is likened to ("the ball a speck in the middle", "the bench just
 # a dot"): wide; never a subject of its own.
 SPECK_WORDS = (
