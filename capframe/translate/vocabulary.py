@@ -172,6 +172,9 @@ SPELLINGS.update(SHOT_ABBREVIATIONS)
 # alone it is more often a socket ("show me the ports").
 SIDE_NAMES = {"starboard": "right", "portside": "left side"}
 SPELLINGS.update(SIDE_NAMES)
+# A diagonal's end and side written as one word, as quick notes run them together ("backright",
+# "frontleft", "rearright"): the two words.
+SPELLINGS.update({f"{lon}{lat}": f"{lon} {lat}" for lon in ("front", "back", "rear") for lat in ("left", "right")})
 PORT_SIDE_WORDS = ("side", "hand", "flank", "quarter", "end", "bow", "beam", "profile", "three", "rear", "back", "front")
 # A side written as its letter, as shot lists and storyboards write it ("L profile", "front 3/4 R",
 # "rear L"): read so only beside a word of a view (:data:`SIDE_LETTER_NEIGHBOURS`), since a lone
@@ -426,13 +429,21 @@ def _to_up_down(tokens: list[str]) -> list[str]:
 
 def _side_letters(tokens: list[str]) -> list[str]:
     """``tokens`` with a lone "l" or "r" beside a view word read as the side it abbreviates
-    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"); elsewhere the letter is left as written."""
+    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"), also across the full stop of an
+    abbreviation ("R. profile"), or after a possessive ending a clause ("3/4 front, his L"); elsewhere
+    the letter is left as written."""
     out = list(tokens)
     for k, token in enumerate(tokens):
+        if token not in SIDE_LETTERS:
+            continue
+        dotted = tokens[k + 1 : k + 2] == ["."] and tokens[k + 2 : k + 3] != [] and tokens[k + 2] in SIDE_LETTER_NEIGHBOURS
         neighbours = tokens[max(k - 1, 0) : k] + tokens[k + 1 : k + 2]
-        if token in SIDE_LETTERS and any(n in SIDE_LETTER_NEIGHBOURS for n in neighbours):
+        owned = tokens[k - 1 : k] in (["his"], ["her"], ["its"]) and (k + 1 == len(tokens) or tokens[k + 1] in PUNCTUATION)
+        if dotted or owned or any(n in SIDE_LETTER_NEIGHBOURS for n in neighbours):
             out[k] = SIDE_LETTERS[token]
-    return out
+            if dotted:  # the abbreviation's full stop ends no sentence
+                out[k + 1] = ""
+    return [t for t in out if t]
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -645,6 +656,16 @@ DEGREE_SCALE = {
         "smack",
     ),
 }
+
+# "Just" or "only" before any article-led slight word is the same slight amount ("just a wee bit
+# right of front-on", "only a tiny bit to its left"), as "just a bit" already is.
+DEGREE_SCALE["slight"] += tuple(
+    f"{lead} {w}"
+    for w in DEGREE_SCALE["slight"]
+    if w.startswith("a ")
+    for lead in ("just", "only")
+    if f"{lead} {w}" not in DEGREE_SCALE["slight"]
+)
 # A small turn said without a number ("swung a few degrees to its left", "a couple of degrees
 # towards the front"): as the slight degree words, 10 to 40 degrees off the side it starts from.
 OFFSET_HEDGES = (
