@@ -1,5 +1,5 @@
 """The families of phrasing5's misreadings (a development phrase bank of view clauses): a slight
-word after "just" or "only" ("just a wee bit right of front-on"); degrees "further" past a side;
+word after "just" ("just a wee bit right of front-on"); degrees "further" past a side;
 a move off a view towards a side with no amount (that view's diagonal) or with its degrees said
 after it; where one starts ("begin behind the bench") or goes round behind it first; a diagonal's
 side after "quarter" ("rear quarter left"), glued to its end ("backright") or as a letter ("his
@@ -26,9 +26,9 @@ def parse(text: str):
 
 
 VIEWS = [
-    # "Just" / "only" before an article-led slight word.
+    # "Just" before an article-led slight word.
     ("the bookshelf from just a tiny bit left of front-on", "front-slight-left"),
-    ("the mug from only a little bit to its right", "front-slight-right"),
+    ("the mug from just a little bit to its right", "front-slight-right"),
     ("teddy bear from the front, just a wee bit to his left", "front-slight-left"),
     # Degrees further (farther) past a side.
     ("the sofa from its left side, then 20 degrees further towards the front", "left-slight-front"),

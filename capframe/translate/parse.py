@@ -912,7 +912,9 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
     # A quarter said without "three" after the end and side ("its rear-left quarter").
     out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
     # ... or with the side after ("rear quarter left", "quarter rear right", "rear qtr R").
-    out += [f"{a} {b} {lat}" for lon in lon_words for a, b in ((lon, "quarter"), ("quarter", lon))]
+    out += [
+        f"{a} {b} {lat}" for lon in lon_words if lon in ("front", "back", "rear") for a, b in ((lon, "quarter"), ("quarter", lon))
+    ]
     # A front one also by its side alone ("three quarter left", "a left-side three-quarter").
     return out + ([f"{three_quarter} {lat}", f"{lat}( hand)? side {three_quarter}"] if front else [])
 
@@ -3357,7 +3359,9 @@ MOVED_TO_SIDE = (
 # ("whichever rear corner you like", "either front corner") is the same three-quarter.
 _END_WORDS = ("behind", "back", "rear", "front")
 AT_AN_ANGLE = (
-    "(?:" + "|".join(f"(?<={e}{o}{c} )" for e in _END_WORDS for o in _VIEW_OBJECTS for c in ("", " ,")) + ")"
+    "(?:"
+    + "|".join(f"(?<={e}{o}{c} )" for e in _END_WORDS for o in ("", " it", " @\\d", " of it", " of @\\d") for c in ("", " ,"))
+    + ")"
     "(at )?(an|a slight|a small) angle(?! of)|(at )?an angle(?= (from (the|{P}) (back|rear|front)|(from )?(behind|in front)))"
 )
 # The subject made to face the camera, said with a verb after it ("let the teddy face the camera",

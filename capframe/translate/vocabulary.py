@@ -253,7 +253,7 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_to_up_down(tokens))))))))
+    return _number_hedges(_numbers(_turns(_just(_hedges(_comparatives(_compounds(_side_letters(_to_up_down(tokens)))))))))
 
 
 # A share written as a fraction of something ("2/3 of the frame", "3/4 of the picture", "⅓ of the
@@ -357,6 +357,22 @@ def _hedges(tokens: list[str]) -> list[str]:
             out += ["a", "bit", _hedged(token[:-3])]
         else:
             out.append(token)
+    return out
+
+
+def _just(tokens: list[str]) -> list[str]:
+    """ "Just" dropped before an article-led slight word of :data:`DEGREE_SCALE` that the scale does
+    not list with it ("just a wee bit right of front-on", "just a tiny bit to its left" -> "a wee
+    bit ...", the same slight amount, as "just a bit" already is); here, not as more table words,
+    which every template with a degree word would carry."""
+    out: list[str] = []
+    for k, token in enumerate(tokens):
+        if token == "just" and tokens[k + 1 : k + 2] == ["a"]:
+            listed = (" ".join(tokens[k : k + n]) for n in (3, 4, 5))
+            hedged = (" ".join(tokens[k + 1 : k + n]) for n in (3, 4, 5))
+            if not any(p in _SLIGHT for p in listed) and any(p in _SLIGHT for p in hedged):
+                continue
+        out.append(token)
     return out
 
 
@@ -657,15 +673,7 @@ DEGREE_SCALE = {
     ),
 }
 
-# "Just" or "only" before any article-led slight word is the same slight amount ("just a wee bit
-# right of front-on", "only a tiny bit to its left"), as "just a bit" already is.
-DEGREE_SCALE["slight"] += tuple(
-    f"{lead} {w}"
-    for w in DEGREE_SCALE["slight"]
-    if w.startswith("a ")
-    for lead in ("just", "only")
-    if f"{lead} {w}" not in DEGREE_SCALE["slight"]
-)
+_SLIGHT = frozenset(DEGREE_SCALE["slight"])
 # A small turn said without a number ("swung a few degrees to its left", "a couple of degrees
 # towards the front"): as the slight degree words, 10 to 40 degrees off the side it starts from.
 OFFSET_HEDGES = (
