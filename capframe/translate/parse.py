@@ -987,6 +987,10 @@ def _diagonal_words(lon_words: tuple[str, ...], lat: str, front: bool) -> list[s
     out = [" ".join(order) for lon in lon_words for order in itertools.permutations((three_quarter, lon, lat))]
     # A quarter said without "three" after the end and side ("its rear-left quarter").
     out += [f"{a} {b} quarter" for lon in lon_words for a, b in ((lon, lat), (lat, lon))]
+    # ... or with the side after ("rear quarter left", "quarter rear right", "rear qtr R").
+    out += [
+        f"{a} {b} {lat}" for lon in lon_words if lon in ("front", "back", "rear") for a, b in ((lon, "quarter"), ("quarter", lon))
+    ]
     # A front one also by its side alone ("three quarter left", "a left-side three-quarter").
     return out + ([f"{three_quarter} {lat}", f"{lat}( hand)? side {three_quarter}"] if front else [])
 
@@ -1179,8 +1183,12 @@ VIEW_PHRASES = {
         "((the|{P}) )?(back|rear|backside|tail end) (turned )?(to|towards|facing) (the (camera|viewer|lens)|us|me)",
         CAMERA + " behind {obj}",
         SEEN + "({EXACT} )?from (a?round )?(the|{P}) tail( of {obj})?",
-        "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle)"
-        " (a?round |over )?behind( {obj})?",
+        # Where one starts counts as where one stands ("begin behind the bench and go 40 degrees
+        # toward its left end": the turn is off the back).
+        "(stand|standing|go|going|get|getting|move|moving|walk|walking|come|coming|head|step|swing|circle"
+        "|begin|beginning|start|starting)( off| out)? (a?round |over )?behind( {obj})?",
+        # Gone round behind it, said first ("round behind the armchair you go").
+        "(?<=^ )a?round behind {obj}",
         "with {P} back (turned )?(to|towards) the (camera|viewer|lens|us)",
         # Gone round to its back ("round the back", "swing around to the rear of it").
         "(({MOVE}|{GET}) )?a?round (to )?(the|{P}) (back|rear|backside|back side|rear side|tail end)( of {obj})?"
@@ -1525,6 +1533,9 @@ SIDE_OFFSET_FRAMES = [
     SEEN + AMOUNT + " " + TOWARD + " " + LON_SIDE + "( ,)? (from|of|off) " + LAT_REF,
     SEEN + AMOUNT + " (off|from) " + LAT_REF + "( ,)? " + MOVED + TOWARD + " " + LON_SIDE,
 ]
+# Degrees more past a side already said: "more", or "further" as one walks on ("from its right,
+# then 30 degrees further toward its back").
+FURTHER = "( more| further| farther)?"
 # ... and by an explicit angle (the side nearest the side's azimuth moved that far).
 SIDE_OFFSET_DEGREES_FRAMES = [
     SEEN
@@ -1532,7 +1543,9 @@ SIDE_OFFSET_DEGREES_FRAMES = [
     + LAT_REF
     + "( ,)? (and |but |then |though |yet |although )?"
     + MOVED
-    + "(by )?{d}(?<= degrees)( more)? "
+    + "(by )?{d}(?<= degrees)"
+    + FURTHER
+    + " "
     + TOWARD
     + " "
     + LON_SIDE,
@@ -1543,8 +1556,10 @@ SIDE_OFFSET_DEGREES_FRAMES = [
 # "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
 # right from head-on", "20 degrees right of its nose".
 TURN_FRAMES = [
-    TURN_VERBS + " " + MOVED + "{d}( more)? (" + TOWARD + " )?" + LAT_SIDE + "(?! of )",
-    MOVED + "((at )?(an |a )?angle of )?{d}(?<= degrees)( more)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    TURN_VERBS + " " + MOVED + "{d}" + FURTHER + " (" + TOWARD + " )?" + LAT_SIDE + "(?! of )",
+    MOVED + "((at )?(an |a )?angle of )?{d}(?<= degrees)" + FURTHER + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # The angle said after the move, hedged or not ("swung off to its right, maybe 25 degrees").
+    TURN_VERBS + " " + MOVED + TOWARD + " " + LAT_SIDE + "( ,)? (by )?{d}(?<= degrees)(?= ([,.;!?]|$))",
     MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
     "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
 ]
@@ -3185,7 +3200,7 @@ _MACROS = {
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
     "|creeping|crept|shifting|shifted|sliding|slid|circling|circled|stepping|stepped|working|worked|orbiting|orbited"
-    "|rotating|rotated|walking|walked|walk|turning|turned|sweeping|swept|wandering)",
+    "|rotating|rotated|walking|walked|walk|turning|turned|sweeping|swept|wandering|easing|eased|ease)",
     # The front said as the camera's straight-on line ("a touch to his right of dead front").
     "{FRONT_ON}": "(?:(?:dead|straight|square|head|full) (?:front|on)|dead ahead|straight ahead|(?:the )?center)",
     # Close to: "almost straight up", "nearly vertically down".
@@ -3556,6 +3571,34 @@ SIDE_ONE_AFTER_VIEW = (
     "(?:(?<=quarter , )|(?<=quarters , )|(?<=view , )|(?<=angle , )|(?<=diagonal , )|(?<=behind , )|(?<=rear , ))"
     "(the )?{LAT}( hand)?( side)? one(?= ([,.;!]|$))"
 )
+# Moved off a view just said towards a side, no amount said ("from the rear, edging out toward its
+# right-hand end", "from behind, then ease over to its left"): that side, which the view said
+# before it completes to their diagonal (VIEW_COMBINATIONS); with an amount it is the slight side
+# (SLIGHT_VIEW_FRAMES, OFFSET_VIEW_FRAMES).
+MOVED_TO_SIDE = (
+    AFTER_REF + "((then|and|but|and then) )?{MOVE}( (out|off|over|a?round|across))? (to|towards) (the |{P} )?{LAT}( hand)?{PART}"
+    "(?= ([,.;!?]|$|and |with |so |but ))"
+)
+# "At an angle" said with an end ("from behind at an angle", "the back, at an angle", "at an angle
+# from the front"): that end's three-quarter, its side unsaid (VIEW_COMBINATIONS completes it with
+# the end); alone it says no side and stays unread. A corner of that end left to the camera
+# ("whichever rear corner you like", "either front corner") is the same three-quarter.
+_END_WORDS = ("behind", "back", "rear", "front")
+AT_AN_ANGLE = (
+    "(?:"
+    + "|".join(f"(?<={e}{o}{c} )" for e in _END_WORDS for o in ("", " it", " @\\d", " of it", " of @\\d") for c in ("", " ,"))
+    + ")"
+    "(at )?(an|a slight|a small) angle(?! of)|(at )?an angle(?= (from (the|{P}) (back|rear|front)|(from )?(behind|in front)))"
+)
+# The subject made to face the camera, said with a verb after it ("let the teddy face the camera",
+# "have the mug face the lens"): its front.
+MADE_TO_FACE = "(?<=@\\d )(face|faces) (towards |to )?" + VIEWER + "(?= ([,.;!?]|$|and |with |so |but |please ))"
+# An end of it, or a part only at that end, as what is seen ("so that his face is what we see",
+# "its tail lights are all we see"): that end.
+END_SEEN = (
+    "(the |{P} )?{LON}( side| end)? (is|are) (what|all|the (thing|part|bit)) (we|you|i|the camera|the viewer) (see|sees|get|gets)"
+)
+ANY_CORNER = "(whichever|whatever|either|any|one) (of (the|{P}) )?{END} corners?"
 # Verbs of looking other than "look", for every height said with it ("peering up", "gazing
 # upward along the pole", "staring down at it"): the height phrases of "look" said with them.
 LOOK_VERBS = "(peering|peer|peers|gazing|gaze|gazes|staring|stare|stares|glancing|glance|glances|peeking|peeping)"
@@ -3576,6 +3619,12 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
     rows.append(("view", "front-exact", EYES_FRAME.replace("( {STRONGLY})?", " (right|straight|directly|dead|squarely)"), False))
     rows.append(("view", "front", EYES_FRAME.replace("( {STRONGLY})?", ""), False))
     rows += [("view", lat, SIDE_ONE_AFTER_VIEW.replace("{LAT}", lat), False) for lat in ("left", "right")]
+    rows += [("view", lat, MOVED_TO_SIDE.replace("{LAT}", lat), False) for lat in ("left", "right")]
+    rows.append(("view", "front", MADE_TO_FACE, False))
+    rows += [("view", end, END_SEEN.replace("{LON}", LON_WORDS[end]), False) for end in ("front", "back")]
+    rows.append(("view", "three-quarter", AT_AN_ANGLE, False))
+    rows.append(("view", "back-three-quarter", ANY_CORNER.replace("{END}", "(rear|back)"), False))
+    rows.append(("view", "three-quarter", ANY_CORNER.replace("{END}", "front"), False))
     for sign, thing in ((1.0, CAMERA_THING), (-1.0, PICTURE_THING)):
         # The camera may go unsaid in a roll's noun ("a clockwise twist of 20 degrees"); the
         # picture, which turns the other way, must be said.

@@ -173,6 +173,9 @@ SPELLINGS.update(SHOT_ABBREVIATIONS)
 # alone it is more often a socket ("show me the ports").
 SIDE_NAMES = {"starboard": "right", "portside": "left side"}
 SPELLINGS.update(SIDE_NAMES)
+# A diagonal's end and side written as one word, as quick notes run them together ("backright",
+# "frontleft", "rearright"): the two words.
+SPELLINGS.update({f"{lon}{lat}": f"{lon} {lat}" for lon in ("front", "back", "rear") for lat in ("left", "right")})
 PORT_SIDE_WORDS = ("side", "hand", "flank", "quarter", "end", "bow", "beam", "profile", "three", "rear", "back", "front")
 # A side written as its letter, as shot lists and storyboards write it ("L profile", "front 3/4 R",
 # "rear L"): read so only beside a word of a view (:data:`SIDE_LETTER_NEIGHBOURS`), since a lone
@@ -255,7 +258,9 @@ def words(text: str) -> list[str]:
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
-    return _number_hedges(_numbers(_turns(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
+    return _number_hedges(
+        _numbers(_turns(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
+    )
 
 
 # "Whole" spelt by ear before the picture or a word of all of it ("take up the hole picture", "the
@@ -372,6 +377,22 @@ def _hedges(tokens: list[str]) -> list[str]:
     return out
 
 
+def _just(tokens: list[str]) -> list[str]:
+    """ "Just" dropped before an article-led slight word of :data:`DEGREE_SCALE` that the scale does
+    not list with it ("just a wee bit right of front-on", "just a tiny bit to its left" -> "a wee
+    bit ...", the same slight amount, as "just a bit" already is); here, not as more table words,
+    which every template with a degree word would carry."""
+    out: list[str] = []
+    for k, token in enumerate(tokens):
+        if token == "just" and tokens[k + 1 : k + 2] == ["a"]:
+            listed = (" ".join(tokens[k : k + n]) for n in (3, 4, 5))
+            hedged = (" ".join(tokens[k + 1 : k + n]) for n in (3, 4, 5))
+            if not any(p in _SLIGHT for p in listed) and any(p in _SLIGHT for p in hedged):
+                continue
+        out.append(token)
+    return out
+
+
 def _number_hedges(tokens: list[str]) -> list[str]:
     """A hedge of :data:`NUMBER_HEDGES` after a number dropped ("50 odd", "30 ish", "20 or so" ->
     the number)."""
@@ -465,13 +486,21 @@ def _proper_sides(tokens: list[str]) -> list[str]:
 
 def _side_letters(tokens: list[str]) -> list[str]:
     """``tokens`` with a lone "l" or "r" beside a view word read as the side it abbreviates
-    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"); elsewhere the letter is left as written."""
+    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"), also across the full stop of an
+    abbreviation ("R. profile"), or after a possessive ending a clause ("3/4 front, his L"); elsewhere
+    the letter is left as written."""
     out = list(tokens)
     for k, token in enumerate(tokens):
+        if token not in SIDE_LETTERS:
+            continue
+        dotted = tokens[k + 1 : k + 2] == ["."] and tokens[k + 2 : k + 3] != [] and tokens[k + 2] in SIDE_LETTER_NEIGHBOURS
         neighbours = tokens[max(k - 1, 0) : k] + tokens[k + 1 : k + 2]
-        if token in SIDE_LETTERS and any(n in SIDE_LETTER_NEIGHBOURS for n in neighbours):
+        owned = tokens[k - 1 : k] in (["his"], ["her"], ["its"]) and (k + 1 == len(tokens) or tokens[k + 1] in PUNCTUATION)
+        if dotted or owned or any(n in SIDE_LETTER_NEIGHBOURS for n in neighbours):
             out[k] = SIDE_LETTERS[token]
-    return out
+            if dotted:  # the abbreviation's full stop ends no sentence
+                out[k + 1] = ""
+    return [t for t in out if t]
 
 
 def _compounds(tokens: list[str]) -> list[str]:
@@ -701,6 +730,8 @@ DEGREE_SCALE = {
         "smack",
     ),
 }
+
+_SLIGHT = frozenset(DEGREE_SCALE["slight"])
 # A small turn said without a number ("swung a few degrees to its left", "a couple of degrees
 # towards the front"): as the slight degree words, 10 to 40 degrees off the side it starts from.
 OFFSET_HEDGES = (
