@@ -9,6 +9,7 @@ roll > 0 is the camera turned clockwise. None of these wordings is in a suite fi
 from __future__ import annotations
 
 import pytest
+from _parse_helpers import parser_of, scene_of
 
 from capframe.errors import InputError
 from capframe.scene.directory import SemanticObject
@@ -17,11 +18,8 @@ from capframe.translate.parse import parse_instruction
 from capframe.translate.vocabulary import Vocabulary, words
 
 NAMES = ["armchair", "sofa", "mug", "teddy bear", "bench", "toy car", "vase", "cushion", "ball"]
-SCENE = Vocabulary.from_semantics([SemanticObject(k, n, [], False) for k, n in enumerate(NAMES)])
-
-
-def parse(text: str):
-    return parse_instruction(text, SCENE)
+SCENE = scene_of(NAMES)
+parse = parser_of(SCENE)
 
 
 DIAGONALS = [

@@ -10,18 +10,15 @@ roll > 0 is the camera turned clockwise. None of these wordings is in a suite fi
 from __future__ import annotations
 
 import pytest
+from _parse_helpers import parser_of, scene_of
 
 from capframe.errors import InputError
-from capframe.scene.directory import SemanticObject
-from capframe.translate.parse import parse_instruction, shared_parser
-from capframe.translate.vocabulary import DETERMINERS, Vocabulary, words
+from capframe.translate.parse import shared_parser
+from capframe.translate.vocabulary import DETERMINERS, words
 
 NAMES = ["armchair", "sofa", "mug", "teddy bear", "bench", "toy car", "vase", "cushion", "ball"]
-SCENE = Vocabulary.from_semantics([SemanticObject(k, n, [], False) for k, n in enumerate(NAMES)])
-
-
-def parse(text: str):
-    return parse_instruction(text, SCENE)
+SCENE = scene_of(NAMES)
+parse = parser_of(SCENE)
 
 
 # (text, field, value, the word left out): a table word or an unknown one inside a known phrase
