@@ -8,7 +8,10 @@ constraint  measured                                                     satisfi
 ==========  ===========================================================  ======================
 visibility  share of the subject's own-render alpha that survives in      centre in front, mask
             the full render (membership composited as an extra channel),  non-empty, shares >= MIN
-            and share of its projection inside the frame (not cut off)
+            and share of its projection inside the frame (not cut off);
+            from a camera lower than the subject's base, at most the
+            share of its points seen past the surface it stands on
+            (Occupancy.seen_past_support), when an occupancy is given
 region      centroid of the subject's visible (alpha-weighted) mask in     inside REGIONS[region]
             normalised image coordinates (projected centre if empty)
 shot        max(bbox w / W, bbox h / H) of the own-render mask alpha>0.5  inside SHOT_SIZES[shot]
@@ -51,7 +54,7 @@ from .geometry import any_horizontal, camera_roll, view_angles
 from .render import NEAR_FRACTION, resolve_backend, scene_extent
 from .render.masks import SubjectMask, subject_masks
 from .scene import Camera, GaussianScene
-from .scene.occupancy import Occupancy
+from .scene.occupancy import SOLID_OPACITY, Occupancy
 
 
 @dataclass
@@ -74,6 +77,7 @@ class Subject:
 
 
 CHECK_LONG_SIDE = 256  # masks are rendered with this many pixels on the longer side
+SIGHT_POINTS = 128  # points of a subject whose line of sight past its support is followed
 ROLL_UNDEFINED_DEG = 10.0  # roll is not measured within this angle of looking straight up/down
 
 
@@ -207,6 +211,7 @@ class ConstraintChecker:
         self.long_side = long_side or CHECK_LONG_SIDE
         self.near = NEAR_FRACTION * scene_extent(self.gaussians.means.detach())
         self._around: dict[int, Occupancy] = {}
+        self._points: dict[int, np.ndarray] = {}
 
     def resolve(self, name: str) -> Subject:
         """The object a constraint's subject name refers to."""
@@ -228,7 +233,10 @@ class ConstraintChecker:
         rows: list[CheckRow] = []
         for (sc, obj), mask in zip(subjects, masks):
             z = float(T[2, :3] @ obj.center + T[2, 3])
-            rows.append(self._visibility(sc.name, mask, z, min_in_frame_fraction(sc.shot)))
+            past_support = None
+            if self.occupancy is not None:
+                past_support = self.occupancy.seen_past_support(self._solid_points(obj), centre)
+            rows.append(self._visibility(sc.name, mask, z, min_in_frame_fraction(sc.shot), past_support))
             if sc.region is not None:
                 rows.append(self._region(sc.name, sc.region, mask, camera, obj, z))
             if sc.shot is not None:
@@ -255,8 +263,22 @@ class ConstraintChecker:
         )
         return masks
 
-    def _visibility(self, name: str, mask: SubjectMask, z: float, min_in_frame: float) -> CheckRow:
+    def _solid_points(self, obj: Subject) -> np.ndarray:
+        """(P, 3) float64 centres of up to :data:`SIGHT_POINTS` of the subject's solid Gaussians
+        (evenly spread over their order; all of its Gaussians when none is solid), one array per
+        subject."""
+        if obj.id not in self._points:
+            member = self.members[obj.id].cpu()
+            solid = member & (torch.sigmoid(self.gaussians.opacity_logits.detach().cpu()) >= SOLID_OPACITY)
+            means = self.gaussians.means.detach().cpu()[solid if solid.any() else member].double().numpy()
+            self._points[obj.id] = means[np.linspace(0, len(means) - 1, min(len(means), SIGHT_POINTS)).astype(int)]
+        return self._points[obj.id]
+
+    def _visibility(self, name: str, mask: SubjectMask, z: float, min_in_frame: float, past_support: float | None) -> CheckRow:
         fraction, in_frame, pixels = mask.visible_fraction, mask.in_frame, mask.pixels
+        through_support = past_support is not None and past_support < fraction
+        if through_support:
+            fraction = past_support
         in_front = z > 0
         ok = in_front and pixels > 0 and fraction >= MIN_VISIBLE_FRACTION and in_frame >= min_in_frame
         notes = []
@@ -265,7 +287,9 @@ class ConstraintChecker:
         if pixels == 0:
             notes.append("subject mask is empty (out of frame)")
         elif fraction < MIN_VISIBLE_FRACTION:
-            notes.append("subject is mostly occluded")
+            notes.append(
+                "subject is mostly seen through the surface it stands on" if through_support else "subject is mostly occluded"
+            )
         if pixels > 0 and in_frame < min_in_frame:
             notes.append("subject is mostly cut off by the frame edge")
         return CheckRow(
@@ -277,7 +301,7 @@ class ConstraintChecker:
             max(MIN_VISIBLE_FRACTION - fraction, min_in_frame - in_frame, 0.0),
             "fraction",
             "; ".join(notes),
-            {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame},
+            {"in_front": in_front, "mask_pixels": pixels, "in_frame_fraction": in_frame, "seen_past_support": past_support},
         )
 
     def _region(self, name: str, region: str, mask: SubjectMask, camera: Camera, obj: Subject, z: float) -> CheckRow:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 import torch
@@ -437,3 +439,66 @@ def test_the_checker_judges_clearance_with_the_finer_grid_around_a_small_primary
         "clearance"
     )
     assert not row.satisfied
+
+
+def table_share(points: np.ndarray, centre: np.ndarray, top: float = 1.0, half: float = 2.0, foot: float = 0.3) -> float:
+    """The share of ``points`` a camera at ``centre`` below the top sees past it, from the table's
+    exact extent: a line of sight crossing z = ``top`` over the table (|x|, |y| <= ``half``) or
+    over the cube's foot (a disc of its lowest points' radius, ``foot`` * sqrt 2) is hidden."""
+    share = np.minimum((top - centre[2]) / (points[:, 2] - centre[2]), 1.0)
+    crossing = centre + share[:, None] * (points - centre)
+    over_top = (np.abs(crossing[:, :2]) <= half).all(1)
+    over_foot = np.linalg.norm(crossing[:, :2], axis=1) <= foot * math.sqrt(2)
+    return float(1.0 - (over_top | over_foot).mean())
+
+
+@pytest.mark.parametrize("centre", [(0.8, 0.3, 0.5), (2.5, 0.0, 0.5), (6.0, 0.0, 0.95), (3.0, 1.0, 0.97), (9.0, -2.0, 0.9)])
+def test_a_camera_below_a_table_top_sees_what_stands_on_it_only_past_the_top(table_grids, centre):
+    """Under the table (and beside it, lower than its top, looking at the cube in its middle) the
+    cube is hidden; low and farther out, its upper part shows over the top's edge. The share
+    matches the table's exact extent to a few points, also in a scene ten times larger."""
+    grid, _, gaussians = table_grids
+    cube = small_subject_on_a_table()[1]
+    points = gaussians.means[cube].double().numpy()
+    expected = table_share(points, np.array(centre))
+    assert grid.seen_past_support(points, np.array(centre)) == pytest.approx(expected, abs=0.06)
+    large, _ = small_subject_on_a_table()
+    large = GaussianScene.from_activated(
+        large.means * 10, large.quats, large.scales * 10, torch.sigmoid(large.opacity_logits), large.sh
+    )
+    larger = build_occupancy(large, np.array([0.0, 0.0, 1.0]), [camera_at((60.0, 0.0, 30.0))])
+    assert larger.seen_past_support(10 * points, 10 * np.array(centre)) == pytest.approx(expected, abs=0.06)
+
+
+def test_seen_past_support_asks_only_below_a_supported_base(table_grids):
+    """Above the cube's base there is nothing to ask; a box hanging free (the world's box, a unit
+    over the floor) stands on nothing, and its renders keep the verdict."""
+    grid, _, gaussians = table_grids
+    points = gaussians.means[small_subject_on_a_table()[1]].double().numpy()
+    assert grid.seen_past_support(points, np.array([0.5, 0.0, 1.05])) is None
+    floating, up = world()
+    box = floating.means[-6 * 21 * 21 :].double().numpy()
+    assert box[:, 2].min() == pytest.approx(1.0)
+    free_grid = build_occupancy(floating, up, [camera_at((6.0, 0.0, 3.0))])
+    assert free_grid.seen_past_support(box, np.array([3.0, 0.0, 0.5])) is None
+    assert grid.seen_past_support(np.zeros((0, 3)), np.array([0.8, 0.3, 0.5])) is None
+
+
+def test_the_checker_fails_a_subject_seen_through_its_support(table_grids):
+    """The visibility row from under the table: with the occupancy it measures the share seen
+    past the top (none) and says so; the clearance row passes (under a table is free space)."""
+    grid, _, gaussians = table_grids
+    n = len(gaussians)
+    cube = torch.zeros(n, dtype=torch.bool)
+    cube[small_subject_on_a_table()[1]] = True
+    objects = {"cube": Subject(0, "cube", np.array([0.0, 0.0, 1.3]), 0.5, None)}
+    checker = ConstraintChecker(gaussians, objects, {0: cube}, np.array([0.0, 0.0, 1.0]), occupancy=grid)
+    camera = make_camera(eye=(0.8, 0.3, 0.5), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
+    report = checker.check(camera, Constraints([SubjectConstraint("cube")]))
+    row = report.row("visibility")
+    assert not row.satisfied and row.measured == 0.0 and row.details["seen_past_support"] == 0.0
+    assert row.note == "subject is mostly seen through the surface it stands on"
+    assert report.row("clearance").satisfied
+    above = make_camera(eye=(1.5, 0.0, 1.8), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
+    row = checker.check(above, Constraints([SubjectConstraint("cube")])).row("visibility")
+    assert row.satisfied and row.details["seen_past_support"] is None

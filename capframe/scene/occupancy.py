@@ -103,6 +103,20 @@ DETAIL_REACH_CELLS = 16  # its clearance is exact up to this many cells, and thi
 # Over this many cells inside its faces the finer grid's clearance blends into the scene grid's,
 # so the clearance stays continuous (Refine follows its gradient).
 DETAIL_BLEND_CELLS = 4.0
+# Occupancy.seen_past_support: a subject's base is this quantile of its points' heights, and its
+# footprint the points within BASE_BAND of its height range above the base. Solid geometry at one
+# of SUPPORT_DEPTHS (shares of the reach) under a point supports it; the reach is SUPPORT_REACH of
+# the subject's height, at most SUPPORT_REACH_VOXELS (a sofa on legs, whose base is its seat's
+# underside, stands on nothing that near). The ring testing whether a subject stands on a support
+# has SUPPORT_RING points SUPPORT_RING_VOXELS outside its footprint (its own voxels' clearance
+# reaches about a voxel beyond its points).
+BASE_QUANTILE = 0.02
+BASE_BAND = 0.1
+SUPPORT_DEPTHS = (0.1, 0.25, 0.5, 0.75, 1.0)
+SUPPORT_REACH = 0.05
+SUPPORT_REACH_VOXELS = 0.5
+SUPPORT_RING = 16
+SUPPORT_RING_VOXELS = 1.5
 
 
 @dataclass
@@ -279,6 +293,55 @@ class Occupancy:
             heights = points[valid].numpy() @ self.rotation[2]
             hit &= ~((self.surface_layer[i, j] == k) & (heights > self.surface_height[i, j]))
         return float(hit.sum()) / samples
+
+    def supports(self, points: np.ndarray, reach: float) -> np.ndarray:
+        """(P,) bool: whether solid geometry lies right under each of the (P, 3) world points, at
+        one of :data:`SUPPORT_DEPTHS` shares of ``reach`` (world units) below it: probed, not read
+        from the voxels, so a table top a few hundredths thick in a coarse grid counts."""
+        depths = np.asarray(SUPPORT_DEPTHS) * reach
+        probes = points[:, None, :] - depths[None, :, None] * self.rotation[2]
+        return (self.clearance(torch.as_tensor(probes, dtype=torch.float64)) < 0).any(-1).numpy()
+
+    def seen_past_support(self, points: np.ndarray, centre: np.ndarray) -> float | None:
+        """Share of a subject's (P, 3) points that a camera at ``centre``, lower than the subject's
+        base, sees past the surface the subject stands on; None when the camera is not lower, or
+        the subject stands on nothing wider than itself.
+
+        A camera under a table top sees the object on it only through the top. The renders say
+        otherwise: the object's base and the top lie in one plane, their Gaussians interleave in
+        the depth order, and about half the base's alpha survives the composite. So the sight is
+        settled geometrically: each point's line of sight crosses the plane of the base (its
+        lowest :data:`BASE_QUANTILE` of heights) once, and the point is hidden where that crossing
+        lies over the support (:meth:`supports`) or inside the base's own footprint, which the
+        support carries. The subject stands on a support when the ring of :data:`SUPPORT_RING`
+        points :data:`SUPPORT_RING_VOXELS` voxels outside its footprint mostly has one under it;
+        the ring keeps clear of the subject's own voxels, so a subject hanging free keeps its
+        renders' verdict."""
+        if len(points) == 0:
+            return None
+        up = self.rotation[2]
+        heights = points @ up
+        base = float(np.quantile(heights, BASE_QUANTILE))
+        height = float(centre @ up)
+        if height >= base:
+            return None
+        lowest = points[heights <= base + BASE_BAND * (heights.max() - base)]
+        middle = lowest.mean(0)
+        middle = middle + (base - float(middle @ up)) * up
+        flat = lowest - middle - ((lowest - middle) @ up)[:, None] * up
+        radius = float(np.linalg.norm(flat, axis=1).max())
+        angles = np.linspace(0.0, 2.0 * math.pi, SUPPORT_RING, endpoint=False)
+        ring = middle + (radius + SUPPORT_RING_VOXELS * self.voxel) * (
+            np.cos(angles)[:, None] * self.rotation[0] + np.sin(angles)[:, None] * self.rotation[1]
+        )
+        reach = min(SUPPORT_REACH * float(heights.max() - base), SUPPORT_REACH_VOXELS * self.voxel)
+        if self.supports(ring, reach).mean() < 0.5:
+            return None
+        share = np.minimum((base - height) / np.maximum(heights - height, 1e-12), 1.0)
+        crossings = centre + share[:, None] * (points - centre)
+        offset = crossings - middle
+        inside = np.linalg.norm(offset - (offset @ up)[:, None] * up, axis=1) <= radius
+        return float(1.0 - (inside | self.supports(crossings, reach)).mean())
 
     def voxelize(self, gaussians: GaussianScene) -> np.ndarray:
         """(X, Y, Z) bool: the voxels the solid Gaussians of ``gaussians`` occupy (e.g. one subject's)."""
