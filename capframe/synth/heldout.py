@@ -3,8 +3,8 @@ sets ``heldout``, ``heldout2`` ... ``heldout16``, development sets now, and the 
 and ``heldout18``, issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing3``
 (development corpora), ``phrasing4`` (blind, written before any parser ran on it) and the
 development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
-frame region and roll) and ``phrasing7`` (how subjects are named and told apart), written blind to
-the method, whose scenes are never generated:
+frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
+(whole requests of several clauses), written blind to the method, whose scenes are never generated:
 ``capframe bench ground --suite phrasing4 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
