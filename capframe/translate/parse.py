@@ -1051,9 +1051,15 @@ VIEW_FRAMES = [
     # Square on to a side named ("head on to its back", "straight on to the left side").
     "(?P<exact>" + "|".join(GENERIC_ON_WORDS) + "|spot) on (to|towards|at|facing|onto) (the|{P}) {SIDE}{PART}( of {obj})?",
     "showing (the|{P}) {SIDE}{PART}( of {obj})?",
+    # The camera put beside a side's part, said first ("Beside the right armrest of the armchair",
+    # "camera next to its left flank"); after a subject it may relate two things, so not there.
+    "(" + CAMERA + " |(?<=^ ))(beside|next to|alongside|right by|right next to) (the|{P}) {SIDE}( {SIDED})?{PART}"
+    "( of {obj})?(?! of )",
     # The camera square to a side, maybe a part's ("perpendicular to its flank", "shot square to
-    # the left side", "perpendicular to the shelves' face"): that side, exactly.
-    "(?P<exact>perpendicular|perpendicularly|square|squarely|at right angles|normal) (on )?(to|with|onto|on to|facing) "
+    # the left side", "perpendicular to the shelves' face"), maybe to a part said on that side
+    # ("perfectly perpendicular to the doors on its left-hand side"): that side, exactly.
+    "((perfectly|precisely|{STRONG}) )?(?P<exact>perpendicular|perpendicularly|square|squarely|at right angles|normal)"
+    " (on )?(to|with|onto|on to|facing) ((the|{P}) ([a-z]+ ){1,2}(on|at|along) )?"
     "(the|{P}) ([a-z]+ 's )?{SIDE}{PART}( of {obj})?(?! of )",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
     # The camera moved round to a side ("the camera swung round to its right").
@@ -1069,7 +1075,7 @@ VIEW_FRAMES = [
     # camera": straight on).
     "(with )?(((the|{P}) |{CLAUSE})(?!(" + "|".join(FRONT_TO_LENS) + ") ){SIDE}( {SIDED})?|(?<=^ ){SIDE} {SIDED}){PART}"
     "( of {obj})?( (is|are))?( (pointing|pointed|aimed|aiming|turned|squared|set))? ({EXACT} ({STRONG} )?)?"
-    "(towards|to|at|into|facing|turned towards|turned to) " + AT_CAMERA,
+    "(towards|to|at|into|facing|turned towards|turned to|(the one )?(nearest|closest)( to)?) " + AT_CAMERA,
     # An end said with it ("left end view", "the right-hand end shot").
     "(in |from |as )?(a |the )?({EXACT} |(?P<exact>full|pure|true|strict) )?{SIDE}( hand)?( side| end)?"
     " (view|profile|angle|shot)",
@@ -1283,7 +1289,11 @@ for _end, _parts in END_PARTS.items():
 # seat facing me straight on"); squared to it, or "dead on" after it, that end exactly. The camera
 # squared to a part sees its end exactly ("photographed square to its shelves").
 OWN_PARTS = frozenset(p for end in FACING_PARTS for p in (*FACING_PARTS[end], *END_PARTS[end]))
-VIEWER = "(us|me|you|the viewer|viewer|the camera|camera|the lens|lens|the cam|cam)"
+# The camera's sensor (film, image plane) is where it looks from ("its screen parallel to the sensor").
+VIEWER = (
+    "(us|me|you|the viewer|viewer|the camera|camera|the lens|lens|the cam|cam"
+    "|((the|its) )?(camera 's )?(sensor|film|film plane|image plane|focal plane))"
+)
 SQUARE = "(square|squarely|straight|directly|dead|flush|bang|smack|full|perpendicular|parallel)"
 SQUARE_AFTER = (
     "( ,)? (?P<exact>(dead|straight|square|head|face|full|spot|bang|smack) on|dead straight|dead square|squarely"
@@ -1291,7 +1301,11 @@ SQUARE_AFTER = (
 )
 TURNED_TO = (
     "(((turned|pointing|pointed|aimed|angled|squared|set) )?(to|towards|at|into|onto|on to)"
-    "|(facing|faces|face)( (to|towards|at))?)"
+    "|(facing|faces|face)( (to|towards|at))?"
+    # Looking out (back) at the camera ("the book spines looking out at us", "its seat staring
+    # right back at the lens"), or the part of it nearest the camera ("its backrest nearest us").
+    "|(looking|looks|facing|faces|pointing|points|staring|stares|peering|peers)( (right|straight))? (out|back) (at|to|towards)"
+    "|(the one )?(nearest|closest)( to)?)"
 )
 for _end, _parts in FACING_PARTS.items():
     _part = "(" + "|".join(sorted({*_parts, *END_PARTS[_end]} - {*FRONT_TO_LENS, "front"}, key=len, reverse=True)) + ")"
@@ -1300,7 +1314,7 @@ for _end, _parts in FACING_PARTS.items():
         # Or the side it is on ("the side with the door handle toward us", "the end with the tail lights to camera").
         "((the|{P}) (side|end|face) with (the|{P}) |(the|{P}) |(?<=@\\d )|{CLAUSE}|(?<=^ ))"
         + _part
-        + "( (is|are))?( (?P<exact>"
+        + "( of {obj})?( (is|are))?( (?P<exact>"
         + SQUARE[1:]
         + "( on)?)? "
         + TURNED_TO
@@ -1314,7 +1328,14 @@ for _end, _parts in FACING_PARTS.items():
         + "( on)? (to|towards|with|onto|on to|facing|at) (the|{P}) "
         + _part
         + "( of {obj})?",
+        # The side (end) named by its parts ("from its doors-and-handles side", "the headlights end").
+        "((from|on|at) )?(the|{P}) " + _part + "(( and| &) [a-z]+)? (side|end|face)(?! of )",
     ]
+# The side one sits on (or in) is the front ("from the side people sit on", "the side you'd sit in").
+VIEW_PHRASES["front"].append(
+    "(the|{P}) (side|end) (where )?(people|you|one|we|someone|somebody|they|folk|folks|visitors|guests)"
+    "( (would|d|can|will))? (sit|sits)( (on|in|at))?(?= ([,.;:!?]|$|and |with ))"
+)
 # Between an end and a side: the diagonal ("halfway between its front and its left side"); between
 # an end and "the side" either diagonal of that end.
 BETWEEN = "(((half|half way|halfway|midway|somewhere) )?between) (the |{P} )?{A}( side| end)? and (the |{P} )?{B}( side| end)?"
@@ -1576,6 +1597,34 @@ CLOCK_PHRASES = [
     SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
 ]
 CLOCK_HOUR_DEG = 30.0
+# The clock face said around the subject with its front at twelve ("as on a clock face with the
+# screen at twelve", "the bear looking at 12", "imagine teddy is the centre of a clock", "picture
+# a clock under the car with its bonnet at twelve"): CLOCK_PHRASES' convention said again, so
+# understood, no constraint; a clock put otherwise ("its back at twelve") stays unread. Where a
+# clock is said (RULE_CONTEXTS), an hour needs no "o'clock" ("stand at 7", "the view from one",
+# "from half past ten", "a quarter to six"); "on its six" is behind it, as pilots say it.
+_CLOCK_END = "(?= ([,.;:!?()]|$|and |with |as |for |on |in |of |please ))"
+_FRONT_AT_12 = "(" + "|".join(sorted({*FACING_PARTS["front"], *END_PARTS["front"]}, key=len, reverse=True)) + ")"
+CLOCK_SETUP_PHRASES = [
+    "((as |like )?(on|in) )?(a |the )?clock( face)?( (laid |lying |flat )?(on|under|around|round|below|beneath) (the |a )?"
+    "([a-z]+|@\\d))?(?= ([,.;:!?()]|$|with |and ))",
+    "(imagine|picture|pretend|think)( of)?( that)? ({obj}|he|she) ((is|s|sits|stands|stand|sit|as) )?(at |in )?(the )?"
+    "(center|middle) of (a |the )?clock( face)?",
+    "((with )?(the |{P} )" + _FRONT_AT_12 + " |({obj}|he|she) )?(is |are )?((looking|facing|pointing|pointed|aimed|turned"
+    "|looks|faces|points)( (at|to|towards))?|at|to) 12" + _CLOCK_END,
+]
+_HOUR = "(?P<d>1[01]|[1-9])"  # twelve is where the subject faces ("its handle at 12")
+_AT_HOUR = "(((stand|standing|stood|shoot|shooting|go|walk|move|be|camera|the camera) )?(at|from|to) (the )?|the view from )"
+CLOCK_BARE_HOURS = {  # hours past the hour said: its template
+    0.0: _AT_HOUR + _HOUR + "( (position|mark))?" + _CLOCK_END,
+    0.5: "(from |at |to )?(the )?half past " + _HOUR + _CLOCK_END,
+    0.25: "(from |at |to )?(the )?(a )?quarter past " + _HOUR + _CLOCK_END,
+    -0.25: "(from |at |to )?(the )?(a )?quarter to " + _HOUR + _CLOCK_END,
+}
+CLOCK_ONE = _AT_HOUR + "one" + _CLOCK_END  # "one" stays a word (vocabulary.words): one o'clock
+# Words a row needs somewhere in the text besides its own, by template.
+RULE_CONTEXTS = {t: (" clock ",) for t in (*CLOCK_BARE_HOURS.values(), CLOCK_ONE)}
+SIX_OF = "(on|at|from|watching|watch|covering|cover|check|checking) ({P}|his|her|its|their) (?P<d>6)" + _CLOCK_END
 # An azimuth said as such, signed ("an azimuth of 30 degrees", "at minus 45 degrees azimuth").
 SIGNED_AZIMUTH_PHRASES = [
     "(at |from |with )?(an |a )?azimuth( angle)?( of| ,)? {sd}",
@@ -3485,7 +3534,10 @@ def _templates() -> list[tuple[str, object, str, bool]]:
                 t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
-    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES]
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES + [SIX_OF]]
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG, half, 1.0), t, False) for half, t in CLOCK_BARE_HOURS.items()]
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG, 1.0, 0.0), CLOCK_ONE, False)]
+    rows += [("note", None, t, False) for t in CLOCK_SETUP_PHRASES]
     rows += [("view", ("azimuth", 1.0), t, False) for t in SIGNED_AZIMUTH_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
     rows += [("elevation", e, t, False) for e, ts in ELEVATION_PHRASES.items() for t in ts]
@@ -3599,6 +3651,29 @@ END_SEEN = (
     "(the |{P} )?{LON}( side| end)? (is|are) (what|all|the (thing|part|bit)) (we|you|i|the camera|the viewer) (see|sees|get|gets)"
 )
 ANY_CORNER = "(whichever|whatever|either|any|one) (of (the|{P}) )?{END} corners?"
+# Whose side is meant, said with the side: the subject's own, against the camera's ("on HIS left
+# side, not yours", "its right, mind, not the camera's"), as it would see it itself ("the right side
+# as the fridge itself would see it"), or of one sitting in it ("the left of whoever sits in it");
+# also an end or side said on that side ("from the end on its left"). Each names that side.
+_NOT_YOURS = "(not|and not|rather than) (yours|urs|your|ur|mine|ours|the (camera|viewer|lens|photographer) 's)( {LAT})?"
+# An end and a side said together as what is seen ("the front and its left side both in view",
+# "the doors plus its right side", "where the car's nose meets its right flank", "its right side
+# and the back"): their diagonal. An end may be named by a part found at it (LON_WORDS, FACING_PARTS).
+_AND = "(and|plus|&|as well as|together with|along with)"
+_LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}( of {obj})?(?! of )"
+TWO_SIDES_PHRASES = [
+    "(the |{P} |{CLAUSE})({LON})( side| end)?( of {obj})? " + _AND + " " + _LAT_SIDE,
+    "(the |{P} )?{LAT}( hand)?{PART} " + _AND + " (the |{P} )({LON})( side| end)?(?! of )",
+    "((the (corner|edge|point|spot) )?where )(the |{P} )({LON})( side| end)? (meets|joins|turns into) " + _LAT_SIDE,
+]
+OWN_SIDE_PHRASES = [
+    "((on|at|to|from) )?{P} {LAT}( hand)?( side)?( ,)?( (mind|i mean|that is|remember))?( ,)? " + _NOT_YOURS,
+    "(the |{P} )?{LAT}( hand)?( side)? (as|like) ({obj}|he|she)( (itself|himself|herself))?( (would|will|does))?"
+    " (see|sees|know|knows|feel|feels|have|has) it",
+    "(the |{P} )?{LAT}( hand)?( side)? of (whoever|whomever|anyone|anybody|someone|somebody|a person|the person|one)"
+    "( who)? (sits|sitting|sat|seated|lies|lying|stands|standing) (in|on|at) (it|{obj})",
+    "from (the|{P}) (end|side) (on|at|to) (the|{P}) {LAT}( hand)?( side)?( of {obj})?",
+]
 # Verbs of looking other than "look", for every height said with it ("peering up", "gazing
 # upward along the pole", "staring down at it"): the height phrases of "look" said with them.
 LOOK_VERBS = "(peering|peer|peers|gazing|gaze|gazes|staring|stare|stares|glancing|glance|glances|peeking|peeping)"
@@ -3625,6 +3700,14 @@ def _family_rows(tables: list[tuple[str, object, str, bool]]) -> list[tuple[str,
     rows.append(("view", "three-quarter", AT_AN_ANGLE, False))
     rows.append(("view", "back-three-quarter", ANY_CORNER.replace("{END}", "(rear|back)"), False))
     rows.append(("view", "three-quarter", ANY_CORNER.replace("{END}", "front"), False))
+    rows += [("view", lat, t.replace("{LAT}", lat), False) for lat in ("left", "right") for t in OWN_SIDE_PHRASES]
+    for lon in ("front", "back"):
+        ends = LON_WORDS[lon][:-1] + "|" + "|".join(sorted(FACING_PARTS[lon], key=len, reverse=True)) + ")"
+        rows += [
+            ("view", f"{lon}-{lat}", t.replace("{LAT}", lat).replace("{LON}", ends), False)
+            for lat in ("left", "right")
+            for t in TWO_SIDES_PHRASES
+        ]
     for sign, thing in ((1.0, CAMERA_THING), (-1.0, PICTURE_THING)):
         # The camera may go unsaid in a roll's noun ("a clockwise twist of 20 degrees"); the
         # picture, which turns the other way, must be said.
@@ -3713,11 +3796,13 @@ class RuleParser:
 
     def __init__(self):
         rows = _templates()
-        compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
+        compiled = [(field, value, _compile(t), weak, t) for field, value, t, weak in rows]
         self.rules = []
-        for field, value, pattern, weak in compiled:
+        for field, value, pattern, weak, template in compiled:
             tree = _pattern_tree(pattern.pattern)
-            self.rules.append(_Rule(field, value, pattern, weak, _required(tree), _required_any(tree)))
+            # A row said only where a word is said too (an hour said bare, where a clock is).
+            context = RULE_CONTEXTS.get(template, ())
+            self.rules.append(_Rule(field, value, pattern, weak, _required(tree) + context, _required_any(tree)))
         # Details are words too: never a misspelt name ("cables" is no "table").
         self.lexicon = _lexicon(rows) | DETAIL_PARTS
 
@@ -4596,7 +4681,7 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     elif rule.field == "view" and isinstance(rule.value, tuple):
         # ("azimuth", sign[, from, towards]): sign * (from + towards * degrees), from the front.
         _, sign, origin, toward = (*rule.value, 0.0, 1.0)[:4]
-        value = _nearest_side(sign * (origin + toward * float(groups["d"])))
+        value = _nearest_side(sign * (origin + toward * float(groups.get("d", 0.0))))
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)

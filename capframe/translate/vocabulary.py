@@ -537,6 +537,7 @@ def _numbers(tokens: list[str]) -> list[str]:
             i += 1
             continue
         out.append(str(value))
+    out = _hundreds(out)
     signed: list[str] = []
     for token in out:
         if signed and signed[-1] in SIGN_WORDS and NUMBER.fullmatch(token):
@@ -544,6 +545,27 @@ def _numbers(tokens: list[str]) -> list[str]:
         else:
             signed.append(token)
     return signed
+
+
+def _hundreds(tokens: list[str]) -> list[str]:
+    """Hundreds said in words, the rest already digits: "one hundred and 20" -> "120", "a hundred
+    10" -> "110", "2 hundred" -> "200"."""
+    out: list[str] = []
+    i = 0
+    while i < len(tokens):
+        if tokens[i] == "hundred" and out and (out[-1] in ("a", "one") or out[-1] in {str(v) for v in range(1, 10)}):
+            value = 100 * (1 if out[-1] in ("a", "one") else int(out[-1]))
+            step = 3 if tokens[i + 1 : i + 2] == ["and"] else 2
+            rest = (tokens[i + step - 1 : i + step] or [""])[0]
+            if rest.isdigit() and int(rest) < 100:
+                value, i = value + int(rest), i + step
+            else:
+                i += 1
+            out[-1] = str(value)
+            continue
+        out.append(tokens[i])
+        i += 1
+    return out
 
 
 IRREGULAR_PLURALS = {
@@ -922,6 +944,9 @@ FACING_PARTS = {
         "cushions",
         "slats",
         "seat slats",
+        # A bookcase's books show their spines at its front ("all the book spines facing out").
+        "book spines",
+        "books",
         "shelves",
         "shelf",
         "door",
