@@ -502,3 +502,31 @@ def test_the_checker_fails_a_subject_seen_through_its_support(table_grids):
     above = make_camera(eye=(1.5, 0.0, 1.8), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
     row = checker.check(above, Constraints([SubjectConstraint("cube")])).row("visibility")
     assert row.satisfied and row.details["seen_past_support"] is None
+
+
+def test_the_floor_plane_leaves_out_the_bases_of_what_stands_on_it():
+    """Nine boxes (side 2, open at the bottom, as a capture leaves them, and densely sampled)
+    stand on a floor (z = 0; its Gaussians' upper 1-sigma points at 0.12): their walls put three
+    times the floor's samples into its voxel layer, but in their own columns, so the plane stays
+    at the floor's samples (the walls lifted it to 0.26 before), and a camera a third of a voxel
+    over the plane between the boxes is free."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 16.0, 0.25)
+    boxes = []
+    for x in (-4.0, 0.0, 4.0):
+        for y in (-4.0, 0.0, 4.0):
+            boxes.append(plane((x, y, 2.0), (1, 0, 0), (0, 1, 0), 1.0, 0.02))
+            boxes += [plane((x + s, y, 1.0), (0, 1, 0), (0, 0, 1), 1.0, 0.02) for s in (-1.0, 1.0)]
+            boxes += [plane((x, y + s, 1.0), (1, 0, 0), (0, 0, 1), 1.0, 0.02) for s in (-1.0, 1.0)]
+    post = plane((12.0, 12.0, 3.0), (1, 0, 0), (0, 0, 1), 3.0, 0.1)  # taller than the boxes: no walls
+    means = torch.cat([floor, *boxes, post])
+    n = len(means)
+    scales = torch.cat([torch.full((len(floor), 3), 0.12), torch.full((n - len(floor), 3), 0.015)])
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), scales, torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    grid = build_occupancy(gaussians, np.array([0.0, 0.0, 1.0]), [camera_at((10.0, 0.0, 3.0))])
+    in_layers = means[:, 2] < grid.origin[2] + (grid.floor_top + 1) * grid.voxel
+    assert in_layers[len(floor) : n - len(post)].sum() > 3 * in_layers[: len(floor)].sum()
+    assert grid.floor_height == pytest.approx(0.12, abs=0.01)
+    between = torch.tensor([2.0, 2.0, 0.12 + grid.voxel / 3], dtype=torch.float64)
+    assert grid.clearance(between).item() == pytest.approx(grid.voxel / 3, abs=1e-6)
