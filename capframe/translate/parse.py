@@ -259,6 +259,8 @@ from .vocabulary import (
     SUBJECT_PARTS,
     SUPPORT_SURFACES,
     TAIL_ON_WORDS,
+    TURN_DIRECTION_LEADS,
+    TURN_DIRECTION_NOUNS,
     WANTING,
     Vocabulary,
     one_edit,
@@ -3087,10 +3089,9 @@ _MACROS = {
     "{negd}": NUMBER_HEDGE + r"(?P<d>-\d+(?:\.\d+)?)(?: degrees)?",
     # A bare number of at most two digits (no "degrees"), only where a height word leads it.
     "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
-    # A direction of turning, said plainly or round about ("in the clockwise sense", "the
-    # anticlockwise way", "to the clockwise side", ", going counter-clockwise"): parse18p6.
-    "{dir}": "(?:(?:, )?(?:going|turning|heading) |(?:in|to|towards|toward) (?:the |a )?|the )?"
-    "(?P<dir>clockwise|counterclockwise)(?: (?:way|sense|direction|side|fashion|manner))?",
+    # A direction of turning; said round about ("in the clockwise sense") it is read as itself by
+    # the word pipeline (vocabulary._turn_directions), not here in every roll template.
+    "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
@@ -3662,7 +3663,9 @@ def _lon_frame(template: str, lat: str, lon: str) -> str:
 def _lexicon(rows) -> frozenset[str]:
     """Every word the tables use: such a word before a name is not an attribute of the subject."""
     text = " ".join(t for _, _, t, _ in rows) + " " + " ".join(_MACROS.values())
-    return frozenset(re.findall(r"[a-z]+", re.sub(r"\{[^}]*\}|\(\?P<\w+>", " ", text))) | STOPWORDS
+    # The words a direction of turning is said with, which the word pipeline reads (TURN_DIRECTION_*).
+    said = {w for lead in TURN_DIRECTION_LEADS for w in lead if w.isalpha()} | TURN_DIRECTION_NOUNS
+    return frozenset(re.findall(r"[a-z]+", re.sub(r"\{[^}]*\}|\(\?P<\w+>", " ", text))) | STOPWORDS | said
 
 
 # --- parsing ------------------------------------------------------------------------------------
