@@ -200,9 +200,11 @@ import re
 from dataclasses import dataclass, replace
 
 try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
+    from re import _compiler as _re_compiler
     from re import _constants as _re_nodes
     from re import _parser as _re_parser
 except ImportError:
+    import sre_compile as _re_compiler
     import sre_constants as _re_nodes
     import sre_parse as _re_parser
 
@@ -3328,15 +3330,27 @@ def _required_any(tree) -> tuple[tuple[str, ...], ...]:
     return tuple(dict.fromkeys(g for g in minimal if len(g) > 1))
 
 
-def _compile(template: str) -> re.Pattern:
-    """A template as a regular expression matching whole words of normalised text."""
+def _expand(template: str) -> str:
+    """A template as the source of a regular expression matching whole words of normalised text."""
     t = re.sub(r"\((?!\?)", "(?:", template)
     for macro, regex in _MACROS.items():
         t = t.replace(macro, regex)
     # A macro may occur twice in a template: number its groups (read back by _groups).
     counter = itertools.count()
     t = re.sub(r"\(\?P<(\w+)>", lambda m: f"(?P<{m[1]}_{next(counter)}>", t)
-    return re.compile(f"(?<= )(?:{t})(?= )")
+    return f"(?<= )(?:{t})(?= )"
+
+
+def _compile(template: str) -> re.Pattern:
+    """A template as a regular expression matching whole words of normalised text."""
+    return re.compile(_expand(template))
+
+
+def _compiled(tree) -> re.Pattern:
+    """The regular expression of a parse tree (:func:`_pattern_tree`), which ``re`` compiles
+    without parsing the source again: parsing is most of a compile, and :func:`_required` needs the
+    tree anyway, so the build parses each template once (the pattern keeps no source text)."""
+    return _re_compiler.compile(tree)
 
 
 def _groups(m: re.Match) -> dict[str, str]:
@@ -3716,11 +3730,11 @@ class RuleParser:
 
     def __init__(self):
         rows = _templates()
-        compiled = [(field, value, _compile(t), weak) for field, value, t, weak in rows]
         self.rules = []
-        for field, value, pattern, weak in compiled:
-            tree = _pattern_tree(pattern.pattern)
-            self.rules.append(_Rule(field, value, pattern, weak, _required(tree), _required_any(tree)))
+        for field, value, template, weak in rows:
+            tree = _pattern_tree(_expand(template))
+            needs, needs_any = _required(tree), _required_any(tree)
+            self.rules.append(_Rule(field, value, _compiled(tree), weak, needs, needs_any))
         # Details are words too: never a misspelt name ("cables" is no "table").
         self.lexicon = _lexicon(rows) | DETAIL_PARTS
 
