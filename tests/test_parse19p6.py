@@ -1,5 +1,8 @@
 """parse19p6: the families of phrasing6's misreadings left by parse18p6, and the parser's build.
 
+Families: a corner said with up or high ("the mug up top left", "low and to the right, in the
+frame's corner", "in the corner up there on the left").
+
 Build: a roll's direction said round about ("in the clockwise sense", "the anticlockwise way", "to
 the counter-clockwise side", ", going clockwise") is read by the word pipeline as the direction
 alone, not in every roll template; each template is parsed by ``re`` once, its tree giving both
@@ -64,3 +67,44 @@ def test_a_pattern_compiled_from_its_tree_matches_as_its_source(template):
     text = " a 12 degrees clockwise roll from the left side of 7 degrees counterclockwise "
     assert [m.span() for m in ours.finditer(text)] == [m.span() for m in theirs.finditer(text)]
     assert ours.groupindex == theirs.groupindex
+
+
+CORNERS = [
+    # "Up top" before a side.
+    ("the mug up top left", "upper left"),
+    ("vase up top right, please", "upper right"),
+    ("put the bench down bottom left", "lower left"),
+    ("the cushion up at the top left", "upper left"),
+    ("the teddy bear up top, left side of the picture", "upper left"),
+    # Up and to a side, then the picture's corner.
+    ("the vase low and to the right, in the frame's corner", "lower right"),
+    ("put the mug high and to the right, in the corner of the picture", "upper right"),
+    ("the cushion up and to the left, in the image's corner up there", "upper left"),
+    # The height pointed at.
+    ("the mug in the corner up there on the left", "upper left"),
+    ("the ball in the corner down there to the right", "lower right"),
+]
+
+
+@pytest.mark.parametrize(("text", "region"), CORNERS)
+def test_a_corner_said_with_up_or_high(text, region):
+    p = parse(text)
+    assert p.subjects[0].region == region, p.not_understood()
+    assert p.elevation is None
+
+
+@pytest.mark.parametrize(
+    ("text", "elevation"),
+    [
+        # Keep-probes: "from up top" is the camera's height; high and to a side alone is no corner.
+        ("shoot the mug from up top", "high angle"),
+        ("the mug, shot from up top", "high angle"),
+        ("the teddy bear high and to the left", None),
+        ("the vase in the top left corner", None),
+    ],
+)
+def test_up_top_as_a_height_stays(text, elevation):
+    p = parse(text)
+    assert p.elevation == elevation
+    assert p.subjects[0].region in (None, "upper left")
+    assert ("top left" in text) == (p.subjects[0].region == "upper left")

@@ -918,6 +918,21 @@ for _lat in ("left", "right"):
             _height + f"(in|into|at|towards) the {_lat}( hand)? corner( (of|in) (the )?{{FRAME}})?"
         )
 
+# A corner said with up or high (parse19p6): "up top" before a side ("the mug up top left"; "from
+# up top" stays the camera's height); up and to a side, then the picture's corner ("high and to
+# the left, in the frame's corner", "low and to the right, in the corner of the picture"); the
+# height pointed at ("in the corner up there on the left", "the corner down there, right").
+for _vertical, _height, _end in (("upper", "(up|high|higher)", "(top|upper)"), ("lower", "(down|low|lower)", "(bottom|lower)")):
+    for _lat in ("left", "right"):
+        REGION_PHRASES[f"{_vertical} {_lat}"] += [
+            f"(?<!from ){_height} (at the |in the )?{_end}( ,)? {_lat}( hand)?( corner| side)?"
+            "( (of|in) (the )?{FRAME})?(?! of )",
+            f"{_height} (and|&) (to|towards) the {_lat}( hand)?( side)?( ,)? (in|into|at|towards)"
+            " (the {FRAME} 's corner|the corner (of|in) (the )?{FRAME})( (up|down) there)?",
+            f"(in|into|at|towards) the corner {_height} (there|here)( ,)?( (on|to|at|in|towards) the)? {_lat}( hand)?( side)?"
+            "( (of|in) (the )?{FRAME})?(?! of )",
+        ]
+
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # A view said as roughly that ("almost from behind", "mostly from the front"): the view's own
