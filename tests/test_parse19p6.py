@@ -1,7 +1,9 @@
 """parse19p6: the families of phrasing6's misreadings left by parse18p6, and the parser's build.
 
 Families: a corner said with up or high ("the mug up top left", "low and to the right, in the
-frame's corner", "in the corner up there on the left").
+frame's corner", "in the corner up there on the left"); parts of one end said together
+("grille and headlights filling the picture": the front) and the face as all that is wanted
+("just the face": the front).
 
 Build: a roll's direction said round about ("in the clockwise sense", "the anticlockwise way", "to
 the counter-clockwise side", ", going clockwise") is read by the word pipeline as the direction
@@ -108,3 +110,20 @@ def test_up_top_as_a_height_stays(text, elevation):
     assert p.elevation == elevation
     assert p.subjects[0].region in (None, "upper left")
     assert ("top left" in text) == (p.subjects[0].region == "upper left")
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        ("the toy car, grille and headlights filling the picture", "front"),
+        ("a macro of the toy car: the headlights, the grille and the windscreen", "front"),
+        ("toy car close-up; windscreen and front bumper fill everything", "front"),
+        ("a tight shot of the teddy bear, just the face", "front"),
+        ("the teddy bear in close-up, nothing but the face", "front"),
+        # Keep-probes: one part as before; a face of something else names no side.
+        ("the toy car, its headlights filling the frame", "front"),
+        ("the mug, only the face of the clock", None),
+    ],
+)
+def test_parts_of_one_end_said_together(text, view):
+    assert parse(text).subjects[0].view == view

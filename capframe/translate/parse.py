@@ -1297,6 +1297,16 @@ for _end, _parts in END_PARTS.items():
         + "|".join(_parts)
         + ")( of {obj})?",
     ]
+# Parts of one end said together (parse19p6: "headlights and grille fill the frame", "the screen
+# and the display", a clause opening on them) name that end as one part does; the face alone as
+# all that is wanted ("only the face", "just the face, close") is the front.
+for _end, _parts in END_PARTS.items():
+    _one = "(" + "|".join(sorted(_parts, key=len, reverse=True)) + ")"
+    VIEW_PHRASES[_end].append(
+        NOT_A_RELATION + "((the|{P}) |(?<=@\\d )|{CLAUSE})" + _one + "(( ,)? (and|&|,) (the |{P} )?" + _one + ")+"
+        "( of {obj})?" + NOT_TURNED_AWAY
+    )
+VIEW_PHRASES["front"].append("(only|just|simply|nothing but) (the|{P}) face( of {obj})?(?! (of|to|towards|at) )")
 # A part turned to the camera: the end it sits at is seen (vocabulary.FACING_PARTS and END_PARTS:
 # "its back bumper square to the lens", "backrest to us", "slats to camera dead straight", "the
 # seat facing me straight on"); squared to it, or "dead on" after it, that end exactly. The camera
