@@ -200,9 +200,11 @@ import re
 from dataclasses import dataclass, replace
 
 try:  # the regex parser's node tree, read by _required (its modules were renamed in Python 3.11)
+    from re import _compiler as _re_compiler
     from re import _constants as _re_nodes
     from re import _parser as _re_parser
 except ImportError:
+    import sre_compile as _re_compiler
     import sre_constants as _re_nodes
     import sre_parse as _re_parser
 
@@ -259,6 +261,8 @@ from .vocabulary import (
     SUBJECT_PARTS,
     SUPPORT_SURFACES,
     TAIL_ON_WORDS,
+    TURN_DIRECTION_LEADS,
+    TURN_DIRECTION_NOUNS,
     WANTING,
     Vocabulary,
     one_edit,
@@ -914,6 +918,21 @@ for _lat in ("left", "right"):
             _height + f"(in|into|at|towards) the {_lat}( hand)? corner( (of|in) (the )?{{FRAME}})?"
         )
 
+# A corner said with up or high (parse19p6): "up top" before a side ("the mug up top left"; "from
+# up top" stays the camera's height); up and to a side, then the picture's corner ("high and to
+# the left, in the frame's corner", "low and to the right, in the corner of the picture"); the
+# height pointed at ("in the corner up there on the left", "the corner down there, right").
+for _vertical, _height, _end in (("upper", "(up|high|higher)", "(top|upper)"), ("lower", "(down|low|lower)", "(bottom|lower)")):
+    for _lat in ("left", "right"):
+        REGION_PHRASES[f"{_vertical} {_lat}"] += [
+            f"(?<!from ){_height} (at the |in the )?{_end}( ,)? {_lat}( hand)?( corner| side)?"
+            "( (of|in) (the )?{FRAME})?(?! of )",
+            f"{_height} (and|&) (to|towards) the {_lat}( hand)?( side)?( ,)? (in|into|at|towards)"
+            " (the {FRAME} 's corner|the corner (of|in) (the )?{FRAME})( (up|down) there)?",
+            f"(in|into|at|towards) the corner {_height} (there|here)( ,)?( (on|to|at|in|towards) the)? {_lat}( hand)?( side)?"
+            "( (of|in) (the )?{FRAME})?(?! of )",
+        ]
+
 # View sides (the subject's own sides): side words, the frames they go into, and whole phrases.
 SEEN = "((seen|viewed|shot|photographed|captured|taken|filmed|angled) )?"
 # A view said as roughly that ("almost from behind", "mostly from the front"): the view's own
@@ -1284,6 +1303,16 @@ for _end, _parts in END_PARTS.items():
         + "|".join(_parts)
         + ")( of {obj})?",
     ]
+# Parts of one end said together (parse19p6: "headlights and grille fill the frame", "the screen
+# and the display", a clause opening on them) name that end as one part does; the face alone as
+# all that is wanted ("only the face", "just the face, close") is the front.
+for _end, _parts in END_PARTS.items():
+    _one = "(" + "|".join(sorted(_parts, key=len, reverse=True)) + ")"
+    VIEW_PHRASES[_end].append(
+        NOT_A_RELATION + "((the|{P}) |(?<=@\\d )|{CLAUSE})" + _one + "(( ,)? (and|&|,) (the |{P} )?" + _one + ")+"
+        "( of {obj})?" + NOT_TURNED_AWAY
+    )
+VIEW_PHRASES["front"].append("(only|just|simply|nothing but) (the|{P}) face( of {obj})?(?! (of|to|towards|at) )")
 # A part turned to the camera: the end it sits at is seen (vocabulary.FACING_PARTS and END_PARTS:
 # "its back bumper square to the lens", "backrest to us", "slats to camera dead straight", "the
 # seat facing me straight on"); squared to it, or "dead on" after it, that end exactly. The camera
@@ -3136,10 +3165,9 @@ _MACROS = {
     "{negd}": NUMBER_HEDGE + r"(?P<d>-\d+(?:\.\d+)?)(?: degrees)?",
     # A bare number of at most two digits (no "degrees"), only where a height word leads it.
     "{n}": r"(?P<d>\d{1,2}(?:\.\d+)?)",
-    # A direction of turning, said plainly or round about ("in the clockwise sense", "the
-    # anticlockwise way", "to the clockwise side", ", going counter-clockwise"): parse18p6.
-    "{dir}": "(?:(?:, )?(?:going|turning|heading) |(?:in|to|towards|toward) (?:the |a )?|the )?"
-    "(?P<dir>clockwise|counterclockwise)(?: (?:way|sense|direction|side|fashion|manner))?",
+    # A direction of turning; said round about ("in the clockwise sense") it is read as itself by
+    # the word pipeline (vocabulary._turn_directions), not here in every roll template.
+    "{dir}": "(?P<dir>clockwise|counterclockwise)",
     "{side}": "(?P<side>left|right)",
     "{WEAK}": _alternatives(DEGREE_SCALE["slight"], "(?:"),
     "{STRONG}": _alternatives((*DEGREE_SCALE["exact"], "strongly"), "(?:"),
@@ -3376,15 +3404,22 @@ def _required_any(tree) -> tuple[tuple[str, ...], ...]:
     return tuple(dict.fromkeys(g for g in minimal if len(g) > 1))
 
 
-def _compile(template: str) -> re.Pattern:
-    """A template as a regular expression matching whole words of normalised text."""
+def _expand(template: str) -> str:
+    """A template as the source of a regular expression matching whole words of normalised text."""
     t = re.sub(r"\((?!\?)", "(?:", template)
     for macro, regex in _MACROS.items():
         t = t.replace(macro, regex)
     # A macro may occur twice in a template: number its groups (read back by _groups).
     counter = itertools.count()
     t = re.sub(r"\(\?P<(\w+)>", lambda m: f"(?P<{m[1]}_{next(counter)}>", t)
-    return re.compile(f"(?<= )(?:{t})(?= )")
+    return f"(?<= )(?:{t})(?= )"
+
+
+def _compiled(tree) -> re.Pattern:
+    """The regular expression of a parse tree (:func:`_pattern_tree`), which ``re`` compiles
+    without parsing the source again: parsing is most of a compile, and :func:`_required` needs the
+    tree anyway, so the build parses each template once (the pattern keeps no source text)."""
+    return _re_compiler.compile(tree)
 
 
 def _groups(m: re.Match) -> dict[str, str]:
@@ -3745,7 +3780,9 @@ def _lon_frame(template: str, lat: str, lon: str) -> str:
 def _lexicon(rows) -> frozenset[str]:
     """Every word the tables use: such a word before a name is not an attribute of the subject."""
     text = " ".join(t for _, _, t, _ in rows) + " " + " ".join(_MACROS.values())
-    return frozenset(re.findall(r"[a-z]+", re.sub(r"\{[^}]*\}|\(\?P<\w+>", " ", text))) | STOPWORDS
+    # The words a direction of turning is said with, which the word pipeline reads (TURN_DIRECTION_*).
+    said = {w for lead in TURN_DIRECTION_LEADS for w in lead if w.isalpha()} | TURN_DIRECTION_NOUNS
+    return frozenset(re.findall(r"[a-z]+", re.sub(r"\{[^}]*\}|\(\?P<\w+>", " ", text))) | STOPWORDS | said
 
 
 # --- parsing ------------------------------------------------------------------------------------
@@ -3796,13 +3833,12 @@ class RuleParser:
 
     def __init__(self):
         rows = _templates()
-        compiled = [(field, value, _compile(t), weak, t) for field, value, t, weak in rows]
         self.rules = []
-        for field, value, pattern, weak, template in compiled:
-            tree = _pattern_tree(pattern.pattern)
+        for field, value, template, weak in rows:
+            tree = _pattern_tree(_expand(template))
             # A row said only where a word is said too (an hour said bare, where a clock is).
-            context = RULE_CONTEXTS.get(template, ())
-            self.rules.append(_Rule(field, value, pattern, weak, _required(tree) + context, _required_any(tree)))
+            needs = _required(tree) + RULE_CONTEXTS.get(template, ())
+            self.rules.append(_Rule(field, value, _compiled(tree), weak, needs, _required_any(tree)))
         # Details are words too: never a misspelt name ("cables" is no "table").
         self.lexicon = _lexicon(rows) | DETAIL_PARTS
 

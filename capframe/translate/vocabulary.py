@@ -259,7 +259,9 @@ def words(text: str) -> list[str]:
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
     return _number_hedges(
-        _numbers(_turns(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
+        _numbers(
+            _turns(_turn_directions(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
+        )
     )
 
 
@@ -390,6 +392,45 @@ def _just(tokens: list[str]) -> list[str]:
             if not any(p in _SLIGHT for p in listed) and any(p in _SLIGHT for p in hedged):
                 continue
         out.append(token)
+    return out
+
+
+# A direction of turning said round about ("in the clockwise sense", "the anticlockwise way", "to
+# the counter-clockwise side", ", going clockwise"): read as the direction alone, here once rather
+# than in every roll template (parse18p6 had it in the {dir} macro, which every roll row carried).
+# Words said before the direction (longest first; a comma only before a verb) and a noun after it.
+TURN_DIRECTIONS = frozenset({"clockwise", "counterclockwise"})
+TURN_DIRECTION_LEADS = (
+    *((",", verb) for verb in ("going", "turning", "heading")),
+    *((prep, article) for prep in ("in", "to", "towards", "toward") for article in ("the", "a")),
+    ("going",),
+    ("turning",),
+    ("heading",),
+    ("in",),
+    ("to",),
+    ("towards",),
+    ("toward",),
+    ("the",),
+)
+TURN_DIRECTION_NOUNS = frozenset({"way", "sense", "direction", "side", "fashion", "manner"})
+
+
+def _turn_directions(tokens: list[str]) -> list[str]:
+    """A direction of turning with the words of :data:`TURN_DIRECTION_LEADS` before it and a noun
+    of :data:`TURN_DIRECTION_NOUNS` after it ("in the clockwise sense", "the anticlockwise way")
+    as the direction alone."""
+    out: list[str] = []
+    k = 0
+    while k < len(tokens):
+        token = tokens[k]
+        if token in TURN_DIRECTIONS:
+            lead = next((w for w in TURN_DIRECTION_LEADS if len(out) >= len(w) and tuple(out[-len(w) :]) == w), ())
+            del out[len(out) - len(lead) :]
+            out.append(token)
+            k += 2 if tokens[k + 1 : k + 2] and tokens[k + 1] in TURN_DIRECTION_NOUNS else 1
+            continue
+        out.append(token)
+        k += 1
     return out
 
 
