@@ -530,3 +530,28 @@ def test_the_floor_plane_leaves_out_the_bases_of_what_stands_on_it():
     assert grid.floor_height == pytest.approx(0.12, abs=0.01)
     between = torch.tensor([2.0, 2.0, 0.12 + grid.voxel / 3], dtype=torch.float64)
     assert grid.clearance(between).item() == pytest.approx(grid.voxel / 3, abs=1e-6)
+
+
+def test_a_camera_over_the_support_looks_past_it_at_a_raised_base():
+    """A tall box (a bookcase on a plinth) whose walls end 0.03 over the floor (its base, the
+    2% quantile of its heights, at 0.08): the floor lies within its reach below the base, so it
+    stands on a support, but a camera crouching 0.04 over the floor (lower than the base, higher
+    than the support's top) looks past nothing; the renders keep the verdict."""
+    floor = plane((0, 0, 0), (1, 0, 0), (0, 1, 0), 8.0, 0.1)
+    levels = (0.53, 1.53, 2.53, 3.53)  # four squares of side 1 stacked: walls from 0.03 to 4.03
+    box = [plane((3.0 + s, 3.0, z), (0, 1, 0), (0, 0, 1), 0.5, 0.05) for s in (-0.5, 0.5) for z in levels]
+    box += [plane((3.0, 3.0 + s, z), (1, 0, 0), (0, 0, 1), 0.5, 0.05) for s in (-0.5, 0.5) for z in levels]
+    box = torch.cat([*box, plane((3.0, 3.0, 4.03), (1, 0, 0), (0, 1, 0), 0.5, 0.05)])
+    means = torch.cat([floor, box])
+    n = len(means)
+    scales = torch.cat([torch.tensor([[0.05, 0.05, 0.005]]).expand(len(floor), 3), torch.full((len(box), 3), 0.02)])
+    gaussians = GaussianScene.from_activated(
+        means.float(), IDENTITY.expand(n, 4).clone(), scales, torch.full((n,), 0.9), torch.rand(n, 3)
+    )
+    grid = build_occupancy(gaussians, np.array([0.0, 0.0, 1.0]), [camera_at((-6.0, 0.0, 3.0))])
+    subject = box.numpy()
+    base = np.quantile(subject[:, 2], 0.02)
+    reach = min(0.05 * (subject[:, 2].max() - base), 0.5 * grid.voxel)
+    assert base - reach < grid.floor_height < 0.04 < base  # the floor is in reach of the base
+    assert np.isfinite(grid.support_depth(np.array([[3.0, 4.0, base]]), reach)).all()
+    assert grid.seen_past_support(subject, np.array([6.0, 3.0, 0.04])) is None

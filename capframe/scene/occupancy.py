@@ -295,13 +295,15 @@ class Occupancy:
             hit &= ~((self.surface_layer[i, j] == k) & (heights > self.surface_height[i, j]))
         return float(hit.sum()) / samples
 
-    def supports(self, points: np.ndarray, reach: float) -> np.ndarray:
-        """(P,) bool: whether solid geometry lies right under each of the (P, 3) world points, at
-        one of :data:`SUPPORT_DEPTHS` shares of ``reach`` (world units) below it: probed, not read
-        from the voxels, so a table top a few hundredths thick in a coarse grid counts."""
+    def support_depth(self, points: np.ndarray, reach: float) -> np.ndarray:
+        """(P,) the depth (world units) of the solid geometry right under each of the (P, 3) world
+        points: the first of :data:`SUPPORT_DEPTHS` shares of ``reach`` below it where the
+        clearance is negative, +inf where there is none. Probed, not read from the voxels, so a
+        table top a few hundredths thick in a coarse grid counts."""
         depths = np.asarray(SUPPORT_DEPTHS) * reach
         probes = points[:, None, :] - depths[None, :, None] * self.rotation[2]
-        return (self.clearance(torch.as_tensor(probes, dtype=torch.float64)) < 0).any(-1).numpy()
+        solid = (self.clearance(torch.as_tensor(probes, dtype=torch.float64)) < 0).numpy()
+        return np.where(solid.any(1), depths[solid.argmax(1)], np.inf)
 
     def seen_past_support(self, points: np.ndarray, centre: np.ndarray) -> float | None:
         """Share of a subject's (P, 3) points that a camera at ``centre``, lower than the subject's
@@ -313,11 +315,13 @@ class Occupancy:
         the depth order, and about half the base's alpha survives the composite. So the sight is
         settled geometrically: each point's line of sight crosses the plane of the base (its
         lowest :data:`BASE_QUANTILE` of heights) once, and the point is hidden where that crossing
-        lies over the support (:meth:`supports`) or inside the base's own footprint, which the
+        lies over the support (:meth:`support_depth`) or inside the base's own footprint, which the
         support carries. The subject stands on a support when the ring of :data:`SUPPORT_RING`
         points :data:`SUPPORT_RING_VOXELS` voxels outside its footprint mostly has one under it;
         the ring keeps clear of the subject's own voxels, so a subject hanging free keeps its
-        renders' verdict."""
+        renders' verdict. Only a camera lower than the support's top (the ring's median depth)
+        looks through it: one crouching between the floor and a bookcase's raised base sees the
+        bookcase over the floor."""
         if len(points) == 0:
             return None
         up = self.rotation[2]
@@ -336,13 +340,15 @@ class Occupancy:
             np.cos(angles)[:, None] * self.rotation[0] + np.sin(angles)[:, None] * self.rotation[1]
         )
         reach = min(SUPPORT_REACH * float(heights.max() - base), SUPPORT_REACH_VOXELS * self.voxel)
-        if self.supports(ring, reach).mean() < 0.5:
+        ring_depths = self.support_depth(ring, reach)
+        supported = np.isfinite(ring_depths)
+        if supported.mean() < 0.5 or height >= base - float(np.median(ring_depths[supported])):
             return None
         share = np.minimum((base - height) / np.maximum(heights - height, 1e-12), 1.0)
         crossings = centre + share[:, None] * (points - centre)
         offset = crossings - middle
         inside = np.linalg.norm(offset - (offset @ up)[:, None] * up, axis=1) <= radius
-        return float(1.0 - (inside | self.supports(crossings, reach)).mean())
+        return float(1.0 - (inside | np.isfinite(self.support_depth(crossings, reach))).mean())
 
     def voxelize(self, gaussians: GaussianScene) -> np.ndarray:
         """(X, Y, Z) bool: the voxels the solid Gaussians of ``gaussians`` occupy (e.g. one subject's)."""
