@@ -129,3 +129,23 @@ def test_spelt_by_ear_keep_probes(names, text, subject):
 def test_a_word_spelt_by_ear_like_no_name_is_refused():
     with pytest.raises(InputError):
         parser_of(scene_of(["mug", "vase"]))("the jug, close")
+
+
+@pytest.mark.parametrize(
+    ("names", "text", "subject"),
+    [
+        # Slang, and a make become the kind's name: the lexicon of NAME_VARIANTS.
+        (["sofa", "mug", "television"], "the idiot box, from its right", "television"),
+        (["sofa", "television"], "gogglebox, dead centre", "television"),
+        (["toy car", "sofa"], "my diecast from behind", "toy car"),
+        (["toy car", "vase"], "a diecast model, close", "toy car"),
+        (["armchair", "sofa"], "the La-Z-Boy, front three-quarter left", "armchair"),
+    ],
+)
+def test_slang_and_makes_named_for_the_kind(names, text, subject):
+    assert [s.name for s in parser_of(scene_of(names))(text).subjects] == [subject]
+
+
+def test_slang_the_scene_lacks_is_refused():
+    with pytest.raises(InputError):
+        parser_of(scene_of(["sofa", "mug"]))("the goggle box by the mug")

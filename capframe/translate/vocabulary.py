@@ -1537,7 +1537,22 @@ NAME_SYNONYMS = (
 # of another colour). A name written as one word ("teddybear", "sofabed") is read by
 # Vocabulary.expansion, which reports it.
 NAME_VARIANTS = (
-    ("television", "smart tv", "led tv", "lcd tv", "plasma tv", "flat screen tv", "widescreen tv", "television screen", "teevee"),
+    (
+        "television",
+        "smart tv",
+        "led tv",
+        "lcd tv",
+        "plasma tv",
+        "flat screen tv",
+        "widescreen tv",
+        "television screen",
+        "teevee",
+        # Slang for it (parse19p7).
+        "goggle box",
+        "gogglebox",
+        "idiot box",
+        "boob tube",
+    ),
     ("sofa", "sofa bed", "daybed", "chaise longue", "2 seater", "3 seater", "2 seater sofa", "3 seater sofa"),
     ("refrigerator", "ice box", "american fridge", "refrigerator unit"),
     (
@@ -1563,9 +1578,13 @@ NAME_VARIANTS = (
         "model vehicle",
         "toy racer",
         "die cast car",
+        # What collectors call it (parse19p7).
+        "die cast model",
+        "diecast model",
+        "diecast",
     ),
     ("traffic cone", "witches hat", "hazard cone", "warning cone", "street cone", "highway cone", "safety pylon"),
-    ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil"),
+    ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil", "la z boy"),
     ("bookshelf", "book stand", "book rack", "book cabinet", "bookshelf unit", "storage shelf", "etagere"),
     (
         "cushion",
