@@ -265,6 +265,7 @@ from .vocabulary import (
     TURN_DIRECTION_NOUNS,
     WANTING,
     Vocabulary,
+    key,
     one_edit,
     singular,
     slip_of,
@@ -3933,7 +3934,8 @@ class RuleParser:
                 mentions.append(_Mention(run.at, thing, vocabulary.match(thing)))
         if not mentions:  # the sentence names its subject somewhere: try what was not understood
             for run in unparsed:
-                if not _never_a_name(run.text) and vocabulary.candidates(run.text):
+                # A description is read too ("the thing with the books on it": parse19p7).
+                if (not _never_a_name(run.text) or vocabulary.described(key(run.text))) and vocabulary.candidates(run.text):
                     mentions.append(_Mention(run.at, run.text, vocabulary.match(run.text)))
             unparsed = [run for run in unparsed if run.at not in {m.at for m in mentions}]
         unparsed_text = [run.text for run in unparsed] + [c.text for c in cues if c.field == "light"]

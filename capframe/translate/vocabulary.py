@@ -1578,7 +1578,22 @@ NAME_SYNONYMS = (
 # of another colour). A name written as one word ("teddybear", "sofabed") is read by
 # Vocabulary.expansion, which reports it.
 NAME_VARIANTS = (
-    ("television", "smart tv", "led tv", "lcd tv", "plasma tv", "flat screen tv", "widescreen tv", "television screen", "teevee"),
+    (
+        "television",
+        "smart tv",
+        "led tv",
+        "lcd tv",
+        "plasma tv",
+        "flat screen tv",
+        "widescreen tv",
+        "television screen",
+        "teevee",
+        # Slang for it (parse19p7).
+        "goggle box",
+        "gogglebox",
+        "idiot box",
+        "boob tube",
+    ),
     ("sofa", "sofa bed", "daybed", "chaise longue", "2 seater", "3 seater", "2 seater sofa", "3 seater sofa"),
     ("refrigerator", "ice box", "american fridge", "refrigerator unit"),
     (
@@ -1592,7 +1607,7 @@ NAME_VARIANTS = (
         "stuffie",
         "teddy toy",
     ),
-    ("potted plant", "flower pot", "leafy plant", "plant in a pot", "container plant"),
+    ("potted plant", "flower pot", "leafy plant", "plant in a pot", "container plant", "potted tree", "tree in a pot"),
     ("floor lamp", "standing light", "tall lamp", "floor standing lamp", "pole lamp", "arc lamp", "torchere"),
     (
         "toy car",
@@ -1604,9 +1619,13 @@ NAME_VARIANTS = (
         "model vehicle",
         "toy racer",
         "die cast car",
+        # What collectors call it (parse19p7).
+        "die cast model",
+        "diecast model",
+        "diecast",
     ),
     ("traffic cone", "witches hat", "hazard cone", "warning cone", "street cone", "highway cone", "safety pylon"),
-    ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil"),
+    ("armchair", "reading chair", "comfy chair", "upholstered chair", "sitting chair", "1 seater", "fauteuil", "la z boy"),
     ("bookshelf", "book stand", "book rack", "book cabinet", "bookshelf unit", "storage shelf", "etagere"),
     (
         "cushion",
@@ -1652,6 +1671,83 @@ NAME_KINDS = (
     ("tree", "oak tree", "pine tree", "birch tree", "maple tree", "fir tree", "apple tree", "cherry tree", "sapling"),
     ("ball", "sphere"),
     ("television", "monitor"),
+)
+
+
+# What a thing is told by when it is not named (parse19p7): a word for the class of objects it
+# belongs to ("the vehicle", "that wooden seat", "the appliance", "greenery only") or a use or
+# property only some kinds have ("the thing you'd put flowers in", "the round one you kick", "the
+# little four-wheeled thing", "the bit of furniture with arms"). Each word names the kinds (first
+# words of :data:`NAME_SYNONYMS`) it fits; a mention headed by a class word or by a word naming
+# nothing in particular (:data:`DESCRIPTION_HEADS`) is the one scene object of a kind every such
+# word in it fits (:meth:`Vocabulary.described`), never one of two. Colours are not here (a
+# scene's green bench is as green as its plant), nor words that fit most things ("round", "big").
+SEATS = ("armchair", "sofa", "bench")
+PLANTS = ("potted plant", "tree")
+DESCRIPTION_WORDS = {
+    # Classes (hypernyms) of the catalog's kinds.
+    "vehicle": ("toy car",),
+    "drinkware": ("mug",),
+    "appliance": ("refrigerator", "television"),
+    "seat": SEATS,
+    "seating": SEATS,
+    "furniture": (*SEATS, "bookshelf", "coffee table"),
+    "furnishing": (*SEATS, "bookshelf", "coffee table", "cushion"),
+    "plaything": ("teddy bear", "toy car", "ball"),
+    "greenery": PLANTS,
+    "foliage": PLANTS,
+    "vegetation": PLANTS,
+    # Uses and properties.
+    "flower": ("vase",),
+    "wheel": ("toy car",),
+    "wheeled": ("toy car",),
+    "leafy": PLANTS,
+    "leaf": PLANTS,
+    "leave": PLANTS,
+    "pot": ("potted plant",),
+    "potted": ("potted plant",),
+    "kick": ("ball",),
+    "kicked": ("ball",),
+    "inflatable": ("ball",),
+    "bouncy": ("ball",),
+    "sit": SEATS,
+    "sat": SEATS,
+    "book": ("bookshelf",),
+    "arm": ("armchair", "sofa"),
+    "squishy": ("cushion", "teddy bear"),
+    "squashy": ("cushion", "teddy bear"),
+    "soft": ("cushion", "teddy bear", "sofa", "armchair"),
+    "lean": ("cushion", "sofa", "armchair"),
+    "cuddly": ("teddy bear",),
+    "drink": ("mug",),
+    "screen": ("television",),
+    "pointy": ("traffic cone",),
+}
+# Heads of a description that name nothing in particular ("the thing", "the one", "whatever",
+# "the bit of furniture"): the description's words tell which object.
+DESCRIPTION_HEADS = frozenset({"thing", "one", "whatever", "object", "item", "bit", "piece", "something"})
+# What may follow a description's head ("the thing | you'd put flowers in", "the seat | out there",
+# "the one | rooted in the ground"); any other word makes the head a modifier of a noun the scene
+# may lack ("the seat belt", "a furniture catalogue").
+DESCRIPTION_FOLLOWERS = frozenset(
+    {"you", "i", "we", "they", "people", "kid", "that", "which", "with", "without", "for", "of", "in", "on", "at"}
+    | {"by", "near", "out", "only", "there", "here", "to", "the", "a", "is", "has", "can", "would", "will", "d"}
+)
+
+
+def _description_head(tokens: tuple[str, ...], k: int) -> bool:
+    """Whether ``tokens[k]`` heads a description: a class word or a word naming nothing in
+    particular, last or followed by a function word, a participle or a description word."""
+    if tokens[k] not in DESCRIPTION_HEADS and tokens[k] not in DESCRIPTION_CLASSES:
+        return False
+    after = tokens[k + 1] if k + 1 < len(tokens) else None
+    return after is None or after in DESCRIPTION_FOLLOWERS or after in DESCRIPTION_WORDS or after.endswith(("ed", "ing"))
+
+
+# The class words of the table, which head a description themselves ("the vehicle", "the only seat").
+DESCRIPTION_CLASSES = frozenset(
+    {"vehicle", "drinkware", "appliance", "seat", "seating", "furniture", "furnishing", "plaything"}
+    | {"greenery", "foliage", "vegetation"}
 )
 
 
@@ -2095,7 +2191,21 @@ class Vocabulary:
         tokens = key(mention)
         if not tokens:
             return []
-        return sorted(self._by_forms(tokens) or self._by_parts(tokens) or self._by_clipping(tokens))
+        found = self._by_forms(tokens) or self._by_parts(tokens) or self._by_clipping(tokens)
+        return sorted(found or ([d] if (d := self.described(tokens)) else []))
+
+    def described(self, tokens: tuple[str, ...]) -> str | None:
+        """The one object a description tells (:data:`DESCRIPTION_WORDS`): ``tokens`` (normalised,
+        singular) headed by a class word or a word naming nothing in particular, every
+        description word in them fitting its kind ("the thing you'd put flowers in", "the
+        only seat", "bit of furniture with arms"); None when no such word is said, or none or
+        several of the scene's objects fit."""
+        told = [DESCRIPTION_WORDS[t] for t in tokens if t in DESCRIPTION_WORDS]
+        if not told or not any(_description_head(tokens, k) for k in range(len(tokens))):
+            return None
+        kinds = set.intersection(*map(set, told))
+        fit = [e.name for e in self.entries if any(key(k) in e.forms for k in kinds)]
+        return fit[0] if len(fit) == 1 else None
 
     def closest(self, mention: str, n: int = 3) -> list[str]:
         """Up to ``n`` object names whose names or aliases look most like ``mention`` (and
@@ -2236,7 +2346,7 @@ def _near(said: str, name: str) -> bool:
     letters = len(name.replace(" ", ""))
     if letters >= MIN_TRANSPOSED_LETTERS and (diminutive(said, name) or diminutive(name, said) or sounds_alike(said, name)):
         return True
-    if doubled(said, name) and letters >= MIN_DOUBLED_LETTERS:
+    if letters >= MIN_DOUBLED_LETTERS and (doubled(said, name) or (" " not in name and sounds_alike(said, name))):
         return True
     if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(name, said)):
         return True
@@ -2248,6 +2358,11 @@ def _near(said: str, name: str) -> bool:
 # Spellings of one sound, written one for the other by people spelling by ear ("vaze", "sopha",
 # "kushion"): each is replaced by the first before two spellings are compared.
 SOUND_SPELLINGS = (("ph", "f"), ("ck", "c"), ("k", "c"), ("z", "s"))
+# More of them (parse19p7): a soft "c" ("vace"), "ou" said "u" ("moug", "coushion"), "aw"/"au"
+# before "l" said "al" ("bawl", "baul"), the unstressed ending after "sh" ("kushin", "cushun"),
+# and a final "e" left silent ("vaz"); applied after those above.
+SOUND_ENDINGS = ((re.compile(r"sh[aeiou]+n$"), "shn"), (re.compile(r"(?<=[^aeiou])e$"), ""))
+SOUND_VOWELS = (("ce", "se"), ("ci", "si"), ("cy", "sy"), ("ou", "u"), ("awl", "all"), ("aul", "all"))
 
 
 def sounds_alike(a: str, b: str) -> bool:
@@ -2255,8 +2370,10 @@ def sounds_alike(a: str, b: str) -> bool:
     written one way (:data:`SOUND_SPELLINGS`)."""
 
     def plain(word: str) -> str:
-        for spelt, sound in SOUND_SPELLINGS:
+        for spelt, sound in (*SOUND_SPELLINGS, *SOUND_VOWELS):
             word = word.replace(spelt, sound)
+        for ending, sound in SOUND_ENDINGS:
+            word = ending.sub(sound, word)
         return word
 
     return a != b and plain(a) == plain(b)
