@@ -145,3 +145,35 @@ def test_writing_is_no_side():
     p = parse("write the mug's name on its label, from the front")
     assert p.subjects[0].view == "front"
     assert p.elevation is None
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        # A view refused ("anything but", "don't show", "no shots of", "avoid"): no view is asked,
+        # its words are reported (an arc "all but the front" is no view side the checker holds).
+        "the sofa, anything but its back, wide",
+        "anything but the front of the toy car, small",
+        "Don't show me the bench's back; high angle",
+        "the teddy bear, don't show his front",
+        "the armchair, no shots of its back, from up high",
+        "avoid the front of the television, close-up",
+    ],
+)
+def test_a_view_refused_asks_no_view(text):
+    p = parse(text)
+    assert p.subjects[0].view is None
+    assert p.not_understood()
+
+
+@pytest.mark.parametrize(
+    ("text", "view"),
+    [
+        # Keep-probes: what is refused is only what follows; another subject refused is no view.
+        ("the mug from the front, no shots of the vase", "front"),
+        ("the sofa from behind, anything but wide", "back"),
+        ("the bench, from its back, don't show the sofa", "back"),
+    ],
+)
+def test_refusals_keep_probes(text, view):
+    assert parse(text).subjects[0].view == view

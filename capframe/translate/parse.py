@@ -4972,6 +4972,10 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
 NEGATIONS = tuple(
     w.split()
     for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not", "don t", "dont", "do not")
+    # Everything but a view, or showing one refused ("anything but the front of the car", "don't
+    # show me its back", "no shots of its back", "avoid the front"): no view is asked.
+    + ("anything but", "anywhere but", "any side but", "don t show me", "don t show", "do not show", "no shots of")
+    + ("no shot of", "avoid", "avoiding")
 )
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
