@@ -223,6 +223,7 @@ from .instruction import ParsedInstruction, ParsedSubject
 from .vocabulary import (
     ATTRIBUTES,
     CLASS_NOUNS,
+    CORRECTION_MARKERS,
     COURTESIES,
     DEGREE_SCALE,
     DETERMINERS,
@@ -248,6 +249,7 @@ from .vocabulary import (
     PUNCTUATION,
     PURPOSES,
     REQUESTERS,
+    RESTATING_AFTER,
     ROLL_ADJECTIVES,
     ROLL_VERBS,
     SCENE_HEADINGS,
@@ -809,6 +811,9 @@ for _vertical, _height in (("upper", "(top|upper)"), ("lower", "(bottom|lower)")
             f"corner{CORNER_GLUE}{_side}( side)?( ,)?( (on|to|at|in|towards) the)? {_height}",
             f"corner( ,)? {_height} {_side}",
             f"corner( ,)? {_side} {_height}",
+            # The side said first with no corner noun ("bench in right bottom", "the left top of the
+            # picture"), not before a half or a third ("the left top half" is no corner).
+            f"{_side} {_height}(?! (half|third|part|edge|side|hand|corner|quadrant|quarter) )",
         ]
 # A half said as any part of the frame ("the upper area", "the lower portion", "the left section").
 for _region, _words in (
@@ -2064,19 +2069,19 @@ ELEVATION_HINTS = {
         "((shot|seen|shooting|taken|viewed|photographed) )?from (up )?(above|high)",
         # From over or from up, as other languages say "from above" ("von oben", "d'en haut"), the
         # clause ending there.
-        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(up|over|above)(?= ([,.;:!?]|$|and |with |but ))",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(up|over|above|high)(?= ([,.;:!?]|$|and |with |but ))",
         # "From upper", a non-native "from above" ("von oben", "d'en haut"), the camera looking so too.
         "((shot|seen|shooting|taken|viewed|photographed|look|looks|looking) )?from (the )?(upper|more upper)( side)?"
         "(?= ([,.;:!?]|$|and |with |but |to |at |on |onto ))",
         "((shot|seen|shooting|taken|viewed|photographed) )?from high up",
         # "From the upside", a non-native "from above" (German "von oben", Dutch "van bovenaf").
         "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(upside|up side|topside)",
-        "(from |at )?(a )?higher (angle|position|viewpoint|vantage point|vantage)",
+        "(from |at )?(a |an |the )?(higher|upper) (angle|position|viewpoint|vantage point|vantage)",
         # Said of a place up somewhere ("from higher up", "from on high", "from a height").
         "(from )?(higher up|on high|a height|up above)(?! (in|on|at|of) )",
         "{AIM}( the camera| the lens| it)? down( (at|on|onto|towards) {obj})?",
         # The camera said high, or a high camera ("camera high, looking at the mug", "a high camera").
-        CAMERA + " (up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
+        CAMERA + " (on |at )?(up )?(high|high up|up high)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |above |over ))",
         "(a |an )?high (camera|lens)( (position|placement))?",
         ALONE.replace("{WORD}", "(high|high up|up high|way up)"),
         "(from )?(a |an )?high(?= (front|rear|back|side|three|profile|left|right) )",
@@ -2091,7 +2096,7 @@ ELEVATION_HINTS = {
         "(the )?(camera|lens|gimbal) (is )?(facing|turned|{AIM}) down( (at|on|onto|towards) {obj})?",
         "((the )?(camera|lens) )?{AIM}( the camera| the lens)? (down )?{d} down",
         ALONE.replace("{WORD}", "(elevated|raised)"),
-        "(shot|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
+        "(shot|shoot|shoots|shooting|taken|filmed|framed|photographed) (high|high up|up high)(?! (in|on|at) )",
         # The camera put up on something tall ("camera high on a shelf", "lens up on the wardrobe").
         "(the )?(camera|lens) (placed |set |sitting |perched |put )?(high |high up |up high |up )on (top of )?(a |the )?"
         "(shelf|ledge|wardrobe|cupboard|cabinet|wall|mantelpiece|windowsill)",
@@ -2110,7 +2115,7 @@ ELEVATION_HINTS = {
     "low angle": [
         # From down or from under, as other languages say "from below" ("von unten"), the clause
         # ending there.
-        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(down|under)(?= ([,.;:!?]|$|and |with |but ))",
+        "((shot|seen|shooting|taken|viewed|photographed) )?from (the )?(down|under|low)(?= ([,.;:!?]|$|and |with |but ))",
         "(look|looks|looking) up( (at|to|towards|into) {obj})?",
         "((shot|seen|shooting|taken|viewed|photographed) )?(up )?from (near |close to |down by |down on |low on )?(the |{P} )?"
         "(floor|ground|grass|lawn|roots|root)(?! (level|height) )( up(?= ([,.;!]|$)))?",
@@ -2131,7 +2136,7 @@ ELEVATION_HINTS = {
         "(from |at )?(a )?lower (angle|position|viewpoint|vantage point|vantage)",
         "{AIM}( the camera| the lens| it)? up( (at|to|towards) {obj})?",
         # The camera said low, or a low camera ("CU on the bear, camera low", "a low camera near the floor").
-        CAMERA + " (down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
+        CAMERA + " (on |at )?(down )?(low|low down|down low)(?! (in|on|at) )(?= ([,.;!]|$|and |with |looking |near |by |under ))",
         "(a |an |the )?low (camera|lens)( (position|placement))?"
         "( (down )?(near|close to|by|low to|on|at|down on|down by) (the )?(ground|floor|grass|lawn))?",
         "(from )?(down low|low down|way down|down below)(?! (in|on|at) )",
@@ -2142,7 +2147,7 @@ ELEVATION_HINTS = {
         # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
         "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
         "(floor|ground|rug|carpet|grass|lawn|mat)",
-        "(shot|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
+        "(shot|shoot|shoots|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
         "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
         # The camera at the subject's foot or under its crown ("right by the trunk", "at its foot",
         # "from the base of the stem", "under the canopy"); not a place of another object ("the
@@ -3586,6 +3591,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
     rows += [("seen", None, t, False) for t in SEEN_PHRASES]
     rows += [("note", None, t, False) for t in NOTE_PHRASES]
     rows += [("light", None, t, False) for t in LIGHT_PHRASES]
+    rows += [("correction", None, CORRECTION_PHRASE, False)]
     rows += [("roll_deg", sign, t, False) for sign, ts in ROLL_PHRASES.items() for t in ts]
     return rows + _family_rows(rows)
 
@@ -3904,7 +3910,7 @@ class RuleParser:
         tokens = _unrepeated([t for t in tokens if t not in PLEASE])
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
-        cues = _unnegated(_bare_angles(self._cues(tokens), tokens), tokens)
+        cues = _corrected(_unnegated(_bare_angles(self._cues(tokens), tokens), tokens), tokens)
         unparsed = []
         determined = [m.text.split()[0] in MENTION_DETERMINERS for m in mentions]
         # A thing placed at a named object, or a setting holding it, is what the sentence is about.
@@ -5004,6 +5010,10 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
 NEGATIONS = tuple(
     w.split()
     for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not", "don t", "dont", "do not")
+    # Everything but a view, or showing one refused ("anything but the front of the car", "don't
+    # show me its back", "no shots of its back", "avoid the front"): no view is asked.
+    + ("anything but", "anywhere but", "any side but", "don t show me", "don t show", "do not show", "no shots of")
+    + ("no shot of", "avoid", "avoiding")
 )
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
@@ -5018,6 +5028,58 @@ def _unnegated(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
         for c in cues
         if c.field not in NEGATED_FIELDS or not any(tokens[max(c.start - len(n), 0) : c.start] == n for n in NEGATIONS)
     ]
+
+
+# A correction set off as a clause of its own ("..., sorry, I mean ...", "... no, ...", ". Scratch
+# that, ..."), one marker or several (:data:`~capframe.translate.vocabulary.CORRECTION_MARKERS`).
+_MARKER = "(" + "|".join(CORRECTION_MARKERS) + ")"
+CORRECTION_PHRASE = f"(?<=[,.;:!?] ){_MARKER}(( ,)? {_MARKER})*( ,)?"
+# The kinds of value a correction replaces: a height said as a name or as degrees is one kind.
+CORRECTED_KINDS = {
+    "view": "view",
+    "region": "region",
+    "shot": "shot",
+    "elevation": "elevation",
+    "elevation_deg": "elevation",
+    "roll_deg": "roll",
+}
+
+
+def _corrected(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
+    """``cues`` with each value a speaker took back dropped: a correction (:data:`CORRECTION_PHRASE`:
+    "the mug from its left, sorry, from its right", "centred. No, on the left third") replaces
+    the nearest value of the same kind (:data:`CORRECTED_KINDS`) said before it with the first
+    value said after it; "I mean" closing a clause ("front-right, uh, front-left I mean") replaces
+    the value before the one it closes. No object may be named between the two ("the mug on the
+    left, sorry, the vase on the right" places two things). A correction that replaces nothing is
+    dropped, so its words are reported as not understood, as before; a value taken back and the
+    correction itself ask nothing (they are understood)."""
+    dropped: set[int] = set()
+    markers: set[int] = set()
+    valued = [(k, c) for k, c in enumerate(cues) if c.field in CORRECTED_KINDS]
+    for m, marker in enumerate(cues):
+        if marker.field != "correction":
+            continue
+        said = [w for w in marker.text.split() if w not in PUNCTUATION]
+        set_off = marker.end >= len(tokens) or tokens[marker.end] in PUNCTUATION or marker.text.endswith(",")
+        closing = " ".join(said) in RESTATING_AFTER and set_off
+        before = [(k, c) for k, c in valued if c.end <= marker.start]
+        if closing:  # the value it closes is the new one
+            new = before[-1] if before and all(t in PUNCTUATION for t in tokens[before[-1][1].end : marker.start]) else None
+            before = before[:-1]
+        else:
+            new = next(((k, c) for k, c in valued if c.start >= marker.end), None)
+        if new is None:
+            continue
+        kind = CORRECTED_KINDS[new[1].field]
+        old = next(((k, c) for k, c in reversed(before) if CORRECTED_KINDS[c.field] == kind), None)
+        if old is None or any(t.startswith("@") for t in tokens[old[1].end : new[1].start]):
+            continue
+        dropped.add(old[0])
+        markers.add(m)
+    taken_back = markers | dropped
+    kept = [(k, c) for k, c in enumerate(cues) if c.field != "correction" or k in markers]
+    return [replace(c, field="note") if k in taken_back else c for k, c in kept]
 
 
 # A slight height says a small angle: a bare angle farther than this past its range is another

@@ -127,6 +127,7 @@ SPELLINGS = {
     "sorta": "sort of",
     "lil": "little",
     "lvl": "level",
+    "elev": "elevation",
     "med": "medium",
     # Number words misspelt as people often do.
     "fourty": "forty",
@@ -183,10 +184,17 @@ PORT_SIDE_WORDS = ("side", "hand", "flank", "quarter", "end", "bow", "beam", "pr
 SIDE_LETTERS = {"l": "left", "r": "right"}
 SIDE_LETTER_NEIGHBOURS = frozenset(
     {"profile", "side", "flank", "quarter", "quarters", "diagonal", "lateral", "view", "angle", "front", "rear", "back", "three"}
+    # ... or a word of the frame's areas, as shot lists write a region ("frame R", "lower L", "top R", "R third").
+    | {"frame", "top", "bottom", "upper", "lower", "third", "corner", "half"}
 )
 # Two-word spellings merged into one word, or read as other words.
 COMPOUNDS = {("counter", "clockwise"): "counterclockwise", ("anti", "clockwise"): "counterclockwise"}
 COMPOUNDS |= {("port", word): f"left {word}" for word in PORT_SIDE_WORDS}
+# "Right" spelt by ear as "write", read so only right before a word of a side or of the frame's
+# areas ("from its write side", "in the write third"): elsewhere writing is writing. Not before
+# "hand": "on the write hand side" would be read as the frame's right, where the words beside it
+# may be a view said by ear too ("from be hind comma on the write hand side").
+COMPOUNDS |= {("write", word): f"right {word}" for word in ("side", "third", "half", "corner", "edge", "flank", "profile")}
 
 # Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
 # word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
@@ -246,6 +254,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"\s*(?:-+>|=+>|\u2192)\s*", " : ", s)  # an arrow after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
     s = re.sub(r"(?<=\s)[/|\\]+(?=\s)", " , ", s)  # a slash or a bar between clauses ("mug // tight // ...")
+    s = re.sub(r"\s*[\u00b7\u2022]\s*", " , ", s)  # a middle dot or a bullet between clauses ("back-L 3/4 \u00b7 low \u00b7 WS")
     s = re.sub(r"\b([a-z])\.(?=[a-z]\b)", r"\1", s)  # letters written with dots ("t.v.", "a.k.a.")
     s = s.replace("&", " and ")  # "mug & kettle", "TV&sofa"
     s = _WHOLE_BY_EAR.sub("whole", s)  # "the hole picture"
@@ -255,6 +264,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"(?<=s)'(?=\W|$)", " 's", s)  # plural possessive: "the glasses' left"
     s = re.sub(r"\b(i|we|you|they)'d\b", r"\1 would", s)  # "I'd like": not a stray "d"
     s = re.sub(r"'(?!s\b)", " ", s)  # other apostrophes ("don't") only split words
+    s = _RESTATED.sub(r" , \1", s)  # "front-left I mean, ...": the restating words a clause of their own
     tokens = []
     for token in _TOKEN.findall(s):
         tokens.extend(SPELLINGS.get(token, token).split())
@@ -263,6 +273,10 @@ def words(text: str) -> list[str]:
             _turns(_turn_directions(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
         )
     )
+
+
+# "I mean" closing a clause that restates a value ("the front-right, uh, front-left I mean, ...").
+_RESTATED = re.compile(r"(?<=[a-z0-9])\s+(i mean|i meant)(?=\s*[,.;:!?]|\s*$)")
 
 
 # "Whole" spelt by ear before the picture or a word of all of it ("take up the hole picture", "the
@@ -526,8 +540,8 @@ def _proper_sides(tokens: list[str]) -> list[str]:
 
 
 def _side_letters(tokens: list[str]) -> list[str]:
-    """``tokens`` with a lone "l" or "r" beside a view word read as the side it abbreviates
-    (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L"), also across the full stop of an
+    """``tokens`` with a lone "l" or "r" beside a view word or a word of the frame's areas read as
+    the side it abbreviates (:data:`SIDE_LETTERS`: "L profile", "3/4 R", "rear L", "lower L"), also across the full stop of an
     abbreviation ("R. profile"), or after a possessive ending a clause ("3/4 front, his L"); elsewhere
     the letter is left as written."""
     out = list(tokens)
@@ -1951,6 +1965,35 @@ WANTING = (
     "is hoping for",
     "hopes for",
 )
+# Words by which a speaker takes back what they just said and says it again ("from its left,
+# sorry, I mean its right", "centred. No, put it on the left third", "scratch that, behind on its
+# left", "front-right, uh, front-left I mean"): the value said after one replaces the value of the
+# same kind said before it (parse's ``_corrected``). A bare "no" corrects only set off by a comma.
+CORRECTION_MARKERS = (
+    "sorry",
+    "no wait",
+    "wait",
+    "scratch that",
+    "strike that",
+    "forget that",
+    "actually no",
+    "actually",
+    "i mean",
+    "i meant",
+    "or rather",
+    "make that",
+    "correction",
+    "my mistake",
+    "my bad",
+    "oops",
+    "uh",
+    "um",
+    "er",
+    "erm",
+    "no(?= ,)",
+)
+# Said after the value it restates ("front-left I mean,"): set off as a clause of its own by words().
+RESTATING_AFTER = ("i mean", "i meant")
 # Whole phrases of politeness that ask nothing of the camera ("if it isn't too much trouble",
 # "thank you so much"), in normalised words, as "please" and "thanks" alone.
 COURTESIES = (
