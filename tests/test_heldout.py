@@ -11,14 +11,15 @@ heldout14, blind too, written before the changes tuned on heldout12 land, and he
 too, written after heldout14 before the changes tuned on heldout12 land, both development sets
 since heldout17 and phrasing4 were written; heldout16, blind too, written after heldout15 before
 the changes tuned on heldout13 land, a development set since 2026-11-28; heldout17, blind too, written after
-heldout16 before the changes tuned on heldout14 and heldout15 land, read by its writer only; heldout18,
+heldout16 before the changes tuned on heldout14 and heldout15 land, a development set since the third
+session of 2026-11-28; heldout18,
 blind too, written after heldout17 on 2026-11-28, read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
 written blind to the method before any parser ran on it, a development corpus since 2026-11-28; and the parse-only
-corpus phrasing4, blind too, written blind to the method before any parser ran on it, read by its
-writer only; and the parse-only corpora phrasing5, phrasing6, phrasing7 and phrasing8, development
+corpus phrasing4, blind too, written blind to the method before any parser ran on it, a development corpus
+since the third session of 2026-11-28; and the parse-only corpora phrasing5, phrasing6, phrasing7 and phrasing8, development
 phrase banks written blind to the method, saying view sides (phrasing5), elevation, shot size, frame
 region and roll (phrasing6), how the subjects are named and told apart (phrasing7) and whole requests of
 several clauses (a view, a height, a shot size, a place in the frame, a roll, a second subject;
@@ -73,7 +74,7 @@ COMMITTED = {
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
-# phrasing3, phrasing4 (blind), phrasing5 ... phrasing8 (development phrase banks), 200 instructions
+# phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), 200 instructions
 # each, are validated like the others; being parse-only they are never generated, so what needs a
 # generated scene (ground truth, clearance) is skipped for them too.
 PARSE_ONLY = {

@@ -1,7 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout16``, development sets now, and the blind ``heldout17``
-and ``heldout18``, issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing3``
-(development corpora), ``phrasing4`` (blind, written before any parser ran on it) and the
+sets ``heldout``, ``heldout2`` ... ``heldout17``, development sets now, and the blind ``heldout18``,
+issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing4`` (development corpora) and the
 development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
 (whole requests of several clauses), written blind to the method, whose scenes are never generated:
