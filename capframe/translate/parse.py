@@ -189,7 +189,14 @@ Mappings that are choices (the phrase tables are the full list):
   name word or two name words run together ("tbl", "teddybear":
   :meth:`~capframe.translate.vocabulary.Vocabulary.expansion`), reported in ``corrected``; a verb
   of getting before a determiner ("get the kite") a head, so the thing got is the subject and
-  refused when the scene lacks it; which side after a side view said as "the left one".
+  refused when the scene lacks it; which side after a side view said as "the left one";
+* parse20p4's families: a side completing a view said before it ("three quarter front on its
+  left side", "over the shoulder, on its right side", "front three-quarter on the left of it",
+  "broadside to the lens, on its right side"); an angle "round" from a front part ("a quarter turn
+  round from its face towards its left", "sixty degrees round from the fridge doors"), a small
+  turn said as a noun ("with a slight twist to its left"), an angle as an aside ("turned a little,
+  maybe 20 degrees, toward its right"); a frame half as the side of its middle line
+  (:data:`FRAME_MIDLINE`: "below the halfway line of the photo") and "centred both ways".
 """
 
 from __future__ import annotations
@@ -854,6 +861,22 @@ OFF_CENTER = [
     "(({WEAK}|just|{VERY}) )?(to the )?{TOWARD} of (the )?({FRAME} )?(center|middle)( of (the )?{FRAME})?",
     "(({WEAK}|just|{VERY}) )?off (the )?(center|middle) (to|towards) the {TOWARD}( of (the )?{FRAME})?",
 ]
+# A half of the frame said as the side of its middle line ("below the halfway line of the photo",
+# "above the horizontal midline", "left of the vertical centre line of the frame"): a line said
+# of the frame, or by a word only the frame's line has ("halfway", "midline", "horizontal"); a
+# bare "centre line" may be the subject's own, so it needs the frame said.
+_MID = "(halfway|half way|center|middle|mid|central)"
+_OF_FRAME = " (of|across|through|in) (the )?{FRAME}"
+FRAME_MIDLINE = {
+    axis: f"the (({axis} )?(halfway|half way) line|({axis} )?mid ?line|{axis} {_MID} ?line|{_MID} ?line{_OF_FRAME})"
+    + f"({_OF_FRAME})?"
+    for axis in ("horizontal", "vertical")
+}
+# The middle said both ways ("centered left to right and top to bottom"): the centre.
+CENTERED_BOTH_WAYS = (
+    "centered ((both )?(left to right|side to side|horizontally) (and|,) (top to bottom|up and down|vertically)"
+    "|(both )?(top to bottom|up and down|vertically) (and|,) (left to right|side to side|horizontally))"
+)
 REGION_PHRASES = {
     # "Screen left" is film language for frame left.
     # A corner said by its side alone ("in the right-hand corner"): that side, its height unsaid
@@ -861,11 +884,13 @@ REGION_PHRASES = {
     "left": [
         "(on |at |in )?(the )?({FRAME}|screen) left",
         "left of (the )?({FRAME}|screen)",
+        "(to the )?left of " + FRAME_MIDLINE["vertical"],
         "(in|into|at|towards|on) the left( hand)? corner( (of|in) (the )?{FRAME})?",
     ],
     "right": [
         "(on |at |in )?(the )?({FRAME}|screen) right",
         "right of (the )?({FRAME}|screen)",
+        "(to the )?right of " + FRAME_MIDLINE["vertical"],
         "(in|into|at|towards|on) the right( hand)? corner( (of|in) (the )?{FRAME})?",
     ],
     "center": [
@@ -884,9 +909,10 @@ REGION_PHRASES = {
         # Mid-frame: the middle of the frame ("mug mid-frame", "midframe", "mid-picture").
         "(in |at )?(the )?mid ?{FRAME}",
         "midframe",
+        CENTERED_BOTH_WAYS,
     ],
-    "top": ["high (up )?in (the )?{FRAME}"],
-    "bottom": ["low (down )?in (the )?{FRAME}"],
+    "top": ["high (up )?in (the )?{FRAME}", "(above|over) " + FRAME_MIDLINE["horizontal"]],
+    "bottom": ["low (down )?in (the )?{FRAME}", "(below|under|beneath|underneath) " + FRAME_MIDLINE["horizontal"]],
     "upper left": ["(top|upper) left corner"],
     "upper right": ["(top|upper) right corner"],
     "lower left": ["(bottom|lower) left corner"],
@@ -1149,10 +1175,14 @@ SIDE_AFTER_HEIGHT = (
 # A side of the subject said right after a view's noun ("a rear three-quarter angle on its right
 # side"): it completes that view (:data:`VIEW_COMBINATIONS`).
 SIDE_AFTER_VIEW = (
-    # Also off to it ("frontal 3/4 off to his left").
-    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters )|(?<=quarter , )|(?<=quarters , ))((off|over) )?"
+    # Also off to it ("frontal 3/4 off to his left"), after the diagonal's end said last ("three
+    # quarter front on its left side"), a broadside or an over-the-shoulder ("broadside on its
+    # right"), and "the left of it" ("front three-quarter on the left of it": of the subject).
+    "(?:(?<=view )|(?<=angle )|(?<=shot )|(?<=quarter )|(?<=quarters )|(?<=quarter , )|(?<=quarters , )"
+    "|(?<=quarter front )|(?<=quarter rear )|(?<=quarter back )|(?<=quarters front )|(?<=quarters rear )"
+    "|(?<=broadside )|(?<=broadside , )|(?<=shoulder )|(?<=shoulder , ))((off|over) )?"
     "(on|to|towards|from|at) "
-    "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj})"
+    "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj}|the {LAT}( hand)?( side)? of (it|him|her))"
 )
 SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
 # A side of the subject said as the clause after a view clause ("3/4 rear, right-hand side", "from
@@ -1160,7 +1190,9 @@ SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= (
 # or "flank" it is the subject's side, not a place in the frame.
 SIDE_AFTER_VIEW_CLAUSE = (
     "(?:(?<=view , )|(?<=angle , )|(?<=behind , )|(?<=rear , )|(?<=back , )|(?<=front , )|(?<=on , )|(?<=quarter , )"
-    "|(?<=quarters , )|(?<=diagonal , ))(the |{P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+    "|(?<=quarters , )|(?<=diagonal , )|(?<=to the camera , )|(?<=to camera , )|(?<=to the lens , )|(?<=to us , ))"
+    # Also with "on"/"from" before its own side ("broadside to the camera, on its left side").
+    "(the |{P} |(on|from) {P} )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
 )
 # Exactness said of a view without naming its side ("dead on", "head-on", "from behind, exactly",
 # "from its left side, straight on to the arm"): a cue of its own, EXACT_ONLY, that makes the end
@@ -1253,6 +1285,8 @@ VIEW_PHRASES = {
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
         # "face-forward to the camera").
+        # Also pointed there ("pointing its nose at the lens", "aiming his face at camera").
+        "((pointing|pointed|aiming|aimed|turning|turned) (its |his |her |the )?)?"
         "((" + "|".join(FRONT_TO_LENS) + ")( first| forward| forwards| foremost| on)?"
         "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
     ],
@@ -1530,7 +1564,9 @@ TURN_VERBS = (
 MOVED = "((" + TURN_VERBS + "|round|around|over|across|off) )?((a?round|over|across) )?"
 # The amount with its verb before or after it ("swung a bit", "a bit rotated", "slightly off").
 AMOUNT = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|" + MOVED + "{HEDGE}( " + TURN_VERBS + ")?)"
-TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + ")"
+# ... or a small turn said as a noun ("with a slight turn to its left", "a little twist towards its right").
+SMALL_TURN = "(a |an )(slight|small|little|tiny|wee|gentle|minor|subtle) (turn|twist|rotation|swing|swivel|pivot)"
+TURNED_BY = "(" + TURN_VERBS + " " + MOVED + "{HEDGE}|{HEDGE} " + TURN_VERBS + "|" + SMALL_TURN + ")"
 TOWARD = "(((a?round|over|across|off|off axis|off center|back) )?(to|towards|in the direction of)|(so as )?to (show|reveal))"
 # Nearer one way without an amount said ("more toward the back", "a hair closer to the front").
 NEARER = "(({HEDGE} )?(closer|nearer|more)( to| towards)?)"
@@ -1542,14 +1578,18 @@ FAVOURING = "(favoring|favouring|favor|favour|favors|favours|favored|favoured|ch
 NOT_FRAME_PART = "(?! (of|in|edge|edges|corner|third|half|part|border|margin|quarter)( |$))"
 # The reference said after an amount, with "off" / "from" / "of" ("45 degrees off its nose", "just
 # left of the front", "a bit to the left of head-on").
-REF_FRONT = "((the|{P}) (front|face|nose|bow)( of {obj})?|{FRONT_ON}|(head|dead|straight|square|face|nose) on|the camera line)"
+# The front as a part there ("its face", "the fridge doors", "the TV's screen").
+REF_FRONT = (
+    "(((the|{P}) (@\\d+ )?|@\\d+ )(front|face|nose|bow|snout|muzzle|grille|screen|doors)( of {obj})?|{FRONT_ON}"
+    "|(head|dead|straight|square|face|nose) on|the camera line)"
+)
 REF_BACK = "((the|{P}) (back|rear|tail|stern)( of {obj})?|(dead|straight|directly|right|squarely) behind|behind( {obj})?|tail on)"
 # A view just said as a clause, maybe with its object ("from behind him, ...", "from the front of
 # it, ..."): what a sideways offset alone after it is taken from.
 _VIEW_ENDS = ("behind", "front", "back", "rear", "view", "angle", "on", "lens", "camera", "profile", "side", "flank", "ahead")
 _VIEW_OBJECTS = ("", " him", " her", " it", " them", " of it", " of him", " of her", " @\\d", " of @\\d")
 AFTER_REF = "(?:" + "|".join(f"(?<={e}{o} , )" for e in _VIEW_ENDS for o in _VIEW_OBJECTS) + ")"
-LAT_SIDE = "(the |{P} )?{LAT}( hand)?{PART}"
+LAT_SIDE = "(the |(the )?{P} )?{LAT}( hand)?{PART}"
 OFFSET_VIEW_FRAMES = [
     # The camera moved by a small amount ("swung a few degrees to its left", "a bit rotated over to the right").
     TURNED_BY + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
@@ -1611,12 +1651,17 @@ SIDE_OFFSET_DEGREES_FRAMES = [
 # An explicit angle sideways, from the front unless a back is said with it (:func:`_combined_view`):
 # "swung 30 degrees to its left", "45 deg off its nose towards its left", "60 degrees round to its
 # right from head-on", "20 degrees right of its nose".
+TURNED_TOWARD = MOVED + TOWARD + " " + LAT_SIDE
 TURN_FRAMES = [
     TURN_VERBS + " " + MOVED + "{d}" + FURTHER + " (" + TOWARD + " )?" + LAT_SIDE + "(?! of )",
     MOVED + "((at )?(an |a )?angle of )?{d}(?<= degrees)" + FURTHER + " " + TOWARD + " " + LAT_SIDE + "(?! of )",
     # The angle said after the move, hedged or not ("swung off to its right, maybe 25 degrees").
     TURN_VERBS + " " + MOVED + TOWARD + " " + LAT_SIDE + "( ,)? (by )?{d}(?<= degrees)(?= ([,.;!?]|$))",
-    MOVED + "{d}(?<= degrees) (off|from) " + REF_FRONT + "( ,)? " + MOVED + TOWARD + " " + LAT_SIDE,
+    # ... or as an aside after a hedge ("turned a little, maybe 20 degrees, toward its own right").
+    TURN_VERBS + " " + MOVED + "{HEDGE}( ,)? (say )?{d}(?<= degrees)( ,)? " + TOWARD + " " + LAT_SIDE + "(?! of )",
+    # The turn's noun or its "round" may follow the angle ("a quarter turn round from its face
+    # towards its left", "sixty degrees round from the fridge doors, towards the fridge's left").
+    MOVED + "(a )?{d}(?<= degrees)( turn)?( (a?round|over|across))? (off|from) " + REF_FRONT + "( ,)? " + TURNED_TOWARD,
     "(from )?" + MOVED + "{d}(?<= degrees) (" + TOWARD + " )?" + LAT_SIDE + " (of|from|off) " + REF_FRONT,
 ]
 # Off the back by an explicit angle ("30 degrees off its tail towards its right").

@@ -195,6 +195,13 @@ COMPOUNDS |= {("port", word): f"left {word}" for word in PORT_SIDE_WORDS}
 # "hand": "on the write hand side" would be read as the frame's right, where the words beside it
 # may be a view said by ear too ("from be hind comma on the write hand side").
 COMPOUNDS |= {("write", word): f"right {word}" for word in ("side", "third", "half", "corner", "edge", "flank", "profile")}
+# ... and after a possessive, where no verb "write" can stand ("his write hand side", "its write").
+COMPOUNDS |= {(owner, "write"): f"{owner} right" for owner in ("its", "his", "her", "their")}
+# "High" clipped to "hi" beside "up" ("from hi up", "up hi"; "hi angle" is a phrase of its own):
+# a greeting is never said so.
+COMPOUNDS |= {("hi", "up"): "high up", ("up", "hi"): "up high", ("way", "hi"): "way high"}
+# The camera said as its rig ("cant the whole rig", "the camera rig"): the camera.
+COMPOUNDS |= {("whole", "rig"): "camera", ("camera", "rig"): "camera"}
 
 # Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
 # word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
