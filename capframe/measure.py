@@ -54,7 +54,7 @@ from .geometry import any_horizontal, camera_roll, view_angles
 from .render import NEAR_FRACTION, resolve_backend, scene_extent
 from .render.masks import SubjectMask, subject_masks
 from .scene import Camera, GaussianScene
-from .scene.occupancy import SOLID_OPACITY, Occupancy
+from .scene.occupancy import Occupancy, solid_points
 
 
 @dataclass
@@ -268,10 +268,7 @@ class ConstraintChecker:
         (evenly spread over their order; all of its Gaussians when none is solid), one array per
         subject."""
         if obj.id not in self._points:
-            member = self.members[obj.id].cpu()
-            solid = member & (torch.sigmoid(self.gaussians.opacity_logits.detach().cpu()) >= SOLID_OPACITY)
-            means = self.gaussians.means.detach().cpu()[solid if solid.any() else member].double().numpy()
-            self._points[obj.id] = means[np.linspace(0, len(means) - 1, min(len(means), SIGHT_POINTS)).astype(int)]
+            self._points[obj.id] = solid_points(self.gaussians, self.members[obj.id], SIGHT_POINTS)
         return self._points[obj.id]
 
     def _visibility(self, name: str, mask: SubjectMask, z: float, min_in_frame: float, past_support: float | None) -> CheckRow:

@@ -559,9 +559,9 @@ def test_the_floor_bounds_a_low_angle_at_the_asked_distance():
     occupancy = build_occupancy(gaussians, up, [make_camera(eye=(0.0, -12.0, 2.0), target=(0.0, 0.0, 2.0))])
     origin = np.array([0.0, 0.0, 2.0])
     height = 2.0 - occupancy.floor_height - 0.5 * occupancy.floor_margin
-    bound = _floor_elevation(occupancy, origin, 8.0, 0.5 * occupancy.floor_margin)
+    bound = _floor_elevation(occupancy, origin, 8.0, 0.5 * occupancy.floor_margin, None)
     assert bound == pytest.approx(-math.degrees(math.asin(height / 8.0)), abs=1e-9)
-    assert _floor_elevation(occupancy, origin, 1.0, None) is None  # the floor is beyond reach
+    assert _floor_elevation(occupancy, origin, 1.0, None, None) is None  # the floor is beyond reach
     assert _above_floor([-20.0, -12.0, -5.0], [-3.0, -40.0], [-13.0]) == ([-12.0, -5.0], [-3.0])
     assert _above_floor([-20.0, -30.0], [-40.0], [-13.0]) == ([-20.0, -30.0], [-40.0])
     assert _above_floor([-20.0, -30.0], [-8.0, -40.0], [-7.0, -13.0]) == ([], [-8.0])  # the nearer distance's
@@ -601,6 +601,38 @@ def test_a_low_angle_from_a_far_reference_view_finds_the_stretch_above_the_floor
     kept, occupancy = kept_low_angles(gaussians, make_camera(eye=(0.0, -40.0, 2.0), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0)))
     assert kept and all(c.elevation_deg < 0 for c in kept)
     assert float(occupancy.clearance(torch.as_tensor(kept[0].camera.center))) >= 0
+
+
+def test_a_table_top_bounds_a_low_angle_as_the_floor_does():
+    """Over a support higher than the floor the steepest elevation keeping the camera above it is
+    -asin((z - top - margin) / d) for a view centre at height z; the lower floor gives way to it."""
+    gaussians = ball_on_table(seed=3)
+    occupancy = build_occupancy(
+        gaussians, np.array([0.0, 0.0, 1.0]), [make_camera(eye=(0.0, -12.0, 3.0), target=(0.0, 0.0, 1.3))]
+    )
+    origin = np.array([0.0, 0.0, 1.3])
+    kept = occupancy.height_kept(None)
+    bound = _floor_elevation(occupancy, origin, 2.0, None, 1.0)
+    assert bound == pytest.approx(-math.degrees(math.asin((0.3 - kept) / 2.0)), abs=1e-9)
+    assert _floor_elevation(occupancy, origin, 2.0, None, None) < bound  # the floor alone allows steeper
+    assert _floor_elevation(occupancy, origin, 0.2, None, 1.0) is None  # the top is beyond reach
+
+
+def test_a_medium_low_angle_at_a_ball_on_a_table_keeps_near_its_size_above_the_top():
+    """A medium shot at a low angle of the ball on the table: bounded by the top, the grid starts at
+    the shallow end of the interval, whose ray stays over the top, instead of sliding in from the
+    steeper ones until the ball overflows the asked size."""
+    gaussians = ball_on_table(seed=3)
+    up = np.array([0.0, 0.0, 1.0])
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    subjects = {"ball": (np.arange(400), centroid, np.array([0.0, -1.0, 0.0]))}
+    reference = make_camera(eye=(0.0, -12.0, 3.0), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
+    occupancy = build_occupancy(gaussians, up, [reference])
+    asked = Constraints(subjects=[SubjectConstraint("ball", shot="medium")], elevation="low angle")
+    labels = labels_from_constraints(asked, subjects, up)
+    kept = [c for c in solve_candidates(gaussians, labels, reference, occupancy) if c.status == "kept"]
+    assert kept and kept[0].camera.center[2] > 1.0 and -60.0 <= kept[0].elevation_deg <= -8.0
+    assert kept[0].size_miss < 0.2
 
 
 def test_the_inner_aim_point_is_the_region_point_nearest_the_frame_centre():

@@ -484,6 +484,23 @@ def test_seen_past_support_asks_only_below_a_supported_base(table_grids):
     assert grid.seen_past_support(np.zeros((0, 3)), np.array([0.8, 0.3, 0.5])) is None
 
 
+def test_the_support_top_is_the_table_top_under_the_subject(table_grids):
+    """The cube stands on the table top (z = 1): its support's top is there, to a few hundredths,
+    and ten times higher in a scene ten times larger; a box hanging free stands on nothing."""
+    grid, _, gaussians = table_grids
+    points = gaussians.means[small_subject_on_a_table()[1]].double().numpy()
+    assert grid.support_top(points) == pytest.approx(1.0, abs=0.04)
+    large, _ = small_subject_on_a_table()
+    large = GaussianScene.from_activated(
+        large.means * 10, large.quats, large.scales * 10, torch.sigmoid(large.opacity_logits), large.sh
+    )
+    larger = build_occupancy(large, np.array([0.0, 0.0, 1.0]), [camera_at((60.0, 0.0, 30.0))])
+    assert larger.support_top(10 * points) == pytest.approx(10.0, abs=0.4)
+    floating, up = world()
+    free_grid = build_occupancy(floating, up, [camera_at((6.0, 0.0, 3.0))])
+    assert free_grid.support_top(floating.means[-6 * 21 * 21 :].double().numpy()) is None
+
+
 def test_the_checker_fails_a_subject_seen_through_its_support(table_grids):
     """The visibility row from under the table: with the occupancy it measures the share seen
     past the top (none) and says so; the clearance row passes (under a table is free space)."""

@@ -53,7 +53,7 @@ from ..render.lod import SCENE_CELL, cached_hierarchy, ray_cosine, subject_owner
 from ..render.masks import subject_masks
 from ..scene._io import finite_or_null
 from ..scene.model import Camera, GaussianScene
-from ..scene.occupancy import Occupancy
+from ..scene.occupancy import Occupancy, solid_points
 from ..translate.labels import (
     ELEVATION_MARGIN_DEG,
     SHOT_MARGIN,
@@ -108,6 +108,9 @@ RENDER_BUDGET = 36
 # lower than that margin; the plane is measured from the floor's own Gaussians, to well under
 # a voxel, and a camera above it is not below the ground.
 FLOOR_MARGIN_HEIGHTS = 0.1
+# Solid points of the primary subject that find the surface it stands on (a table top bounds a low
+# angle as the floor does: :func:`_floor_elevation`).
+SUPPORT_POINTS = 128
 
 
 @dataclass
@@ -286,11 +289,19 @@ def _margin_elevations(subject: SubjectLabel) -> list[float]:
     return [min(max(e, -89.0), 89.0) for pair in ends for e in pair]
 
 
-def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, floor_margin: float | None) -> float | None:
+def _floor_elevation(
+    occupancy: Occupancy, origin: np.ndarray, distance: float, floor_margin: float | None, support_top: float | None
+) -> float | None:
     """The steepest elevation (degrees, < 0) at which a camera ``distance`` from the view centre
-    ``origin`` (3,) stays its floor margin above the floor plane: ``-asin(h / distance)`` for a
-    centre ``h`` above the plane and margin; None without a floor or when no elevation reaches it."""
-    height = _height_over_floor(occupancy, origin, floor_margin)
+    ``origin`` (3,) stays its floor margin above the floor plane and above ``support_top``, the
+    height of the surface the subject stands on (None: none): ``-asin(h / distance)`` for a
+    centre ``h`` above the higher of the two and the margin; None without either or when no
+    elevation reaches it. Under a table top the subject is seen only past the top's edge, if at
+    all (:meth:`Occupancy.seen_past_support`)."""
+    heights = [_height_over_floor(occupancy, origin, floor_margin)]
+    if support_top is not None:
+        heights.append(float(occupancy.rotation[2] @ origin) - support_top - occupancy.height_kept(floor_margin))
+    height = min((h for h in heights if h is not None), default=None)
     if height is None or height <= 0.0 or height >= distance:
         return None
     return -math.degrees(math.asin(height / distance))
@@ -298,7 +309,8 @@ def _floor_elevation(occupancy: Occupancy, origin: np.ndarray, distance: float, 
 
 def _above_floor(grid: list[float], margin: list[float], bounds: list[float | None]) -> tuple[list[float], list[float]]:
     """The grid's and the margin's elevations (degrees) no steeper than the first of ``bounds``
-    (:func:`_floor_elevation` at the asked distance, then at the nearest accepted one) that
+    (:func:`_floor_elevation` at the asked distance, then at the nearest accepted one, over the
+    subject's support, then over the floor alone) that
     leaves any: below it the ray at that distance meets the floor, and the camera slides in to
     be free, larger in the frame than asked, at every azimuth alike (a low angle at a tall tree
     in a medium shot is reachable only near the interval's upper end). Both lists unchanged when
@@ -364,7 +376,10 @@ def solve_candidates(
     if subject.extent is not None:
         # At the asked distance, else at the nearest whose size the checker still accepts.
         nearest = distance * (subject.box[2] - subject.box[0]) / _accepted_extent(subject.extent)[1]
-        bounds = [_floor_elevation(occupancy, origin, d, floor_margin) for d in (distance, nearest)]
+        # Above the surface the subject stands on, else above the floor only (past a table's edge).
+        support_top = occupancy.support_top(solid_points(gaussians, torch.as_tensor(subject.gaussians), SUPPORT_POINTS))
+        tops = [support_top, None] if support_top is not None else [None]
+        bounds = [_floor_elevation(occupancy, origin, d, floor_margin, top) for top in tops for d in (distance, nearest)]
         elevations, margin_elevations = _above_floor(elevations, margin_elevations, bounds)
     inner = _inner_aim_point(subject)
     phases = [

@@ -121,6 +121,19 @@ SUPPORT_RING_VOXELS = 1.5
 
 
 @dataclass
+class _Footing:
+    """Where a subject stands (:meth:`Occupancy._footing`): the height of its base's plane, the
+    middle (3,) and radius of its footprint on it, the reach probed under it, and the height of
+    the top of the surface under it (all world units, heights along the up axis)."""
+
+    base: float
+    middle: np.ndarray
+    radius: float
+    reach: float
+    top: float
+
+
+@dataclass
 class Occupancy:
     """A scene's voxel grid. X x Y x Z voxels; the grid frame's third axis is the world up.
 
@@ -305,31 +318,52 @@ class Occupancy:
         solid = (self.clearance(torch.as_tensor(probes, dtype=torch.float64)) < 0).numpy()
         return np.where(solid.any(1), depths[solid.argmax(1)], np.inf)
 
+    def support_top(self, points: np.ndarray) -> float | None:
+        """The height (along the up axis, world units) of the top of the surface a subject's (P, 3)
+        points stand on, or None when they stand on nothing wider than themselves (see
+        :meth:`_footing`)."""
+        footing = self._footing(points)
+        return None if footing is None else footing.top
+
     def seen_past_support(self, points: np.ndarray, centre: np.ndarray) -> float | None:
-        """Share of a subject's (P, 3) points that a camera at ``centre``, lower than the subject's
-        base, sees past the surface the subject stands on; None when the camera is not lower, or
-        the subject stands on nothing wider than itself.
+        """Share of a subject's (P, 3) points that a camera at ``centre``, lower than the top of
+        the surface the subject stands on, sees past that surface; None when the camera is not
+        lower, or the subject stands on nothing wider than itself (:meth:`_footing`).
 
         A camera under a table top sees the object on it only through the top. The renders say
         otherwise: the object's base and the top lie in one plane, their Gaussians interleave in
         the depth order, and about half the base's alpha survives the composite. So the sight is
-        settled geometrically: each point's line of sight crosses the plane of the base (its
-        lowest :data:`BASE_QUANTILE` of heights) once, and the point is hidden where that crossing
-        lies over the support (:meth:`support_depth`) or inside the base's own footprint, which the
-        support carries. The subject stands on a support when the ring of :data:`SUPPORT_RING`
-        points :data:`SUPPORT_RING_VOXELS` voxels outside its footprint mostly has one under it;
-        the ring keeps clear of the subject's own voxels, so a subject hanging free keeps its
-        renders' verdict. Only a camera lower than the support's top (the ring's median depth)
-        looks through it: one crouching between the floor and a bookcase's raised base sees the
-        bookcase over the floor."""
+        settled geometrically: each point's line of sight crosses the plane of the base once, and
+        the point is hidden where that crossing lies over the support (:meth:`support_depth`) or
+        inside the base's own footprint, which the support carries. Only a camera lower than the
+        support's top looks through it: one crouching between the floor and a bookcase's raised
+        base sees the bookcase over the floor."""
+        up, height = self.rotation[2], float(centre @ self.rotation[2])
+        heights = points @ up
+        if len(points) == 0 or height >= np.quantile(heights, BASE_QUANTILE):  # not lower than the base: no probing
+            return None
+        footing = self._footing(points)
+        if footing is None or height >= footing.top:
+            return None
+        share = np.minimum((footing.base - height) / np.maximum(heights - height, 1e-12), 1.0)
+        crossings = centre + share[:, None] * (points - centre)
+        offset = crossings - footing.middle
+        inside = np.linalg.norm(offset - (offset @ up)[:, None] * up, axis=1) <= footing.radius
+        return float(1.0 - (inside | np.isfinite(self.support_depth(crossings, footing.reach))).mean())
+
+    def _footing(self, points: np.ndarray) -> _Footing | None:
+        """Where a subject's (P, 3) points stand: the plane of its base (its lowest
+        :data:`BASE_QUANTILE` of heights), the footprint's middle and radius, and the top of the
+        surface under it; None without points or when that surface is no wider than the subject.
+        The subject stands on a support when the ring of :data:`SUPPORT_RING` points
+        :data:`SUPPORT_RING_VOXELS` voxels outside its footprint mostly has one under it, within
+        the reach of :meth:`support_depth`; the ring keeps clear of the subject's own voxels, so a
+        subject hanging free stands on nothing."""
         if len(points) == 0:
             return None
         up = self.rotation[2]
         heights = points @ up
         base = float(np.quantile(heights, BASE_QUANTILE))
-        height = float(centre @ up)
-        if height >= base:
-            return None
         lowest = points[heights <= base + BASE_BAND * (heights.max() - base)]
         middle = lowest.mean(0)
         middle = middle + (base - float(middle @ up)) * up
@@ -342,17 +376,24 @@ class Occupancy:
         reach = min(SUPPORT_REACH * float(heights.max() - base), SUPPORT_REACH_VOXELS * self.voxel)
         ring_depths = self.support_depth(ring, reach)
         supported = np.isfinite(ring_depths)
-        if supported.mean() < 0.5 or height >= base - float(np.median(ring_depths[supported])):
+        if supported.mean() < 0.5:
             return None
-        share = np.minimum((base - height) / np.maximum(heights - height, 1e-12), 1.0)
-        crossings = centre + share[:, None] * (points - centre)
-        offset = crossings - middle
-        inside = np.linalg.norm(offset - (offset @ up)[:, None] * up, axis=1) <= radius
-        return float(1.0 - (inside | np.isfinite(self.support_depth(crossings, reach))).mean())
+        return _Footing(base, middle, radius, reach, base - float(np.median(ring_depths[supported])))
 
     def voxelize(self, gaussians: GaussianScene) -> np.ndarray:
         """(X, Y, Z) bool: the voxels the solid Gaussians of ``gaussians`` occupy (e.g. one subject's)."""
         return _occupied(self, _solid_samples(gaussians) @ torch.as_tensor(self.rotation).T)
+
+
+def solid_points(gaussians: GaussianScene, members: Tensor, count: int) -> np.ndarray:
+    """(P, 3) float64 centres of up to ``count`` of the solid Gaussians (opacity >=
+    :data:`SOLID_OPACITY`) among ``members`` (a (N,) bool mask or indices), evenly spread over
+    their order; of all the members when none is solid."""
+    member = torch.zeros(len(gaussians), dtype=torch.bool)
+    member[torch.as_tensor(members).cpu()] = True
+    solid = member & (torch.sigmoid(gaussians.opacity_logits.detach().cpu()) >= SOLID_OPACITY)
+    means = gaussians.means.detach().cpu()[solid if solid.any() else member].double().numpy()
+    return means[np.linspace(0, len(means) - 1, min(len(means), count)).astype(int)]
 
 
 def _trilinear(values: Tensor, coords: Tensor) -> Tensor:

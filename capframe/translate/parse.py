@@ -609,8 +609,8 @@ SHOT_CLAUSES[WHOLE] = [
     "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
     "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
     # A whole dimension or unit of it seen ("full height in frame", "entire height visible",
-    # "the whole set in view").
-    "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece)( of {obj})?"
+    # "the whole set in view"), or it said as a generic noun ("the whole model in frame").
+    "(the |{P} )?(whole|entire|full) (height|length|width|body|figure|set|unit|piece|model|object|item|thing)( of {obj})?"
     "( (is )?(in|inside|within) (the )?({FRAME}|view))?( visible| in view| showing)?",
     "(all of|every bit of) {obj}( (in|inside|within) (the )?{FRAME})?{FITS}",
     # Nothing of it cropped ("don't crop it", "do not cut it off").
@@ -1184,7 +1184,8 @@ SIDE_AFTER_VIEW = (
     "(on|to|towards|from|at) "
     "({P} {LAT}( hand)?( side)?|the {LAT}( hand)? side of {obj}|the {LAT}( hand)?( side)? of (it|him|her))"
 )
-SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
+# A side said as the clause after the subject's, or as a sentence of its own ("BENCH. Right side.").
+SIDE_AFTER_SUBJECT = "(?<=@\\d [,:;.] )(the )?{LAT}( hand)? (side|end|flank)(?= ([,.;!]|$))"
 # A side of the subject said as the clause after a view clause ("3/4 rear, right-hand side", "from
 # behind, the left flank"): it completes that view (:data:`VIEW_COMBINATIONS`); with "side", "end"
 # or "flank" it is the subject's side, not a place in the frame.
@@ -1284,11 +1285,12 @@ VIEW_PHRASES = {
         # Straight in front of it ("a dead-ahead shot", "dead ahead of the car").
         "(from |in |as )?(a )?dead ahead( (view|shot|angle))?( of {obj})?",
         # Its front to the lens ("nose-to-lens", "face to camera", "nose-first toward the lens",
-        # "face-forward to the camera").
+        # "face-forward to the camera", "its nose toward us", "snout right in the lens").
         # Also pointed there ("pointing its nose at the lens", "aiming his face at camera").
         "((pointing|pointed|aiming|aimed|turning|turned) (its |his |her |the )?)?"
         "((" + "|".join(FRONT_TO_LENS) + ")( first| forward| forwards| foremost| on)?"
-        "|front (first|forward|forwards|foremost|on)) (to|towards|at|facing|into) (the )?(lens|camera|viewer)",
+        "|front (first|forward|forwards|foremost|on)) ((right|straight|directly) )?(to|towards|at|facing|into|in) "
+        "((the )?(lens|camera|viewer)|us|me)",
     ],
     "back-exact": [
         "(a |in )?(" + "|".join(TAIL_ON_WORDS) + ") on( (view|shot|angle))?",
@@ -2299,8 +2301,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
-        # The angle's direction may follow it ("shoot down at it from about 40 degrees above it").
-        "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        # The angle's direction may follow it ("shoot down at it from about 40 degrees above it", "looked
+        # down on from 60 degrees").
+        "(looking|look|looks|looked|{AIM}) down( (at|on|onto)( {obj})?)? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
         "( (above|over)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?(camera )?(elevation|elevation angle) of {sd}",
@@ -2350,7 +2353,7 @@ EXPLICIT_ELEVATION_PHRASES = {
         "with the camera {d} below {obj}",
         "((the )?camera )?{d}(?<= degrees) lower than {obj}",
         "looking up( at {obj})? from {d} below",
-        "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
+        "(looking|look|looks|looked|{AIM}) up( (at|on|onto|to)( {obj})?)? (at|from|by) ({ABOUT} )?(an angle of )?{d}"
         "( (below|under|beneath|underneath)( {ELEVREF})?)?",
         "(looking|look|looks|{AIM}) up( (at|on|onto) {obj})? ({ABOUT} )?{d}(?<= degrees)",
         "(at |from |with )?(an |a )?{d} (low angle|up angle)",
@@ -2500,7 +2503,9 @@ ROLL_AXIS = (
 )
 # The frame is the camera's rectangle: it turns with the camera ("frame rotated ten degrees
 # clockwise"); the picture's content turns the other way.
-CAMERA_THING = "(the )?(whole |entire )?(camera|lens|cam|frame|framing)"
+# "Everything" is the whole frame the camera turns ("cant everything 20 degrees clockwise"; the
+# rig is the camera: COMPOUNDS).
+CAMERA_THING = "((the )?(whole |entire )?(camera|lens|cam|frame|framing)|everything)"
 PICTURE_THING = "(the )?(whole |entire )?(picture|image|scene|photo|{HORIZON})"
 
 
@@ -3952,7 +3957,7 @@ class RuleParser:
     def _read(self, text: str, said: list[str], vocabulary: Vocabulary) -> ParsedInstruction:
         """The reading of ``text`` from its normalised words ``said`` (see :meth:`parse`)."""
         tokens, slips = self._unslip(said, vocabulary)
-        tokens = _unrepeated([t for t in tokens if t not in PLEASE])
+        tokens = _unrepeated(_unfilled([t for t in tokens if t not in PLEASE]))
         tokens, mentions, corrected = self._spot(tokens, vocabulary)
         corrected = slips + corrected
         cues = _corrected(_unnegated(_bare_angles(self._cues(tokens), tokens), tokens), tokens)
@@ -4432,6 +4437,13 @@ KIN_NAMES = frozenset(
 )
 
 
+def _unfilled(tokens: list[str]) -> list[str]:
+    """``tokens`` without a filler "like" before an emphatic or size word, as people talk ("the mug
+    like super close", "like really low"): it would part that word from the subject or the verb
+    before it. A "like" before anything else may compare ("shot like a portrait") and stays."""
+    return [t for t, after in zip(tokens, [*tokens[1:], ""]) if t != "like" or after not in EMPHATIC_WORDS]
+
+
 def _unrepeated(tokens: list[str]) -> list[str]:
     """``tokens`` with a word said again straight after itself (an emphatic word also after a
     comma) said once: emphasis by repetition grades as the word once ("tiny tiny", "really,
@@ -4891,7 +4903,22 @@ def _combined_view(held, said):
         if isinstance(reference, tuple):
             return None
         return _turned(reference, turn[1])
-    return VIEW_COMBINATIONS.get(frozenset((held, said)))
+    return VIEW_COMBINATIONS.get(frozenset((held, said))) or _restated_view(held, said)
+
+
+def _restated_view(held: str, said: str) -> str | None:
+    """Of two sides naming one way round the subject, the narrower one when its azimuth lies inside
+    the other's range: a side said again more precisely ("from behind, a bit to the left - over its
+    left shoulder" is -160, within the back-left diagonal's -165 to -105); else None. Sides with
+    two azimuths ("three-quarter") or none in common stay a conflict (VIEW_COMBINATIONS names the
+    sides that combine into a third one)."""
+    if held not in VIEW_SIDES or said not in VIEW_SIDES or len(VIEW_SIDES[held]) != 1 or len(VIEW_SIDES[said]) != 1:
+        return None
+    narrow, wide = sorted((held, said), key=view_tolerance_deg)
+    if view_tolerance_deg(narrow) == view_tolerance_deg(wide):
+        return None
+    inside = arc_deg(VIEW_SIDES[narrow][0], VIEW_SIDES[wide][0]) < view_tolerance_deg(wide)
+    return narrow if inside else None
 
 
 # Shot cues that say all of the subject is in, not how big: they yield to a size word.

@@ -728,6 +728,9 @@ SLIP_TARGETS = (
     "large",
     # The middle shot size ("medum shot", "meduim").
     "medium",
+    # The picture itself ("in the centre of the pictur", "middle of the phto").
+    "picture",
+    "photo",
 )
 MIN_SLIP_LETTERS = 4  # a swap or a doubled letter
 MIN_DROPPED_LETTERS = 5  # a dropped letter
