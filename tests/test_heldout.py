@@ -13,7 +13,8 @@ since heldout17 and phrasing4 were written; heldout16, blind too, written after 
 the changes tuned on heldout13 land, a development set since 2026-11-28; heldout17, blind too, written after
 heldout16 before the changes tuned on heldout14 and heldout15 land, a development set since the third
 session of 2026-11-28; heldout18,
-blind too, written after heldout17 on 2026-11-28, read by its writer only; the
+blind too, written after heldout17 on 2026-11-28, read by its writer only; heldout19, blind too,
+written after heldout18 on 2026-11-28 (third session), read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
@@ -71,6 +72,7 @@ COMMITTED = {
     "heldout16": [15, 14, 15, 14, 15, 15],
     "heldout17": [15, 14, 15, 14, 15, 15],
     "heldout18": [15, 14, 15, 14, 15, 15],
+    "heldout19": [15, 14, 15, 14, 15, 15],
 }
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
