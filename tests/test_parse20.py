@@ -144,3 +144,45 @@ def test_a_like_that_compares_stays():
 )
 def test_picture_and_photo_with_a_letter_dropped(text, region):
     assert parse(text).subjects[0].region == region
+
+
+@pytest.mark.parametrize(
+    ("text", "unknown"),
+    [
+        # A thing the scene lacks, placed at a named object without a verb, is what is asked.
+        ("There's a snow globe behind the cushion; photograph it from the front", "snow globe"),
+        ("toaster on top of the television", "toaster"),
+        ("a lantern beside the bench, low angle", "lantern"),
+        # "that" pointing at a thing that a placing word follows, and what a shot closes in on.
+        ("Could you zoom right in on that bell sitting next to the mug?", "bell"),
+        ("low angle onto the umbrella stand beside the armchair", "umbrella stand"),
+        ("close up on the kettle next to the vase", "kettle"),
+    ],
+)
+def test_an_unknown_thing_placed_at_a_named_object_is_refused(text, unknown):
+    with pytest.raises(InputError, match=f"subject '{unknown}' is not in this scene"):
+        parse(text)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        # Keep-probes: a known subject before a landmark, a camera or a shot word before a place,
+        # and "on" (what a camera does, not where a thing is) keep their readings.
+        "the mug behind the vase, close",
+        "camera behind the sofa, low",
+        "focus on the mug",
+        "spotlight on the teddy bear",
+        "bench, the armchair behind it",
+        "dead centre in front of the sofa",
+    ],
+)
+def test_known_subjects_and_camera_words_before_a_place_stay_read(text):
+    assert parse(text).subjects
+
+
+@pytest.mark.parametrize(
+    "text", ["Stand in front of the bench, then shoot it low", "step beside the sofa and shoot its left side"]
+)
+def test_where_the_photographer_stands_is_no_thing_placed(text):
+    assert parse(text).subjects[0].name in ("bench", "sofa")

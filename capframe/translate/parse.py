@@ -4632,6 +4632,19 @@ PLACED_PREPOSITIONS = tuple(
 RELATIVE_PRONOUNS = frozenset({"that", "which", "who", "whom", "what"})
 # Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
 # under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
+# Places that relate a thing to a named object without a verb ("a snow globe behind the pillow",
+# "swing set behind the tree"); not "on", "in", "at" and the like, which also say where a camera
+# looks or what a shot is ("focus on the mug", "spotlight on the sofa", "tight in on the bear").
+BARE_PLACED_PREPOSITIONS = frozenset(
+    tuple(w.split())
+    for w in ("behind", "beside", "next to", "in front of", "on top of", "atop", "underneath", "beneath", "alongside")
+)
+# Verbs of where the photographer goes or puts the camera, which open an instruction bare as a
+# noun phrase would ("stand behind the sofa", "step beside the bench", "get in front of it").
+STANDING_VERBS = frozenset(
+    {"stand", "go", "get", "move", "step", "walk", "sit", "kneel", "crouch", "squat", "lie", "put", "place", "position"}
+    | {"hold", "stay", "shoot", "come", "hover", "fly", "wait", "start", "circle", "set", "park", "plant", "climb"}
+)
 PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "are", "was", "were", "being", "been"})
 # Verb forms of where a thing is that are neither a participle in -ing/-ed nor a verb of resting
 # (:data:`RELATION_WORDS`): "the kite stuck in the tree", "the cat that sleeps on the sofa"; not
@@ -4669,6 +4682,9 @@ PLACED_PICTURES = frozenset(
     {"shot", "photo", "photograph", "picture", "pic", "image", "snap", "snapshot", "view", "closeup", "detail", "macro"}
     | {"study", "portrait", "crop", "capture", "still", "photos", "pictures", "pics", "shots", "images"}
 )
+# Words before "on" / "onto" that make the noun phrase after them what the shot is of ("zoom right
+# in on", "tight on", "close up on", "a low angle onto").
+SHOT_ONTO = frozenset({"in", "tight", "close", "up", "closeup", "angle", "focus", "focused", "zoom", "zoomed"})
 # Words that make the noun phrase a comparison, not the subject ("like a toddler looking up at").
 SIMILE_WORDS = frozenset({"like", "as", "if"})
 # A setting holding the named object, then the subject (:meth:`RuleParser._setting_holding`): the
@@ -4712,7 +4728,7 @@ def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
     end = len(before) - len(preposition)
     # A relative clause places it whatever its verb ("the cat who sleep on", "a candle that's been
     # lit beside"): from its pronoun on, at most five words.
-    relative = next((k for k in range(end - 1, max(end - 6, 0) - 1, -1) if before[k] in RELATIVE_PRONOUNS), None)
+    relative = next((k for k in range(end - 1, max(end - 6, 0) - 1, -1) if _relative(before, k, end)), None)
     if relative is not None and all(w.isalpha() or w == "'s" for w in before[relative:end]):
         end = relative - (relative > 0 and before[relative - 1] == ",")
         verb = True
@@ -4725,7 +4741,8 @@ def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
         elif word not in PLACED_ADVERBS and not (word == "," and before[end] in PLACED_RELATIVES):
             break  # a comma may set off the relative clause ("the heater, which is next to")
         end -= 1
-    if not verb or end == len(before) - len(preposition):
+    bare = end == len(before) - len(preposition) and not verb and tuple(preposition) in BARE_PLACED_PREPOSITIONS
+    if not verb and not bare:  # bare: "a snow globe behind the pillow", the noun phrase right before the place
         return None
     # A noun in -ing or -ed is the phrase's head when nothing else is ("the painting hanging above").
     if (end == 0 or not _noun_word(before[end - 1])) and before[end] not in PLACED_RELATIVES | PLACED_ADVERBS:
@@ -4734,7 +4751,18 @@ def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
     start = end
     while start > 0 and end - start < MAX_ATTRIBUTES and _noun_word(before[start - 1]):
         start -= 1
+    if bare and start < end and before[start] in STANDING_VERBS:
+        return None  # where the photographer goes ("Stand in front of the bench, then ...")
     return (start, end) if start < end else None
+
+
+def _relative(before: list[str], k: int, end: int) -> bool:
+    """Whether ``before[k]`` opens a relative clause ending at ``end``: a relative pronoun, but not
+    "that" pointing at a noun a placing word follows ("that bell sitting next to")."""
+    if before[k] not in RELATIVE_PRONOUNS:
+        return False
+    pointing = before[k] == "that" and k + 1 < end and _noun_word(before[k + 1]) and not _placing(before[k + 1])
+    return not (pointing and any(_placing(w) for w in before[k + 2 : end]))
 
 
 def _noun_word(word: str) -> bool:
@@ -4759,6 +4787,8 @@ def _subject_place(before: list[str]) -> bool:
         return False
     if all(w in STOPWORDS or w in PUNCTUATION or w in PLACED_LEADS or NUMBER.fullmatch(w) for w in before):
         return True  # a count may open it ("two ducks swimming near the bench")
+    if before[-1:] in (["on"], ["onto"]) and before[-2:-1] and before[-2] in SHOT_ONTO:
+        return True  # what the shot closes in on ("zoom in tight on the soda can resting on the sofa")
     if before[-1:] != ["of"]:
         return False
     picture = before[-2:-1]
