@@ -4751,8 +4751,10 @@ def _placed_phrase(before: list[str]) -> tuple[int, int] | None:
     start = end
     while start > 0 and end - start < MAX_ATTRIBUTES and _noun_word(before[start - 1]):
         start -= 1
-    if bare and start < end and before[start] in STANDING_VERBS:
-        return None  # where the photographer goes ("Stand in front of the bench, then ...")
+    if bare and start < end and (before[start] in STANDING_VERBS or (start > 0 and _placing(before[start - 1]))):
+        # Where the photographer goes ("Stand in front of the bench, then ..."), or how a thing
+        # placed is ("camera sitting low beside the bench": "low" is no thing).
+        return None
     return (start, end) if start < end else None
 
 
