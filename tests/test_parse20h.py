@@ -53,7 +53,7 @@ HEIGHTS = [
     ("the television with the camera at minus twenty degrees, i.e. under it looking up", -20.0),
     ("the sofa at -10 degrees, from below", -10.0),
     ("the television, camera beneath it", "low angle"),
-    ("the bench, below it looking up", "low angle"),
+    ("the bench, lens under it looking up", "low angle"),
     # Lying down to shoot; on the support, pitched up.
     ("the vase, as if you were lying flat on the table and peering up", "low angle"),
     ("the toy car: lie flat on the grass to shoot upward at it", "low angle"),

@@ -1877,8 +1877,10 @@ ELEVATION_PHRASES = {
         # touch above its seat", "a little higher than its roof").
         "(from )?({WEAK} |just )?(above|over|higher than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(above|over|higher than) {P} (own )?({ANCHOR_EYE}|top)(?! (level|height|line) )",
-        # A part said with "the" ("from just over the lip", "a touch above the roofline"): parse20h.
-        "(from |taken from |shot from |(the )?(camera|lens) )?({WEAK} |just )(above|over|higher than) the {PARTS}"
+        # A part said with "the" ("from just over the lip", "a touch above the roofline"); not the top
+        # of a table, what the subject stands on (the low angle's "lens just above the tabletop"): parse20h.
+        "(from |taken from |shot from |(the )?(camera|lens) )?({WEAK} |just )(above|over|higher than) "
+        "the (?!tabletop |table top ){PARTS}"
         "(?! (level|height|line|of) )",
         # Slightly higher than a part at the subject's height ("slightly higher than the seat").
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
@@ -2011,10 +2013,8 @@ ELEVATION_PHRASES = {
         # An article or a clause's start before it: "a close up shot" is a size, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )up (shot|angle|view|perspective|camera angle)( (of|at|on) {obj})?",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
-        # The camera said below it, or below it looking up ("camera beneath it", "i.e. under it looking
-        # up"): parse20h.
+        # The camera said below it ("camera beneath it", "lens under it looking up"): parse20h.
         "(the )?(camera|lens) (is |sits |held )?(below|beneath|under|underneath|lower than) {obj}( ,? looking up)?",
-        "(from )?(below|beneath|under|underneath) {obj}( ,)? (looking|peering|gazing|{AIM}) up( (at|to|towards) {obj})?",
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
@@ -2042,7 +2042,7 @@ ELEVATION_PHRASES = {
         "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
         "(from |taken from |shot from |(the )?(camera|lens) )?({WEAK} |just )(below|under|beneath|underneath|lower than) "
-        "the {PARTS}(?! (level|height|line|of) )",
+        "the (?!tabletop |table top ){PARTS}(?! (level|height|line|of) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
         "((with )?(the )?(camera|lens) (is |was )?)?(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(the )?camera (is )?(down|lower) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
