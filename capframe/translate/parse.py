@@ -1805,6 +1805,8 @@ ELEVATION_PHRASES = {
         "(at |from )?(the )?eye (level|height|line) with ({obj}|(the |{P} )?{ANCHOR_EYE})",
         # The height of the eyes said the other way round ("at level of eyes", "on the height of the eyes").
         "(at |on |from )?(the )?(level|height|line) of (the |{P} )?eyes",
+        # From its eyes ("not from up high, from his eyes"): at their height (parse20h).
+        "(at|from) {P} eyes(?! (level|height|line|of) )",
         # At the height of a subject named ("ball and plant both in the frame, at ball height").
         "(at|from) (the )?{obj} (height|level)",
         # Down (or up) to a part's height ("crouched down to its roofline", "lowered to the bonnet").
@@ -1833,6 +1835,13 @@ ELEVATION_PHRASES = {
         # Level with a part or a surface named by a height anchor ("level with the seat").
         "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the |{P} )?{ANCHOR_EYE}( (height|level|line))?"
         "( of ({obj}|(the |{P} )?{ANCHOR_EYE}))?",
+        # Level with an edge or the middle of such a part, or with where it starts ("lens level with
+        # the top of the backrest", "level with where the leaves begin"): a part of the subject is at
+        # its height, as the part itself is (parse20h).
+        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (the )?(top|top edge|upper edge|middle|center|mid point)"
+        " of (the |{P} )?{ANCHOR_EYE}",
+        "((the )?(camera|lens) )?({ROUGHLY} )?({STRONG} )?{LEVEL} (where|the point where|the spot where|the place where) "
+        "(the |{P} )?{ANCHOR_EYE} (start|starts|begin|begins|end|ends|meet|meets|join|joins)",
         # The camera at the subject's middle ("camera roughly at its middle", "lens on its centre").
         "(the )?(camera|lens) (is |held |kept |set |placed |put )?({ROUGHLY} )?(at|on) ({P}|(the )?{ANCHOR_EYE} 's) "
         "(own )?{MIDDLE}",
@@ -1858,6 +1867,8 @@ ELEVATION_PHRASES = {
         "((look|looks|looking) )?({WEAK} from (the )?upper|from {WEAK} upper)( side)?"
         "(?= ([,.;:!?]|$|and |with |but |to |at |on ))",
         "(looking|look|looks|{AIM}) {WEAK} down( (at|on|onto) {obj})?",
+        # The camera said as "it" between ("angle it gently down", "tilt it a bit down"): parse20h.
+        "{AIM} (it|the camera|the lens) ({WEAK} down|down {WEAK})( (at|on|onto) {obj})?",
         "(from )?(a )?slightly (high|higher|elevated|raised) (angle|position|viewpoint|vantage point|camera)",
         # A little elevation or height ("slight elevation", "a touch of height"), looking down gently.
         "(a |with )?(slight|gentle|mild|small|little) (elevation|height)",
@@ -1871,13 +1882,18 @@ ELEVATION_PHRASES = {
         # touch above its seat", "a little higher than its roof").
         "(from )?({WEAK} |just )?(above|over|higher than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(above|over|higher than) {P} (own )?({ANCHOR_EYE}|top)(?! (level|height|line) )",
+        # A part said with "the" ("from just over the lip", "a touch above the roofline"); not the top
+        # of a table, what the subject stands on (the low angle's "lens just above the tabletop"): parse20h.
+        "(from |taken from |shot from |(the )?(camera|lens) )?({WEAK} |just )(above|over|higher than) "
+        "the (?!tabletop |table top ){PARTS}"
+        "(?! (level|height|line|of) )",
         # Slightly higher than a part at the subject's height ("slightly higher than the seat").
         "({WEAK}|just) higher than (the |{P} )?{ANCHOR_EYE}( (level|height))?",
         # Degree words after or around a height ("a touch high", "looking down a bit").
         "{WEAK} (high|higher|up|raised|elevated|lifted)( up| angle)?(?! (in|on|at) )",
         # The degree said after ("elevated slightly", "raised a touch").
         # Said of the camera, or the camera up by a little ("camera raised slightly", "cam up a bit").
-        "((the )?(camera|lens) (is |was )?)?(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "((with )?(the )?(camera|lens) (is |was )?)?(raised|elevated|lifted) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(the )?camera (is )?(up|higher) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) down {WEAK}( (at|on|onto) {obj})?",
         "(looking|look|looks|{AIM}) down( (at|on|onto) {obj})? {WEAK}",
@@ -2002,6 +2018,8 @@ ELEVATION_PHRASES = {
         # An article or a clause's start before it: "a close up shot" is a size, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )up (shot|angle|view|perspective|camera angle)( (of|at|on) {obj})?",
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
+        # The camera said below it ("camera beneath it", "lens under it looking up"): parse20h.
+        "(the )?(camera|lens) (is |sits |held )?(below|beneath|under|underneath|lower than) {obj}( ,? looking up)?",
         "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
@@ -2016,6 +2034,7 @@ ELEVATION_PHRASES = {
         "(from |with the camera )?({WEAK}|just) (below|beneath|under|underneath|lower)( {obj}| than {obj})?",
         "{WEAK} from (below|beneath)",
         "(looking|look|looks|{AIM}) {WEAK} up( (at|to|towards) {obj})?",
+        "{AIM} (it|the camera|the lens) ({WEAK} up|up {WEAK})( (at|to|towards) {obj})?",
         "(from )?(a )?slightly (low|lower) (angle|position|viewpoint|vantage point|camera)",
         "{WEAK} (looking|look|looks|{AIM}) up( (at|to|towards) {obj})?",
         "{WEAK} (below|under|beneath) (the )?(level|horizontal|horizon)",
@@ -2027,8 +2046,10 @@ ELEVATION_PHRASES = {
         # little below its seat", "a bit lower than its roof").
         "(from )?({WEAK} |just )?(below|under|beneath|underneath|lower than) {HEIGHT_OF} (level|height|line)",
         "(from )?({WEAK} |just )(below|under|beneath|underneath|lower than) {P} (own )?{ANCHOR_EYE}(?! (level|height|line) )",
+        "(from |taken from |shot from |(the )?(camera|lens) )?({WEAK} |just )(below|under|beneath|underneath|lower than) "
+        "the (?!tabletop |table top ){PARTS}(?! (level|height|line|of) )",
         "{WEAK} (low|lower)( down| angle)?(?! (in|on|at) )",
-        "((the )?(camera|lens) (is |was )?)?(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
+        "((with )?(the )?(camera|lens) (is |was )?)?(lowered|dropped) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(the )?camera (is )?(down|lower) {WEAK}(?= ([,.;!]|$|and |with |looking ))",
         "(looking|look|looks|{AIM}) up {WEAK}( (at|to|towards) {obj})?",
         "(looking|look|looks|{AIM}) up( (at|to|towards) {obj})? {WEAK}",
@@ -2095,6 +2116,12 @@ ELEVATION_HINTS = {
         "(the )?(camera|lens|line of sight) (is |held |kept |stays |set )?({STRONG} |perfectly |nice and )?horizontal"
         "(?= ([,.;!]|$|and |with |at |on ))",
         "({STRONG}|perfectly) horizontal(?! (horizon|frame|framing|format|orientation|line|lines|image|picture|shot) )",
+        # Parallel to what the subject stands on, or pointing neither up nor down ("lens parallel to
+        # the floor", "not pointing up or down"): parse20h.
+        "((the )?(camera|lens|line of sight) (is |held |kept |stays |set )?)?({STRONG} |perfectly )?parallel (to|with) (the )?"
+        "(floor|ground|table|tabletop|desk|grass|lawn)",
+        "((and |but )?not|neither) (pointing|pointed|tilted|tilting|angled|aimed|looking|facing) (up or down|down or up"
+        "|up nor down|down nor up)",
         "{AIM}( the camera| the lens)? ({STRONG} |perfectly )?horizontal(ly)?",
         "(at|from) (the )?(height|level|eye level|eye height|eye line|head height) of (a |an |the )?"
         + PERSON
@@ -2199,6 +2226,19 @@ ELEVATION_HINTS = {
         # The camera resting on the floor ("camera lying on the rug"), shot low ("tail end, shot low").
         "(the )?(camera|lens) (is )?(lying|laid|resting|sitting|placed|set|put|flat|down)( down| flat)? on the "
         "(floor|ground|rug|carpet|grass|lawn|mat)",
+        # The photographer lying down, said of oneself or as if ("lie flat on the grass", "as if you
+        # were lying on the table", "lying on my belly"): the eye a little above what the subject
+        # stands on, below the subject (parse20h). Said of a subject ("the bear lying on the rug") it
+        # is where the subject rests (PLACE_PHRASES).
+        "(" + AS_IF + " )?(you|i|we|one|someone|somebody|the photographer) (were |was |are |is |am |m |re |should be |must be )?"
+        "(lying|laying|lie|lay)( down)?( flat)?( (on|in) {LIEON})?",
+        "((?<=^ )|{CLAUSE}|(?<= and ))(lie|lay|get)( down)? (flat|prone|down|on (your|the) (belly|stomach|tummy|front|back))"
+        "( (on|in) {LIEON})?",
+        # The camera on what the subject stands on, pitched up at it ("cam resting on the tabletop
+        # pitched up at it"): below the subject; without the pitch it is level with it (parse20h).
+        "(the )?(camera|lens|cam) (is )?(lying|resting|sitting|placed|set|put|standing)( down| flat)? on the "
+        "({SURFACE}|tabletop|table top|{SUPPORT})( ,)? (and )?((pitched|tilted|angled|aimed|pointing|pointed|looking|peering"
+        "|{AIM}) )?up( (at|to|towards) {obj})?",
         "(shot|shoot|shoots|shooting|taken|filmed|framed|photographed) (low|low down|down low)(?! (in|on|at) )",
         "(?<= and )(from )?(below|beneath|down low|low down)(?= ([,.;!]|$))",
         # The camera at the subject's foot or under its crown ("right by the trunk", "at its foot",
@@ -2219,10 +2259,11 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
     _creature = "(" + "|".join(sorted(_creatures, key=len, reverse=True)) + ")"
     ELEVATION_PHRASES[_elevation_class] += [
         # Said as roughly that ("almost worm's eye", "nearly a bird's-eye view"): the class's
-        # own range allows for it.
+        # own range allows for it. "Eye" may be written by ear as "I" before its noun ("a birds I
+        # view", "worm I level": parse20h).
         "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?"
         + _creature
-        + "( 's)? eyes?( ({EYENOUN}|level))?",
+        + "( 's)? (eyes?( ({EYENOUN}|level))?|i ({EYENOUN}|level))",
         "(from |in |as |through )?({NEARLY} |mostly |roughly |kind of |sort of )?(a |an |the )?" + _creature + "( 's)? {EYENOUN}",
         # As it sees things, said any way ("the way a bird sees it", "how birds see it", "as a bird
         # would look at it", "as seen by a frog"), or the creature alone ("from above, like a bird").
@@ -2230,7 +2271,7 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
         " (sees|would see|might see|see|views|would view|would look at|looks at|look at|would|does|do)"
         "( it| them| {obj}| things)?",
         "(as )?seen (by|through the eyes of) (a |an |the )?" + _creature + "s?",
-        "(like|as) (a |an |the )?" + _creature + "s?(?= ([,.;!]|$))",
+        "(like|as) (a |an |the )?" + _creature + "s?(?= ([,.;!]|$|and |but ))",
         "(from |through )?(the )?({EYENOUN}|eyes) of (a |an )?" + _creature,
     ]
 
@@ -2303,6 +2344,12 @@ EXPLICIT_ELEVATION_PHRASES = {
         # A bare number with its article and direction ("at a 45 from above", "a high 45").
         "(at |from )?(a |an )(high |steep )?{n}( degrees)?( angle)? (from )?(above|overhead)",
         "(a |an )high {n}(?= ([,.;!]|$))",
+        # A steep angle given ("from a steep seventy degrees", "at a steep 60 degree angle"): steep is
+        # said only of looking down (parse20h).
+        "(at |from )?(a |an )?steep ({ABOUT} )?{d}(?<= degrees)( angle)?( (from )?(above|overhead))?",
+        # The camera up by the angle, said plainly ("lens up around 35 degrees", "cam up 40 degrees"): no
+        # verb of pointing before "up", so the camera's place, not its pitch (parse20h).
+        "(the )?(camera|lens|cam) (is )?(up|high|high up|up high) ({ABOUT} )?{d}(?<= degrees)(?! (left|right|to|round|around) )",
         "(from |at )?(a |an )?{d} angle (from )?(above|overhead)",
         "with the camera {d} above {obj}",
         "looking down( at {obj})? from {d} above",
@@ -2404,6 +2451,12 @@ for _sign, _way in ((1.0, "down"), (-1.0, "up")):
 # else it stays not understood. Degrees that turn the camera round or about its axis are no height.
 BARE_ANGLE_PHRASES = [
     "((at|from|by|of|like|say|to) )?({ABOUT} )?{d}(?<= degrees)( or so| or thereabouts)?"
+    "(?! (round|around|off|to|towards|toward|left|right|clockwise|counterclockwise|from|of|turn|rotation|roll"
+    "|tilt|cant|dutch|and|or|azimuth|up|down|above|below|high|higher|low|lower|overhead|under|beneath|underneath"
+    "|elevation|angle|pitch) )",
+    # A signed angle ("camera at minus fifteen degrees, i.e. beneath it looking up"): kept only where
+    # the height said nearest is below the horizontal too (:func:`_bare_angles`; parse20h).
+    "((at|from|of|to) )?({ABOUT} )?{negd}(?<= degrees)"
     "(?! (round|around|off|to|towards|toward|left|right|clockwise|counterclockwise|from|of|turn|rotation|roll"
     "|tilt|cant|dutch|and|or|azimuth|up|down|above|below|high|higher|low|lower|overhead|under|beneath|underneath"
     "|elevation|angle|pitch) )",
@@ -2716,6 +2769,9 @@ ROLL_PHRASES = {
         "((the )?(frame|shot|picture|image|camera) )?(square|squared|parallel) (to|with) the horizon",
     ],
 }
+
+# The fewest letters of a table word read whole from two pieces ("a bove": :meth:`RuleParser._unslip`).
+MIN_SPLIT_LETTERS = 5
 
 # "Please" is dropped before the tables are read: said anywhere ("the mug really big please",
 # "the bear please from behind") it parts no phrase from the clause end it asks for.
@@ -3325,6 +3381,9 @@ _MACROS = {
     "|tilting|pitch|pitched|pitching)",
     # Surfaces a subject rests or sits on: "at table height" is level with what stands on it.
     "{SURFACE}": "(?:table|tabletop|desk|counter|countertop|seat|bench|shelf|bed|sofa|couch|chair)",
+    # What one lies on or in to shoot from low down ("lie flat on the grass", "on your belly").
+    "{LIEON}": "(?:(?:the |a |your |my |his |her )?(?:table|tabletop|table top|desk|counter|floor|ground|grass|lawn|rug"
+    "|carpet|mat|sand|belly|stomach|tummy|front|back))",
     # The whole subject said to fit ("so all of it fits", "the whole thing fits in the frame").
     "{FITS}": "(?: (?:fits|fit|fitting|goes|gets)(?: in(?: (?:the )?" + FRAME + ")?)?)?",
     "{PART}": "(?: " + _alternatives(SIDE_PARTS, "(?:") + ")?",
@@ -4022,6 +4081,13 @@ class RuleParser:
         out, read = [], []
         for token in tokens:
             known = token in self.lexicon or token in STOPWORDS or singular(token) in names
+            joined = out[-1] + token if out and not known and token.isalpha() and out[-1].isalpha() else ""
+            if len(joined) >= MIN_SPLIT_LETTERS and joined in self.lexicon:
+                # A table word split in two, its second piece no word the tables know ("slightly a
+                # bove it", "be neath", "hori zontal"): read whole (parse20h).
+                read.append({"said": f"{out[-1]} {token}", "read": joined})
+                out[-1] = joined
+                continue
             target = None if known else self._unknown_word(out, token, names, vocabulary)
             out.extend(target or (token,))
             if target:
@@ -5107,6 +5173,9 @@ def _bare_angles(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
         sign = _side_of(nearest) if nearest.field.startswith("elevation") else 0.0
         if cue.value == 0.0 and nearest.field.startswith("elevation"):  # no side to take: level
             sign = 1.0
+        if cue.value < 0.0:  # signed already: kept only beside a height below ("minus 15, beneath it")
+            sign = -1.0 if sign < 0.0 else 0.0
+            cue = replace(cue, value=-cue.value)
         if sign and not _beyond_slight(nearest, sign * cue.value):
             out.append(replace(cue, field="elevation_deg", value=sign * cue.value, weak=False))
     return out

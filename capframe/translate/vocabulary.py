@@ -674,7 +674,7 @@ FILLER_WORDS = frozenset(
     photo photograph picture pic image shot snapshot snap frame capture view render rendering
     want like love need have get take make see show give grab gimme try go going looking request
     fancy nothing color colors tones vibe vibes whatsoever sure ensure basically again needs ought gotta
-    include including
+    include including ie namely
     too well visible included until while when because if though""".split()
 )
 
@@ -793,10 +793,12 @@ DEGREE_SCALE = {
         "just slightly",
         "kind of",
         "sort of",
-        # Said without the article ("bit above", "little bit to the left").
+        # Said without the article ("bit above", "little bit to the left"; parse20h: "little higher
+        # than it", "little more low", as non-native writers drop it).
         "bit",
         "little bit",
         "tiny bit",
+        "little",
     ),
     # More than the plain word: the steeper height class ("very high" is a high angle).
     "strong": ("very", "really", "real", "way", "well", "far", "super", "extremely", "quite", "strongly", "steeply"),
