@@ -170,6 +170,24 @@ def test_a_question_with_why_d_reads_no_size():
     assert p.subjects[0].shot != "wide"
 
 
+LITTLE_ROOM = [
+    # A little room of any kind round the whole subject is a medium shot, as a small margin is;
+    # plenty of it stays wide.
+    ("the toy car, keep the whole car in frame with a bit of air around it", "medium"),
+    ("the vase with a touch of table all round", "medium"),
+    ("the whole television, a little wall on each side", "medium"),
+    ("the bench with plenty of grass around it", "wide"),
+    ("the sofa with lots of room around it", "wide"),
+]
+
+
+@pytest.mark.parametrize(("text", "shot"), LITTLE_ROOM)
+def test_a_little_room_round_it_is_medium(text, shot):
+    p, s = _read(text)
+    assert s.shot == shot
+    assert not p.not_understood()
+
+
 def test_a_shot_with_another_object_in_view_is_the_subjects():
     p = parse("the television from its left side, in a wide shot with the sofa in view")
     assert [(s.name, s.shot) for s in p.subjects] == [("television", "wide"), ("sofa", None)]

@@ -573,7 +573,7 @@ SHOT_CLAUSES = {
         "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
         "(margin|margins|border|padding)"
         "( (all round|all around|on all sides|around {obj}|round {obj}))?",
-        "(with )?((a little|a bit of|a little bit of|some|a touch of|a good bit of) )?(space|room|air|floor|table|grass|wall)"
+        "(with )?((a good bit of) )?(space|room|air|floor|table|grass|wall)"
         " ((around|round|about) {obj}|(all round|all around|on all sides|on every side))",
         "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
         "( (around|round|about) {obj})?",
@@ -679,6 +679,11 @@ SHOT_CLAUSES["medium"] += [
     "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |some "
     "|(a )?(small|slight|thin|narrow|tiny|minimal) )(margin|margins|border|padding)"
     "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+    # ... as is a little room of any kind round it ("with a bit of air around it", "some wall on
+    # each side", "a touch of table all round"): parse20s; plenty of it stays wide.
+    "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |a tad of |some "
+    "|a small amount of )(space|room|air|floor|table|grass|wall)"
+    " ((around|round|about) {obj}|(all round|all around|on all sides|on every side|on each side|on either side|each side))",
 ]
 # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it is
 # in, which alone is a medium shot (:func:`_said_shot`) but says no size beside a size word:
