@@ -203,3 +203,40 @@ def test_the_frame_said_empty_round_its_area_is_wide():
         p, s = _read(text)
         assert (s.shot, s.region) == ("wide", region)
         assert not p.not_understood()
+
+
+OWN_WORDINGS = [
+    # Learners' and children's sizes: a distance bare after "from"/"at", a size as a noun
+    # phrase, a doubled diminutive, a shot word as a noun, a label of the medium close-up.
+    ("take picture of bench from far", "wide"),
+    ("take the sofa from little far", "wide"),
+    ("photo of the bench from near", "close-up"),
+    ("the sofa at a distance", "wide"),
+    ("the mug in big size", "close-up"),
+    ("the vase in small size", "wide"),
+    ("the ball teeny weeny", "wide"),
+    ("the mug as a wide", "wide"),
+    ("the armchair, a wide, from behind", "wide"),
+    ("wide-ish on the bench", "wide"),
+    ("Medium close: the mug", "close-up"),
+    ("the vase, closer up", "close-up"),
+]
+
+
+@pytest.mark.parametrize(("text", "shot"), OWN_WORDINGS)
+def test_more_sizes_said_as_people_say_them(text, shot):
+    p, s = _read(text)
+    assert s.shot == shot
+    assert not p.not_understood()
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        # Keep-probes: "near"/"from near" an object is a relation, no size.
+        "the mug near the sofa",
+        "the mug from near the sofa",
+    ],
+)
+def test_near_an_object_is_no_size(text):
+    assert parse(text).subjects[0].shot is None

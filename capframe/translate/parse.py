@@ -447,6 +447,10 @@ SHOT_CLAUSES = {
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
         "(from )?((right|really|very|real) )?up close",
+        # ... and near ("photo of the bench from near", "from very near"): parse20s.
+        "from ((a )?(little|bit) |very |really |so |quite )?(near|nearby|near by)(?= ([,.;:!)]|$|and |with |so |but ))",
+        # A size said as a noun phrase ("in big size", "the vase large size"): parse20s.
+        "((in|at) )?(a )?(big|large|huge|bigger|larger|full) size( in (the )?{FRAME})?",
         # Near enough to touch ("within arm's reach", "at arm's length").
         "(within|at) (an |one )?arm 's (reach|length)",
         "(from )?close up",
@@ -488,7 +492,7 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight|closer up)"),
         ALONE_PLACED.replace("{WORD}", "(big|large|huge|bigger|larger|massive|enormous)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
         # Too big to fit ("so big it doesn't even fit", "too large to fit in the frame"): parse18p6.
@@ -526,7 +530,7 @@ SHOT_CLAUSES = {
         " (most of |all of |nearly all of |almost all of )?(it|everything|the (whole |entire )?{FRAME})",
         # A shot size named as a label before a colon ("Wide: the couch from behind", "Tight: the
         # mug"), as shot lists head a line: parse20s.
-        "((?<=^ )|(?<=[.;!?] ))(tight|tighter|close|closer|detail|macro)( shot)? :",
+        "((?<=^ )|(?<=[.;!?] ))(tight|tighter|close|closer|detail|macro|medium close)( shot)? :",
         # A size as a noun, "one" standing for the shot ("a tight one of the mug"): parse18p6.
         "(a |an )?(tight|tighter|close|closer) one( (of|on) {obj})?",
     ],
@@ -563,11 +567,16 @@ SHOT_CLAUSES = {
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        # A distance said bare after "from" or "at", as learners say it ("take the bench from far",
+        # "from a little far", "the sofa at a distance"): parse20s.
+        "from ((a )?(little|bit|bit more|little more|more|very|really|so|quite|too) )?far(?= ([,.;:!)]|$|and |with |so |but ))",
+        "at a ((great|good|long|fair|safe|big) )?distance",
         "(from )?(a )?(long|great|good) way (off|away|back)",
         "far (away )?from {obj}",
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        "((in|at) )?(a )?(small|little|tiny|smaller) size( in (the )?{FRAME})?",
         # Room to breathe around it ("with breathing room around it", "some elbow room").
         # Margins or room all round it ("with a generous margin", "space on all sides", "a little room around it").
         "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
@@ -594,7 +603,10 @@ SHOT_CLAUSES = {
         "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
         " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
         # Wide on the subject, as a shot list says it ("WIDE on the cone").
-        "(a )?(wide|wider|long|extreme wide|very wide) on {obj}",
+        "({WEAK} |a )?(wide|wider|long|extreme wide|very wide) on {obj}",
+        # The size word as the shot's noun ("the mug as a wide", "a wide, from behind"): parse20s.
+        "((?<=^ )|{CLAUSE}|(?<=in )|(?<=as ))(a |an )(wide|long|extreme wide|very wide|wider)( (of|on) {obj})?"
+        "(?= ([,.;:!)]|$|from |at |with |and ))",
         "zoom(ed|ing)? (way |all the way |well )?out( (a lot|lots|loads))?( (from|on) {obj})?",
         # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
         "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"

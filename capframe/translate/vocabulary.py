@@ -1381,6 +1381,8 @@ SIZE_WORDS = {
         "diminutive",
         "teeny tiny",
         "itty bitty",
+        "teeny weeny",
+        "itsy bitsy",
         "teensy",
         "titchy",
     ),
