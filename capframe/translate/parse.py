@@ -388,11 +388,21 @@ SHOT_ADJECTIVES = {
 # ... or before what it rests on ("kept tiny on the gravel"); not before a part of the frame, where
 # "far on the left" is how far out it sits.
 NOT_ON_A_THING = "((the|its|his|her|their) )?(left|right|top|bottom|side|edge|corner|center|middle|far|other|{FRAME})( |$)"
-ALONE = (
-    "({CLAUSE}|(?<= and ))((kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing) )?"
-    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}"
-    "(?= ([,.;:!]|$|with |so |but |and |against |on (?!" + NOT_ON_A_THING + ")))"
+# A verb of making or placing may lead it too, its object dropped or said as "it" ("make small",
+# "tucked away small", "tuck it small"): parse20s.
+ALONE_VERBS = (
+    "(kept|keep it|keeping it|left|leave it|stay|stays|staying|shown|looking|appearing|make|make it|making it|made|have it"
+    "|tuck it|tucked|tucked away|tuck it away|tucked in|placed|put it|set)"
 )
+ALONE = (
+    "({CLAUSE}|(?<= and ))(" + ALONE_VERBS + " )?"
+    "({VERY} |{WEAK} |{FAIRLY} |extra |nice and |(so )+)?{WORD}"
+    "(?= ([,.;:!)]|$|with |so |but |and |against |on (?!" + NOT_ON_A_THING + ")))"
+)
+# ... and a size adjective so said may come before the area of the frame it sits in ("small in the
+# lower left", "tucked away tiny at the top right", "a bit big in the middle"): parse20s. Not
+# "far" nor "close", which before a place say how near an edge it sits ("far in the corner").
+ALONE_PLACED = ALONE.split("(?= ")[0] + "(?= (in|into|at|towards|toward|up in|down in|over in|off in|out in) the )"
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
 COPULA_SIZE = (
@@ -405,7 +415,7 @@ COPULA_SIZE = (
 AFTER_SUBJECT = (
     # Also after the colon of a label opening the sentence ("Tree: massive in frame").
     "((?<=^ ){obj} :|{obj}) (is |looking |kept |staying |nice and |{VERY} |{WEAK} |extra |(so )+)?{WORD}"
-    "(?= ([,.;:!]|$|and |in |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
+    "(?= ([,.;:!)]|$|and |in |into |at |on |up |down |near |towards |by |to |from |with |so |but |against ))"
 )
 
 # Small in a frame said to be big or empty ("tiny in a big empty frame", "little in a huge,
@@ -432,7 +442,7 @@ SHOT_CLAUSES = {
         "|touching|reach|reaches|reaching) (most of |all of |all |nearly all of )?the (whole |entire |edges of the )?{FRAME}"
         "( (edges|sides|borders))?",
         # Pressed into the frame edge to edge ("crammed into the frame", "pack the sofa into the shot").
-        "({CRAM}) (in|into|inside) the (whole |entire )?{FRAME}",
+        "({CRAM})( (edge to edge|side to side|corner to corner))? (in|into|inside) the (whole |entire )?{FRAME}",
         "({CRAM_VERB}) {obj} (in|into|inside) the (whole |entire )?{FRAME}",
         # The whole width or height of the frame ("filling the width of the frame", "spanning the
         # whole frame width").
@@ -442,6 +452,10 @@ SHOT_CLAUSES = {
         "(from|at) (very |really )?close( range)?",
         "(very )?tightly",
         "(from )?((right|really|very|real) )?up close",
+        # ... and near ("photo of the bench from near", "from very near"): parse20s.
+        "from ((a )?(little|bit) |very |really |so |quite )?(near|nearby|near by)(?= ([,.;:!)]|$|and |with |so |but ))",
+        # A size said as a noun phrase ("in big size", "the vase large size"): parse20s.
+        "((in|at) )?(a )?(big|large|huge|bigger|larger|full) size( in (the )?{FRAME})?",
         # Near enough to touch ("within arm's reach", "at arm's length").
         "(within|at) (an |one )?arm 's (reach|length)",
         "(from )?close up",
@@ -483,7 +497,8 @@ SHOT_CLAUSES = {
         # "close on its face": the possessive and its part stay a cue of their own (a view side).
         "((keep|keeping) (it |{obj} )?|nice and |really |very )?(tight|close) on(?= {P} )",
         "(keep|keeping) (it|{obj}) (nice and |really |very )?tight",
-        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight)"),
+        ALONE.replace("{WORD}", "(tight|close|big|large|huge|closer|tighter|bigger|larger|close in|in close|in tight|closer up)"),
+        ALONE_PLACED.replace("{WORD}", "(big|large|huge|bigger|larger|massive|enormous)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["close-up"]) + ")"),
         # Too big to fit ("so big it doesn't even fit", "too large to fit in the frame"): parse18p6.
         "(so |such |{VERY} )?(big|large|huge|close|near|massive|enormous|giant) (that )?(it |{obj} )?(doesn t|doesnt|does not"
@@ -508,6 +523,19 @@ SHOT_CLAUSES = {
         # Not a place near an edge ("the mug close to the left edge of the frame").
         AFTER_SUBJECT.replace("{WORD}", "(" + "|".join(("close up", *SIZE_WORDS["close-up"])) + ")")
         + "(?! to (the )?(left|right|top|bottom|edge|edges|corner|side|center|middle|border|@\\d)( |$))",
+        # The subject filling the frame said as a result of the closeness ("so close it's all you
+        # can see", "close enough that he fills most of it", "near enough they are all we see"):
+        # parse20s.
+        "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so that |so )?"
+        "(it 's|it s|it is|he 's|he is|she 's|she is|they re|they 're|they are|{obj} is|{obj} are) (all|everything|the only thing"
+        "|the one thing|all that) (that )?(you|we|i|one|the camera|the viewer|anyone) (can |could |will |ll |would |d )?"
+        "(see|sees|get|gets)",
+        "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so that |so |to )?"
+        "(it|he|she|they|{obj}) (nearly |almost |completely |entirely |just )?(fills|fill|takes up|take up|covers|cover)"
+        " (most of |all of |nearly all of |almost all of )?(it|everything|the (whole |entire )?{FRAME})",
+        # A shot size named as a label before a colon ("Wide: the couch from behind", "Tight: the
+        # mug"), as shot lists head a line: parse20s.
+        "((?<=^ )|(?<=[.;!?] ))(tight|tighter|close|closer|detail|macro|medium close)( shot)? :",
         # A size as a noun, "one" standing for the shot ("a tight one of the mug"): parse18p6.
         "(a |an )?(tight|tighter|close|closer) one( (of|on) {obj})?",
     ],
@@ -528,6 +556,9 @@ SHOT_CLAUSES = {
         "( (and |but |or |, )?not (too |so |that |overly |very |super |too much )({NOT_TOO}))?",
         # A medium size alone as a clause ("the chair from the front, medium, eye level").
         ALONE.replace("{WORD}", "(medium|mid|medium wide|medium long|medium full|mid length|full length)"),
+        ALONE_PLACED.replace("{WORD}", "(medium|medium sized|mid sized)"),
+        # ... or right after its subject ("shoot from a little above, chair medium"): parse20s.
+        AFTER_SUBJECT.replace("{WORD}", "(medium|medium sized|mid sized)"),
         # Just fitting in the frame ("so it just fits in the frame"): all of it, with little room.
         "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
     ],
@@ -541,17 +572,22 @@ SHOT_CLAUSES = {
         "from afar",
         "from (a )?(long |great )?distance",
         "(from )?far (off|back)",
+        # A distance said bare after "from" or "at", as learners say it ("take the bench from far",
+        # "from a little far", "the sofa at a distance"): parse20s.
+        "from ((a )?(little|bit|bit more|little more|more|very|really|so|quite|too) )?far(?= ([,.;:!)]|$|and |with |so |but ))",
+        "at a ((great|good|long|fair|safe|big) )?distance",
         "(from )?(a )?(long|great|good) way (off|away|back)",
         "far (away )?from {obj}",
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
+        "((in|at) )?(a )?(small|little|tiny|smaller) size( in (the )?{FRAME})?",
         # Room to breathe around it ("with breathing room around it", "some elbow room").
         # Margins or room all round it ("with a generous margin", "space on all sides", "a little room around it").
         "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
         "(margin|margins|border|padding)"
         "( (all round|all around|on all sides|around {obj}|round {obj}))?",
-        "(with )?((a little|a bit of|a little bit of|some|a touch of|a good bit of) )?(space|room|air|floor|table|grass|wall)"
+        "(with )?((a good bit of) )?(space|room|air|floor|table|grass|wall)"
         " ((around|round|about) {obj}|(all round|all around|on all sides|on every side))",
         "(with )?((some|a bit of|a little|enough|a lot of|lots of|plenty of|loads of) )?(breathing|elbow|head) (room|space)"
         "( (around|round|about) {obj})?",
@@ -572,7 +608,10 @@ SHOT_CLAUSES = {
         "(just |only |merely )?(a |an |one )?(small|tiny|little|minor|minuscule|distant|modest)"
         " (element|part|feature|presence|component|detail) (in|of|within) (the |a |an )?{WHOLE}",
         # Wide on the subject, as a shot list says it ("WIDE on the cone").
-        "(a )?(wide|wider|long|extreme wide|very wide) on {obj}",
+        "({WEAK} |a )?(wide|wider|long|extreme wide|very wide) on {obj}",
+        # The size word as the shot's noun ("the mug as a wide", "a wide, from behind"): parse20s.
+        "((?<=^ )|{CLAUSE}|(?<=in )|(?<=as ))(a |an )(wide|long|extreme wide|very wide|wider)( (of|on) {obj})?"
+        "(?= ([,.;:!)]|$|from |at |with |and ))",
         "zoom(ed|ing)? (way |all the way |well )?out( (a lot|lots|loads))?( (from|on) {obj})?",
         # A loose framing: room left around the subject ("framed loosely", "a loose shot", "keep it loose").
         "((framed|shot|cropped|kept|keep it|keeping it) )?(loosely|loose)( (framed|cropped))?"
@@ -584,6 +623,7 @@ SHOT_CLAUSES = {
         "(pull|pulled|pulling|step|stepped|stepping|move|moving) (way |far |well )?back( enough)?( from {obj})?",
         "(go|going|keep it|keeping it|shoot|shooting) wide( on {obj})?",
         ALONE.replace("{WORD}", "(wide|wide angle|small|tiny|little|distant|far|far away|far off|smaller|wider|further|farther)"),
+        ALONE_PLACED.replace("{WORD}", "(small|tiny|little|wee|smaller|minuscule|teeny|teensy|titchy|teeny tiny)"),
         COPULA_SIZE.replace("{WORD}", "(" + "|".join(SIZE_WORDS["wide"]) + ")"),
         # Likened to a speck ("the ball a speck in the middle", "the bench just a dot").
         "({obj} )?((is|as|be|like|looks like|reduced to|becomes|becoming|the size of) )?((just|only|no more than|nothing but) )?"
@@ -600,10 +640,16 @@ SHOT_CLAUSES = {
 
 # A size said as leaning one way ("kept on the small side", "a bit on the big side").
 SHOT_CLAUSES["wide"].append("((kept|keep it|keeping it|{WEAK}) )?on the (small|smaller|little|tiny|wee) side(?! of )")
+SHOT_CLAUSES["wide"].append("((?<=^ )|(?<=[.;!?] ))(wide|wider|long|establishing|wide angle|extreme wide|very wide)( shot)? :")
 SHOT_CLAUSES["close-up"].append("((kept|keep it|keeping it|{WEAK}) )?on the (big|bigger|large|larger) side(?! of )")
+# The frame said to be empty round the subject after the area it sits in ("in the lower left of a big
+# empty frame", "top right of an otherwise blank picture"): room all round it, wide: parse20s.
+EMPTY_FRAME = "(a|an) (" + ROOMY_FRAME + "( ,)? ){0,2}(empty|open|blank|spacious|vast)( ,)? {FRAME}"
+EMPTY_FRAME_AFTER = "(a|an) (" + ROOMY_FRAME + "( ,)? ){0,2}(empty|open|blank|spacious|vast) "
 SHOT_CLAUSES["wide"] += [
+    "(?<= )(of|in|within|inside) " + EMPTY_FRAME,
     "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
-    "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space)",
+    "(" + ROOMY_FRAME + "( ,)? ){1,3}({FRAME}|expanse|space|landscape|scene|setting|room|field|garden|world|vista|panorama)",
 ]
 
 # All of the subject in the picture, said in a clause ("the whole bench in frame", "fully visible").
@@ -638,6 +684,11 @@ SHOT_CLAUSES[WHOLE] = [
     # "All sofa inside", the article dropped as non-native writers drop it.
     "(with )?all {obj} ((inside|within|in)( the)? {FRAME}|inside|visible|in view|showing)(?= ([,.;!]|$|and |with |from ))",
     "{obj}( ,)? [a-z]+( [a-z]+)? and all(?= ([,.;!]|$))",
+    # Said whole after a verb of being or keeping ("it must be whole in picture", "the tree should
+    # stay complete in the frame"): parse20s.
+    "(be|being|is|are|stay|stays|remain|remains|kept|keep it|keeping it|appear|appears|come out|comes out|show|shows)"
+    " (whole|complete|entire|uncropped|in full|in its entirety|all in)( (in|inside|within|on) (the )?({FRAME}|view))?"
+    "(?= ([,.;:!)]|$|and |with |from |at |but ))",
 ]
 # A small margin round the whole subject ("with a bit of margin", "leave a small margin", "a touch
 # of padding all round"): all of it with little room, a medium shot; a generous margin stays wide.
@@ -645,6 +696,11 @@ SHOT_CLAUSES["medium"] += [
     "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |some "
     "|(a )?(small|slight|thin|narrow|tiny|minimal) )(margin|margins|border|padding)"
     "( (all round|all around|on all sides|around {obj}|round {obj}))?",
+    # ... as is a little room of any kind round it ("with a bit of air around it", "some wall on
+    # each side", "a touch of table all round"): parse20s; plenty of it stays wide.
+    "((with|leave|leaving|give it|giving it|plus) )?(a little bit of |a little |a bit of |a touch of |a tad of |some "
+    "|a small amount of )(space|room|air|floor|table|grass|wall)"
+    " ((around|round|about) {obj}|(all round|all around|on all sides|on every side|on each side|on either side|each side))",
 ]
 # From one end of it to the other ("from floor to top in frame", "base to bulb"): all of it is
 # in, which alone is a medium shot (:func:`_said_shot`) but says no size beside a size word:
@@ -3419,7 +3475,7 @@ _MACROS = {
     "{DOWNRIGHT}": "(?:straight|directly|vertically|right|squarely|dead|perpendicularly|plumb)",
     "{DOWNONTO}": " (?:on|at|onto|upon|into|over|to)(?: (?:the )?top of)?(?: {obj})?",
     # A clause's start: after a comma, a colon, a semicolon or a full stop ("bear. close.").
-    "{CLAUSE}": "(?<=[,;:.!?] )",
+    "{CLAUSE}": "(?<=[,;:.!?(] )",
     # The whole picture a small element is part of ("a small element in the landscape").
     "{WHOLE}": "(?:(?:bigger|wider|larger|whole|overall|entire|big) )?(?:"
     + FRAME
@@ -3573,7 +3629,7 @@ def _templates() -> list[tuple[str, object, str, bool]]:
         # "The far left", "the very top": the same area, said to its edge.
         template = (
             f"{REGION_LEAD}{REGION_PREPOSITIONS} (the )?((far|extreme|very|outer) )?{_alternatives(areas)}"
-            "( (of|in) (the )?{FRAME})?(?! of )(?! ground )"
+            "( (of|in) (the )?{FRAME})?(?! of (?!" + EMPTY_FRAME_AFTER + "))(?! ground )"
         )
         rows.append(("region", region, template, False))
         template = f"{REGION_LEAD}{OCCUPYING} the {_alternatives(areas)}( (of|in) (the )?{{FRAME}})?(?! of )"
@@ -4863,6 +4919,14 @@ def _subject_place(before: list[str]) -> bool:
     return bool(picture) and (picture[0] in PLACED_PICTURES or before[-3:-1] == ["close", "up"])
 
 
+# What a shot "with" another object in view says of it: that it is in the picture too, beside the
+# subject said before ("in a wide shot with the sofa in view", "a medium shot with the lamp visible
+# behind"): parse20s.
+ALSO_IN_VIEW = re.compile(
+    r" (the |a |an )?@\d+ (in (view|shot|frame|the (background|frame|shot|picture))|visible|showing|too|as well|behind)( |$)"
+)
+
+
 def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     groups = _groups(m)
     slot = groups.get("ref")
@@ -4889,6 +4953,8 @@ def _cue(rule: _Rule, m: re.Match, start: int, end: int) -> _Cue:
     elif rule.field == "view" and groups.get("exact") and value in EXACT_ENDS:
         value = f"{value}-exact"
     forward = rule.field == "head" or (rule.field == "shot" and re.search(f" {HEAD_LINK}$", m.group()) is not None)
+    if forward and rule.field == "shot" and m.group().endswith(" with") and ALSO_IN_VIEW.match(m.string, m.end()):
+        forward = False  # "a wide shot with the sofa in view": the sofa is beside the subject, not it
     return _Cue(rule.field, value, start, end, m.group(), ref, slot is not None and ref is None, weak, forward)
 
 

@@ -202,6 +202,12 @@ COMPOUNDS |= {(owner, "write"): f"{owner} right" for owner in ("its", "his", "he
 COMPOUNDS |= {("hi", "up"): "high up", ("up", "hi"): "up high", ("way", "hi"): "way high"}
 # The camera said as its rig ("cant the whole rig", "the camera rig"): the camera.
 COMPOUNDS |= {("whole", "rig"): "camera", ("camera", "rig"): "camera"}
+# Shot sizes as dictation hears them ("clothes up" for close up, "why'd shot" for wide shot):
+# parse20s. "why'd" is read so before a noun of the shot only (:func:`_compounds`), where no
+# question can stand.
+COMPOUNDS |= {("clothes", "up"): "close up"}
+SHOT_HOMOPHONES = {("why", "d"): "wide"}
+SHOT_HOMOPHONE_NOUNS = frozenset({"shot", "angle", "view", "frame", "framing", "photo", "picture", "one"})
 
 # Words a "-ish" suffix hedges ("high-ish", "lowish", "smallish"): read as "a bit" before the
 # word, the slight degree of the scale below; other "-ish" words ("reddish") are left alone.
@@ -567,8 +573,10 @@ def _side_letters(tokens: list[str]) -> list[str]:
 
 def _compounds(tokens: list[str]) -> list[str]:
     out: list[str] = []
-    for token in tokens:
-        if out and (out[-1], token) in COMPOUNDS:
+    for k, token in enumerate(tokens):
+        if out and (out[-1], token) in SHOT_HOMOPHONES and tokens[k + 1 : k + 2] and tokens[k + 1] in SHOT_HOMOPHONE_NOUNS:
+            out[-1:] = [SHOT_HOMOPHONES[(out[-1], token)]]
+        elif out and (out[-1], token) in COMPOUNDS:
             out[-1:] = COMPOUNDS[(out[-1], token)].split()
         else:
             out.append(token)
@@ -1375,6 +1383,8 @@ SIZE_WORDS = {
         "diminutive",
         "teeny tiny",
         "itty bitty",
+        "teeny weeny",
+        "itsy bitsy",
         "teensy",
         "titchy",
     ),
