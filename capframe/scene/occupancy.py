@@ -491,11 +491,11 @@ def _floor_height(points: Tensor, grid: Occupancy) -> float:
     high = grid.origin[2] + (grid.floor_top + 1) * grid.voxel
     layers = (heights >= low) & (heights < high)
     if grid.floor_top + 1 < grid.occupied.shape[2]:
-        index, inside = _voxel_index(points, grid.origin, grid.voxel, grid.occupied.shape)
+        index, in_grid = _voxel_index(points, grid.origin, grid.voxel, grid.occupied.shape)
         open_above = torch.as_tensor(grid.free[:, :, grid.floor_top + 1])
         column = index[:, :2].clamp(min=0)
         column = torch.minimum(column, torch.tensor(grid.occupied.shape[:2]) - 1)
-        own = layers & inside & open_above[column[:, 0], column[:, 1]]
+        own = layers & in_grid & open_above[column[:, 0], column[:, 1]]
         layers = own if own.any() else layers
     inside = heights[layers]
     return float(inside.quantile(FLOOR_QUANTILE)) if len(inside) else high
