@@ -13,7 +13,7 @@ since heldout17 and phrasing4 were written; heldout16, blind too, written after 
 the changes tuned on heldout13 land, a development set since 2026-11-28; heldout17, blind too, written after
 heldout16 before the changes tuned on heldout14 and heldout15 land, a development set since the third
 session of 2026-11-28; heldout18,
-blind too, written after heldout17 on 2026-11-28, read by its writer only; heldout19, blind too,
+blind too, written after heldout17 on 2026-11-28, a development set since that day's fourth session; heldout19, blind too,
 written after heldout18 on 2026-11-28 (third session), read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only

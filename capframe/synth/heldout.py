@@ -1,6 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout17``, development sets now, and the blind ``heldout18``
-and ``heldout19``, issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing4`` (development corpora)
+sets ``heldout``, ``heldout2`` ... ``heldout18``, development sets now, and the blind ``heldout19``,
+issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing4`` (development corpora)
 and the development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
 (whole requests of several clauses), written blind to the method, and the blind ``phrasing9``, written
