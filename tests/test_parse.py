@@ -268,6 +268,50 @@ def test_vocabulary_matches_one_name(mention, name):
     assert LIVING_ROOM.match(mention) == name
 
 
+# A mustard sofa and two chairs a shared basic colour term cannot tell apart (red and maroon).
+COLOURED_ROOM = Vocabulary.from_semantics(
+    [
+        SemanticObject(0, "sofa", ["mustard sofa", "settee"], False),
+        SemanticObject(1, "refrigerator", ["white refrigerator", "fridge"], False),
+        SemanticObject(2, "red chair", ["chair"], False),
+        SemanticObject(3, "maroon chair", ["chair"], False),
+    ]
+)
+
+
+@pytest.mark.parametrize(
+    "mention, name",
+    [
+        ("the mustard-yellow settee", "sofa"),  # two words, each sharing the mustard's yellow
+        ("the yellow sofa", "sofa"),
+        ("the ochre couch", "sofa"),
+        ("the cream fridge", "refrigerator"),  # the scene says white
+        ("an off-white fridge", "refrigerator"),
+        ("the red chair", "red chair"),  # the shared word ranks first; maroon is red too
+        ("the maroon chair", "maroon chair"),
+        ("the greyish armchair", "grey armchair"),
+        ("the charcoal armchair", "grey armchair"),
+    ],
+)
+def test_colour_words_agree_by_basic_colour_term(mention, name):
+    vocabulary = LIVING_ROOM if "armchair" in mention else COLOURED_ROOM
+    assert vocabulary.match(mention) == name
+
+
+@pytest.mark.parametrize(
+    "mention, message",
+    [
+        ("the blue sofa", r"'the blue sofa' is not in this scene"),  # no basic term of mustard
+        ("the black fridge", r"'the black fridge' is not in this scene"),
+        ("the crimson chair", r"ambiguous in this scene; say which: \['maroon chair', 'red chair'\]"),
+        ("the burgundy chair", r"ambiguous in this scene; say which: \['maroon chair', 'red chair'\]"),
+    ],
+)
+def test_colour_words_of_no_shared_term_exclude(mention, message):
+    with pytest.raises(InputError, match=message):
+        COLOURED_ROOM.match(mention)
+
+
 @pytest.mark.parametrize(
     "mention, message",
     [

@@ -24,8 +24,9 @@ Damerau's fourth kind of edit) in one of :data:`MIN_TRANSPOSED_LETTERS` ("bera" 
 itself never corrects.
 
 A colour word in the mention that contradicts the colour words of an object's names excludes that
-object ("the blue chair" never matches "red armchair"); objects whose names carry no colour accept
-any. Two objects that match equally well make the mention ambiguous (an error naming both).
+object ("the blue chair" never matches "red armchair"); one sharing a basic colour term with them
+does not (:data:`COLOR_FAMILIES`: "the mustard-yellow settee" of a mustard sofa); objects whose names
+carry no colour accept any. Two objects that match equally well make the mention ambiguous (an error naming both).
 
 Near-synonyms that are neither names, aliases nor words of the tables :data:`NAME_SYNONYMS` and
 :data:`NAME_KINDS` (everyday names, nicknames and kinds of the catalog's objects) are not guessed: a
@@ -2052,42 +2053,71 @@ COURTESIES = (
 # --- matching ---------------------------------------------------------------------------------
 
 DETERMINERS = frozenset({"a", "an", "the", "this", "that", "these", "those", "my", "our", "your", "its", "their"})
-COLORS = frozenset(
-    {
-        "red",
-        "blue",
-        "green",
-        "yellow",
-        "orange",
-        "purple",
-        "violet",
-        "pink",
-        "brown",
-        "black",
-        "white",
-        "gray",
-        "silver",
-        "gold",
-        "golden",
-        "beige",
-        "tan",
-        "cream",
-        "mustard",
-        "teal",
-        "navy",
-        "terracotta",
-        "turquoise",
-        "cyan",
-        "magenta",
-        "maroon",
-        "olive",
-        "ivory",
-        "khaki",
-        "lilac",
-        "crimson",
-        "scarlet",
-    }
-)
+# Each colour word's basic colour terms (Berlin and Kay's eleven). People name one colour many
+# ways: a mention's colour agrees with an object's when they share a basic term ("the
+# mustard-yellow settee" of a mustard sofa, a "cream" fridge the scene calls white, a "navy"
+# chair of a blue one), and "the blue chair" still never matches a red armchair. Shared words
+# still rank first: of a red and a maroon chair, "the red chair" is the red one.
+COLOR_FAMILIES: dict[str, frozenset[str]] = {
+    word: frozenset(terms.split())
+    for word, terms in {
+        "red": "red",
+        "blue": "blue",
+        "green": "green",
+        "yellow": "yellow",
+        "orange": "orange",
+        "purple": "purple",
+        "pink": "pink",
+        "brown": "brown",
+        "black": "black",
+        "white": "white",
+        "gray": "gray",
+        "reddish": "red",
+        "bluish": "blue",
+        "greenish": "green",
+        "yellowish": "yellow",
+        "orangey": "orange",
+        "purplish": "purple",
+        "pinkish": "pink",
+        "brownish": "brown",
+        "blackish": "black",
+        "whitish": "white",
+        "grayish": "gray",
+        "violet": "purple",
+        "lilac": "purple pink",
+        "lavender": "purple",
+        "indigo": "blue purple",
+        "navy": "blue",
+        "teal": "blue green",
+        "turquoise": "blue green",
+        "cyan": "blue green",
+        "aqua": "blue green",
+        "emerald": "green",
+        "olive": "green brown yellow",
+        "khaki": "brown green yellow",
+        "crimson": "red",
+        "scarlet": "red",
+        "maroon": "red brown purple",
+        "burgundy": "red purple",
+        "magenta": "pink purple red",
+        "coral": "pink orange red",
+        "terracotta": "orange red brown",
+        "copper": "orange brown",
+        "bronze": "brown orange yellow",
+        "amber": "orange yellow",
+        "ochre": "yellow orange brown",
+        "mustard": "yellow brown orange",
+        "gold": "yellow orange",
+        "golden": "yellow orange",
+        "beige": "brown white yellow",
+        "tan": "brown yellow orange",
+        "cream": "white yellow",
+        "ivory": "white yellow",
+        "silver": "gray white",
+        "charcoal": "gray black",
+    }.items()
+}
+COLORS = frozenset(COLOR_FAMILIES)
 # Words that describe rather than name ("the big red chair"): ignored when matching partially.
 ATTRIBUTES = COLORS | {
     "big",
@@ -2287,9 +2317,12 @@ class Vocabulary:
         return [name for name, r in sorted(scored.items(), key=lambda kv: (-kv[1], kv[0])) if r >= max(0.5, best - 0.15)][:n]
 
     def _compatible(self, entry: VocabularyEntry, tokens: tuple[str, ...]) -> bool:
-        """False when the mention asks for a colour the object's names contradict."""
-        asked = set(tokens) & COLORS
-        return not asked or not entry.colors or asked <= entry.colors
+        """False when the mention asks for a colour the object's names contradict: one that
+        shares no basic colour term (:data:`COLOR_FAMILIES`) with the object's colours."""
+        if not entry.colors:
+            return True
+        own = frozenset().union(*(COLOR_FAMILIES[c] for c in entry.colors))
+        return all(COLOR_FAMILIES[c] & own for c in set(tokens) & COLORS)
 
     def _by_forms(self, tokens: tuple[str, ...]) -> list[str]:
         scores = {}
