@@ -24,8 +24,10 @@ since the third session of 2026-11-28; and the parse-only corpora phrasing5, phr
 phrase banks written blind to the method, saying view sides (phrasing5), elevation, shot size, frame
 region and roll (phrasing6), how the subjects are named and told apart (phrasing7) and whole requests of
 several clauses (a view, a height, a shot size, a place in the frame, a roll, a second subject;
-phrasing8) in as many ways as people write them; and the parse-only corpus phrasing9, blind, written blind
-to the method before any parser ran on it on 2026-11-28 (third session), read by its writer only):
+phrasing8) in as many ways as people write them; the parse-only corpus phrasing9, blind, written blind
+to the method before any parser ran on it on 2026-11-28 (third session), read by its writer only; and the
+parse-only corpus phrasing10, blind too, written blind to the method before any parser ran on it on
+2026-11-28 (fourth session), read by its writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -77,10 +79,11 @@ COMMITTED = {
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
-# phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks) and phrasing9 (blind,
-# written blind to the method on 2026-11-28, third session), 200 instructions each, are validated like
-# the others; being parse-only they are never generated, so what needs a generated scene (ground truth,
-# clearance) is skipped for them too.
+# phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), phrasing9 (blind, written
+# blind to the method on 2026-11-28, third session) and phrasing10 (blind, written blind to the method on
+# 2026-11-28, fourth session), 200 instructions each, are validated like the others; being parse-only
+# they are never generated, so what needs a generated scene (ground truth, clearance) is skipped for
+# them too.
 PARSE_ONLY = {
     "phrasing1": [25] * 8,
     "phrasing2": [25] * 8,
@@ -91,6 +94,7 @@ PARSE_ONLY = {
     "phrasing7": [25] * 8,
     "phrasing8": [25] * 8,
     "phrasing9": [25] * 8,
+    "phrasing10": [25] * 8,
 }
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))

@@ -3,9 +3,10 @@ sets ``heldout``, ``heldout2`` ... ``heldout18``, development sets now, and the 
 issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing4`` (development corpora)
 and the development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
-(whole requests of several clauses), written blind to the method, and the blind ``phrasing9``, written
-blind to the method on 2026-11-28 (third session) and read by its writer only, whose scenes are never
-generated: ``capframe bench ground --suite phrasing9 --parse-only``).
+(whole requests of several clauses), written blind to the method, the blind ``phrasing9``, written
+blind to the method on 2026-11-28 (third session) and read by its writer only, and the blind
+``phrasing10``, written blind to the method on 2026-11-28 (fourth session) and read by its writer only,
+whose scenes are never generated: ``capframe bench ground --suite phrasing10 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
 folder (relative to the suite file) holding one ``<scene id>.yaml`` per scene (and, for a
