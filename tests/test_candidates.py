@@ -36,7 +36,9 @@ from capframe.refine.candidates import (
     _inner_aim_point,
     _margin_azimuths,
     _margin_elevations,
+    _place,
     _Ray,
+    _Seen,
     _size_miss,
     _sized_distance,
     aimed_pose,
@@ -50,6 +52,7 @@ from capframe.scene.directory import SceneDir, SceneMeta, SemanticObject
 from capframe.scene.occupancy import build_occupancy
 from capframe.translate.labels import (
     SHOT_MARGIN,
+    PseudoLabels,
     SubjectLabel,
     accepted_azimuth_tolerance_deg,
     labels_from_constraints,
@@ -677,3 +680,50 @@ def test_a_low_angle_at_a_ball_on_a_table_is_solved_above_the_table_not_under_it
     reference = make_camera(eye=(0.0, -12.0, 3.0), target=(0.0, 0.0, 1.3), up=(0.0, 0.0, -1.0))
     kept, _ = kept_low_angles(ball_on_table(seed=3), reference)
     assert kept and kept[0].camera.center[2] > 1.0
+
+
+class _Ceiling:
+    """Free space below a ceiling: a camera is free within ``reach`` of the origin (no floor)."""
+
+    rotation = np.eye(3)
+    floor_height = -math.inf
+
+    def __init__(self, reach: float):
+        self.reach = reach
+
+    def slack(self, centre, floor_margin=None):
+        return torch.as_tensor(self.reach - float(np.linalg.norm(np.asarray(centre))))
+
+    def clearance(self, centre):
+        return self.slack(centre)
+
+    def segment_blocked(self, *_):
+        return 0
+
+
+class _FitsFrom:
+    """A subject wholly unhidden that fits the frame from ``fit`` out (cut off nearer)."""
+
+    def __init__(self, fit: float):
+        self.fit = fit
+
+    def __call__(self, camera) -> _Seen:
+        return _Seen(1.0, min(1.0, float(np.linalg.norm(camera.center)) / self.fit), 0.2, 0, True)
+
+    def sees(self, seen: _Seen) -> bool:
+        return seen.visible >= MIN_VISIBLE_FRACTION and seen.in_frame >= 1.0
+
+
+def test_a_subject_cut_off_at_the_first_free_slide_is_placed_at_the_free_edge():
+    """Looking down over an occluder under a ceiling: the slides from 10 out are free only from 3
+    in, where the subject is cut off by the frame; the camera moves out to where the free space
+    ends (3.2), where it fits (from 3.1), rather than being reported too close."""
+    up = np.array([0.0, 0.0, 1.0])
+    direction = np.array([0.0, -math.cos(math.radians(50.0)), math.sin(math.radians(50.0))])
+    ray = _Ray(origin=np.zeros(3), target=np.zeros(3), direction=direction)
+    subject = SubjectLabel("ball", np.arange(1), np.zeros(3), None)
+    labels = PseudoLabels([subject], up)
+    reference = make_camera(eye=(0.0, -10.0, 0.0), up=(0.0, 0.0, -1.0))
+    camera, clearance, seen, status = _place(_Ceiling(3.2), _FitsFrom(3.1), ray, 10.0, 1.0, labels, (0.5, 0.5), reference)
+    assert status == "kept" and seen.in_frame == 1.0
+    assert 3.1 <= np.linalg.norm(camera.center) <= 3.2 and clearance >= 0

@@ -511,8 +511,11 @@ def _place(
     and a wall behind it say), moved once along the ray towards the
     asked size when its render shows the subject at a size the checker does not accept
     (:func:`_sized_distance`; outwards no farther than the free space's edge, when it slid in)
-    and the camera there is free and sees it too; else the first free one (``occluded`` or ``too
-    close``), else the farthest (``inside geometry``). Returns it, its clearance, what its check
+    and the camera there is free and sees it too; one that shows the subject unhidden but cut off
+    by the frame, with a blocked share farther out, moved out to the free space's edge
+    (:func:`_free_edge`: looking down over an occluder under a ceiling, the first free share may be
+    too near to frame a large subject) when the subject is seen there; else the first free one
+    (``occluded`` or ``too close``), else the farthest (``inside geometry``). Returns it, its clearance, what its check
     render saw and its status."""
 
     def at(along: float) -> tuple[Camera, float, bool]:
@@ -546,6 +549,11 @@ def _place(
             if sized is not None and (moved := at(sized))[2] and sight.sees(seen_there := sight(moved[0])):
                 return moved[0], moved[1], seen_there, "kept"
             return camera, clearance, seen, "kept"
+        if seen.visible >= MIN_VISIBLE_FRACTION and blocked is not None and blocked > along:
+            # Cut off by the frame with free space farther out: as far out as it stays free.
+            edge = at(_free_edge(lambda d: at(d)[2], along, blocked))
+            if sight.sees(seen_there := sight(edge[0])):
+                return edge[0], edge[1], seen_there, "kept"
         first_free = first_free or (camera, clearance, seen, "occluded" if seen.visible < MIN_VISIBLE_FRACTION else "too close")
     return first_free or outermost
 
