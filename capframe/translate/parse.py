@@ -403,6 +403,10 @@ ALONE = (
 # lower left", "tucked away tiny at the top right", "a bit big in the middle"): parse20s. Not
 # "far" nor "close", which before a place say how near an edge it sits ("far in the corner").
 ALONE_PLACED = ALONE.split("(?= ")[0] + "(?= (in|into|at|towards|toward|up in|down in|over in|off in|out in) the )"
+# A shot size named as a label before a colon, as shot lists head a line ("Wide: the couch from
+# behind", "Tight: the mug"), and a size said as a noun ("in big size", "at a small size"): parse20s.
+SHOT_LABEL = "((?<=^ )|(?<=[.;!?] )){WORD}( shot)? :"
+SIZE_NOUN = "((in|at) )?(a )?{WORD} size( in (the )?{FRAME})?"
 # A size word after a verb of being or seeming ("it must be big", "make the fridge look massive",
 # "so it comes out tiny").
 COPULA_SIZE = (
@@ -455,7 +459,7 @@ SHOT_CLAUSES = {
         # ... and near ("photo of the bench from near", "from very near"): parse20s.
         "from ((a )?(little|bit) |very |really |so |quite )?(near|nearby|near by)(?= ([,.;:!)]|$|and |with |so |but ))",
         # A size said as a noun phrase ("in big size", "the vase large size"): parse20s.
-        "((in|at) )?(a )?(big|large|huge|bigger|larger|full) size( in (the )?{FRAME})?",
+        SIZE_NOUN.replace("{WORD}", "(big|large|huge|bigger|larger|full)"),
         # Near enough to touch ("within arm's reach", "at arm's length").
         "(within|at) (an |one )?arm 's (reach|length)",
         "(from )?close up",
@@ -533,9 +537,7 @@ SHOT_CLAUSES = {
         "(so |such |{VERY} |{FAIRLY} )?(big|large|huge|close|near|tight|massive) (enough )?(that |so that |so |to )?"
         "(it|he|she|they|{obj}) (nearly |almost |completely |entirely |just )?(fills|fill|takes up|take up|covers|cover)"
         " (most of |all of |nearly all of |almost all of )?(it|everything|the (whole |entire )?{FRAME})",
-        # A shot size named as a label before a colon ("Wide: the couch from behind", "Tight: the
-        # mug"), as shot lists head a line: parse20s.
-        "((?<=^ )|(?<=[.;!?] ))(tight|tighter|close|closer|detail|macro|medium close)( shot)? :",
+        SHOT_LABEL.replace("{WORD}", "(tight|tighter|close|closer|detail|macro|medium close)"),
         # A size as a noun, "one" standing for the shot ("a tight one of the mug"): parse18p6.
         "(a |an )?(tight|tighter|close|closer) one( (of|on) {obj})?",
     ],
@@ -581,7 +583,7 @@ SHOT_CLAUSES = {
         "(from )?(much |{WEAK} )?(further|farther) (away|back|off)",
         "with (plenty of|lots of|a lot of|generous|ample|enough) (space|room|breathing room|context) around {obj}",
         "(with )?(lots of|plenty of) (empty |negative )?space",
-        "((in|at) )?(a )?(small|little|tiny|smaller) size( in (the )?{FRAME})?",
+        SIZE_NOUN.replace("{WORD}", "(small|little|tiny|smaller)"),
         # Room to breathe around it ("with breathing room around it", "some elbow room").
         # Margins or room all round it ("with a generous margin", "space on all sides", "a little room around it").
         "(with )?((a |some |generous |wide |big |ample |decent |a little |a bit of |a little bit of )?)"
@@ -640,12 +642,13 @@ SHOT_CLAUSES = {
 
 # A size said as leaning one way ("kept on the small side", "a bit on the big side").
 SHOT_CLAUSES["wide"].append("((kept|keep it|keeping it|{WEAK}) )?on the (small|smaller|little|tiny|wee) side(?! of )")
-SHOT_CLAUSES["wide"].append("((?<=^ )|(?<=[.;!?] ))(wide|wider|long|establishing|wide angle|extreme wide|very wide)( shot)? :")
+SHOT_CLAUSES["wide"].append(SHOT_LABEL.replace("{WORD}", "(wide|wider|long|establishing|wide angle|extreme wide|very wide)"))
 SHOT_CLAUSES["close-up"].append("((kept|keep it|keeping it|{WEAK}) )?on the (big|bigger|large|larger) side(?! of )")
 # The frame said to be empty round the subject after the area it sits in ("in the lower left of a big
 # empty frame", "top right of an otherwise blank picture"): room all round it, wide: parse20s.
-EMPTY_FRAME = "(a|an) (" + ROOMY_FRAME + "( ,)? ){0,2}(empty|open|blank|spacious|vast)( ,)? {FRAME}"
-EMPTY_FRAME_AFTER = "(a|an) (" + ROOMY_FRAME + "( ,)? ){0,2}(empty|open|blank|spacious|vast) "
+EMPTY_WORDS = "(a|an) (" + ROOMY_FRAME + "( ,)? ){0,2}(empty|open|blank|spacious|vast)"
+EMPTY_FRAME = EMPTY_WORDS + "( ,)? {FRAME}"
+EMPTY_FRAME_AFTER = EMPTY_WORDS + " "
 SHOT_CLAUSES["wide"] += [
     "(?<= )(of|in|within|inside) " + EMPTY_FRAME,
     "(({FAIRLY}|very|really) )?(small|tiny|little|wee|minuscule|smaller) (in|on|within|inside|against) (a |an |the )?"
@@ -4752,8 +4755,6 @@ PLACED_PREPOSITIONS = tuple(
 )  # fmt: skip
 # Pronouns opening a relative clause after a thing ("the rug that ...", "the toaster what ...").
 RELATIVE_PRONOUNS = frozenset({"that", "which", "who", "whom", "what"})
-# Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
-# under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
 # Places that relate a thing to a named object without a verb ("a snow globe behind the pillow",
 # "swing set behind the tree"); not "on", "in", "at" and the like, which also say where a camera
 # looks or what a shot is ("focus on the mug", "spotlight on the sofa", "tight in on the bear").
@@ -4767,6 +4768,8 @@ STANDING_VERBS = frozenset(
     {"stand", "go", "get", "move", "step", "walk", "sit", "kneel", "crouch", "squat", "lie", "put", "place", "position"}
     | {"hold", "stay", "shoot", "come", "hover", "fly", "wait", "start", "circle", "set", "park", "plant", "climb"}
 )
+# Words opening a relative clause or a verb of being between a thing and its place ("the rug that's
+# under the sofa", "the toaster what is beside the fridge", "the hamster who is hiding ...").
 PLACED_RELATIVES = frozenset({"that", "which", "who", "what", "'s", "s", "is", "are", "was", "were", "being", "been"})
 # Verb forms of where a thing is that are neither a participle in -ing/-ed nor a verb of resting
 # (:data:`RELATION_WORDS`): "the kite stuck in the tree", "the cat that sleeps on the sofa"; not
