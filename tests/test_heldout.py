@@ -14,7 +14,7 @@ the changes tuned on heldout13 land, a development set since 2026-11-28; heldout
 heldout16 before the changes tuned on heldout14 and heldout15 land, a development set since the third
 session of 2026-11-28; heldout18,
 blind too, written after heldout17 on 2026-11-28, a development set since that day's fourth session; heldout19, blind too,
-written after heldout18 on 2026-11-28 (third session), read by its writer only; the
+written after heldout18 on 2026-11-28 (third session), a development set since that day's fifth session; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only
 development corpus phrasing2, written blind to the method; the parse-only corpus phrasing3,
@@ -24,8 +24,9 @@ since the third session of 2026-11-28; and the parse-only corpora phrasing5, phr
 phrase banks written blind to the method, saying view sides (phrasing5), elevation, shot size, frame
 region and roll (phrasing6), how the subjects are named and told apart (phrasing7) and whole requests of
 several clauses (a view, a height, a shot size, a place in the frame, a roll, a second subject;
-phrasing8) in as many ways as people write them; the parse-only corpus phrasing9, blind, written blind
-to the method before any parser ran on it on 2026-11-28 (third session), read by its writer only; and the
+phrasing8) in as many ways as people write them; the parse-only corpus phrasing9, blind too, written blind
+to the method before any parser ran on it on 2026-11-28 (third session), a development corpus since that
+day's fifth session; and the
 parse-only corpus phrasing10, blind too, written blind to the method before any parser ran on it on
 2026-11-28 (fourth session), read by its writer only):
 their files are valid and
@@ -79,11 +80,11 @@ COMMITTED = {
 # parse-only corpora (``bench ground --parse-only``): name -> instructions per scene. Their scenes are
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
-# phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), phrasing9 (blind, written
-# blind to the method on 2026-11-28, third session) and phrasing10 (blind, written blind to the method on
-# 2026-11-28, fourth session), 200 instructions each, are validated like the others; being parse-only
-# they are never generated, so what needs a generated scene (ground truth, clearance) is skipped for
-# them too.
+# phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), phrasing9 (written blind to
+# the method on 2026-11-28, third session; a development corpus since that day's fifth) and phrasing10
+# (blind, written blind to the method on 2026-11-28, fourth session), 200 instructions each, are
+# validated like the others; being parse-only they are never generated, so what needs a generated
+# scene (ground truth, clearance) is skipped for them too.
 PARSE_ONLY = {
     "phrasing1": [25] * 8,
     "phrasing2": [25] * 8,

@@ -1,8 +1,8 @@
 """Ground benchmark on a suite with hand-written specs (committed instructions: the held-out
 sets, issue #15).
 
-``capframe bench ground --suite heldout`` (or ``heldout2`` ... ``heldout18``, or the blind
-``heldout19``, or any suite file naming a ``specs`` folder): every scene of the
+``capframe bench ground --suite heldout`` (or ``heldout2`` ... ``heldout19``, or any suite file
+naming a ``specs`` folder): every scene of the
 suite is generated (when absent) and prepared as the workflow would (COLMAP without poses, gravity
 when not aligned), its view cache is warmed, then
 every committed instruction text goes through ``capframe ground`` (Retrieve -> Translate ->

@@ -1,10 +1,9 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout18``, development sets now, and the blind ``heldout19``,
-issue #15; and the parse-only corpora ``phrasing1`` ... ``phrasing4`` (development corpora)
+sets ``heldout``, ``heldout2`` ... ``heldout19``, development sets now, issue #15; and the
+parse-only corpora ``phrasing1`` ... ``phrasing4`` and ``phrasing9`` (development corpora)
 and the development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
-(whole requests of several clauses), written blind to the method, the blind ``phrasing9``, written
-blind to the method on 2026-11-28 (third session) and read by its writer only, and the blind
+(whole requests of several clauses), written blind to the method, and the blind
 ``phrasing10``, written blind to the method on 2026-11-28 (fourth session) and read by its writer only,
 whose scenes are never generated: ``capframe bench ground --suite phrasing10 --parse-only``).
 
