@@ -22,6 +22,7 @@ from capframe.constraints import (
     view_tolerance_deg,
 )
 from capframe.evaluate import GroundTruthChecker
+from capframe.geometry import camera_roll
 from capframe.measure import CheckReport, CheckRow
 from capframe.pipeline.outputs import closest_answer, feasibility, report_order, shortfall, shows_subjects
 from capframe.pipeline.stages import Refined
@@ -124,6 +125,27 @@ def test_aimed_pose_images_the_target_at_the_point():
     u, v, _ = camera.K @ (p / p[2])
     assert p[2] > 0 and (u / 160, v / 120) == pytest.approx((0.2, 0.8), abs=1e-9)
     np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-12)
+
+
+@pytest.mark.parametrize("elevation_deg", [0.0, 28.0, 45.0, -30.0])
+@pytest.mark.parametrize("point", [(0.775, 0.5), (0.167, 0.5), (0.775, 0.2), (0.5, 0.8)])
+@pytest.mark.parametrize("roll_deg", [0.0, 10.0, -25.0])
+def test_aimed_pose_keeps_the_asked_roll_with_the_target_off_centre(elevation_deg, point, roll_deg):
+    """The horizon's roll is the asked one wherever in the frame the target lands: turning a
+    pitched camera about its own axes (the earlier aim) rolled a subject in the right third seen
+    from 28 degrees above by 9.8 degrees."""
+    camera = make_camera(width=320, height=240, focal=257.0)
+    up, target = np.array([0.0, 0.0, 1.0]), np.array([0.3, -0.2, 1.0])
+    e = math.radians(elevation_deg)
+    centre = target + 5.0 * np.array([0.6 * math.cos(e), -0.8 * math.cos(e), math.sin(e)])
+    T = aimed_pose(centre, target, point, camera, up, roll_deg)
+    p = T[:3, :3] @ target + T[:3, 3]
+    u, v, _ = camera.K @ (p / p[2])
+    assert p[2] > 0 and (u / 320, v / 240) == pytest.approx(point, abs=1e-9)
+    np.testing.assert_allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-12)
+    assert np.linalg.det(T[:3, :3]) == pytest.approx(1.0)
+    roll = math.degrees(float(camera_roll(torch.tensor(T), torch.tensor(up))))
+    assert roll == pytest.approx(roll_deg, abs=1e-9)
 
 
 def ball_before_wall(seed: int, spacing: float, wall_y: float, wall_height: float, scale: float, opacity: float) -> GaussianScene:

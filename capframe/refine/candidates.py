@@ -14,8 +14,8 @@ radius ``r``, front ``f``, world up ``u``):
   occluder (:data:`OVER_ELEVATIONS_DEG`) when no elevation is asked, then at azimuths between
   the aimed and the accepted tolerance of an asked side (:data:`MARGIN_SPREAD`: a side facing
   a wall a little way off is seen only obliquely);
-* **orientation**: looking at ``c`` with the asked roll, then turned so ``c`` lands at the centre
-  of its region (or layout box).
+* **orientation**: ``c`` imaged at the centre of its region (or layout box), the horizon at the
+  asked roll (:func:`aimed_pose`).
 
 Each candidate is then checked against the scene's free space (:mod:`capframe.scene.occupancy`)
 and by a low-resolution render of the whole scene: along its ray, from where it meets the floor
@@ -211,24 +211,75 @@ def shot_distance(radius: float, extent: float, camera: Camera) -> float:
 def aimed_pose(
     centre: np.ndarray, target: np.ndarray, point: tuple[float, float], camera: Camera, up: np.ndarray, roll_deg: float
 ):
-    """(4, 4) pose at ``centre`` looking at ``target`` with roll ``roll_deg``, turned so
-    ``target`` images at the normalised ``point`` of ``camera``'s frame."""
+    """(4, 4) pose at ``centre`` whose ray through the normalised ``point`` of ``camera``'s frame
+    runs to ``target``, with roll ``roll_deg`` (:func:`~capframe.geometry.camera_roll`'s).
+
+    Solved in closed form (:func:`_level_aim`): the yaw and pitch of a camera rolled by
+    ``roll_deg`` whose ray through ``point`` has the elevation and heading of ``target - centre``.
+    Turning a camera that looks at ``target`` about its own axes instead tilts the horizon once
+    it is pitched (a subject in the right third seen from 45 degrees above comes out rolled 18
+    degrees). Where no pitch reaches (a point far off-centre vertically while looking nearly
+    straight up or down, where roll is undefined anyway), that turn is the answer."""
     f64 = dict(dtype=torch.float64)
-    T = look_at(torch.tensor(centre, **f64), torch.tensor(target, **f64), torch.tensor(up, **f64), math.radians(roll_deg)).numpy()
     ray = np.linalg.solve(camera.K, [point[0] * camera.width, point[1] * camera.height, 1.0])
     ray /= np.linalg.norm(ray)
-    # The smallest rotation taking the optical axis onto the ray: the target moves from the
-    # image centre to ``point``.
+    centre = np.asarray(centre, dtype=np.float64)
+    R = _level_aim(np.asarray(target, dtype=np.float64) - centre, ray, np.asarray(up, dtype=np.float64), math.radians(roll_deg))
+    if R is None:
+        eye, aim, vertical = (torch.tensor(v, **f64) for v in (centre, target, up))
+        R = _turn_onto(ray) @ look_at(eye, aim, vertical, math.radians(roll_deg)).numpy()[:3, :3]
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = -R @ centre
+    return T
+
+
+def _level_aim(sight: np.ndarray, ray: np.ndarray, up: np.ndarray, roll: float) -> np.ndarray | None:
+    """(3, 3) world-to-camera rotation whose camera-frame ``ray`` (3,, unit; x right, y down, z
+    forward) points along the world direction ``sight`` (3,), rolled by ``roll`` radians; None
+    when ``sight`` is vertical or no pitch within +-90 degrees reaches its elevation.
+
+    With heading ``h`` (horizontal, unit) and pitch ``p``, an unrolled camera has forward
+    ``F = cos p h + sin p u``, right ``h x u``, down ``F x right``; rolling it maps the ray to
+    ``(x', y', z')`` in those axes (x' = x cos r - y sin r, y' = x sin r + y cos r). Its world
+    elevation is ``z' sin p - y' cos p``, set to the sight's ``sin a``: ``p = b + asin(sin a /
+    rho)`` with ``(y', z') = rho (sin b, cos b)``. Its horizontal part lies at ``g = atan2(x',
+    y' sin p + z' cos p)`` from ``h`` towards the right, so ``h`` is the sight's heading turned
+    back by ``g``."""
+    u = up / np.linalg.norm(up)
+    sight = sight / np.linalg.norm(sight)
+    level = sight - (sight @ u) * u
+    if np.linalg.norm(level) < 1e-9:
+        return None
+    level /= np.linalg.norm(level)
+    x, y, z = ray
+    x_, y_ = x * math.cos(roll) - y * math.sin(roll), x * math.sin(roll) + y * math.cos(roll)
+    rho, b = math.hypot(y_, z), math.atan2(y_, z)
+    if abs(float(sight @ u)) > rho:
+        return None
+    pitch = b + math.asin(float(sight @ u) / rho)
+    if math.cos(pitch) <= 1e-9:
+        return None
+    g = math.atan2(x_, y_ * math.sin(pitch) + z * math.cos(pitch))
+    heading = math.cos(g) * level - math.sin(g) * np.cross(level, u)
+    forward = math.cos(pitch) * heading + math.sin(pitch) * u
+    right = np.cross(heading, u)
+    down = np.cross(forward, right)
+    c, s = math.cos(roll), math.sin(roll)
+    return np.stack([c * right + s * down, -s * right + c * down, forward])
+
+
+def _turn_onto(ray: np.ndarray) -> np.ndarray:
+    """(3, 3) smallest rotation of camera coordinates taking the optical axis onto ``ray`` (3,,
+    unit): a target on the axis moves to the ray's pixel."""
     z = np.array([0.0, 0.0, 1.0])
     axis = np.cross(z, ray)
     s, c = np.linalg.norm(axis), float(z @ ray)
-    if s > 1e-12:
-        k = axis / s
-        K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-        Q = np.eye(3) + s * K + (1 - c) * K @ K
-        T[:3, :3] = Q @ T[:3, :3]
-        T[:3, 3] = -T[:3, :3] @ centre
-    return T
+    if s <= 1e-12:
+        return np.eye(3)
+    k = axis / s
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + s * K + (1 - c) * K @ K
 
 
 def _aim_point(subject: SubjectLabel) -> tuple[float, float]:
