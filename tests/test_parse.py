@@ -349,6 +349,17 @@ def test_words_normalise_spelling_numbers_and_hyphens():
     assert " ".join(words("centred, the one on the left, one degree")) == "centered , the one on the left , 1 degrees"
 
 
+def test_clipped_angle_names_are_read_before_a_number_only():
+    """Capture logs' "az 135 / el +20" are the azimuth and elevation; "el" before a word stays a
+    word (a name like "El Capitan" is never an elevation)."""
+    assert " ".join(words("bear: az 135 / el +20")) == "bear : azimuth 135 , elevation 20"
+    assert " ".join(words("az=-90, el: 0")) == "azimuth -90 , elevation : 0"
+    assert " ".join(words("the el capitan poster, az of it")) == "the el capitan poster , az of it"
+    parsed = parse_instruction("teddy bear, az -45, el 15", SCENE)
+    assert parsed.subjects[0].view == "front-left"
+    assert parsed.elevation_deg == 15.0 and not parsed.unparsed
+
+
 # --- errors and what was not understood -------------------------------------------------------------
 
 

@@ -264,6 +264,7 @@ def words(text: str) -> list[str]:
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
     s = re.sub(r"\b3\s*/\s*4\b", " three quarter ", s)  # "3/4 rear": the view
+    s = _ANGLE_ABBREVIATION.sub(lambda m: ANGLE_ABBREVIATIONS[m[1]], s)  # "az 135, el +20": the angles
     s = re.sub(r"\b3(?=[\s-]+quarters?\b)", " three ", s)  # "a rear 3-quarter angle": as "three quarter"
     s = re.sub(r"\s*(?:-+>|=+>|\u2192)\s*", " : ", s)  # an arrow after a label, as a colon ("centre -> mug")
     s = re.sub(r"[\u2013\u2014]|(?<=\s)-+(?=\s)", " , ", s)  # a dash between clauses ("bench - low")
@@ -287,6 +288,12 @@ def words(text: str) -> list[str]:
             _turns(_turn_directions(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
         )
     )
+
+
+# An angle's name clipped as capture logs and photogrammetry notes write it ("az 135 / el +20",
+# "az -90, el 0"), read so only before a number: "el" elsewhere is an article ("El Capitan").
+ANGLE_ABBREVIATIONS = {"az": "azimuth", "azi": "azimuth", "el": "elevation", "ele": "elevation"}
+_ANGLE_ABBREVIATION = re.compile(r"\b(az|azi|el|ele)\b(?=\s*[:=]?\s*[+-]?\d)")
 
 
 # "I mean" closing a clause that restates a value ("the front-right, uh, front-left I mean, ...").
