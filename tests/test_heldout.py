@@ -28,7 +28,9 @@ phrasing8) in as many ways as people write them; the parse-only corpus phrasing9
 to the method before any parser ran on it on 2026-11-28 (third session), a development corpus since that
 day's fifth session; and the
 parse-only corpus phrasing10, blind too, written blind to the method before any parser ran on it on
-2026-11-28 (fourth session), read by its writer only):
+2026-11-28 (fourth session), read by its writer only; and the parse-only corpus phrasing11, blind too,
+written blind to the method before any parser ran on it on 2026-11-28 (fifth session), read by its
+writer only):
 their files are valid and
 shaped as issue #15 asks, without generating a scene or running the method; the spec format's
 errors are one line naming file, instruction and field; the judge's range rows and the clearance
@@ -81,8 +83,9 @@ COMMITTED = {
 # never generated and their feasibility was not searched (a flag says only: an unknown subject or
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
 # phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), phrasing9 (written blind to
-# the method on 2026-11-28, third session; a development corpus since that day's fifth) and phrasing10
-# (blind, written blind to the method on 2026-11-28, fourth session), 200 instructions each, are
+# the method on 2026-11-28, third session; a development corpus since that day's fifth), phrasing10
+# (blind, written blind to the method on 2026-11-28, fourth session) and phrasing11 (blind, written blind
+# to the method on 2026-11-28, fifth session), 200 instructions each, are
 # validated like the others; being parse-only they are never generated, so what needs a generated
 # scene (ground truth, clearance) is skipped for them too.
 PARSE_ONLY = {
@@ -96,6 +99,7 @@ PARSE_ONLY = {
     "phrasing8": [25] * 8,
     "phrasing9": [25] * 8,
     "phrasing10": [25] * 8,
+    "phrasing11": [25] * 8,
 }
 # sets asked for object mixes that no earlier set's scenes has
 NEW_MIXES = tuple(name for name in COMMITTED if name not in ("heldout", "heldout2"))
