@@ -4,6 +4,7 @@ world; a subject whose asked side faces a wall; a start inside a solid block."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -362,6 +363,37 @@ def test_a_start_that_satisfies_every_clause_outranks_a_refined_pose_that_fails_
     assert all(r.satisfied for r in reports[1].rows if r.constraint != "elevation")
     answer, reports = closest_answer(scene, labels, parsed, Refined([(level, run(level, high))]), occupancy)
     assert [r.stop_reason for _, r in answer.runs] == ["plateau"] and reports[0].all_satisfied
+
+
+def test_a_camera_drawn_inside_the_accepted_intervals_answers_when_no_run_does():
+    """Refine's run and its start both fail (the ball too big from too near, seen level): the
+    search draws inside the asked intervals and returns, first, a free camera whose own report
+    satisfies every clause (a small ball from a high angle), the same on every call; with no
+    draw in free space (an occupancy with none) the runs stand as they were."""
+    gaussians, index, up = walled_scene()
+    centroid = gaussians.means[:400].double().mean(0).numpy()
+    constraints = Constraints(subjects=[SubjectConstraint("ball", shot="wide")], elevation="high angle")
+    labels = labels_from_constraints(constraints, {"ball": (index, centroid, None)}, up)
+    near = make_camera(eye=(0.0, -1.2, 0.5), target=(0.0, 0.0, 0.4), up=(0.0, 0.0, -1.0), width=96, height=72)
+    occupancy = build_occupancy(gaussians, up, [near])
+    scene = SceneDir(Path("."), gaussians, [near], None, SceneMeta(up), None)
+    parsed = parse_instruction(
+        "the ball small in frame from a high angle", Vocabulary.from_semantics([SemanticObject(0, "ball", [], True)])
+    )
+    run = RefineResult(near.T_cw, 0, "plateau", {}, near.T_cw[None], np.array([1.0]), {}, 0.0)
+
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(near, run)]), occupancy)
+    assert not reports[-1].all_satisfied
+    assert answer.runs[0][1].stop_reason == "searched" and reports[0].all_satisfied
+    searched = answer.cameras[0]
+    assert float(occupancy.clearance(torch.as_tensor(searched.center))) > 0
+    assert np.linalg.norm(searched.center - centroid) > np.linalg.norm(near.center - centroid)
+    again, _ = closest_answer(scene, labels, parsed, Refined([(near, run)]), occupancy)
+    np.testing.assert_array_equal(again.cameras[0].T_cw, searched.T_cw)
+
+    blocked = dataclasses.replace(occupancy, sdf=np.full_like(occupancy.sdf, -1.0))
+    answer, reports = closest_answer(scene, labels, parsed, Refined([(near, run)]), blocked)
+    assert "searched" not in [r.stop_reason for _, r in answer.runs] and not reports[0].all_satisfied
 
 
 def solve_two_balls(offset: tuple[float, float, float]):

@@ -39,6 +39,7 @@ from ..measure import CheckReport, ConstraintChecker, format_report
 from ..refine.candidates import Candidate
 from ..refine.nudge import DISTANCE_SHARES, angle_misses, orbited
 from ..refine.optimize import RefineConfig, RefineResult
+from ..refine.search import search_cameras
 from ..render import render
 from ..render.image import save_png
 from ..scene import Camera, SceneDir, colmap_image_line, write_camera_json, write_camera_path_json
@@ -198,7 +199,8 @@ def closest_answer(
     free space bounds the distance (a ceiling over a top-down view), so a start chosen for
     showing the subjects at the asked angles may fail fewer clauses than where Refine ended; a
     camera that shows the subject, reported as failing what it fails, is closer to the request
-    than one that does not."""
+    than one that does not. When the answer still fails a clause, a camera drawn around it inside
+    every accepted interval that satisfies them all (:func:`searched_run`) comes first."""
     checker = own_checker(scene, labels, occupancy)
     reports = [own_report(checker, parsed, c) for c in refined.cameras]
     if not any(r.all_satisfied for r in reports):
@@ -210,7 +212,44 @@ def closest_answer(
         reports += [own_report(checker, parsed, start) for start, _ in starts]
         refined = Refined(refined.runs + starts, refined.solved)
     order = report_order(reports)
+    if refined.runs and not reports[order[0]].all_satisfied:
+        found = searched_run(refined.runs[order[0]], reports[order[0]], checker, parsed, labels, occupancy)
+        if found is not None:
+            refined = Refined(refined.runs + [found[0]], refined.solved)
+            reports.append(found[1])
+            order = [len(reports) - 1] + order
     return Refined([refined.runs[k] for k in order], refined.solved), [reports[k] for k in order]
+
+
+def searched_run(
+    run: tuple[Camera, RefineResult],
+    report: CheckReport,
+    checker: ConstraintChecker,
+    parsed: ParsedInstruction,
+    labels: PseudoLabels,
+    occupancy: Occupancy | None = None,
+) -> tuple[tuple[Camera, RefineResult], CheckReport] | None:
+    """A camera drawn inside the accepted intervals around the answer ``run`` that satisfies
+    every clause by its own report (:mod:`capframe.refine.search`), as a run with the stop
+    reason ``searched``, and that report; None when no draw does."""
+    start, result = run
+    primary = labels.subjects[0]
+    subject = checker.resolve(primary.name)
+    found = search_cameras(
+        start.with_pose(result.T_cw),
+        report,
+        primary.name,
+        subject.center,
+        np.asarray(primary.centroid),
+        subject.front,
+        labels.up,
+        lambda camera: own_report(checker, parsed, camera),
+        occupancy,
+    )
+    if found is None:
+        return None
+    camera, measured = found
+    return (start, dataclasses.replace(result, T_cw=camera.T_cw, stop_reason="searched", nudge_deg=None)), measured
 
 
 def nudged_runs(
