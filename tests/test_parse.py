@@ -349,6 +349,47 @@ def test_words_normalise_spelling_numbers_and_hyphens():
     assert " ".join(words("centred, the one on the left, one degree")) == "centered , the one on the left , 1 degrees"
 
 
+@pytest.mark.parametrize(
+    "text, field, value",
+    [
+        # A generic kind of thing for the subject, whole in frame.
+        ("the teddy bear from behind, whole toy in frame", "shot", "medium"),
+        ("the potted plant small within the composition", "shot", "wide"),
+        ("the vase, complete in the photo, from the front", "shot", "medium"),
+        # A top-down view called flat is not level; a broad height yields to a steeper one on its side.
+        ("the vase straight overhead, a true top-down flat view", "elevation", "top-down"),
+        ("looking down from high above the vase, almost vertical", "elevation", "top-down"),
+        ("the teddy bear from a high place", "elevation", "high angle"),
+        # The subject's angle said from the camera: the camera is on the other side.
+        ("hover so the vase is seventy degrees below us", "elevation_deg", 70.0),
+        ("the vase is about 40 degrees above the camera", "elevation_deg", -40.0),
+        # A turn's way by the clock's hands, and a level horizon called neutral.
+        ("the vase, rotate the camera 35 degrees against the clock", "roll_deg", -35.0),
+        ("the vase, turned 10 degrees with the clock", "roll_deg", 10.0),
+        ("the vase, neutral horizon", "roll_deg", 0.0),
+        # Degrees before a dutch are its roll, not the height said before them.
+        ("the teddy bear, slight low angle, 10 degrees dutch clockwise", "roll_deg", 10.0),
+    ],
+)
+def test_wordings_of_heldout19_are_read(text, field, value):
+    """Wordings the development set heldout19 used, each alone (its fifth-session reading)."""
+    parsed = parse_instruction(text, SCENE).constraints().to_dict()
+    got = parsed["subjects"][0][field] if field == "shot" else parsed[field]
+    assert got == value, parsed
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("the vase slightly above, top-down", "conflicting elevations"),
+        ("the vase from a low angle, top-down", "conflicting elevations"),
+    ],
+)
+def test_heights_still_conflict_when_neither_is_broad(text, message):
+    with pytest.raises(InputError, match=message):
+        parse_instruction(text, SCENE)
+
+
 def test_clipped_angle_names_are_read_before_a_number_only():
     """Capture logs' "az 135 / el +20" are the azimuth and elevation; "el" before a word stays a
     word (a name like "El Capitan" is never an elevation)."""

@@ -466,7 +466,7 @@ SHOT_CLAUSES = {
         "(framed|cropped) (very )?(tightly|tight|close|closely)",
         "(crop|cropping|frame|framing) (in )?(tight|tightly|close|closely)( (on|to) {obj})?",
         "(tightly|tight) (framed|cropped)",
-        "(large|big|huge|tight|close|full|larger|bigger) (in|on) (the )?{FRAME}",
+        "(large|big|huge|tight|close|full|larger|bigger) (in|on|within|inside) (the )?{FRAME}",
         "(as )?(big|large) as possible( in (the )?{FRAME})?",
         "(as )?(big|large|close|tight) as (you can|you can get( it)?|it gets|can be|it can be|it will go"
         "|it ll go|it will get|it ll get|you can make it)( in (the )?{FRAME})?",
@@ -565,7 +565,7 @@ SHOT_CLAUSES = {
         "(so (that )?)?{obj} (just |only just |barely |exactly |neatly )?(fits|fit)( (in|inside|within|into) (the )?{FRAME})?",
     ],
     "wide": [
-        "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on) (the )?{FRAME}",
+        "(quite |very |really |rather |fairly )?(small|tiny|smaller) (in|on|within|inside) (the )?{FRAME}",
         "(as |taking up |occupying )?(only )?(a |just a )?(small|little|tiny) (part|portion) of the {FRAME}",
         "(taking up|takes up|occupying|occupies|filling|fills|covering|covers|as) (only |just |barely )?(a )?"
         "(small |tiny |mere )?(fraction|sliver|corner|bit) of the {FRAME}",
@@ -659,6 +659,9 @@ SHOT_CLAUSES["wide"] += [
 SHOT_CLAUSES[WHOLE] = [
     # The whole subject, said alone as a clause ("front-left three-quarters, at seat level, complete").
     ALONE.replace("{WORD}", "(complete|whole|entire|uncropped|in full|in its entirety|all in|all of it|in one piece)"),
+    # ... and said alone with the picture it is whole in ("..., complete in the photo, ...").
+    "{CLAUSE}(complete|whole|entire|uncropped|all in) (in|inside|within|on) (the )?({FRAME}|view)"
+    "(?= ([,.;:!)]|$|and |with |from |at |but ))",
     # The whole subject in the picture ("the whole bench in frame", "slats and all").
     "(the )?(whole|entire|full|complete) (of )?{obj}( (is |fits |sits )?(in|inside|within) (the )?({FRAME}|view))?",
     "(the )?(whole|entire) thing( (in|inside|within) (the )?{FRAME})?{FITS}",
@@ -1986,7 +1989,8 @@ ELEVATION_PHRASES = {
         # An article or a clause's start before it: "top down shot" is a plan view, not this.
         "({CLAUSE}|(?<![a-z])a |(?<![a-z])an )down (shot|angle|view|perspective|camera angle)( (of|on|onto) {obj})?",
         "with the camera (well|high|far) above {obj}",
-        "(from )?(a |an )?(high|elevated|raised|lofty|towering) (vantage( point)?|viewpoint|position|perspective|perch)",
+        "(from )?(a |an )?(high|elevated|raised|lofty|towering)"
+        " (vantage( point)?|viewpoint|position|perspective|perch|place|spot|point)",
         "(from |in |with )?(a |an )?(elevated|raised|lofty) (view|angle|shot|camera)",
         "(from )?(well|high|far) above( {obj})?",
         "(well|far) above eye (level|height)",
@@ -2033,6 +2037,8 @@ ELEVATION_PHRASES = {
         "looking ({NEARLY} )?(straight|directly|vertically) down( (at|on) {obj})?",
         "{AIM}( the camera| the lens)? (straight|directly|vertically) down( (at|on|onto) {obj})?",
         "(from |in |as )?(a |an |the )?top down( (view|shot|angle|perspective))?",
+        # A top-down view called flat, as a flat lay is ("a true top-down flat view"): not level.
+        "(a |an |the )?top down flat (view|lay|shot|photo|picture|image)",
         "(shot |looking )?({NEARLY} )?straight down( (at|on) {obj})?",
         # A top view is a plan view, as in product and architectural photography.
         "(a )?(plan view|flat lay|top view)",
@@ -2079,7 +2085,7 @@ ELEVATION_PHRASES = {
         "with the camera (below|beneath|under|lower than) {obj}( ,? looking up)?",
         # The camera said below it ("camera beneath it", "lens under it looking up"): parse20h.
         "(the )?(camera|lens) (is |sits |held )?(below|beneath|under|underneath|lower than) {obj}( ,? looking up)?",
-        "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective)",
+        "(from )?(a |an )?(low|lowered) (vantage( point)?|viewpoint|position|perspective|place|spot|point)",
         # The camera just off the ground ("from just above the ground", "an inch above the floor").
         "(from )?((just|right|only) |{WEAK} )?(above|over|off) the (ground|floor|grass|lawn)",
         # Just above the surface the subject stands on, said of the camera ("lens just above the tabletop").
@@ -2380,6 +2386,14 @@ GIMBAL_PHRASES = [
     "(the )?(drone 's )?gimbal( ({AIM}|facing|turned|looking|set|at|to|of|is|:))*( down)? ({ABOUT} )?{sd}( down)?(?! up )",
 ]
 
+# What follows degrees that belong to something else than the height word before them ("top down,
+# 10 degrees to the left", "low angle, 10 degrees dutch clockwise").
+NOT_A_HEIGHT_TAIL = (
+    "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise"
+    "|dutch|roll|rolled|cant|canted|tilt|twist) )"
+)
+# Who looks, when the subject's angle is said from the camera ("the bench is 70 degrees below us").
+OBSERVER = "(us|me|you|the camera|the lens|the cam|the drone)"
 # Explicit elevations, by sign (+ above, - below); {sd} carries its own sign.
 EXPLICIT_ELEVATION_PHRASES = {
     1.0: [
@@ -2445,10 +2459,12 @@ EXPLICIT_ELEVATION_PHRASES = {
         "{d}(?<= degrees) (high|higher|up high)(?! (in|on|at) )",
         "((seen|shot|viewed|photographed) )?from above( ,)? at (an angle of )?{d}",
         # An elevation named, then its degrees ("overhead view of the cushion, about 70 degrees").
-        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
-        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        "{HIGHVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)" + NOT_A_HEIGHT_TAIL,
         # A bare number right after a height word, ending its clause ("overhead 90", "top down, 85").
         "{HIGHVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
+        # The subject's angle from the camera ("hover so the bench is 70 degrees below us"): the
+        # camera is that far above it.
+        "{obj} (is |sits |lies |stands )?({ABOUT} )?{d}(?<= degrees) (below|under|beneath|underneath|down from) " + OBSERVER,
     ],
     -1.0: [
         "(from |at )?{d} below( {obj}|( the)? horizon|( the)? horizontal|( the)? ground|( the)? floor)?",
@@ -2474,9 +2490,9 @@ EXPLICIT_ELEVATION_PHRASES = {
         "(at |from )?(a |an )?(up|low|upward) angle (of )?({ABOUT} )?{d}(?<= degrees)",
         "(at |from )?(an |a )?angle of ({ABOUT} )?{d}(?<= degrees)( ,)? (from )?(below|beneath|underneath)",
         "((seen|shot|viewed|photographed) )?from below( ,)? at (an angle of )?{d}",
-        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)"
-        "(?! (above|below|up|down|high|higher|low|lower|overhead|off|round|around|to|clockwise|counterclockwise) )",
+        "{LOWVIEW}( of {obj})?( ,)? ((at|from) )?({ABOUT} )?{d}(?<= degrees)" + NOT_A_HEIGHT_TAIL,
         "{LOWVIEW}( ,)? ((at|from|of) )?({ABOUT} )?{n}(?= ([,.;!]|$))",
+        "{obj} (is |sits |stands |towers )?({ABOUT} )?{d}(?<= degrees) (above|over|up from) " + OBSERVER,
     ],
 }
 
@@ -3362,7 +3378,7 @@ _MACROS = {
     "{SIDEPART}": _alternatives(SIDE_PARTS, "(?:"),
     "{PLENTY}": _alternatives(PLENTY_WORDS, "(?:"),
     # A level horizon, as a builder or a carpenter says it too ("horizon true", "spirit-level").
-    "{HORIZON_LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|spirit level|dead flat|dead level)",
+    "{HORIZON_LEVEL}": "(?:level|straight|flat|horizontal|true|plumb|even|neutral|spirit level|dead flat|dead level)",
     # A line standing for the horizon (vocabulary.HORIZON_LINES, a support's line or edge, the line
     # where one thing meets another), maybe placed behind the subject; and what it should do.
     "{HORIZON}": "(?:(?:"
@@ -3428,7 +3444,8 @@ _MACROS = {
     "|roof|lid|rim|lip|brim|spout|handle|edge|pot|leaves|branch|trunk|stem|stalk|pole|seat|backrest|side)(?:e?s)?)",
     "{END_TO}": "(?:(?:up|down|right|all the way|the whole way|through|over|across) )?(?:to|till|until|thru)",
     # A hedge before a number ("about 30 degrees", "maybe 40").
-    "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over)",
+    "{ABOUT}": "(?:about|around|roughly|approximately|some|maybe|perhaps|circa|nearly|almost|close to|just under|just over"
+    "|a good)",
     # A named elevation whose degrees may follow ("an overhead view ..., about 70 degrees").
     "{HIGHVIEW}": "(?:(?:from )?(?:high up|up high|way up|top down|straight down)"
     "|(?:from |in |as )?(?:a |an )?(?:overhead|high angle|elevated|aerial|birds?(?: 's)? eye|top)"
@@ -3819,6 +3836,8 @@ ROLL_FAMILY_FRAMES = [
     ROLL_LINE + "( by| through)? {d} {dir}" + OFF_LEVEL,
     ROLL_LINE + " {dir}( by| through)? {d}" + OFF_LEVEL,
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
+    # The degrees, then the way, then the noun ("a 25 degrees counterclockwise dutch").
+    "(a |an )?{d} {dir}{said} " + ROLL_NOUNS,
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
 # An upward angle with a word of its drama before it ("heroic upward angle", "a dramatic up shot of
@@ -5363,7 +5382,7 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
     if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
         found = [c for c in found if not _yields_to(c, degrees[0])]
-    named = _narrowest({c.value for c in found if c.field == "elevation"})
+    named = _beyond_broad(_narrowest({c.value for c in found if c.field == "elevation"}))
     if len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
     if len(named) > 1:
@@ -5413,6 +5432,28 @@ def _yields_to(cue: _Cue, degrees: float) -> bool:
     the horizontal ("from way up, like 70 degrees": high angle and 70 are one elevation, 70) and
     is not exact (:data:`EXACT_ELEVATIONS`); eye level and the other side stay a conflict."""
     return cue.field == "elevation" and cue.value not in EXACT_ELEVATIONS and _side_of(cue) * degrees > 0.0
+
+
+# The broad heights, said of any camera well above or below ("from high above", "low down").
+BROAD_ELEVATIONS = frozenset({"high angle", "low angle"})
+
+
+def _beyond_broad(named: list[str]) -> list[str]:
+    """Named elevations less a broad one (:data:`BROAD_ELEVATIONS`) when another on its side of
+    the horizontal lies farther from it: "from high above the table, almost vertical" is the
+    near-vertical view, which is seen from high above; "slightly above" stays apart from top-down."""
+
+    def middle(e: str) -> float:
+        return sum(ELEVATIONS[e]) / 2.0
+
+    return [
+        e
+        for e in named
+        if not (
+            e in BROAD_ELEVATIONS
+            and any(o not in BROAD_ELEVATIONS and middle(o) * middle(e) > 0 and abs(middle(o)) > abs(middle(e)) for o in named)
+        )
+    ]
 
 
 def _narrowest(named: set[str]) -> list[str]:

@@ -260,6 +260,7 @@ def words(text: str) -> list[str]:
     s = re.sub(r"[\u2018\u2019\u02bc`\u00b4]", "'", s)
     s = re.sub(r"[\u00b0\u00ba]", " degrees ", s)
     s = re.sub(r"%|\bper\s?cent\b", " percent ", s)  # "10%", "10 per cent", "10 percent"
+    s = _BY_THE_CLOCK.sub(lambda m: " counterclockwise " if "against" in (m[1], m[2]) else " clockwise ", s)
     s = _TURN_SHARE.sub(lambda m: f" {_turn_degrees(int(m[1]), int(m[2]))} degrees ", s)  # "1/12 of a turn"
     s = s.translate(VULGAR_FRACTIONS)  # "½", "⅔": as words
     s = _FRACTION_OF.sub(lambda m: f" {100 * int(m[1]) / int(m[2]):.4g} percent ", s)  # "2/3 of the frame"
@@ -288,6 +289,12 @@ def words(text: str) -> list[str]:
             _turns(_turn_directions(_just(_hedges(_comparatives(_compounds(_side_letters(_proper_sides(_to_up_down(tokens)))))))))
         )
     )
+
+
+# A turn's way said by the clock's hands ("rotate it 35 degrees against the clock", "turn with the
+# clock by 10 degrees"), read so only after the degrees or before "by" and a number: a clock in the
+# scene stays one ("the vase against the clock").
+_BY_THE_CLOCK = re.compile(r"(?<=degrees)\s+(against|with) the clock\b|\b(against|with) the clock(?= by \d)")
 
 
 # An angle's name clipped as capture logs and photogrammetry notes write it ("az 135 / el +20",
@@ -1566,6 +1573,11 @@ CLASS_NOUNS = (
     "piece of furniture",
     "structure",
     "thing",
+    # A kind named loosely as people name their things ("whole toy in frame", "the entire plant").
+    "toy",
+    "plant",
+    "product",
+    "prop",
 )
 # Room left around the subject ("loads of room around it", "lots of table around it"): wide.
 PLENTY_WORDS = ("loads of", "lots of", "plenty of", "a lot of", "heaps of", "tons of", "masses of", "a load of")
