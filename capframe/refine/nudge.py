@@ -13,7 +13,9 @@ the other clauses still hold is the caller's to check (the method's own report).
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import torch
@@ -61,6 +63,62 @@ def angle_misses(report: CheckReport, primary: str) -> tuple[float, float] | Non
     return (azimuth, elevation) if (azimuth or elevation) else None
 
 
+@dataclass
+class SpherePose:
+    """A camera on a subject's view sphere: azimuth and elevation of its centre about the pivot
+    (degrees, DESIGN §3), its distance, the normalised point its aim images at and its roll
+    (degrees)."""
+
+    azimuth: float
+    elevation: float
+    distance: float
+    point: tuple[float, float]
+    roll: float
+
+
+class ViewSphere:
+    """The sphere of cameras about ``pivot`` (3,) (a subject's view centre) that look at ``aim``
+    (3,) (its centroid): azimuth about ``front`` (3,, None: any horizontal), elevation from the
+    world ``up`` (3,)."""
+
+    def __init__(self, pivot: np.ndarray, aim: np.ndarray, front: np.ndarray | None, up: np.ndarray):
+        f64 = dict(dtype=torch.float64)
+        self.pivot, self.aim, self.up = pivot, aim, up
+        self.f, self.u, self.r = (
+            v.numpy()
+            for v in subject_frame(
+                torch.tensor(front if front is not None else any_horizontal(up), **f64), torch.tensor(up, **f64)
+            )
+        )
+
+    def pose(self, camera: Camera) -> SpherePose | None:
+        """Where ``camera`` is on the sphere; None at the pivot or with the aim behind it."""
+        offset = camera.center - self.pivot
+        distance = float(np.linalg.norm(offset))
+        x_cam = camera.R @ self.aim + camera.t
+        if distance <= 0.0 or x_cam[2] <= 0.0:
+            return None
+        pixel = camera.K @ (x_cam / x_cam[2])
+        f64 = dict(dtype=torch.float64)
+        return SpherePose(
+            math.degrees(math.atan2(float(offset @ self.r), float(offset @ self.f))),
+            math.degrees(math.asin(max(-1.0, min(1.0, float(offset @ self.u) / distance)))),
+            distance,
+            (float(pixel[0]) / camera.width, float(pixel[1]) / camera.height),
+            math.degrees(float(camera_roll(torch.tensor(camera.T_cw, **f64), torch.tensor(self.up, **f64)))),
+        )
+
+    def direction(self, azimuth_deg: float, elevation_deg: float) -> np.ndarray:
+        """(3,) unit direction from the pivot at those angles."""
+        a, e = math.radians(azimuth_deg), math.radians(elevation_deg)
+        return math.cos(e) * (math.cos(a) * self.f + math.sin(a) * self.r) + math.sin(e) * self.u
+
+    def camera(self, camera: Camera, pose: SpherePose) -> Camera:
+        """``camera`` (its intrinsics) placed at ``pose``, imaging the aim at its point with its roll."""
+        centre = self.pivot + pose.distance * self.direction(pose.azimuth, pose.elevation)
+        return camera.with_pose(aimed_pose(centre, self.aim, pose.point, camera, self.up, pose.roll))
+
+
 def orbited(
     camera: Camera,
     pivot: np.ndarray,
@@ -74,23 +132,14 @@ def orbited(
     subject's ``front``, elevation; degrees, DESIGN §3) and ``distance_scale`` times as far from
     it, turned so ``aim`` (3,) keeps its pixel and the camera its roll. None when ``aim`` is behind
     the camera or the new elevation would pass a pole (the sphere has no azimuth there)."""
-    f64 = dict(dtype=torch.float64)
-    f, u, r = (
-        v.numpy()
-        for v in subject_frame(torch.tensor(front if front is not None else any_horizontal(up), **f64), torch.tensor(up, **f64))
+    sphere = ViewSphere(pivot, aim, front, up)
+    pose = sphere.pose(camera)
+    if pose is None or abs(pose.elevation + turn_deg[1]) >= 89.0:
+        return None
+    moved = dataclasses.replace(
+        pose,
+        azimuth=pose.azimuth + turn_deg[0],
+        elevation=pose.elevation + turn_deg[1],
+        distance=distance_scale * pose.distance,
     )
-    offset = camera.center - pivot
-    distance = float(np.linalg.norm(offset))
-    x_cam = camera.R @ aim + camera.t
-    if distance <= 0.0 or x_cam[2] <= 0.0:
-        return None
-    azimuth = math.atan2(float(offset @ r), float(offset @ f)) + math.radians(turn_deg[0])
-    elevation = math.asin(max(-1.0, min(1.0, float(offset @ u) / distance))) + math.radians(turn_deg[1])
-    if abs(elevation) >= math.radians(89.0):
-        return None
-    direction = math.cos(elevation) * (math.cos(azimuth) * f + math.sin(azimuth) * r) + math.sin(elevation) * u
-    pixel = camera.K @ (x_cam / x_cam[2])
-    roll = math.degrees(float(camera_roll(torch.tensor(camera.T_cw, **f64), torch.tensor(up, **f64))))
-    point = (pixel[0] / camera.width, pixel[1] / camera.height)
-    centre = pivot + distance_scale * distance * direction
-    return camera.with_pose(aimed_pose(centre, aim, point, camera, up, roll))
+    return sphere.camera(camera, moved)

@@ -25,19 +25,17 @@ are seeded: a query gives the same camera on every run.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 import torch
 
-from ..geometry import any_horizontal, camera_roll, subject_frame
 from ..measure import CheckReport, CheckRow, wrap_deg
 from ..scene import Camera
 from ..scene.occupancy import Occupancy
-from .candidates import aimed_pose
-from .nudge import DISTANCE_SHARES
+from .nudge import DISTANCE_SHARES, SpherePose, ViewSphere
 
 SEARCH_REPORTS = 24  # own reports at most: a render each
 SEARCH_DRAWS = 400  # draws at most, most of them rejected by free space alone
@@ -83,44 +81,27 @@ def search_cameras(
         occupancy: the scene's free space; without it every draw is reported.
         seed: seeds the draws.
     """
-    f, u, r = (
-        v.numpy()
-        for v in subject_frame(
-            torch.as_tensor(front if front is not None else any_horizontal(up), dtype=torch.float64),
-            torch.as_tensor(up, dtype=torch.float64),
-        )
-    )
-    offset = camera.center - pivot
-    distance = float(np.linalg.norm(offset))
-    seen = camera.R @ aim + camera.t
-    if distance <= 0.0 or seen[2] <= 0.0:
+    sphere = ViewSphere(pivot, aim, front, up)
+    own = sphere.pose(camera)
+    if own is None:
         return None
     rows = {row.constraint: row for row in report.rows if row.subject in (primary, None)}
-    own = _Pose(
-        azimuth=math.degrees(math.atan2(float(offset @ r), float(offset @ f))),
-        elevation=math.degrees(math.asin(max(-1.0, min(1.0, float(offset @ u) / distance)))),
-        distance=distance,
-        point=tuple(float(v) for v in (camera.K @ (seen / seen[2]))[:2] / (camera.width, camera.height)),
-        roll=math.degrees(float(camera_roll(torch.as_tensor(camera.T_cw), torch.as_tensor(up, dtype=torch.float64)))),
-    )
     shares = DISTANCE_SHARES if occupancy is not None else (1.0,)
 
-    def free(offset: np.ndarray) -> bool:
-        return occupancy is None or float(occupancy.clearance(torch.as_tensor(pivot + offset))) > 0
+    def free(distance: float, direction: np.ndarray) -> bool:
+        return occupancy is None or float(occupancy.clearance(torch.as_tensor(pivot + distance * direction))) > 0
 
     rng = np.random.default_rng(seed)
     reports = 0
     for draw in range(SEARCH_DRAWS):
         pose = _draw(own, rows, rng, local=draw % 2 == 0)
-        a, e = math.radians(pose.azimuth), math.radians(pose.elevation)
-        direction = math.cos(e) * (math.cos(a) * f + math.sin(a) * r) + math.sin(e) * u
+        direction = sphere.direction(pose.azimuth, pose.elevation)
         # Nearer along the same direction until free: a low angle is reached above the ground
         # only near the subject.
-        reach = next((share * pose.distance for share in shares if free(share * pose.distance * direction)), None)
+        reach = next((share * pose.distance for share in shares if free(share * pose.distance, direction)), None)
         if reach is None:
             continue
-        centre = pivot + reach * direction
-        drawn = camera.with_pose(aimed_pose(centre, aim, pose.point, camera, up, pose.roll))
+        drawn = sphere.camera(camera, dataclasses.replace(pose, distance=reach))
         drawn.name = f"{camera.name}-searched"
         measured = measure(drawn)
         if measured.all_satisfied:
@@ -131,19 +112,7 @@ def search_cameras(
     return None
 
 
-@dataclass
-class _Pose:
-    """A camera on the view sphere: azimuth and elevation (degrees), distance, the normalised
-    point its subject images at and its roll (degrees)."""
-
-    azimuth: float
-    elevation: float
-    distance: float
-    point: tuple[float, float]
-    roll: float
-
-
-def _draw(own: _Pose, rows: dict[str, CheckRow], rng: np.random.Generator, local: bool) -> _Pose:
+def _draw(own: SpherePose, rows: dict[str, CheckRow], rng: np.random.Generator, local: bool) -> SpherePose:
     """One draw. ``local``: what a row asks and ``own`` holds stays near ``own`` (within
     :data:`LOCAL_TURN_DEG`, :data:`LOCAL_SCALE`, :data:`LOCAL_SHIFT`), what it fails is drawn
     just inside the accepted interval's nearer end; else each asked quantity anywhere inside its
@@ -184,7 +153,7 @@ def _draw(own: _Pose, rows: dict[str, CheckRow], rng: np.random.Generator, local
     else:
         point = own.point
     turned = roll.target["roll_deg"] if roll is not None else own.roll
-    return _Pose(azimuth, pitch, distance, point, turned)
+    return SpherePose(azimuth, pitch, distance, point, turned)
 
 
 def _near(value: float, low: float, high: float, half_width: float, rng: np.random.Generator) -> float:
