@@ -5382,7 +5382,8 @@ def _elevation(cues: list[_Cue]) -> tuple[str | None, float | None]:
     degrees = sorted({c.value for c in found if c.field == "elevation_deg"})
     if len(degrees) == 1:  # an angle and a height word on its side are one elevation: the angle says it
         found = [c for c in found if not _yields_to(c, degrees[0])]
-    named = _beyond_broad(_narrowest({c.value for c in found if c.field == "elevation"}))
+    found = _beyond_broad(found)
+    named = _narrowest({c.value for c in found if c.field == "elevation"})
     if len(degrees) > 1:
         raise InputError(f"conflicting elevations: {[c.text for c in found]}")
     if len(named) > 1:
@@ -5438,22 +5439,22 @@ def _yields_to(cue: _Cue, degrees: float) -> bool:
 BROAD_ELEVATIONS = frozenset({"high angle", "low angle"})
 
 
-def _beyond_broad(named: list[str]) -> list[str]:
-    """Named elevations less a broad one (:data:`BROAD_ELEVATIONS`) when another on its side of
-    the horizontal lies farther from it: "from high above the table, almost vertical" is the
-    near-vertical view, which is seen from high above; "slightly above" stays apart from top-down."""
+def _beyond_broad(found: list[_Cue]) -> list[_Cue]:
+    """Height cues less a broad one (:data:`BROAD_ELEVATIONS`) said as a place, not named as an
+    angle, when another named height lies wholly beyond its range on its side of the horizontal:
+    "from high above the table, almost vertical" is the near-vertical view, which is seen from
+    high above; "a high angle, straight down" stays a conflict, as does "slightly above, top-down";
+    heights that overlap ("a low angle, worm's eye") meet in :func:`_elevation`."""
 
-    def middle(e: str) -> float:
-        return sum(ELEVATIONS[e]) / 2.0
+    def beyond(other: _Cue, broad: _Cue) -> bool:
+        (lo, hi), (other_lo, other_hi) = ELEVATIONS[broad.value], ELEVATIONS[other.value]
+        return other_lo > hi if lo >= 0.0 else other_hi < lo
 
-    return [
-        e
-        for e in named
-        if not (
-            e in BROAD_ELEVATIONS
-            and any(o not in BROAD_ELEVATIONS and middle(o) * middle(e) > 0 and abs(middle(o)) > abs(middle(e)) for o in named)
-        )
-    ]
+    def said_broadly(cue: _Cue) -> bool:
+        return cue.field == "elevation" and cue.value in BROAD_ELEVATIONS and "angle" not in cue.text.split()
+
+    named = [c for c in found if c.field == "elevation" and c.value not in BROAD_ELEVATIONS]
+    return [c for c in found if not (said_broadly(c) and any(beyond(o, c) for o in named))]
 
 
 def _narrowest(named: set[str]) -> list[str]:
