@@ -939,8 +939,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout19, the "
-        "parse-only corpora phrasing1 ... phrasing10) or a suite file; a suite with hand-written specs (the heldout sets) "
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout20, the "
+        "parse-only corpora phrasing1 ... phrasing11) or a suite file; a suite with hand-written specs (the heldout sets) "
         "prints full success and failures per kind",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object instead of a table")
