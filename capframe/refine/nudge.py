@@ -9,6 +9,9 @@ form: the centre moves by the missing angle plus a margin on the sphere about th
 camera turns so the subject's centroid keeps its pixel and the horizon keeps its roll; where
 that centre is inside geometry (under the floor), it comes nearer along the same direction. Whether
 the other clauses still hold is the caller's to check (the method's own report).
+
+:class:`ViewSphere` reads where a camera is on that sphere and places one at a pose; the last
+search (:mod:`capframe.refine.search`) draws its cameras on it too.
 """
 
 from __future__ import annotations
