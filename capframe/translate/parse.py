@@ -3836,8 +3836,6 @@ ROLL_FAMILY_FRAMES = [
     ROLL_LINE + "( by| through)? {d} {dir}" + OFF_LEVEL,
     ROLL_LINE + " {dir}( by| through)? {d}" + OFF_LEVEL,
     "(a |an )?{dir}{said} " + ROLL_NOUNS + "( of| by)? {d}",
-    # The degrees, then the way, then the noun ("a 25 degrees counterclockwise dutch").
-    "(a |an )?{d} {dir}{said} " + ROLL_NOUNS,
     "(a |an )?{said_before}" + ROLL_NOUNS + " (of|by) {d}( ,)? {dir}",
 ]
 # An upward angle with a word of its drama before it ("heroic upward angle", "a dramatic up shot of
