@@ -37,7 +37,7 @@ from PIL import Image, ImageDraw
 from ..handoff import Retrieved
 from ..measure import CheckReport, ConstraintChecker, format_report
 from ..refine.candidates import Candidate
-from ..refine.nudge import DISTANCE_SHARES, angle_misses, orbited
+from ..refine.nudge import DISTANCE_SHARES, ViewSphere, angle_misses, orbited
 from ..refine.optimize import RefineConfig, RefineResult
 from ..refine.search import search_cameras
 from ..render import render
@@ -239,10 +239,7 @@ def searched_run(
         start.with_pose(result.T_cw),
         report,
         primary.name,
-        subject.center,
-        np.asarray(primary.centroid),
-        subject.front,
-        labels.up,
+        ViewSphere(subject.center, np.asarray(primary.centroid), subject.front, labels.up),
         lambda camera: own_report(checker, parsed, camera),
         occupancy,
     )

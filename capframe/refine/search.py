@@ -58,10 +58,7 @@ def search_cameras(
     camera: Camera,
     report: CheckReport,
     primary: str,
-    pivot: np.ndarray,
-    aim: np.ndarray,
-    front: np.ndarray | None,
-    up: np.ndarray,
+    sphere: ViewSphere,
     measure: Callable[[Camera], CheckReport],
     occupancy: Occupancy | None = None,
     seed: int = 0,
@@ -73,15 +70,12 @@ def search_cameras(
         camera: the answer so far; what no clause asks is drawn near its own.
         report: its own report, whose rows of ``primary`` give the accepted intervals.
         primary: the primary subject's name.
-        pivot: (3,) the subject's view centre, about which the angles are measured.
-        aim: (3,) the subject's centroid, imaged at the drawn point.
-        front: (3,) the subject's front, or None (azimuths then about any horizontal).
-        up: (3,) world up.
+        sphere: its view sphere (about its view centre, aimed at its centroid), where the
+            cameras are drawn.
         measure: the own report of a camera.
         occupancy: the scene's free space; without it every draw is reported.
         seed: seeds the draws.
     """
-    sphere = ViewSphere(pivot, aim, front, up)
     own = sphere.pose(camera)
     if own is None:
         return None
@@ -89,7 +83,7 @@ def search_cameras(
     shares = DISTANCE_SHARES if occupancy is not None else (1.0,)
 
     def free(distance: float, direction: np.ndarray) -> bool:
-        return occupancy is None or float(occupancy.clearance(torch.as_tensor(pivot + distance * direction))) > 0
+        return occupancy is None or float(occupancy.clearance(torch.as_tensor(sphere.pivot + distance * direction))) > 0
 
     rng = np.random.default_rng(seed)
     reports = 0
