@@ -2071,7 +2071,11 @@ ELEVATION_PHRASES = {
         "{AIM}( the camera| the lens)? {FULLY} down( (at|on|onto) {obj})?",
         # The subject right under the camera, said from the camera's side ("the tree directly beneath
         # us", "straight below the drone"): the camera straight above it.
-        "({STRONG}|just) (below|beneath|under|underneath) (us|me|the (camera|lens|drone|gimbal))",
+        "({STRONG}|right|just) (below|beneath|under|underneath) (us|me|the (camera|lens|drone|gimbal))",
+        # ... or said of the subject alone, ending the sentence ("lens ninety degrees down, the
+        # tree right underneath"). "From right underneath" puts the camera below, and so may "the
+        # mug right underneath, looking up": hence the sentence's end.
+        "(?<!from ){obj} (is |sits |lies |stands )?({STRONG}|right|just) (below|beneath|under|underneath)(?= ([.;!]|$))",
         "(the )?(camera|lens|gimbal)( (is|was))?( ({AIM}|facing|turned|looking))? down (vertically|straight|fully)",
     ],
     "low angle": [
@@ -4317,9 +4321,7 @@ class RuleParser:
                     or (_opening_noun_phrase(tokens, span, determined) and not of_picture)
                 )
             )
-            opening = (before is not None and before.forward) or all(
-                t in STOPWORDS or t in PUNCTUATION for t in tokens[: span[0]]
-            )
+            opening = (before is not None and before.forward) or _sentence_opening(tokens, span[0])
             subject = self._related_subject(tokens, span) if opening and not _topic_opening(tokens, span) else None
             for part in _position_split(tokens, span):
                 run = [tokens[k] for k in part]
@@ -4478,6 +4480,20 @@ class RuleParser:
         otherwise. Such a phrase is the sentence's subject, whatever it names."""
         if span[-1] + 1 >= len(tokens) or not tokens[span[-1] + 1].startswith("@"):
             return None
+        # The thing may follow a verb asking for it or putting it there ("could you find the
+        # abacus by", "my grandson left his ukulele next to", "I put the abacus by"); "our
+        # postman having his lunch on" is about the postman.
+        first = next((k for k, at in enumerate(span) if tokens[at] not in STOPWORDS), 0)
+        verb = next(
+            (
+                k
+                for k, at in enumerate(span[:-1])
+                if (tokens[at] in PUTTING_VERBS or (k == first and tokens[at] in PLACED_LEADS))
+                and tokens[at + 1] in PUT_DETERMINERS
+            ),
+            None,
+        )
+        span = span if verb is None else span[verb + 1 :]
         lead = next((tokens[at] for at in span if tokens[at] in MENTION_DETERMINERS or tokens[at] not in STOPWORDS), "")
         determined = lead in MENTION_DETERMINERS  # "(of) the candle in front of": a noun phrase
         relation = RELATION_WORDS | RELATION_OBJECT_WORDS if determined else RELATION_WORDS
@@ -4695,6 +4711,23 @@ TOPIC_LINKS = frozenset({"is", "are", "was", "be", "says", "said", "reads", "mea
 def _up_to_subject(tokens: list[str]) -> list[str]:
     """The first words of ``tokens`` up to a named subject (``@k``) or punctuation."""
     return list(itertools.takewhile(lambda t: not t.startswith("@") and t not in PUNCTUATION, tokens))
+
+
+# Marks ending a sentence: what follows one opens a new sentence ("Not sure this is right... find
+# the abacus by the mug").
+SENTENCE_ENDS = frozenset(".!?;")
+
+# Verbs of putting a thing somewhere, and the determiners opening the thing put ("my grandson left
+# his ukulele next to the chair", "someone parked a bike by the bench").
+PUTTING_VERBS = frozenset({"left", "put", "placed", "set", "dropped", "parked", "leaned", "leant", "hung", "stashed", "hid"})
+PUT_DETERMINERS = MENTION_DETERMINERS | {"his", "her"}
+
+
+def _sentence_opening(tokens: list[str], at: int) -> bool:
+    """Whether ``tokens[at]`` opens a sentence: only function words and punctuation come between
+    it and the instruction's start or the last sentence end (:data:`SENTENCE_ENDS`)."""
+    start = max((k + 1 for k in range(at) if tokens[k] in SENTENCE_ENDS), default=0)
+    return all(t in STOPWORDS or t in PUNCTUATION for t in tokens[start:at])
 
 
 def _topic_opening(tokens: list[str], span: list[int]) -> bool:
