@@ -66,6 +66,12 @@ VIEW_SIDES: dict[str, tuple[float, ...]] = {
     "back-exact": (180.0,),
     "left-exact": (-90.0,),
     "right-exact": (90.0,),
+    # "anything but the front", "not from behind": every azimuth outside that end's tolerance,
+    # centred on the opposite end.
+    "not-front": (180.0,),
+    "not-back": (0.0,),
+    "not-left": (90.0,),
+    "not-right": (-90.0,),
 }
 VIEW_TOLERANCE_DEG = 30.0
 # The slight sides lie between two sides 45 degrees apart: a narrower tolerance keeps them from
@@ -83,7 +89,13 @@ VIEW_TOLERANCES_DEG: dict[str, float] = {
     "back-exact": 15.0,
     "left-exact": 15.0,
     "right-exact": 15.0,
+    "not-front": 180.0 - VIEW_TOLERANCE_DEG,
+    "not-back": 180.0 - VIEW_TOLERANCE_DEG,
+    "not-left": 180.0 - VIEW_TOLERANCE_DEG,
+    "not-right": 180.0 - VIEW_TOLERANCE_DEG,
 }
+# The side a negated end leaves ("anything but the front" is "not-front").
+NEGATED_ENDS = {end: f"not-{end}" for end in ("front", "back", "left", "right")}
 # The ends a degree word may make exact: "<end>-exact" is that end within the narrower tolerance.
 EXACT_ENDS = ("front", "back", "left", "right")
 

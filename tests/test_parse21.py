@@ -5,6 +5,9 @@
   grandson left his ukulele next to the armchair") is the subject, so refused, naming the closest
   known objects; a thing doing something there ("our postman having his lunch on the bench") is
   still the one named first, and the camera or a hole dug for it is never a subject;
+* one end of the subject denied ("anything but the front", "not from behind", "no shots of its
+  back", "I don't want the front of the TV, I want its back") leaves every azimuth outside that
+  end's tolerance; two denied ends ask nothing;
 * the subject said to lie right under the camera, or under it at the sentence's end ("lens ninety
   degrees down, the tree right underneath"), is seen from straight above; the camera said to be
   right underneath stays below.
@@ -14,9 +17,11 @@ in a suite file."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from _parse_helpers import parser_of, scene_of
 
+from capframe.constraints import VIEW_SIDES, arc_deg, view_tolerance_deg
 from capframe.errors import InputError
 
 NAMES = ["armchair", "mug", "bench", "tree", "toy car", "television"]
@@ -76,3 +81,35 @@ CAMERA_UNDER_THE_SUBJECT = [
 def test_the_camera_right_underneath_stays_below(text):
     _, high = parse(text).constraints().elevation_range()
     assert high <= -80.0, text
+
+
+NEGATED_VIEWS = [
+    ("Armchair: anything but the front. Low angle. Close-up.", "not-front"),
+    ("the armchair from any side except behind", "not-back"),
+    ("the toy car, any angle other than its left", "not-left"),
+    ("Not from behind, please; anywhere else round the car is fine.", "not-back"),
+    ("Don't show me the car's front; high angle; car in the upper right; small.", "not-front"),
+    ("Whatever you do with the armchair, no shots of its back: high up", "not-back"),
+    ("I don't want the front of the TV, I want its back.", "back"),
+    ("the armchair from its left, anything but the back", "left"),
+]
+
+
+@pytest.mark.parametrize("text,view", NEGATED_VIEWS)
+def test_one_end_denied_leaves_every_other_way_round(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+def test_two_ends_denied_ask_no_view():
+    """Two denials would each leave the other's end: nothing is asked, and nothing conflicts."""
+    p = parse("the armchair, not from the front, not from behind")
+    assert p.subjects[0].view is None
+    assert p.not_understood()
+
+
+@pytest.mark.parametrize("end,azimuth", [("front", 0.0), ("back", 180.0), ("left", -90.0), ("right", 90.0)])
+def test_a_denied_end_accepts_exactly_the_azimuths_its_end_does_not(end, azimuth):
+    denied = f"not-{end}"
+    for a in np.arange(-180.0, 180.0, 2.5):
+        accepted = arc_deg(a, VIEW_SIDES[denied][0]) <= view_tolerance_deg(denied)
+        assert accepted == (arc_deg(a, azimuth) >= view_tolerance_deg(end)), (end, a)

@@ -251,6 +251,10 @@ VIEW_PHRASES = {
     "back-exact": ["seen from directly behind", "tail-on"],
     "left-exact": ["seen directly from {P} left", "exactly from {P} left side"],
     "right-exact": ["seen directly from {P} right", "exactly from {P} right side"],
+    "not-front": ["from anywhere but {P} front", "not from the front"],
+    "not-back": ["from anywhere but behind", "not from behind"],
+    "not-left": ["from anywhere but {P} left", "not from {P} left side"],
+    "not-right": ["from anywhere but {P} right", "not from {P} right side"],
 }
 ELEVATION_PHRASES = {
     "eye level": ["at eye level", "from eye level", "with the camera at {P} height", "shot straight on at {P} height"],

@@ -224,6 +224,7 @@ from ..constraints import (
     ELEVATIONS,
     EXACT_ENDS,
     EXPLICIT_ELEVATION_TOLERANCE_DEG,
+    NEGATED_ENDS,
     REGIONS,
     SHOT_SIZES,
     VIEW_SIDES,
@@ -1058,6 +1059,12 @@ FACING_WAY = (
     "|(off )?(to |towards )?(the )?(screen|{FRAME}) {LAT})"
     # "Looking right at the mug": "right" says straight at, no side.
     "(?! (at|into|down|up|over|through|onto|towards|toward)( |$))"
+)
+# Every way round the subject but one end ("anything but the front", "from any side except behind",
+# "any angle other than its back"): that end denied (NEGATED_ENDS).
+ALL_BUT = (
+    "(from )?(anything|anywhere|any side|any angle|any direction|any view|every side|all sides|all round|all around)"
+    "( else)? (but|except|other than|apart from|save|besides) (from )?(the |{P} )?{SIDE}( side| end| view| angle)?( of {obj})?"
 )
 VIEW_SIDE_WORDS = {
     # A vehicle's or a boat's ends too ("the nose end", "the stern", "aft"); a bare nose or tail is
@@ -3721,6 +3728,8 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
             # car"), unless a noun follows that it describes ("the front left leg").
             rows.append(("view", view, "((a|an|the|some|in|at|from) )?" + _alternatives(sides) + DIAGONAL_END, False))
+        if view in NEGATED_ENDS:  # "anything but the front", "from any side except behind"
+            rows.append(("view", NEGATED_ENDS[view], ALL_BUT.replace("{SIDE}", _alternatives(sides)), False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
         if view not in ("left", "right"):  # straight after its subject ("bear three quarter rear right", "chair front,")
             rows.append(("view", view, VIEW_AFTER_SUBJECT.replace("{SIDE}", _alternatives(sides)), False))
@@ -5310,21 +5319,43 @@ NEGATIONS = tuple(
     # Everything but a view, or showing one refused ("anything but the front of the car", "don't
     # show me its back", "no shots of its back", "avoid the front"): no view is asked.
     + ("anything but", "anywhere but", "any side but", "don t show me", "don t show", "do not show", "no shots of")
-    + ("no shot of", "avoid", "avoiding")
+    + ("no shot of", "avoid", "avoiding", "don t want", "do not want", "dont want")
 )
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})
 
 
 def _unnegated(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
-    """``cues`` without the ones a negation right before denies (:data:`NEGATIONS`: "the mug
-    from the front, not from the side"): what is not wanted constrains nothing the checker can
-    ask, so its words are reported as not understood, and it no longer conflicts with what is."""
-    return [
-        c
-        for c in cues
-        if c.field not in NEGATED_FIELDS or not any(tokens[max(c.start - len(n), 0) : c.start] == n for n in NEGATIONS)
-    ]
+    """``cues`` with the ones a negation right before denies (:data:`NEGATIONS`) dropped, so their
+    words are reported as not understood and no longer conflict with what is wanted ("the mug
+    from the front, not from the side"); but for one end of the subject denied alone, which
+    leaves every other way round it (:data:`~capframe.constraints.NEGATED_ENDS`: "anything but the
+    front" is "not-front", and "not the front, its back" the back)."""
+    negation = {
+        id(c): n for c in cues for n in NEGATIONS if c.field in NEGATED_FIELDS and tokens[max(c.start - len(n), 0) : c.start] == n
+    }
+    ends = [c for c in cues if id(c) in negation and c.field == "view" and _denied_end(c.value) is not None]
+    # The negation is part of what is understood then ("not from behind" as a whole).
+    kept = (
+        {
+            id(c): replace(
+                c,
+                value=NEGATED_ENDS[_denied_end(c.value)],
+                start=c.start - len(negation[id(c)]),
+                text=f"{' '.join(negation[id(c)])} {c.text}",
+            )
+            for c in ends
+        }
+        if len(ends) == 1
+        else {}
+    )
+    return [kept.get(id(c), c) for c in cues if id(c) not in negation or id(c) in kept]
+
+
+def _denied_end(view: object) -> str | None:
+    """The end of the subject a denied view side names ("front", "front-exact": "front"), else None."""
+    end = view.removesuffix("-exact") if isinstance(view, str) else None
+    return end if end in NEGATED_ENDS else None
 
 
 # A correction set off as a clause of its own ("..., sorry, I mean ...", "... no, ...", ". Scratch
