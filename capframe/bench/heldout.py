@@ -2,7 +2,7 @@
 sets, issue #15).
 
 ``capframe bench ground --suite heldout`` (or ``heldout2`` ... ``heldout19``, development sets, or
-``heldout20``, the blind held-out set, or any suite file
+``heldout20`` and ``heldout21``, the blind held-out sets, or any suite file
 naming a ``specs`` folder): every scene of the
 suite is generated (when absent) and prepared as the workflow would (COLMAP without poses, gravity
 when not aligned), its view cache is warmed, then
