@@ -8,6 +8,11 @@
 * one end of the subject denied ("anything but the front", "not from behind", "no shots of its
   back", "I don't want the front of the TV, I want its back") leaves every azimuth outside that
   end's tolerance; two denied ends ask nothing;
+* a roll said as a turn about the lens's axis or of "the rig" ("turned on its lens axis 25° in the
+  clockwise sense"), a frame kept level (roll 0, but "the frame level with the table" is a height);
+* a side's aspect or elevation ("posterior aspect", "side elevation (left)"), the reverse side, a
+  right angle to a side's part; clock hours on a dial ("one o'clock", "four on the dial", "his
+  face is twelve"); a hedge ("give or take a few"); the height of a lamp's shade;
 * the subject said to lie right under the camera, or under it at the sentence's end ("lens ninety
   degrees down, the tree right underneath"), is seen from straight above; the camera said to be
   right underneath stays below.
@@ -26,6 +31,7 @@ from capframe.errors import InputError
 
 NAMES = ["armchair", "mug", "bench", "tree", "toy car", "television"]
 parse = parser_of(scene_of(NAMES))
+parse_lamp = parser_of(scene_of(["floor lamp", "sofa"]))
 
 UNKNOWN_THINGS = [
     ("I'm not sure I'm doing this right... could you find the abacus by the green mug and take a photo of it?", "abacus"),
@@ -113,3 +119,61 @@ def test_a_denied_end_accepts_exactly_the_azimuths_its_end_does_not(end, azimuth
     for a in np.arange(-180.0, 180.0, 2.5):
         accepted = arc_deg(a, VIEW_SIDES[denied][0]) <= view_tolerance_deg(denied)
         assert accepted == (arc_deg(a, azimuth) >= view_tolerance_deg(end)), (end, a)
+
+
+ROLLS = [
+    ("the armchair, rear-left angle, and tip the rig ten degrees to clockwise", 10.0),
+    ("Mug hugging the left of the shot; the whole camera turned on its lens axis 25° in the clockwise sense", 25.0),
+    ("back of the telly, directly behind it, frame kept level", 0.0),
+    ("the mug, the picture stays straight", 0.0),
+]
+
+
+@pytest.mark.parametrize("text,roll", ROLLS)
+def test_a_turn_about_the_lens_axis_or_a_level_frame_is_a_roll(text, roll):
+    assert parse(text).roll_deg == roll
+
+
+def test_a_frame_level_with_a_thing_is_a_height_not_a_roll():
+    p = parse("the mug, the frame is level with the table")
+    assert p.roll_deg is None and p.elevation == "eye level"
+
+
+ASPECTS = [
+    ("Posterior aspect of the toy car, please.", "back"),
+    ("the television, reverse side, from 45 degrees up", "back"),
+    ("Toy car, exhibit C: rear aspect, squarely, no angle.", "back-exact"),
+    ("Armchair, left lateral aspect, close", "left"),
+    ("Armchair, side elevation (left), full piece in shot", "left"),
+    ("the armchair, front elevation", "front-exact"),  # architecture's elevation: square on
+    ("car: line the lens up at a perfect right angle to its left-hand doors", "left-exact"),
+]
+
+
+@pytest.mark.parametrize("text,view", ASPECTS)
+def test_aspects_elevations_and_right_angles_name_a_side(text, view):
+    assert parse(text).subjects[0].view == view
+
+
+CLOCKS = [
+    ("Armchair faces twelve. Camera at its one o'clock, high angle.", 30.0),
+    ("If the armchair's seat points at noon, I'd like the camera sitting at about four on the dial", 120.0),
+    ("Toy car at seven o'clock (its nose is twelve), low, looking up.", -150.0),
+]
+
+
+@pytest.mark.parametrize("text,azimuth", CLOCKS)
+def test_clock_hours_round_the_subject_name_the_nearest_side(text, azimuth):
+    """The subject's front at twelve, the hours clockwise seen from above: three is its right."""
+    view = parse(text).subjects[0].view
+    assert arc_deg(VIEW_SIDES[view][0], azimuth) <= view_tolerance_deg(view), view
+
+
+def test_a_hedge_on_degrees_names_nothing():
+    p = parse("the television: walk about twenty-five degrees off its face toward its own right-hand end, give or take a few")
+    assert p.subjects[0].view == "front-slight-right" and not p.not_understood()
+
+
+def test_the_shade_is_a_lamp_height_and_a_shade_a_degree():
+    assert parse_lamp("Lamp: centre frame, camera at the height of the shade").elevation == "eye level"
+    assert parse_lamp("the lamp, a shade higher than eye level").elevation == "slightly above"

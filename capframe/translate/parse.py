@@ -1069,8 +1069,10 @@ ALL_BUT = (
 VIEW_SIDE_WORDS = {
     # A vehicle's or a boat's ends too ("the nose end", "the stern", "aft"); a bare nose or tail is
     # a part ("so its tail shows") but where the camera is seen from (VIEW_PHRASES).
-    "front": ["front", "face", "front end", "nose end", "bow"],
-    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"],
+    "front": ["front", "face", "front end", "nose end", "bow", "anterior"],
+    # Anatomy's and a coin's words too ("posterior aspect", "the reverse side").
+    "back": ["back", "rear", "backside", "rear end", "back end", "behind", "tail end", "hind end", "stern", "aft", "aft end"]
+    + ["posterior", "reverse side"],
     # "Lateral" is the side, as anatomy and technical drawing say it ("left lateral view", "lateral
     # right"), before or after the side named.
     "left": ["left", "left hand", "left( hand)?( side)? lateral", "lateral left"],
@@ -1183,7 +1185,8 @@ VIEW_FRAMES = [
     # The camera square to a side, maybe a part's ("perpendicular to its flank", "shot square to
     # the left side", "perpendicular to the shelves' face"), maybe to a part said on that side
     # ("perfectly perpendicular to the doors on its left-hand side"): that side, exactly.
-    "((perfectly|precisely|{STRONG}) )?(?P<exact>perpendicular|perpendicularly|square|squarely|at right angles|normal)"
+    "((perfectly|precisely|{STRONG}) )?(?P<exact>perpendicular|perpendicularly|square|squarely|at right angles|normal"
+    "|at (a |an )?((perfect|exact|true|precise) )?right angle)"
     " (on )?(to|with|onto|on to|facing) ((the|{P}) ([a-z]+ ){1,2}(on|at|along) )?"
     "(the|{P}) ([a-z]+ 's )?{SIDE}{PART}( of {obj})?(?! of )",
     CAMERA + " ({EXACT} |(far|well|way|out) )?(at|on|to|by|off to) (the|{P}) {SIDE}{PART}( of {obj})?",
@@ -1229,7 +1232,8 @@ VIEW_AFTER_SUBJECT = "(?<=@\\d )(the )?((?<=@0 )|(?!behind )){SIDE}( view| angle
 # "side view (the right one)"): which side.
 SIDE_AFTER_SIDE_VIEW = (
     "(?:(?<=side [,:;(] )|(?<=profile [,:;(] )|(?<=lateral [,:;(] )|(?<=side view [,:;(] )|(?<=profile view [,:;(] )"
-    "|(?<=lateral view [,:;(] )|(?<=side on [,:;(] ))(the )?{LAT}( hand)?( side| one)?(?= ([,.;!)]|$))"
+    "|(?<=lateral view [,:;(] )|(?<=side on [,:;(] )|(?<=side elevation [,:;(] )|(?<=side aspect [,:;(] ))"
+    "(the )?{LAT}( hand)?( side| one)?(?= ([,.;!)]|$))"
 )
 # The view's noun before its side, as a caption or a shot list writes it ("PROFILE RIGHT", "view
 # front-left", "side view from the left", "lateral view: right", "angle (rear right)"), as a clause
@@ -1752,6 +1756,8 @@ TURN_BACK_FRAMES = [
 CLOCK_PHRASES = [
     SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
 ]
+# "One o'clock": "one" stays a word (vocabulary.words).
+CLOCK_ONE_HOUR = SEEN + "((from|at) )?(the |{P} )?one o clock( (position|direction|angle|side|mark))?( of {obj})?"
 CLOCK_HOUR_DEG = 30.0
 # The clock face said around the subject with its front at twelve ("as on a clock face with the
 # screen at twelve", "the bear looking at 12", "imagine teddy is the centre of a clock", "picture
@@ -1760,6 +1766,8 @@ CLOCK_HOUR_DEG = 30.0
 # clock is said (RULE_CONTEXTS), an hour needs no "o'clock" ("stand at 7", "the view from one",
 # "from half past ten", "a quarter to six"); "on its six" is behind it, as pilots say it.
 _CLOCK_END = "(?= ([,.;:!?()]|$|and |with |as |for |on |in |of |please ))"
+# An hour said on the dial the setup laid round the subject ("the camera at about four on the dial").
+CLOCK_DIAL = "(at|to|from) (the )?({ABOUT} )?(?P<d>1[01]|[1-9]) on the (dial|clock|clock face|clockface)" + _CLOCK_END
 _FRONT_AT_12 = "(" + "|".join(sorted({*FACING_PARTS["front"], *END_PARTS["front"]}, key=len, reverse=True)) + ")"
 CLOCK_SETUP_PHRASES = [
     "((as |like )?(on|in) )?(a |the )?clock( face)?( (laid |lying |flat )?(on|under|around|round|below|beneath) (the |a )?"
@@ -1767,7 +1775,9 @@ CLOCK_SETUP_PHRASES = [
     "(imagine|picture|pretend|think)( of)?( that)? ({obj}|he|she) ((is|s|sits|stands|stand|sit|as) )?(at |in )?(the )?"
     "(center|middle) of (a |the )?clock( face)?",
     "((with )?(the |{P} )" + _FRONT_AT_12 + " |({obj}|he|she) )?(is |are )?((looking|facing|pointing|pointed|aimed|turned"
-    "|looks|faces|points)( (at|to|towards))?|at|to) 12" + _CLOCK_END,
+    "|looks|faces|points)( (at|to|towards))?|at|to) (12|noon)" + _CLOCK_END,
+    # Said as what the front is ("his face is twelve", "(the seat is 12 o'clock)").
+    "(the |{P} )" + _FRONT_AT_12 + " (is|being|=) (12|noon)( o clock)?" + _CLOCK_END,
 ]
 _HOUR = "(?P<d>1[01]|[1-9])"  # twelve is where the subject faces ("its handle at 12")
 _AT_HOUR = "(((stand|standing|stood|shoot|shooting|go|walk|move|be|camera|the camera) )?(at|from|to) (the )?|the view from )"
@@ -2354,6 +2364,9 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
 # The camera aimed straight at what the subject stands on ("camera pointing straight at the
 # tabletop", "lens aimed squarely at the desk", "cam facing perpendicular to the floor"): looking
 # straight down. Without "straight" only the floor-like surfaces already above say so.
+# A lamp's shade as a height ("camera at the height of the shade"): the lamp's own height. Not a
+# height anchor: "a shade higher" is a degree.
+ELEVATION_PHRASES["eye level"].append("((the )?(camera|lens) )?(at|from) the (height|level) of (the|{P}) (lamp )?shade")
 ELEVATION_PHRASES["top-down"] += [
     "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|{LOOK}|facing|turned)"
     "(( {DOWNRIGHT}){1,2}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
@@ -2577,6 +2590,8 @@ SEEN_PHRASES = [
 # too much trouble"); the axis a roll turns about
 # ("spun 15 degrees clockwise about the lens axis"): the roll itself is read apart.
 NOTE_PHRASES = [
+    # A hedge on an amount said before ("twenty-five degrees off its face, give or take a few").
+    "give or take( (a (few|bit|little|touch)|some|a few degrees))?",
     # Its number may carry a letter ("Storyboard 7B", "shot 12 a,"), read apart by vocabulary.words.
     "((?<=^ )|{CLAUSE})(" + "|".join(SLATE_LABELS) + ") \\d+([a-z]| [a-z](?= ([,.;:!]|$)))?",
     # How many subjects the frame holds, each named anyway ("all three in frame", "a two-shot").
@@ -2751,6 +2766,10 @@ ROLL_PHRASES = {
         "(with )?(the )?camera (rolled|rotated|canted) {dir}",
         "(with )?(a |an )?({mod} )?({dir} )?(dutch|canted) (angle|tilt)",
         "(at|on) (a |an )?({mod} )?(slant|tilt|cant|lean|skew)( (to|towards) the {side})?",
+        # Turned about the lens's own axis ("the whole camera turned on its lens axis 25 degrees
+        # clockwise"): a roll, whatever the verb of turning.
+        "((the )?(whole )?(camera|lens|rig|frame|picture|image) )?(turned|turn|rotated|rotate|rolled|roll|spun|spin|twisted"
+        "|twist) (on|about|around|round) (its|the) (own )?(lens |optical |viewing )?axis (by |through )?{d} {dir}",
         # Other verbs of rolling, with degrees and a direction or side ("banked 15 degrees left").
         "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} (by |through )?{d} ({dir}|(to the |towards the )?{side})",
         "((with )?(the )?(camera|lens) )?{ROLLV}{ROLLED} ({dir}|(to the |towards the )?{side}) (by )?{d}",
@@ -2838,6 +2857,9 @@ ROLL_PHRASES = {
         "( (angle|tilt))?"
         "( at all| whatsoever)?(?! (up|down) )",
         "(the )?horizon (is |stays |remains |being |kept )?({STRONG} |perfectly |nice and )?({HORIZON_LEVEL})",
+        # The frame said level ("frame kept level", "the picture stays straight"): not a height.
+        "(the )?(frame|picture|image|shot) (is |stays |remains |being |kept |held )({STRONG} |perfectly |nice and )?"
+        "(level|straight|horizontal)(?! (with|to|as) )",
         "(with |and )?no (dutch |canted )?(angle|tilt|roll)( (on|in|to|of) the (horizon|frame|picture|image|camera|shot))?",
         "(keep|keeping|hold|holding) (it|things|everything|the shot|the frame|the picture)"
         " (nice and |perfectly |dead )?(level|straight)",
@@ -3479,7 +3501,7 @@ _MACROS = {
     # Moving the camera round ("drifting a little round to its left").
     "{ROLLV}": _alternatives(ROLL_VERBS, "(?:"),
     # What a roll verb turns, said after it ("dutch it 25 degrees", "cant the frame 10 degrees left").
-    "{ROLLED}": "(?: (?:it|them|the camera|the lens|the shot|the frame|the picture|the image|things))?",
+    "{ROLLED}": "(?: (?:it|them|the camera|the lens|the rig|the shot|the frame|the picture|the image|things))?",
     "{ROLLADJ}": _alternatives(ROLL_ADJECTIVES, "(?:"),
     "{MOVE}": "(?:drifting|drifted|drift|moving|moved|move|swinging|swung|swing|going|go|coming|come|edging|edged|edge"
     "|nudging|nudged|nudge|inching|inched|inch|shuffling|shuffled|shuffle"
@@ -3728,6 +3750,11 @@ def _templates() -> list[tuple[str, object, str, bool]]:
             # ("I'm after a front-right 3/4", "go for rear left, medium", "do a front left on the
             # car"), unless a noun follows that it describes ("the front left leg").
             rows.append(("view", view, "((a|an|the|some|in|at|from) )?" + _alternatives(sides) + DIAGONAL_END, False))
+        # A side's aspect or elevation, as anatomy, museums and architecture name a view ("rear
+        # aspect", "left lateral aspect of the bear", "front elevation"); not "the side's
+        # elevation" nor a height ("the front at eye-level elevation").
+        aspect = "(the |{P} )?" + _alternatives(sides) + " (aspect|elevation)( of {obj})?(?! (of|angle) )"
+        rows.append(("view", view, aspect, False))
         if view in NEGATED_ENDS:  # "anything but the front", "from any side except behind"
             rows.append(("view", NEGATED_ENDS[view], ALL_BUT.replace("{SIDE}", _alternatives(sides)), False))
         rows.append(("view", view, NOUN_BEFORE_SIDE.replace("{SIDE}", _alternatives(sides)), False))
@@ -3778,9 +3805,9 @@ def _templates() -> list[tuple[str, object, str, bool]]:
                 t = frame.replace("{LATERAL_OWN}", LATERAL_OWN).replace("{LATERAL}", LATERAL)
                 t = t.replace("{LON}", phrase).replace("{LAT}", lat)
                 rows.append(("view", f"{lon}-slight-{lat}" if degree else f"{lon}-{lat}", t, False))
-    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES + [SIX_OF]]
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG), t, False) for t in CLOCK_PHRASES + [SIX_OF, CLOCK_DIAL]]
     rows += [("view", ("azimuth", CLOCK_HOUR_DEG, half, 1.0), t, False) for half, t in CLOCK_BARE_HOURS.items()]
-    rows += [("view", ("azimuth", CLOCK_HOUR_DEG, 1.0, 0.0), CLOCK_ONE, False)]
+    rows += [("view", ("azimuth", CLOCK_HOUR_DEG, 1.0, 0.0), t, False) for t in (CLOCK_ONE, CLOCK_ONE_HOUR)]
     rows += [("note", None, t, False) for t in CLOCK_SETUP_PHRASES]
     rows += [("view", ("azimuth", 1.0), t, False) for t in SIGNED_AZIMUTH_PHRASES]
     rows += [("group", None, t, False) for t in GROUP_PHRASES]
@@ -5320,6 +5347,13 @@ NEGATIONS = tuple(
     # show me its back", "no shots of its back", "avoid the front"): no view is asked.
     + ("anything but", "anywhere but", "any side but", "don t show me", "don t show", "do not show", "no shots of")
     + ("no shot of", "avoid", "avoiding", "don t want", "do not want", "dont want")
+    # ... with a verb of shooting and what is shot between ("don't shoot it from the front").
+    + tuple(
+        f"{neg} {verb}{what}"
+        for neg in ("don t", "do not", "dont", "never")
+        for verb in ("shoot", "take", "photograph", "film", "show", "frame", "capture", "snap")
+        for what in ("", " it", " him", " her", " them")
+    )
 )
 NEGATION_WORDS = frozenset(w for n in NEGATIONS for w in n)
 NEGATED_FIELDS = frozenset({"view", "elevation", "elevation_deg", "shot", "region"})

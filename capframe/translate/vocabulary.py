@@ -1143,6 +1143,8 @@ SUBJECT_PARTS = {
         "brake lights",
         "fog lights",
         "indicators",
+        "axle",
+        "axles",
     ),
     "creature": (
         "snout",
