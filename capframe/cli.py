@@ -939,7 +939,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--suite",
         default=None,
-        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout20, the "
+        help="refine/ground: a suite name in config/suites (captured, default, full, heldout, heldout2 ... heldout21, the "
         "parse-only corpora phrasing1 ... phrasing11) or a suite file; a suite with hand-written specs (the heldout sets) "
         "prints full success and failures per kind",
     )

@@ -30,7 +30,7 @@ phrasing8) in as many ways as people write them; the parse-only corpus phrasing9
 to the method before any parser ran on it on 2026-11-28 (third session), a development corpus since that
 day's fifth session; and the
 parse-only corpus phrasing10, blind too, written blind to the method before any parser ran on it on
-2026-11-28 (fourth session), read by its writer only; and the parse-only corpus phrasing11, blind too,
+2026-11-28 (fourth session), a development corpus since that day's sixth session; and the parse-only corpus phrasing11, blind too,
 written blind to the method before any parser ran on it on 2026-11-28 (fifth session), read by its
 writer only):
 their files are valid and
@@ -88,7 +88,8 @@ COMMITTED = {
 # conflicting clauses), so nothing here generates them; the rest is checked as for the held-out sets.
 # phrasing3, phrasing4, phrasing5 ... phrasing8 (development phrase banks), phrasing9 (written blind to
 # the method on 2026-11-28, third session; a development corpus since that day's fifth), phrasing10
-# (blind, written blind to the method on 2026-11-28, fourth session) and phrasing11 (blind, written blind
+# (written blind to the method on 2026-11-28, fourth session; a development corpus since that day's
+# sixth) and phrasing11 (blind, written blind
 # to the method on 2026-11-28, fifth session), 200 instructions each, are
 # validated like the others; being parse-only they are never generated, so what needs a generated
 # scene (ground truth, clearance) is skipped for them too.

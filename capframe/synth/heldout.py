@@ -7,8 +7,8 @@ parse-only corpora ``phrasing1`` ... ``phrasing4`` and ``phrasing9`` (developmen
 and the development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``
 (whole requests of several clauses), written blind to the method, and the blind
-``phrasing10``, written blind to the method on 2026-11-28 (fourth session) and read by its writer only,
-and ``phrasing11``, blind too, written blind to the method on 2026-11-28 (fifth session) and read by its
+``phrasing10``, written blind to the method on 2026-11-28 (fourth session), a development corpus since
+that day's sixth, and ``phrasing11``, blind, written blind to the method on 2026-11-28 (fifth session) and read by its
 writer only, whose scenes are never generated: ``capframe bench ground --suite phrasing11 --parse-only``).
 
 The suite file is a :mod:`capframe.synth.suite` file with one more top-level key, ``specs``: a
