@@ -177,3 +177,10 @@ def test_a_hedge_on_degrees_names_nothing():
 def test_the_shade_is_a_lamp_height_and_a_shade_a_degree():
     assert parse_lamp("Lamp: centre frame, camera at the height of the shade").elevation == "eye level"
     assert parse_lamp("the lamp, a shade higher than eye level").elevation == "slightly above"
+
+
+def test_a_thing_doing_something_by_a_known_one_is_named_by_its_own_head():
+    """The head of "the gardener raking leaves" is the gardener, not the leaves (a plant's part)."""
+    with pytest.raises(InputError, match="subject 'gardener raking leaves' is not in this scene"):
+        parse("the gardener raking leaves by the tree")
+    assert parse("the light falling on the bench from the left").subjects[0].name == "bench"

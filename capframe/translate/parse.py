@@ -4712,12 +4712,14 @@ def _never_a_name(text: str) -> bool:
         return True
     # A noun phrase whose head is a word of the picture or a position ("the best side", "an
     # interesting angle", "the angle should be low", "the light from the left"): its head is the
-    # last word before the first function word or preposition ("the fountain | behind the tree").
+    # last word before the first function word, preposition ("the fountain | behind the tree") or
+    # verb of what it does ("the gardener | raking leaves", "the light | falling on").
     said = text.split()
     while said and said[0] in STOPWORDS:
         said.pop(0)
     ends = STOPWORDS | PLACE_WORDS
-    phrase = _unplaced(list(itertools.takewhile(lambda w: w not in ends, said)))  # "the light | falling on"
+    phrase = list(itertools.takewhile(lambda w: w not in ends, said))
+    phrase = _unplaced(phrase[:1] + list(itertools.takewhile(lambda w: not _placing(w), phrase[1:])))
     return bool(phrase) and phrase[-1] in never | PICTURE_NOUNS
 
 
