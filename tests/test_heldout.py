@@ -15,7 +15,7 @@ heldout16 before the changes tuned on heldout14 and heldout15 land, a developmen
 session of 2026-11-28; heldout18,
 blind too, written after heldout17 on 2026-11-28, a development set since that day's fourth session; heldout19, blind too,
 written after heldout18 on 2026-11-28 (third session), a development set since that day's fifth session;
-heldout20, blind too, written after heldout19 on 2026-11-28 (fifth session), read by its writer only;
+heldout20, blind too, written after heldout19 on 2026-11-28 (fifth session), a development set since that day's sixth;
 heldout21, blind too, written after heldout20 on 2026-11-28 (sixth session), read by its writer only; the
 parse-only corpus phrasing1, written blind before any
 parser ran on it, a development corpus since heldout16 and phrasing3 were written; the parse-only

@@ -184,3 +184,12 @@ def test_a_thing_doing_something_by_a_known_one_is_named_by_its_own_head():
     with pytest.raises(InputError, match="subject 'gardener raking leaves' is not in this scene"):
         parse("the gardener raking leaves by the tree")
     assert parse("the light falling on the bench from the left").subjects[0].name == "bench"
+
+
+def test_another_first_letter_writes_another_word_not_a_misspelling():
+    """A sofa called a "three-seater" is no heater; a swap, a doubled or a dropped letter still is."""
+    scene = parser_of(scene_of(["three seater", "television"]))
+    with pytest.raises(InputError, match="subject 'space heater' is not in this scene"):
+        scene("There should be a space heater next to the three seater; photograph the heater from the front please")
+    assert scene("the three saeter from the front").subjects[0].name == "three seater"
+    assert scene("the televison from the front").subjects[0].name == "television"

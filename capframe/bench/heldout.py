@@ -1,8 +1,8 @@
 """Ground benchmark on a suite with hand-written specs (committed instructions: the held-out
 sets, issue #15).
 
-``capframe bench ground --suite heldout`` (or ``heldout2`` ... ``heldout19``, development sets, or
-``heldout20`` and ``heldout21``, the blind held-out sets, or any suite file
+``capframe bench ground --suite heldout`` (or ``heldout2`` ... ``heldout20``, development sets, or
+``heldout21``, the blind held-out set, or any suite file
 naming a ``specs`` folder): every scene of the
 suite is generated (when absent) and prepared as the workflow would (COLMAP without poses, gravity
 when not aligned), its view cache is warmed, then

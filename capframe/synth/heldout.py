@@ -1,8 +1,6 @@
 """A suite whose instructions are committed, not generated: hand-written specs (the held-out
-sets ``heldout``, ``heldout2`` ... ``heldout19``, development sets now, issue #15, and the blind held-out
-set ``heldout20``, written blind to the method on 2026-11-28 (fifth session) and read by its writer only, and
-the blind held-out set ``heldout21``, written blind to the method on 2026-11-28 (sixth session) and read by its
-writer only; and the
+sets ``heldout``, ``heldout2`` ... ``heldout20``, development sets now, issue #15, and the blind held-out
+set ``heldout21``, written blind to the method on 2026-11-28 (sixth session) and read by its writer only; and the
 parse-only corpora ``phrasing1`` ... ``phrasing4`` and ``phrasing9`` (development corpora)
 and the development phrase banks ``phrasing5`` (view clauses), ``phrasing6`` (elevation, shot size,
 frame region and roll), ``phrasing7`` (how subjects are named and told apart) and ``phrasing8``

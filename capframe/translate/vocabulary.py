@@ -2456,7 +2456,8 @@ MIN_DOUBLED_LETTERS = 3
 
 def _near(said: str, name: str) -> bool:
     """Whether ``said`` is read as ``name``: one edit from a name of :data:`MIN_CORRECTED_LETTERS`
-    letters or more; one swap or one letter written once where the name has it twice from one of
+    letters or more, the first letter kept when one is replaced; one swap or one letter written
+    once where the name has it twice from one of
     :data:`MIN_TRANSPOSED_LETTERS` ("bera", "bal" is not "ball"), or its final "y" written "ie"
     (:func:`diminutive`: "teddie"); one letter doubled from one of
     :data:`MIN_DOUBLED_LETTERS` ("sofaa", "mugg"); letters that sound alike swapped in one of
@@ -2469,7 +2470,9 @@ def _near(said: str, name: str) -> bool:
         return True
     if letters >= MIN_TRANSPOSED_LETTERS and (transposed(said, name) or doubled(name, said)):
         return True
-    if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name):
+    # Not one letter swapped for another at the start: that writes another word ("heater" is no
+    # "seater", "camp" no "lamp"), and slips of the first letter are rare.
+    if letters >= MIN_CORRECTED_LETTERS and one_edit(said, name) and not (len(said) == len(name) and said[0] != name[0]):
         return True
     return letters >= MIN_TWO_EDIT_LETTERS and said[:1] == name[:1] and edit_distance(said, name, 2) <= 2
 
