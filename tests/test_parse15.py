@@ -201,10 +201,11 @@ def test_side_said_not_to_be_wanted_asks_nothing(text, view):
     assert parse_instruction(text, SCENE).subjects[0].view == view
 
 
-def test_negated_side_alone_leaves_the_view_free():
-    # Free, and reported: the checker cannot ask "not from behind", so the parse says it did not read it.
+def test_negated_side_alone_is_every_other_way_round():
+    # One end denied alone is the view side "not-back" (every azimuth at least 30 degrees from the
+    # back, since f510175; before, no view was asked and the words were reported).
     p = parse_instruction("the bench, just not from behind", SCENE)
-    assert p.subjects[0].view is None and p.not_understood() == ["not from behind"]
+    assert p.subjects[0].view == "not-back" and p.not_understood() == []
 
 
 SIZES = [

@@ -2365,8 +2365,9 @@ for _elevation_class, _creatures in EYE_VIEWS.items():
 # tabletop", "lens aimed squarely at the desk", "cam facing perpendicular to the floor"): looking
 # straight down. Without "straight" only the floor-like surfaces already above say so.
 # A lamp's shade as a height ("camera at the height of the shade"): the lamp's own height. Not a
-# height anchor: "a shade higher" is a degree.
-ELEVATION_PHRASES["eye level"].append("((the )?(camera|lens) )?(at|from) the (height|level) of (the|{P}) (lamp )?shade")
+# height anchor: "a shade higher" is a degree; and no "lamp" here, which would make it a word of
+# the tables, so an unknown "ceiling lamp above the sofa" would no longer be a thing.
+ELEVATION_PHRASES["eye level"].append("((the )?(camera|lens) )?(at|from) the (height|level) of (the|{P}) (lampshade|shade)")
 ELEVATION_PHRASES["top-down"] += [
     "(with )?(the |your |my )?(camera|lens|cam|gimbal)( (is|was|should be))? ({AIM}|{LOOK}|facing|turned)"
     "(( {DOWNRIGHT}){1,2}| perpendicularly| perpendicular)( down)?( (at|towards|to|into|onto))? (the |a )?"
@@ -5346,7 +5347,8 @@ NEGATIONS = tuple(
     w.split()
     for w in ("not", "no", "never", "nor", "rather than", "instead of", "as opposed to", "but not", "don t", "dont", "do not")
     # Everything but a view, or showing one refused ("anything but the front of the car", "don't
-    # show me its back", "no shots of its back", "avoid the front"): no view is asked.
+    # show me its back", "no shots of its back", "avoid the front"): one end so denied is every
+    # other way round (:func:`_unnegated`), any other view asks nothing.
     + ("anything but", "anywhere but", "any side but", "don t show me", "don t show", "do not show", "no shots of")
     + ("no shot of", "avoid", "avoiding", "don t want", "do not want", "dont want")
     # ... with a verb of shooting and what is shot between ("don't shoot it from the front").
