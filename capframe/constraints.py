@@ -89,13 +89,11 @@ VIEW_TOLERANCES_DEG: dict[str, float] = {
     "back-exact": 15.0,
     "left-exact": 15.0,
     "right-exact": 15.0,
-    "not-front": 180.0 - VIEW_TOLERANCE_DEG,
-    "not-back": 180.0 - VIEW_TOLERANCE_DEG,
-    "not-left": 180.0 - VIEW_TOLERANCE_DEG,
-    "not-right": 180.0 - VIEW_TOLERANCE_DEG,
 }
-# The side a negated end leaves ("anything but the front" is "not-front").
+# The side a negated end leaves ("anything but the front" is "not-front"): every azimuth outside
+# the end's tolerance.
 NEGATED_ENDS = {end: f"not-{end}" for end in ("front", "back", "left", "right")}
+VIEW_TOLERANCES_DEG |= {side: 180.0 - VIEW_TOLERANCE_DEG for side in NEGATED_ENDS.values()}
 # The ends a degree word may make exact: "<end>-exact" is that end within the narrower tolerance.
 EXACT_ENDS = ("front", "back", "left", "right")
 

@@ -1757,7 +1757,7 @@ CLOCK_PHRASES = [
     SEEN + "((from|at) )?(the |{P} )?{d} o clock( (position|direction|angle|side|mark))?( of {obj})?",
 ]
 # "One o'clock": "one" stays a word (vocabulary.words).
-CLOCK_ONE_HOUR = SEEN + "((from|at) )?(the |{P} )?one o clock( (position|direction|angle|side|mark))?( of {obj})?"
+CLOCK_ONE_HOUR = CLOCK_PHRASES[0].replace("{d}", "one")
 CLOCK_HOUR_DEG = 30.0
 # The clock face said around the subject with its front at twelve ("as on a clock face with the
 # screen at twelve", "the bear looking at 12", "imagine teddy is the centre of a clock", "picture
@@ -5369,24 +5369,22 @@ def _unnegated(cues: list[_Cue], tokens: list[str]) -> list[_Cue]:
     from the front, not from the side"); but for one end of the subject denied alone, which
     leaves every other way round it (:data:`~capframe.constraints.NEGATED_ENDS`: "anything but the
     front" is "not-front", and "not the front, its back" the back)."""
-    negation = {
-        id(c): n for c in cues for n in NEGATIONS if c.field in NEGATED_FIELDS and tokens[max(c.start - len(n), 0) : c.start] == n
-    }
+    negation = {}  # id of a denied cue -> the longest negation right before it
+    for c in cues:
+        said = [n for n in NEGATIONS if c.field in NEGATED_FIELDS and tokens[max(c.start - len(n), 0) : c.start] == n]
+        if said:
+            negation[id(c)] = max(said, key=len)
     ends = [c for c in cues if id(c) in negation and c.field == "view" and _denied_end(c.value) is not None]
-    # The negation is part of what is understood then ("not from behind" as a whole).
-    kept = (
-        {
-            id(c): replace(
-                c,
-                value=NEGATED_ENDS[_denied_end(c.value)],
-                start=c.start - len(negation[id(c)]),
-                text=f"{' '.join(negation[id(c)])} {c.text}",
-            )
-            for c in ends
-        }
-        if len(ends) == 1
-        else {}
-    )
+    kept = {}
+    if len(ends) == 1:
+        # The negation is part of what is understood then ("not from behind" as a whole).
+        end, denial = ends[0], negation[id(ends[0])]
+        kept[id(end)] = replace(
+            end,
+            value=NEGATED_ENDS[_denied_end(end.value)],
+            start=end.start - len(denial),
+            text=f"{' '.join(denial)} {end.text}",
+        )
     return [kept.get(id(c), c) for c in cues if id(c) not in negation or id(c) in kept]
 
 
